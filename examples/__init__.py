@@ -1,0 +1,10 @@
+"""Example robots shipped with rswarp (installed as ``rswarp.examples``); ``rswarp demo`` runs on them."""
+
+from pathlib import Path
+
+FOLDER = Path(__file__).parent
+IRB1300 = FOLDER / "irb1300" / "IRB1300_11_90__01.rsxml"
+IRB1300_LIBRARY = FOLDER / "irb1300" / "IRB1300.xml"
+IRB2600ID = FOLDER / "irb2600id" / "IRB2600ID_8_200__03.rsxml"
+IRB2600 = FOLDER / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"
+ALL = (IRB1300, IRB1300_LIBRARY, IRB2600ID, IRB2600)

@@ -1,0 +1,123 @@
+"""The ``rswarp`` command line. It orchestrates; the work is done in the modules it calls.
+
+Bad input ends with one ``file:line: message`` line per problem and a non-zero exit, never a
+traceback (set RSWARP_DEBUG=1 to see one for an internal error).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+
+from .documents import Report, check
+from .errors import RsxmlError
+from .info import report_dict, report_text
+
+
+def _emit_json(obj) -> None:
+    print(json.dumps(obj, indent=2, allow_nan=False))
+
+
+def _print_problems(report: Report, stream) -> None:
+    for d in report.all_diagnostics:
+        print(str(d), file=stream)
+
+
+def cmd_check(args) -> int:
+    reports = [check(f) for f in args.files]
+    if args.json:
+        _emit_json({"ok": all(r.ok for r in reports), "files": [
+            {"path": r.path, "kind": r.kind, "ok": r.ok,
+             "errors": [{"file": d.file, "line": d.line, "message": d.message} for d in r.errors],
+             "warnings": [{"file": d.file, "line": d.line, "message": d.message} for d in r.warnings]}
+            for r in reports]})
+    else:
+        for r in reports:
+            _print_problems(r, sys.stdout)
+            state = "OK" if r.ok else "FAILED"
+            print(f"{r.path}: {state} ({r.kind}; {len(r.errors)} error{'s' * (len(r.errors) != 1)}, "
+                  f"{len(r.warnings)} warning{'s' * (len(r.warnings) != 1)})")
+    return 0 if all(r.ok for r in reports) else 1
+
+
+def _checked(path: str) -> Report:
+    """A report without errors, or RsxmlError (printed by main as file:line lines)."""
+    report = check(path)
+    if report.errors:
+        raise RsxmlError(report.errors)
+    return report
+
+
+def cmd_info(args) -> int:
+    report = _checked(args.file)
+    if args.json:
+        _emit_json(report_dict(report))
+    else:
+        _print_problems(report, sys.stderr)  # warnings only
+        print(report_text(report))
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from . import examples
+
+    results = []
+    for path in examples.ALL:
+        report = check(path)
+        results.append(report)
+        if not args.json:
+            print(f"== rswarp check {path.name}")
+            _print_problems(report, sys.stdout)
+            print(f"{'OK' if report.ok else 'FAILED'}: {len(report.errors)} errors, {len(report.warnings)} warnings")
+            print(f"== rswarp info {path.name}")
+            print(report_text(report) if report.model is not None else "(nothing to show)")
+            print()
+    if args.json:
+        _emit_json({"ok": all(r.ok for r in results), "examples": [report_dict(r) for r in results]})
+    return 0 if all(r.ok for r in results) else 1
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="rswarp", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("check", help="validate RSXML, LibraryCompiler and LibraryResource files")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("info", help="show what a file describes, in its own units")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--json", action="store_true", help="machine-readable output (SI units)")
+    p.set_defaults(func=cmd_info)
+
+    p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except RsxmlError as exc:
+        for d in exc.diagnostics:
+            print(str(d), file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as exc:  # a bug, not bad input: one line unless asked for the traceback
+        if os.environ.get("RSWARP_DEBUG"):
+            raise
+        print(f"rswarp: internal error: {type(exc).__name__}: {exc} (set RSWARP_DEBUG=1 for details)",
+              file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,87 @@
+"""Link geometry: find the mesh that stands in for a Part's CAD source, load it (lazily, with
+trimesh) and place it in the world at the zero position, in metres.
+
+RobotStudio loads ``link1.rsgfx`` in place of ``link1.SAT`` when it exists; rswarp does the same
+with a mesh of the same stem (case-insensitive).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from .errors import Diagnostic, MeshNotFoundError
+from .model import Mechanism, Part
+
+MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".glb", ".gltf", ".off")
+METRIC_EXTENSIONS = (".glb", ".gltf")  # glTF is metres by its own spec; the others carry no unit
+
+
+def mesh_candidates(source: str, folder: Path) -> list[Path]:
+    """The files that may stand in for ``source``, in the order they are tried."""
+    rel = Path(*source.replace("\\", "/").split("/"))
+    base = folder / rel.parent
+    names = [rel.name] if rel.suffix.lower() in MESH_EXTENSIONS else []
+    names += [rel.stem + ext for ext in MESH_EXTENSIONS]
+    return [base / n for n in names]
+
+
+def find_mesh(source: str, folder: Path) -> Path | None:
+    """The first candidate that exists, matching names case-insensitively."""
+    for cand in mesh_candidates(source, folder):
+        if cand.exists():
+            return cand
+        if cand.parent.is_dir():
+            for p in cand.parent.iterdir():
+                if p.name.lower() == cand.name.lower() and p.is_file():
+                    return p
+    return None
+
+
+def _folder(mech: Mechanism) -> Path:
+    return Path(mech.path).parent if mech.path else Path.cwd()
+
+
+def part_mesh_path(mech: Mechanism, part: Part) -> Path | None:
+    return find_mesh(part.source, _folder(mech)) if part.source else None
+
+
+@lru_cache(maxsize=64)
+def _load(path: str, mtime: float):
+    import trimesh  # imported on first use: kinematics never needs it
+
+    mesh = trimesh.load(path, force="mesh", process=False)
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise ValueError("no triangles")
+    return mesh
+
+
+def part_mesh(mech: Mechanism, part: Part, transform: np.ndarray | None = None):
+    """The Part's mesh in world coordinates at the zero position, metres; ``transform`` is the
+    Part's placement (see ``Mechanism.parts``). Raises MeshNotFoundError naming the files tried."""
+    file = mech.path or "<memory>"
+    if not part.source:
+        raise MeshNotFoundError(Diagnostic(file, part.line, f"part '{part.name}' has no source"))
+    path = part_mesh_path(mech, part)
+    if path is None:
+        tried = ", ".join(str(p) for p in mesh_candidates(part.source, _folder(mech)))
+        raise MeshNotFoundError(Diagnostic(file, part.line, f"no mesh for part '{part.name}' "
+                                           f"(source '{part.source}'); looked for {tried}"))
+    try:
+        mesh = _load(str(path), path.stat().st_mtime).copy()
+    except Exception as exc:  # trimesh raises many types for broken files
+        raise MeshNotFoundError(Diagnostic(str(path), 0, f"cannot read mesh: {exc}")) from None
+    scale = 1.0 if path.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
+    m = (np.eye(4) if transform is None else transform) @ np.diag([scale, scale, scale, 1.0])
+    mesh.apply_transform(m)
+    return mesh
+
+
+def link_mesh(mech: Mechanism, link: str):
+    """All Parts of a link as one mesh (world, zero position, metres); None if it has no geometry."""
+    import trimesh
+
+    meshes = [part_mesh(mech, p, m) for p, m in mech.parts(link) if p.source]
+    return trimesh.util.concatenate(meshes) if meshes else None

@@ -1,0 +1,482 @@
+"""Read GraphicComponent XML (.rsxml) into the model, collecting every problem with its line.
+
+Parsing is safe: no entity expansion, no network, no huge trees; a document that declares entities
+(the way external-entity and billion-laughs attacks start) is refused outright.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Callable, Iterable
+
+import numpy as np
+from lxml import etree
+
+from .errors import Diagnostic, RsxmlError
+from .model import (
+    JOINT_TYPES, Attribute, Binding, Cable, Component, ControlPoint, DynamicProperty, Flange, Group,
+    IOSignal, Joint, Limit, Mechanism, Part, Pose, SmartComponent,
+)
+from .units import ANGLE_UNITS, LENGTH_UNITS
+
+NS_COMPONENT = "urn:abb-robotics-robotstudio-graphiccomponent"
+NS_LIBRARY = "urn:abb-robotics-robotstudio-librarycompiler"
+NS_RESOURCE = "urn:abb-robotics-robotstudio-libraryresource"
+
+POSE_ATTRS = ("t", "x", "y", "z", "euler", "quat")
+ORTHO_TOL = 1e-5  # |R^T R - I| allowed for x/y/z written with six decimals
+QUAT_TOL = 1e-6  # |q| - 1 above this is warned about and normalized
+
+
+def parse_xml(path: str | Path) -> etree._Element:
+    """Parse an XML file safely; raise RsxmlError(file:line: ...) when it is not usable XML."""
+    file = str(path)
+    parser = etree.XMLParser(
+        resolve_entities=False, no_network=True, huge_tree=False, load_dtd=False,
+        dtd_validation=False, remove_pis=True, remove_comments=True,
+    )
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise RsxmlError(Diagnostic(file, 0, f"cannot read file: {exc.strerror or exc}")) from None
+    try:
+        tree = etree.fromstring(data, parser, base_url=None).getroottree()
+    except etree.XMLSyntaxError as exc:
+        line = exc.lineno or 0
+        msg = exc.msg.split(f", line {line}")[0] if exc.msg else "not well-formed XML"
+        raise RsxmlError(Diagnostic(file, line, f"XML syntax error: {msg}")) from None
+    dtd = tree.docinfo.internalDTD
+    if dtd is not None:
+        for ent in dtd.iterentities():
+            kind = "external entity" if ent.system_url else "entity"
+            raise RsxmlError(Diagnostic(
+                file, 1, f"{kind} '{ent.name}' declared in the DOCTYPE: entities are refused"))
+    return tree.getroot()
+
+
+def local(el: etree._Element) -> str:
+    return etree.QName(el).localname
+
+
+def namespace(el: etree._Element) -> str | None:
+    return etree.QName(el).namespace
+
+
+def children(el: etree._Element) -> list[etree._Element]:
+    """Element children (comments and processing instructions dropped)."""
+    return [c for c in el if isinstance(c.tag, str)]
+
+
+class Reader:
+    """Turns XML elements into model objects; records each problem as ``file:line: message``."""
+
+    def __init__(self, file: str, diagnostics: list[Diagnostic] | None = None):
+        self.file = file
+        self.diagnostics: list[Diagnostic] = [] if diagnostics is None else diagnostics
+        self.length = 1.0
+        self.angle = 1.0
+
+    # -- diagnostics -------------------------------------------------------------------------------
+    def error(self, where: etree._Element | int, message: str) -> None:
+        line = where if isinstance(where, int) else (where.sourceline or 0)
+        self.diagnostics.append(Diagnostic(self.file, line, message))
+
+    def warn(self, where: etree._Element | int, message: str) -> None:
+        line = where if isinstance(where, int) else (where.sourceline or 0)
+        self.diagnostics.append(Diagnostic(self.file, line, message, "warning"))
+
+    # -- attributes --------------------------------------------------------------------------------
+    def known(self, el: etree._Element, allowed: Iterable[str]) -> None:
+        allowed = set(allowed)
+        for key in el.attrib:
+            name = etree.QName(key).localname if key.startswith("{") else key
+            if key.startswith("{") or name in allowed:
+                continue
+            self.warn(el, f"unknown attribute '{name}' on <{local(el)}> ignored")
+
+    def text(self, el: etree._Element, name: str, required: bool = False) -> str | None:
+        value = el.get(name)
+        if value is None:
+            if required:
+                self.error(el, f"<{local(el)}> is missing attribute '{name}'")
+            return None
+        value = value.strip()
+        if required and not value:
+            self.error(el, f"<{local(el)}> has an empty '{name}'")
+        return value
+
+    def floats(self, el: etree._Element, name: str, count: int | None = None, factor: float = 1.0,
+               required: bool = False) -> tuple[float, ...] | None:
+        raw = self.text(el, name, required)
+        if raw is None:
+            return None
+        parts = [p for p in (raw.split(",") if "," in raw else raw.split())]
+        values = []
+        for p in parts:
+            p = p.strip()
+            try:
+                v = float(p)
+            except ValueError:
+                self.error(el, f"'{name}' has a bad number '{p}'")
+                return None
+            if not math.isfinite(v):
+                self.error(el, f"'{name}' has a non-finite number '{p}'")
+                return None
+            values.append(v * factor)
+        if count is not None and len(values) != count:
+            self.error(el, f"'{name}' needs {count} numbers, got {len(values)}")
+            return None
+        return tuple(values)
+
+    def number(self, el: etree._Element, name: str, factor: float = 1.0, required: bool = False) -> float | None:
+        values = self.floats(el, name, 1, factor, required)
+        return None if values is None else values[0]
+
+    def boolean(self, el: etree._Element, name: str, default: bool | None) -> bool | None:
+        raw = self.text(el, name)
+        if raw is None:
+            return default
+        if raw.lower() in ("true", "1"):
+            return True
+        if raw.lower() in ("false", "0"):
+            return False
+        self.error(el, f"'{name}' must be true or false, not '{raw}'")
+        return default
+
+    def options(self, el: etree._Element, skip: Iterable[str] = ()) -> tuple[tuple[str, str], ...]:
+        skip = set(skip)
+        return tuple((k, v) for k, v in el.attrib.items() if not k.startswith("{") and k not in skip)
+
+    def pose(self, el: etree._Element) -> Pose:
+        """The 3D transform attributes of ``el`` (t, x/y/z, euler, quat), validated."""
+        t = self.floats(el, "t", 3, self.length)
+        x, y, z = (self.floats(el, k, 3) for k in "xyz")
+        euler = self.floats(el, "euler", 3, self.angle)
+        quat = self.floats(el, "quat", 4)
+        given = [k for k in "xyz" if el.get(k) is not None]
+        forms = (["x/y/z"] if given else []) + [k for k in ("euler", "quat") if el.get(k) is not None]
+        if len(forms) > 1:
+            self.error(el, f"<{local(el)}> gives its rotation twice ({' and '.join(forms)})")
+            return Pose(t=t)
+        if given and len(given) < 3:
+            missing = ", ".join(k for k in "xyz" if k not in given)
+            self.error(el, f"<{local(el)}> gives {', '.join(given)} without {missing}: x, y and z go together")
+            return Pose(t=t)
+        if given and None not in (x, y, z):
+            r = np.array([x, y, z], dtype=float).T
+            if np.abs(r.T @ r - np.eye(3)).max() > ORTHO_TOL:
+                self.error(el, f"<{local(el)}> x, y, z are not orthonormal")
+            elif np.linalg.det(r) < 0:
+                self.error(el, f"<{local(el)}> x, y, z are left-handed (z must be x cross y)")
+        if quat is not None:
+            norm = math.sqrt(sum(q * q for q in quat))
+            if norm < 1e-12:
+                self.error(el, f"<{local(el)}> quat is zero")
+                quat = None
+            elif abs(norm - 1.0) > QUAT_TOL:
+                self.warn(el, f"<{local(el)}> quat has length {norm:.6g}; normalized")
+                quat = tuple(q / norm for q in quat)
+        return Pose(t=t, x=x if given else None, y=y if given else None, z=z if given else None,
+                    euler=euler, quat=quat)
+
+    # -- components --------------------------------------------------------------------------------
+    def component(self, el: etree._Element) -> Component | None:
+        """A Part or GraphicComponentGroup (with nested GraphicComponents)."""
+        kind = local(el)
+        if kind == "Part":
+            self.known(el, ("name", "source", *POSE_ATTRS))
+            return Part(name=self.text(el, "name", True) or "", source=self.text(el, "source"),
+                        pose=self.pose(el), line=el.sourceline or 0)
+        if kind == "GraphicComponentGroup":
+            self.known(el, ("name", *POSE_ATTRS))
+            kids: list[Component] = []
+            for c in children(el):
+                if local(c) == "GraphicComponents":
+                    kids.extend(self.components(c))
+                else:
+                    self.warn(c, f"unknown element <{local(c)}> in <GraphicComponentGroup> ignored")
+            return Group(name=self.text(el, "name", True) or "", children=tuple(kids),
+                         pose=self.pose(el), line=el.sourceline or 0)
+        self.warn(el, f"unknown element <{kind}> ignored")
+        return None
+
+    def components(self, el: etree._Element) -> list[Component]:
+        out = []
+        for c in children(el):
+            comp = self.component(c)
+            if comp is not None:
+                out.append(comp)
+        return out
+
+    # -- Mechanism ---------------------------------------------------------------------------------
+    def units(self, el: etree._Element) -> tuple[str | None, str | None]:
+        lu, au = self.text(el, "lengthUnit"), self.text(el, "angleUnit")
+        if lu is not None and lu not in LENGTH_UNITS:
+            self.error(el, f"unknown lengthUnit '{lu}' (use one of {', '.join(LENGTH_UNITS)})")
+        if au is not None and au not in ANGLE_UNITS:
+            self.error(el, f"unknown angleUnit '{au}' (use one of {', '.join(ANGLE_UNITS)})")
+        self.length = LENGTH_UNITS.get(lu or "m", 1.0)
+        self.angle = ANGLE_UNITS.get(au or "rad", 1.0)
+        return lu, au
+
+    def mechanism(self, root: etree._Element, path: str | None = None) -> Mechanism:
+        self.known(root, ("type", "name", "modelName", "kinematicsFlags", "lengthUnit", "angleUnit",
+                          "motionControl"))
+        lu, au = self.units(root)
+        sections: dict[str, etree._Element] = {}
+        order = ("Attributes", "Links", "Joints", "Limits", "Flanges", "BaseFrame", "HomePosition",
+                 "JointMask", "AdditionalComponents")
+        for c in children(root):
+            name = local(c)
+            if name not in order:
+                self.warn(c, f"unknown element <{name}> in <Mechanism> ignored")
+            elif name in sections:
+                self.error(c, f"<{name}> appears twice (first at line {sections[name].sourceline})")
+            else:
+                sections[name] = c
+
+        def each(section: str, tag: str) -> list[etree._Element]:
+            el = sections.get(section)
+            if el is None:
+                return []
+            out = []
+            for c in children(el):
+                if local(c) == tag:
+                    out.append(c)
+                else:
+                    self.warn(c, f"unknown element <{local(c)}> in <{section}> ignored")
+            return out
+
+        links_el = sections.get("Links")
+        base_link, links = "", []
+        if links_el is not None:
+            self.known(links_el, ("baseLink",))
+            base_link = self.text(links_el, "baseLink", True) or ""
+            links = self.components(links_el)
+
+        joints = [self.joint(el) for el in each("Joints", "Joint")]
+        by_name = {j.name: j for j in joints}
+        limits = [lim for el in each("Limits", "Limit") if (lim := self.limit(el, by_name)) is not None]
+        flanges = []
+        for el in each("Flanges", "Flange"):
+            self.known(el, ("name", "link", *POSE_ATTRS))
+            flanges.append(Flange(name=self.text(el, "name", True) or "", link=self.text(el, "link", True) or "",
+                                  pose=self.pose(el), line=el.sourceline or 0))
+        base_frame = None
+        if (bf := sections.get("BaseFrame")) is not None:
+            self.known(bf, POSE_ATTRS)
+            base_frame = self.pose(bf)
+        active = [j for j in joints if j.active]
+        home = None
+        if (hp := sections.get("HomePosition")) is not None:
+            self.known(hp, ("value",))
+            raw = self.floats(hp, "value", required=True)
+            if raw is not None:
+                if len(raw) != len(active):
+                    self.error(hp, f"HomePosition has {len(raw)} values for {len(active)} active joints")
+                else:
+                    home = tuple(v * (self.angle if j.revolute else self.length) for v, j in zip(raw, active))
+        mask = None
+        if (jm := sections.get("JointMask")) is not None:
+            self.known(jm, ("value",))
+            raw = self.floats(jm, "value", required=True)
+            if raw is not None:
+                if any(v != int(v) or v < 0 for v in raw):
+                    self.error(jm, "JointMask values must be whole numbers >= 0")
+                elif len(raw) != len(active):
+                    self.error(jm, f"JointMask has {len(raw)} values for {len(active)} active joints")
+                else:
+                    mask = tuple(int(v) for v in raw)
+        attributes = [self.attribute(el) for el in each("Attributes", "Attribute")]
+        cables = [self.cable(el) for el in each("AdditionalComponents", "Cable")]
+        flags = tuple((self.text(root, "kinematicsFlags") or "").split())
+        return Mechanism(
+            name=self.text(root, "name", True) or "", type=self.text(root, "type"),
+            model_name=self.text(root, "modelName"), kinematics_flags=flags, length_unit=lu, angle_unit=au,
+            motion_control=self.text(root, "motionControl"), base_link=base_link, links=tuple(links),
+            joints=tuple(joints), limits=tuple(limits), flanges=tuple(flanges), base_frame=base_frame,
+            home=home, joint_mask=mask, attributes=tuple(attributes), cables=tuple(cables),
+            path=path, line=root.sourceline or 0,
+            section_lines=tuple((k, v.sourceline or 0) for k, v in sections.items()),
+        )
+
+    def joint(self, el: etree._Element) -> Joint:
+        self.known(el, ("name", "parent", "child", "type", "active", "point1", "point2"))
+        jtype = self.text(el, "type", True) or "Rotational"
+        if jtype not in JOINT_TYPES:
+            self.error(el, f"joint type '{jtype}' is neither Rotational nor Prismatic")
+            jtype = "Rotational"
+        p1 = self.floats(el, "point1", 3, self.length, True)
+        p2 = self.floats(el, "point2", 3, self.length, True)
+        if p1 is not None and p2 is not None and np.linalg.norm(np.subtract(p2, p1)) <= 1e-9 * max(1.0, *map(abs, p1)):
+            self.error(el, "point1 and point2 coincide: the joint has no axis")
+            p2 = None
+        return Joint(
+            name=self.text(el, "name", True) or "", parent=self.text(el, "parent", True) or "",
+            child=self.text(el, "child", True) or "", type=jtype,
+            active=bool(self.boolean(el, "active", True)),
+            point1=p1 or (0.0, 0.0, 0.0), point2=p2 or _unit_z_from(p1),
+            line=el.sourceline or 0,
+        )
+
+    def limit(self, el: etree._Element, joints: dict[str, Joint]) -> Limit | None:
+        self.known(el, ("joint", "min", "max"))
+        name = self.text(el, "joint", True)
+        if not name:
+            return None
+        joint = joints.get(name)
+        if joint is None:
+            self.error(el, f"Limit names unknown joint '{name}'")
+            return None
+        factor = self.angle if joint.revolute else self.length
+        lo = self.number(el, "min", factor, True)
+        hi = self.number(el, "max", factor, True)
+        if lo is None or hi is None:
+            return None
+        if lo > hi:
+            self.error(el, f"Limit of '{name}' has min {el.get('min').strip()} > max {el.get('max').strip()}")
+        return Limit(joint=name, min=lo, max=hi, line=el.sourceline or 0)
+
+    def attribute(self, el: etree._Element) -> Attribute:
+        self.known(el, ("definition", "key", "value"))
+        return Attribute(key=self.text(el, "key", True) or "", value=el.get("value", ""),
+                         definition=self.boolean(el, "definition", None), line=el.sourceline or 0)
+
+    def cable(self, el: etree._Element) -> Cable:
+        self.known(el, ("radius", "maxSegmentLength", "name", "color", "desiredLength", "youngsModulus"))
+        radius = self.number(el, "radius", self.length, True)
+        seg = self.number(el, "maxSegmentLength", self.length, True)
+        desired = self.number(el, "desiredLength", self.length)
+        young = self.number(el, "youngsModulus")
+        for key, value in (("radius", radius), ("maxSegmentLength", seg), ("desiredLength", desired),
+                           ("youngsModulus", young)):
+            if value is not None and value <= 0:
+                self.error(el, f"Cable {key} must be positive, not {el.get(key).strip()}")
+        color = None
+        if (rgb := self.floats(el, "color", 3)) is not None:
+            if any(c != int(c) or not 0 <= c <= 255 for c in rgb):
+                self.error(el, "Cable color must be three whole numbers 0-255")
+            else:
+                color = tuple(int(c) for c in rgb)
+        points = []
+        for c in children(el):
+            if local(c) != "ControlPoints":
+                self.warn(c, f"unknown element <{local(c)}> in <Cable> ignored")
+                continue
+            for p in children(c):
+                if local(p) != "ControlPoint":
+                    self.warn(p, f"unknown element <{local(p)}> in <ControlPoints> ignored")
+                    continue
+                points.append(self.control_point(p))
+        if len(points) < 2:
+            self.error(el, f"Cable has {len(points)} control point{'s' if len(points) != 1 else ''}; it needs at least two")
+        return Cable(name=self.text(el, "name", True) or "", radius=radius or 0.0, max_segment_length=seg or 0.0,
+                     control_points=tuple(points), color=color, desired_length=desired, youngs_modulus=young,
+                     line=el.sourceline or 0)
+
+    def control_point(self, el: etree._Element) -> ControlPoint:
+        self.known(el, ("attachedTo", "position", "direction"))
+        pos = self.floats(el, "position", 3, self.length, True)
+        direction = self.floats(el, "direction", 3)
+        if direction is not None:
+            norm = float(np.linalg.norm(direction))
+            if norm < 1e-12:
+                self.error(el, "ControlPoint direction is zero")
+                direction = None
+            else:
+                direction = tuple(d / norm for d in direction)
+        return ControlPoint(position=pos or (0.0, 0.0, 0.0), attached_to=self.text(el, "attachedTo"),
+                            direction=direction, line=el.sourceline or 0)
+
+    # -- SmartComponent ----------------------------------------------------------------------------
+    def smart_component(self, root: etree._Element, path: str | None = None) -> SmartComponent:
+        self.units(root)
+        props, signals, bindings, comps, assets = [], [], [], [], []
+        for section in children(root):
+            kind = local(section)
+            items = children(section)
+            if kind == "Properties":
+                props += [self.dynamic_property(p) for p in items if self._expect(p, "DynamicProperty", kind)]
+            elif kind == "Signals":
+                for s in items:
+                    if self._expect(s, "IOSignal", kind):
+                        signals.append(IOSignal(name=self.text(s, "name", True) or "",
+                                                signal_type=self.text(s, "signalType"),
+                                                options=self.options(s, ("name", "signalType")),
+                                                line=s.sourceline or 0))
+            elif kind == "Bindings":
+                bindings += [Binding(kind=local(b), options=self.options(b), line=b.sourceline or 0) for b in items]
+            elif kind == "GraphicComponents":
+                for c in items:
+                    comp = self.nested(c, path)
+                    if comp is not None:
+                        comps.append(comp)
+            elif kind == "Assets":
+                for a in items:
+                    if self._expect(a, "Asset", kind):
+                        assets.append(self.text(a, "source", True) or "")
+            else:
+                self.warn(section, f"unknown element <{kind}> in <SmartComponent> ignored")
+        return SmartComponent(name=self.text(root, "name", True) or "", options=self.options(root, ("name",)),
+                              properties=tuple(props), signals=tuple(signals), bindings=tuple(bindings),
+                              components=tuple(comps), assets=tuple(assets), path=path, line=root.sourceline or 0)
+
+    def _expect(self, el: etree._Element, tag: str, section: str) -> bool:
+        if local(el) == tag:
+            return True
+        self.warn(el, f"unknown element <{local(el)}> in <{section}> ignored")
+        return False
+
+    def dynamic_property(self, el: etree._Element) -> DynamicProperty:
+        attrs = []
+        for a in children(el):
+            if self._expect(a, "Attribute", "DynamicProperty"):
+                attrs.append((self.text(a, "key", True) or "", a.get("value", "")))
+        return DynamicProperty(name=self.text(el, "name", True) or "", value_type=self.text(el, "valueType"),
+                               value=el.get("value"), options=self.options(el, ("name", "valueType", "value")),
+                               attributes=tuple(attrs), line=el.sourceline or 0)
+
+    def nested(self, el: etree._Element, path: str | None):
+        """A component inside a SmartComponent: a Part, group, Mechanism or SmartComponent."""
+        kind = local(el)
+        saved = (self.length, self.angle)
+        try:
+            if kind == "Mechanism":
+                return self.mechanism(el, path)
+            if kind == "SmartComponent":
+                return self.smart_component(el, path)
+            return self.component(el)
+        finally:
+            self.length, self.angle = saved
+
+
+def _unit_z_from(p: tuple[float, ...] | None) -> tuple[float, float, float]:
+    """A stand-in second axis point for a joint whose axis is already reported as broken."""
+    x, y, z = p or (0.0, 0.0, 0.0)
+    return (x, y, z + 1.0)
+
+
+ROOT_READERS: dict[str, Callable[[Reader, etree._Element, str], object]] = {
+    "Mechanism": lambda r, el, p: r.mechanism(el, p),
+    "SmartComponent": lambda r, el, p: r.smart_component(el, p),
+    "GraphicComponentGroup": lambda r, el, p: r.component(el),
+    "Part": lambda r, el, p: r.component(el),
+}
+
+
+def read_component_root(root: etree._Element, file: str, diagnostics: list[Diagnostic]):
+    """Read a GraphicComponent root element (Mechanism, SmartComponent, group or Part)."""
+    r = Reader(file, diagnostics)
+    ns = namespace(root)
+    if ns is None:
+        r.warn(root, f"<{local(root)}> has no namespace; RobotStudio expects xmlns=\"{NS_COMPONENT}\"")
+    elif ns != NS_COMPONENT:
+        r.error(root, f"<{local(root)}> is in namespace '{ns}', expected '{NS_COMPONENT}'")
+        return None
+    reader = ROOT_READERS.get(local(root))
+    if reader is None:
+        r.error(root, f"unknown root element <{local(root)}> (expected Mechanism, SmartComponent, "
+                      "GraphicComponentGroup or Part)")
+        return None
+    return reader(r, root, file)

@@ -1,0 +1,36 @@
+"""Length and angle units of RSXML files, and number formatting that survives a round trip."""
+
+from __future__ import annotations
+
+import math
+from decimal import Decimal
+
+# Factor that turns a value in the unit into SI (metres, radians).
+LENGTH_UNITS = {"m": 1.0, "dm": 0.1, "cm": 0.01, "mm": 0.001, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
+ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
+DEFAULT_LENGTH_UNIT = "m"
+DEFAULT_ANGLE_UNIT = "rad"
+
+
+def format_number(si: float, factor: float = 1.0) -> str:
+    """The shortest decimal text that reads back (``float(text) * factor``) to exactly ``si``.
+
+    Saving a model converts SI values back to file units; this keeps ``544`` as ``544`` and not
+    ``544.0000000000001``, while load -> save -> load stays bit-identical.
+    """
+    value = si / factor
+    for digits in range(1, 18):
+        text = f"{value:.{digits}g}"
+        if float(text) * factor == si:
+            break
+    else:  # cannot happen for finite values; keep the closest text
+        text = repr(value)
+    if "e" in text:
+        mantissa, exp = text.split("e")
+        if -7 < int(exp) < 16:  # 1.8e+02 -> 180: positional whenever that stays short
+            text = format(Decimal(text), "f")
+            if "." in text:
+                text = text.rstrip("0").rstrip(".")
+        else:
+            text = f"{mantissa}e{int(exp)}"
+    return "0" if text == "-0" else text
