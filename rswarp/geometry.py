@@ -52,7 +52,7 @@ def part_mesh_path(mech: Mechanism, part: Part) -> Path | None:
 def _load(path: str, mtime: float):
     import trimesh  # imported on first use: kinematics never needs it
 
-    mesh = trimesh.load(path, force="mesh", process=False)
+    mesh = trimesh.load(path, force="mesh")  # process=True merges STL vertices
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
         raise ValueError("no triangles")
     return mesh

@@ -40,18 +40,20 @@ def parse_xml(path: str | Path) -> etree._Element:
         data = Path(path).read_bytes()
     except OSError as exc:
         raise RsxmlError(Diagnostic(file, 0, f"cannot read file: {exc.strerror or exc}")) from None
+    at = data.find(b"<!ENTITY")
+    if at >= 0:  # refused before parsing: external entities and entity bombs start this way
+        end = data.find(b">", at)
+        decl = data[at:end].split()
+        name = decl[1].decode("utf-8", "replace") if len(decl) > 1 else "?"
+        kind = "external entity" if b"SYSTEM" in decl or b"PUBLIC" in decl else "entity"
+        raise RsxmlError(Diagnostic(file, data[:at].count(b"\n") + 1,
+                                    f"{kind} '{name}' declared in the DOCTYPE: entities are refused"))
     try:
         tree = etree.fromstring(data, parser, base_url=None).getroottree()
     except etree.XMLSyntaxError as exc:
         line = exc.lineno or 0
         msg = exc.msg.split(f", line {line}")[0] if exc.msg else "not well-formed XML"
         raise RsxmlError(Diagnostic(file, line, f"XML syntax error: {msg}")) from None
-    dtd = tree.docinfo.internalDTD
-    if dtd is not None:
-        for ent in dtd.iterentities():
-            kind = "external entity" if ent.system_url else "entity"
-            raise RsxmlError(Diagnostic(
-                file, 1, f"{kind} '{ent.name}' declared in the DOCTYPE: entities are refused"))
     return tree.getroot()
 
 
@@ -274,7 +276,7 @@ class Reader:
             raw = self.floats(hp, "value", required=True)
             if raw is not None:
                 if len(raw) != len(active):
-                    self.error(hp, f"HomePosition has {len(raw)} values for {len(active)} active joints")
+                    self.error(hp, f"HomePosition has {_count(len(raw), 'value')} for {len(active)} active joints")
                 else:
                     home = tuple(v * (self.angle if j.revolute else self.length) for v, j in zip(raw, active))
         mask = None
@@ -285,7 +287,7 @@ class Reader:
                 if any(v != int(v) or v < 0 for v in raw):
                     self.error(jm, "JointMask values must be whole numbers >= 0")
                 elif len(raw) != len(active):
-                    self.error(jm, f"JointMask has {len(raw)} values for {len(active)} active joints")
+                    self.error(jm, f"JointMask has {_count(len(raw), 'value')} for {len(active)} active joints")
                 else:
                     mask = tuple(int(v) for v in raw)
         attributes = [self.attribute(el) for el in each("Attributes", "Attribute")]
@@ -370,7 +372,7 @@ class Reader:
                     continue
                 points.append(self.control_point(p))
         if len(points) < 2:
-            self.error(el, f"Cable has {len(points)} control point{'s' if len(points) != 1 else ''}; it needs at least two")
+            self.error(el, f"Cable has {_count(len(points), 'control point')}; it needs at least two")
         return Cable(name=self.text(el, "name", True) or "", radius=radius or 0.0, max_segment_length=seg or 0.0,
                      control_points=tuple(points), color=color, desired_length=desired, youngs_modulus=young,
                      line=el.sourceline or 0)
@@ -449,6 +451,10 @@ class Reader:
             return self.component(el)
         finally:
             self.length, self.angle = saved
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}{'s' if n != 1 else ''}"
 
 
 def _unit_z_from(p: tuple[float, ...] | None) -> tuple[float, float, float]:

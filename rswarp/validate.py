@@ -103,8 +103,12 @@ def _graph(mech: Mechanism, out: _Out) -> None:
     """Links reachable from the base, and loops that only passive joints may close."""
     tree_joint: dict[str, object] = {mech.base_link: None}  # link -> joint that first reaches it
     by_parent: dict[str, list] = {}
+    names = set()
     for j in mech.joints:
-        by_parent.setdefault(j.parent, []).append(j)
+        # joints already reported (a repeated name, a link joined to itself, a moved base) stay out
+        if j.name not in names and j.parent != j.child and j.child != mech.base_link:
+            by_parent.setdefault(j.parent, []).append(j)
+        names.add(j.name)
     queue, closing = deque([mech.base_link]), []
     while queue:
         link = queue.popleft()

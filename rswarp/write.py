@@ -25,9 +25,9 @@ class _Writer:
     def __init__(self, length: float, angle: float):
         self.length, self.angle = length, angle
 
-    def el(self, parent, tag: str, **attrs) -> etree._Element:
-        tag = f"{{{NS_COMPONENT}}}{tag}"
-        node = etree.Element(tag, nsmap={None: NS_COMPONENT}) if parent is None else etree.SubElement(parent, tag)
+    def el(self, _parent, _tag: str, **attrs) -> etree._Element:
+        tag = f"{{{NS_COMPONENT}}}{_tag}"
+        node = etree.Element(tag, nsmap={None: NS_COMPONENT}) if _parent is None else etree.SubElement(_parent, tag)
         for k, v in attrs.items():
             if v is not None:
                 node.set(k, v)
