@@ -51,7 +51,7 @@ def mechanism_dict(mech: Mechanism) -> dict:
             "color": None if c.color is None else list(c.color), "desired_length": c.desired_length,
             "youngs_modulus": c.youngs_modulus,
             "control_points": [{"attached_to": p.attached_to, "position": list(p.position),
-                                "direction": None if p.direction is None else list(p.direction)}
+                                "direction": None if p.direction is None else p.unit_direction.tolist()}
                                for p in c.control_points],
         } for c in mech.cables],
     }

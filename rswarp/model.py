@@ -178,12 +178,17 @@ class Attribute:
 
 @dataclass(frozen=True)
 class ControlPoint:
-    """A cable point in world coordinates at the zero position; ``direction`` is a unit vector."""
+    """A cable point in world coordinates at the zero position; ``direction`` as written (None:
+    the cable turns freely there), ``unit_direction`` normalized."""
 
     position: Vec3
     attached_to: str | None = None
     direction: Vec3 | None = None
     line: int = _line()
+
+    @property
+    def unit_direction(self) -> np.ndarray | None:
+        return None if self.direction is None else np.asarray(self.direction) / np.linalg.norm(self.direction)
 
 
 @dataclass(frozen=True)

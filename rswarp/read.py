@@ -381,13 +381,9 @@ class Reader:
         self.known(el, ("attachedTo", "position", "direction"))
         pos = self.floats(el, "position", 3, self.length, True)
         direction = self.floats(el, "direction", 3)
-        if direction is not None:
-            norm = float(np.linalg.norm(direction))
-            if norm < 1e-12:
-                self.error(el, "ControlPoint direction is zero")
-                direction = None
-            else:
-                direction = tuple(d / norm for d in direction)
+        if direction is not None and float(np.linalg.norm(direction)) < 1e-12:
+            self.error(el, "ControlPoint direction is zero")
+            direction = None
         return ControlPoint(position=pos or (0.0, 0.0, 0.0), attached_to=self.text(el, "attachedTo"),
                             direction=direction, line=el.sourceline or 0)
 

@@ -1,0 +1,109 @@
+"""The command line: exit codes, readable and JSON output, and no traceback for bad input."""
+
+import json
+import subprocess
+import sys
+
+import rswarp
+from rswarp import examples
+from rswarp.cli import main
+from conftest import DATA
+
+
+def test_check_clean_file(capsys):
+    assert main(["check", str(examples.IRB1300), str(examples.IRB2600)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out == [f"{examples.IRB1300}: OK (Mechanism; 0 errors, 0 warnings)",
+                   f"{examples.IRB2600}: OK (Mechanism; 0 errors, 0 warnings)"]
+
+
+def test_check_prints_warnings_and_still_passes(capsys):
+    assert main(["check", str(DATA / "naming.rsxml")]) == 0
+    out = capsys.readouterr().out
+    assert f"{DATA / 'naming.rsxml'}:3: warning: name 'MyRobot' does not follow" in out
+
+
+def test_check_fails_on_any_bad_file(capsys):
+    bad = DATA / "bad" / "home_outside_limits.rsxml"
+    assert main(["check", str(examples.IRB1300), str(bad)]) == 1
+    out = capsys.readouterr().out
+    assert f"{bad}:19: HomePosition of 'J2' is 120, outside its limits [-90, 90]" in out
+
+
+def test_check_json(capsys):
+    bad = DATA / "bad" / "unknown_child.rsxml"
+    assert main(["check", "--json", str(bad)]) == 1
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["ok"] is False
+    assert {"file": str(bad), "line": 10, "message": "joint 'J2' child 'Link3' is not a link"} in doc["files"][0]["errors"]
+
+
+def test_info_text_is_in_file_units(capsys):
+    assert main(["info", str(examples.IRB2600ID)]) == 0
+    out = capsys.readouterr().out
+    assert "units mm and deg, 6 axes" in out
+    assert "(1088, 0, 1495) -> (1088, 1, 1495)" in out and "-120 deg" in out
+    assert "Cable Hose: radius 25 mm, segments <= 50 mm, colour (32, 32, 32)" in out
+
+
+def test_info_json_is_si_and_snake_case(capsys):
+    assert main(["info", "--json", str(examples.IRB2600ID)]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    model = doc["model"]
+    assert model["model_name"] == "IRB2600ID_8_200" and model["dof"] == 6
+    j5 = model["joints"][4]
+    assert j5["point1"] == [1.088, 0.0, 1.495] and abs(j5["limits"][1] - 2.0943951023931957) < 1e-12
+    assert abs(model["home_position"][4] - 0.5235987755982988) < 1e-12
+    assert model["cables"][0]["radius"] == 0.025 and model["cables"][0]["max_segment_length"] == 0.05
+
+    def keys(obj):
+        if isinstance(obj, dict):
+            for k, v in obj.items():
+                yield k
+                yield from keys(v)
+        elif isinstance(obj, list):
+            for v in obj:
+                yield from keys(v)
+
+    assert all(k == k.lower() for k in keys(doc))
+
+
+def test_info_smart_component_and_library(capsys):
+    assert main(["info", str(DATA / "smart" / "Counter.rsxml")]) == 0
+    out = capsys.readouterr().out
+    assert "Counter: SmartComponent - Counts rising edges." in out
+    assert "code-behind Counter.CodeBehind,Counter.dll (named only" in out
+    assert "Increment  DigitalInput   Adds one on a rising edge." in out
+    assert main(["info", "--json", str(DATA / "library" / "Robots.xml")]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [lib["file_name"] for lib in doc["model"]["libraries"]] == ["IRB1_1_1__02.rslib", "Marker.rslib"]
+    assert doc["sources"][0]["model"]["name"] == "IRB1_1_1__02"
+
+
+def test_info_on_bad_file_is_one_line_per_problem(capsys):
+    bad = DATA / "bad" / "coincident_axis_points.rsxml"
+    assert main(["info", str(bad)]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert err == [f"{bad}:10: point1 and point2 coincide: the joint has no axis"]
+
+
+def test_demo_runs_on_the_bundled_examples(capsys):
+    assert main(["demo"]) == 0
+    out = capsys.readouterr().out
+    for path in examples.ALL:
+        assert f"== rswarp check {path.name}" in out
+    assert "Cable Hose" in out and "link_6.stl" in out
+    assert main(["demo", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["ok"] is True
+
+
+def test_console_script_gives_no_traceback():
+    """The installed entry point, in a fresh process, on a file that is not XML at all."""
+    bad = DATA / "bad" / "empty_file.rsxml"
+    proc = subprocess.run([sys.executable, "-m", "rswarp.cli", "info", str(bad)], capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert proc.stderr == f"{bad}:1: XML syntax error: Document is empty\n" and proc.stdout == ""
+
+
+def test_version():
+    assert rswarp.__version__
