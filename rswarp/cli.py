@@ -14,6 +14,8 @@ import sys
 from .documents import Report, check
 from .errors import RsxmlError
 from .info import report_dict, report_text
+from .model import Mechanism
+from .poses import limit_warnings
 
 
 def _emit_json(obj) -> None:
@@ -79,6 +81,43 @@ def cmd_demo(args) -> int:
     return 0 if all(r.ok for r in results) else 1
 
 
+def _joint_values(report: Report, text: str) -> "np.ndarray":
+    """``--q`` in the file's units -> SI; a bad value or count is a one-line error."""
+    import numpy as np
+
+    mech = report.model
+    names = [j.name for j in mech.active_joints]
+    try:
+        values = [float(v) for v in text.replace(",", " ").split()]
+    except ValueError:
+        raise SystemExit(f"rswarp: --q: '{text}' is not a list of numbers") from None
+    if len(values) != len(names) or not all(np.isfinite(values)):
+        raise SystemExit(f"rswarp: --q needs {len(names)} finite values ({', '.join(names)}), got '{text}'")
+    return np.array([v * mech.joint_factor(j) for v, j in zip(values, mech.active_joints)])
+
+
+def cmd_fk(args) -> int:
+    from .kinematics import Kinematics
+    from .poses import pose_dict, pose_text
+
+    report = _checked(args.file)
+    mech = report.model
+    if not isinstance(mech, Mechanism):
+        raise SystemExit(f"rswarp: {args.file} is a {report.kind}, not a mechanism")
+    q = _joint_values(report, args.q)
+    for warning in limit_warnings(mech, q):
+        print(warning, file=sys.stderr)
+    kin = Kinematics(mech)
+    links = kin.fk(q[None])[0]
+    flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
+    if args.json:
+        _emit_json({"q": q.tolist(), "links": {n: pose_dict(m) for n, m in zip(kin.links, links)},
+                    "flanges": {n: pose_dict(m) for n, m in flanges.items()}})
+    else:
+        print(pose_text(mech, list(zip(kin.links, links)), list(flanges.items())))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="rswarp", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -92,6 +131,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", metavar="FILE")
     p.add_argument("--json", action="store_true", help="machine-readable output (SI units)")
     p.set_defaults(func=cmd_info)
+
+    p = sub.add_parser("fk", help="link and flange poses for one set of joint values")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--q", required=True, help='active joint values in the file\'s units, e.g. "0,0,0,0,30,0"')
+    p.add_argument("--json", action="store_true", help="machine-readable output (metres, 4x4 matrices)")
+    p.set_defaults(func=cmd_fk)
 
     p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
     p.add_argument("--json", action="store_true", help="machine-readable output")

@@ -107,3 +107,30 @@ def test_console_script_gives_no_traceback():
 
 def test_version():
     assert rswarp.__version__
+
+
+def test_fk_in_file_units(capsys):
+    assert main(["fk", str(examples.IRB1300), "--q", "0,0,0,0,90,0"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].split() == ["frame", "x", "[mm]", "y", "[mm]", "z", "[mm]", "rx", "[deg]", "ry", "[deg]", "rz", "[deg]"]
+    flange = next(line for line in out if line.startswith("flange wrist")).split()
+    assert [float(v) for v in flange[2:5]] == [475, 0, 919]  # analytic: J5 turns the 90 mm offset down
+
+
+def test_fk_json_is_si(capsys):
+    assert main(["fk", str(examples.IRB2600), "--q", "90, 0, 0, 0, 0, 0", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["q"][0] == 1.5707963267948966
+    x, y, z = doc["flanges"]["wrist"]["position"]
+    assert abs(x) < 1e-6 and abs(y - 1.03) < 1e-6 and abs(z - 1.26) < 1e-6
+
+
+def test_fk_bad_joint_values(capsys):
+    try:
+        main(["fk", str(examples.IRB1300), "--q", "0,0,0"])
+    except SystemExit as exc:
+        assert str(exc) == "rswarp: --q needs 6 finite values (J1, J2, J3, J4, J5, J6), got '0,0,0'"
+    else:
+        raise AssertionError("no error")
+    assert main(["fk", str(examples.IRB1300), "--q", "0,200,0,0,0,0"]) == 0
+    assert "rswarp: warning: J2 = 200 is outside its limits [-100, 130]" in capsys.readouterr().err

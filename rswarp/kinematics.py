@@ -1,0 +1,217 @@
+"""Batched forward kinematics on Warp: compiled once per mechanism, reused for any batch size.
+
+Warp runs a CPU launch on one core, so large batches are cut into chunks launched from a thread
+pool (the launch releases the GIL) and every core works. Results do not depend on the number of
+threads: each configuration is computed by one thread, the same way.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from .compile import KinematicTree, compile_tree, fk64
+from .model import Mechanism
+
+DEFAULT_CHUNK = 16384  # configurations per launch: scratch stays in cache, chunks balance well
+
+
+def _wp():
+    """Warp, initialized quietly: its banner would corrupt --json output on stdout."""
+    import warp as wp
+
+    if not getattr(_wp, "done", False):
+        if hasattr(wp.config, "log_level"):
+            wp.config.log_level = getattr(wp, "LOG_ERROR", 40)
+        wp.config.quiet = True
+        _wp.done = True
+    return wp
+
+
+class Kinematics:
+    """Forward kinematics of one mechanism on a Warp device.
+
+    ``fk(q)`` gives every link's pose, ``flange(q)`` the flange's, ``wrist_flange(q)`` the wrist
+    centre and flange positions; ``q`` is ``(N, dof)`` active-joint values in SI (rad, m).
+    """
+
+    def __init__(self, mech: Mechanism, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
+        wp = _wp()
+        from .kernels import fk as kernels
+
+        self.mech = mech
+        self.tree: KinematicTree = compile_tree(mech)
+        self.device = wp.get_device(device)
+        self.chunk = int(chunk)
+        self.threads = max(1, threads or (os.cpu_count() or 1)) if self.device.is_cpu else 1
+        self._k = kernels
+        t, d = self.tree, self.device
+        self._parent = wp.array(t.parent, dtype=wp.int32, device=d)
+        self._jtype = wp.array(t.jtype, dtype=wp.int32, device=d)
+        self._qidx = wp.array(t.qidx, dtype=wp.int32, device=d)
+        self._axis = wp.array(t.axis.astype(np.float32), dtype=wp.vec3, device=d)
+        self._point = wp.array(t.point.astype(np.float32), dtype=wp.vec3, device=d)
+        self._base = wp.transform_identity()
+        self._local = threading.local()
+        self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
+        wp.load_module(kernels, device=d)  # compile (or load from cache) once, before any thread launches
+
+    # -- public ------------------------------------------------------------------------------------
+    @property
+    def links(self) -> tuple[str, ...]:
+        """Link names in the order of ``fk``'s second axis (topological: base first)."""
+        return self.tree.links
+
+    @property
+    def dof(self) -> int:
+        return self.tree.dof
+
+    def fk(self, q, links: list[str] | None = None, out: np.ndarray | None = None) -> np.ndarray:
+        """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given)."""
+        idx = list(range(len(self.tree.links))) if links is None else [self.tree.index(n) for n in links]
+        return self.frames(q, [(i, np.eye(4)) for i in idx], out)
+
+    def flange(self, q, name: str | None = None, out: np.ndarray | None = None) -> np.ndarray:
+        """``(N, 4, 4)`` float32 flange poses (the first flange, or the one named)."""
+        link, offset = self._flange(name)
+        res = self.frames(q, [(link, offset)], None if out is None else out[:, None])
+        return res[:, 0]
+
+    def frames(self, q, outputs: list[tuple[int, np.ndarray]], out: np.ndarray | None = None) -> np.ndarray:
+        """``(N, len(outputs), 4, 4)``: pose of link index ``k`` times a 4x4 ``offset``, per output."""
+        wp = _wp()
+        q = self._q(q)
+        n = q.shape[0]
+        if out is None:
+            out = np.empty((n, len(outputs), 4, 4), np.float32)
+        elif out.shape != (n, len(outputs), 4, 4) or out.dtype != np.float32 or not out.flags.c_contiguous:
+            raise ValueError(f"out must be a C-contiguous float32 array of shape {(n, len(outputs), 4, 4)}")
+        d = self.device
+        links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=d)
+        offsets = wp.array([_transform(m) for _, m in outputs], dtype=wp.transform, device=d)
+
+        def launch(lo: int, hi: int) -> None:
+            qa, scratch = self._inputs(q, lo, hi)
+            res = self._output(out, lo, hi, wp.mat44)
+            wp.launch(self._k.fk_frames, dim=hi - lo, device=d,
+                      inputs=[qa, self._parent, self._jtype, self._qidx, self._axis, self._point, self._base,
+                              links, offsets, scratch, res[0]])
+            self._finish(res, out, lo, hi)
+
+        self._run(n, launch)
+        return out
+
+    def wrist_flange(self, q, flange: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(N, 3)`` wrist-centre positions (the point of the J5 axis nearest the J4 axis) and
+        ``(N, 3)`` flange positions, float32 metres. Needs at least five active joints."""
+        wp = _wp()
+        q = self._q(q)
+        n = q.shape[0]
+        (l4, p4, a4), (l5, p5, a5) = self.wrist_axes()
+        fl_link, fl_off = self._flange(flange)
+        wrist = np.empty((n, 3), np.float32)
+        fpos = np.empty((n, 3), np.float32)
+        d = self.device
+
+        def launch(lo: int, hi: int) -> None:
+            qa, scratch = self._inputs(q, lo, hi)
+            rw, rf = self._output(wrist, lo, hi, wp.vec3), self._output(fpos, lo, hi, wp.vec3)
+            wp.launch(self._k.fk_wrist_flange, dim=hi - lo, device=d,
+                      inputs=[qa, self._parent, self._jtype, self._qidx, self._axis, self._point, self._base,
+                              l4, wp.vec3(*p4), wp.vec3(*a4), l5, wp.vec3(*p5), wp.vec3(*a5),
+                              fl_link, _transform(fl_off), scratch, rw[0], rf[0]])
+            self._finish(rw, wrist, lo, hi)
+            self._finish(rf, fpos, lo, hi)
+
+        self._run(n, launch)
+        return wrist, fpos
+
+    def wrist_axes(self) -> list[tuple[int, np.ndarray, np.ndarray]]:
+        """(parent link index, point, unit axis) of the 4th and 5th active joints (J4, J5)."""
+        if self.dof < 5:
+            raise ValueError(f"'{self.mech.name}' has {self.dof} axes: a wrist centre needs J4 and J5")
+        out = []
+        for name in self.tree.active[3:5]:
+            j = self.mech.joint(name)
+            out.append((self.tree.index(j.parent), np.asarray(j.point1, float), np.asarray(j.axis, float)))
+        return out
+
+    def fk64(self, q) -> np.ndarray:
+        """Float64 NumPy forward kinematics (slow; for checks and refinement)."""
+        return fk64(self.tree, q)
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
+
+    # -- plumbing ----------------------------------------------------------------------------------
+    def _flange(self, name: str | None) -> tuple[int, np.ndarray]:
+        flanges = self.mech.flanges
+        if not flanges:
+            raise ValueError(f"'{self.mech.name}' has no flange")
+        fl = flanges[0] if name is None else next((f for f in flanges if f.name == name), None)
+        if fl is None:
+            raise KeyError(f"no flange '{name}' (flanges: {', '.join(f.name for f in flanges)})")
+        return self.tree.index(fl.link), fl.pose.matrix()
+
+    def _q(self, q) -> np.ndarray:
+        q = np.ascontiguousarray(np.atleast_2d(q), dtype=np.float32)
+        if q.ndim != 2 or q.shape[1] != self.dof:
+            raise ValueError(f"q must have shape (N, {self.dof}), got {q.shape}")
+        return q
+
+    def _scratch(self, n: int):
+        wp = _wp()
+        s = getattr(self._local, "scratch", None)
+        if s is None or s.shape[0] < n:
+            s = wp.empty((max(n, 1), len(self.tree.links)), dtype=wp.transform, device=self.device)
+            self._local.scratch = s
+        return s
+
+    def _inputs(self, q: np.ndarray, lo: int, hi: int):
+        wp = _wp()
+        if self.device.is_cpu:
+            qa = wp.array(q[lo:hi], dtype=wp.float32, device=self.device, copy=False)
+        else:
+            qa = wp.array(q[lo:hi], dtype=wp.float32, device=self.device)
+        return qa, self._scratch(hi - lo)
+
+    def _output(self, host: np.ndarray, lo: int, hi: int, dtype):
+        """A Warp view of ``host[lo:hi]`` on the CPU; a device array to copy back on a GPU."""
+        wp = _wp()
+        if self.device.is_cpu:
+            return (wp.array(host[lo:hi], dtype=dtype, device=self.device, copy=False), False)
+        shape = host[lo:hi].shape[: host.ndim - (2 if dtype is wp.mat44 else 1)]
+        return (wp.empty(shape, dtype=dtype, device=self.device), True)
+
+    def _finish(self, res, host: np.ndarray, lo: int, hi: int) -> None:
+        arr, copy_back = res
+        if copy_back:
+            host[lo:hi] = arr.numpy().reshape(host[lo:hi].shape)
+
+    def _run(self, n: int, launch) -> None:
+        chunk = self.chunk if self.device.is_cpu else max(self.chunk, 1 << 20)
+        spans = [(lo, min(lo + chunk, n)) for lo in range(0, n, chunk)]
+        if self._pool is None or len(spans) == 1:
+            for lo, hi in spans:
+                launch(lo, hi)
+        else:
+            for f in [self._pool.submit(launch, lo, hi) for lo, hi in spans]:
+                f.result()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+
+def _transform(m: np.ndarray):
+    """A 4x4 rigid transform as a Warp transform (float32)."""
+    wp = _wp()
+    r = m[:3, :3]
+    return wp.transform(wp.vec3(*m[:3, 3]), wp.quat_from_matrix(wp.mat33(*r.flatten())))
