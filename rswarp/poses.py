@@ -13,8 +13,9 @@ from .units import format_number
 
 def euler_zyx(r: np.ndarray) -> tuple[float, float, float]:
     """(rx, ry, rz) with R = Rz(rz) Ry(ry) Rx(rx), the RSXML ``euler`` convention."""
-    ry = -math.asin(max(-1.0, min(1.0, float(r[2, 0]))))
-    if abs(r[2, 0]) < 1 - 1e-9:
+    cy = math.hypot(r[0, 0], r[1, 0])
+    ry = math.atan2(-r[2, 0], cy)  # atan2, not asin: well conditioned near +-90 degrees
+    if cy > 1e-6:
         return math.atan2(r[2, 1], r[2, 2]), ry, math.atan2(r[1, 0], r[0, 0])
     return 0.0, ry, math.atan2(-r[0, 1], r[1, 1])  # gimbal lock: put it all in rz
 
@@ -24,8 +25,12 @@ def pose_dict(m: np.ndarray) -> dict:
             "position": [round(float(v), 7) for v in m[:3, 3]]}
 
 
-def _rounded(v: float, factor: float, digits: int = 4) -> str:
-    return format_number(round(v / factor, digits) * factor, factor)
+def _rounded(v: float, factor: float, resolution: float) -> str:
+    """``v`` (SI) in file units, to the decimals that ``resolution`` (SI) needs: float32 noise off."""
+    digits = max(0, math.ceil(-math.log10(resolution / factor)))
+    text = f"{v / factor:.{digits}f}"
+    text = text.rstrip("0").rstrip(".") if "." in text else text
+    return "0" if text in ("-0", "") else text
 
 
 def pose_text(mech: Mechanism, links: list[tuple[str, np.ndarray]], flanges: list[tuple[str, np.ndarray]]) -> str:
@@ -35,7 +40,8 @@ def pose_text(mech: Mechanism, links: list[tuple[str, np.ndarray]], flanges: lis
     for kind, items in (("link", links), ("flange", flanges)):
         for name, m in items:
             e = euler_zyx(m[:3, :3].astype(np.float64))
-            rows.append([f"{kind} {name}", *(_rounded(float(v), lf) for v in m[:3, 3]), *(_rounded(a, af) for a in e)])
+            rows.append([f"{kind} {name}", *(_rounded(float(v), lf, 1e-6) for v in m[:3, 3]),
+                         *(_rounded(a, af, 1e-5) for a in e)])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths))) for r in rows)
 
