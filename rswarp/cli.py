@@ -118,6 +118,71 @@ def cmd_fk(args) -> int:
     return 0
 
 
+class _Progress:
+    """A progress bar on stderr (a line per tenth when stderr is not a terminal)."""
+
+    def __init__(self, label: str):
+        self.label, self.tty, self.shown = label, sys.stderr.isatty(), -1
+
+    def __call__(self, done: int, total: int) -> None:
+        frac = done / max(total, 1)
+        if self.tty:
+            bar = "#" * int(frac * 30)
+            print(f"\r{self.label} [{bar:<30}] {frac:4.0%} ({done}/{total})", end="", file=sys.stderr, flush=True)
+            if done >= total:
+                print(file=sys.stderr)
+        elif int(frac * 10) > self.shown:
+            self.shown = int(frac * 10)
+            print(f"{self.label}: {frac:.0%} ({done}/{total})", file=sys.stderr, flush=True)
+
+
+def cmd_sweep(args) -> int:
+    from pathlib import Path
+
+    from .figures import work_range_figures
+    from .units import format_number
+    from .workspace import save_voxels, workspace
+    from .write import atomic_write
+
+    report = _checked(args.file)
+    mech = report.model
+    if not isinstance(mech, Mechanism):
+        raise SystemExit(f"rswarp: {args.file} is a {report.kind}, not a mechanism")
+    if args.samples < 1:
+        raise SystemExit("rswarp: --samples must be at least 1")
+    lf = mech.length_factor
+    resolution = (args.resolution * lf) if args.resolution is not None else 0.025
+    if not resolution > 0:
+        raise SystemExit("rswarp: --resolution must be positive")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    ws = workspace(mech, samples=args.samples, seed=args.seed, method=args.method, resolution=resolution,
+                   progress=_Progress("sweep"))
+    files = {"voxels": out / "workspace.npz", "report": out / "report.json"}
+    save_voxels(ws, files["voxels"])
+    if ws.reach is not None:
+        files["side_view"], files["top_view"] = out / "side.png", out / "top.png"
+        work_range_figures(ws, mech, files["side_view"], files["top_view"])
+    doc = ws.report() | {"files": {k: str(v) for k, v in files.items()}}
+    atomic_write(files["report"], (json.dumps(doc, indent=2) + "\n").encode())
+    if args.json:
+        _emit_json(doc)
+        return 0
+    unit = mech.length_unit or "m"
+
+    def length(v):
+        return f"{format_number(round(v / lf, 1 if lf < 0.01 else 4) * lf, lf)} {unit}"
+
+    print(f"{mech.name}: {ws.samples} {ws.method} samples (seed {ws.seed}) within the joint limits")
+    if ws.reach is not None:
+        print(f"  reach (J1 axis to wrist centre): {length(ws.reach.value)}  (best sample {length(ws.reach.sampled)})")
+        print(f"  wrist centre height: {length(ws.wrist_low.value)} to {length(ws.wrist_high.value)}")
+    print(f"  flange reach: {length(ws.flange_reach.value)}")
+    print(f"  flange height: {length(ws.flange_low.value)} to {length(ws.flange_high.value)}")
+    print("  wrote " + ", ".join(str(p) for p in files.values()))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="rswarp", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -137,6 +202,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--q", required=True, help='active joint values in the file\'s units, e.g. "0,0,0,0,30,0"')
     p.add_argument("--json", action="store_true", help="machine-readable output (metres, 4x4 matrices)")
     p.set_defaults(func=cmd_fk)
+
+    p = sub.add_parser("sweep", help="workspace over the joint limits: reach, voxels, work-range figures")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--samples", type=int, default=1_000_000, help="joint configurations (default 1000000)")
+    p.add_argument("--out", required=True, metavar="DIR", help="folder for workspace.npz, side.png, top.png, report.json")
+    p.add_argument("--method", choices=["random", "sobol", "grid"], default="random")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--resolution", type=float, help="voxel size in the file's length unit (default 25 mm)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON (metres, radians)")
+    p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
     p.add_argument("--json", action="store_true", help="machine-readable output")

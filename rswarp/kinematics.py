@@ -104,15 +104,20 @@ class Kinematics:
         self._run(n, launch)
         return out
 
-    def wrist_flange(self, q, flange: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def wrist_flange(self, q, flange: str | None = None, wrist: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
         """``(N, 3)`` wrist-centre positions (the point of the J5 axis nearest the J4 axis) and
-        ``(N, 3)`` flange positions, float32 metres. Needs at least five active joints."""
+        ``(N, 3)`` flange positions, float32 metres. The wrist needs five active joints or more;
+        with ``wrist=False`` only the flange is computed and the first result is None."""
         wp = _wp()
         q = self._q(q)
         n = q.shape[0]
-        (l4, p4, a4), (l5, p5, a5) = self.wrist_axes()
         fl_link, fl_off = self._flange(flange)
-        wrist = np.empty((n, 3), np.float32)
+        if wrist:
+            (l4, p4, a4), (l5, p5, a5) = self.wrist_axes()
+        else:  # any two lines will do: the result is dropped
+            l4 = l5 = fl_link
+            p4 = p5 = a4 = a5 = np.array([0.0, 0.0, 1.0])
+        wrist_on, wrist = wrist, np.empty((n, 3), np.float32)
         fpos = np.empty((n, 3), np.float32)
         d = self.device
 
@@ -127,7 +132,7 @@ class Kinematics:
             self._finish(rf, fpos, lo, hi)
 
         self._run(n, launch)
-        return wrist, fpos
+        return (wrist if wrist_on else None), fpos
 
     def wrist_axes(self) -> list[tuple[int, np.ndarray, np.ndarray]]:
         """(parent link index, point, unit axis) of the 4th and 5th active joints (J4, J5)."""

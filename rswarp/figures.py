@@ -1,0 +1,68 @@
+"""Datasheet work-range figures: the wrist-centre envelope seen from the side (plane of J1 = 0)
+and from above, in the file's length unit, with the reach annotated. PNG via matplotlib (Agg)."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+from .model import Mechanism
+from .workspace import Workspace
+from .write import atomic_write
+
+
+def _png(fig) -> bytes:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=120, bbox_inches="tight")
+    return buf.getvalue()
+
+
+def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> None:
+    """Write the side and top views (each atomically). Needs a wrist centre (five axes or more)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Circle
+
+    if ws.side is None or ws.reach is None:
+        raise ValueError(f"'{mech.name}' has no wrist centre: work-range figures need five axes or more")
+    f = mech.length_factor
+    unit = mech.length_unit or "m"
+    r, bx, by, bz = ws.view_extent
+    reach = ws.reach.value
+
+    def axes(title, xlabel, ylabel):
+        fig = Figure(figsize=(6.4, 6.4))
+        ax = fig.add_subplot()
+        ax.set_title(title)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.set_aspect("equal")
+        ax.grid(True, alpha=0.3)
+        return fig, ax
+
+    # side view: x (radial in the plane J1 = 0) against z
+    fig, ax = axes(f"{mech.name}: work range, side view (J1 = 0)", f"x [{unit}]", f"z [{unit}]")
+    ax.imshow((ws.side > 0).T, origin="lower", extent=[(bx - r) / f, (bx + r) / f, (bz - r) / f, (bz + r) / f],
+              cmap="Blues", vmin=0, vmax=1.6, interpolation="nearest")
+    ax.axvline((bx + reach) / f, color="tab:red", ls="--", lw=1)
+    ax.annotate(f"reach {reach / f:.1f} {unit}", xy=((bx + reach) / f, (bz + ws.wrist_high.value) / 2 / f),
+                xytext=(-8, 0), textcoords="offset points", ha="right", color="tab:red")
+    for e, label in ((ws.wrist_high, "highest"), (ws.wrist_low, "lowest")):
+        ax.axhline(e.value / f, color="tab:gray", ls=":", lw=1)
+        ax.annotate(f"{label} {e.value / f:.1f} {unit}", xy=((bx - r) / f, e.value / f), xytext=(4, 3),
+                    textcoords="offset points", fontsize=8, color="tab:gray")
+    ax.plot([bx / f], [bz / f], "k+")
+    atomic_write(side_path, _png(fig))
+
+    # top view: x against y, the reach as a circle about the J1 axis
+    fig, ax = axes(f"{mech.name}: work range, top view", f"x [{unit}]", f"y [{unit}]")
+    ax.imshow((ws.top > 0).T, origin="lower", extent=[(bx - r) / f, (bx + r) / f, (by - r) / f, (by + r) / f],
+              cmap="Blues", vmin=0, vmax=1.6, interpolation="nearest")
+    ax.add_patch(Circle((bx / f, by / f), reach / f, fill=False, color="tab:red", ls="--", lw=1))
+    ax.annotate(f"reach {reach / f:.1f} {unit}", xy=((bx + reach * np.cos(0.8)) / f, (by + reach * np.sin(0.8)) / f),
+                xytext=(6, 6), textcoords="offset points", color="tab:red")
+    ax.plot([bx / f], [by / f], "k+")
+    atomic_write(top_path, _png(fig))
