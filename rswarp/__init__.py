@@ -8,10 +8,24 @@ from .model import (
 )
 from .write import save, to_rsxml
 
+
+def __getattr__(name):
+    """Kinematics and workspace import Warp; load them on first use so reading RSXML stays light."""
+    if name == "Kinematics":
+        from .kinematics import Kinematics
+
+        return Kinematics
+    if name == "workspace":
+        from .sweeps import workspace
+
+        return workspace
+    raise AttributeError(f"module 'rswarp' has no attribute '{name}'")
+
+
 __version__ = "0.1.0"
 
 __all__ = [
     "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal", "Joint",
     "Limit", "Mechanism", "MeshNotFoundError", "Part", "Pose", "Report", "RsxmlError", "RsxmlWarning",
-    "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
+    "SmartComponent", "check", "load", "load_library", "save", "to_rsxml", "Kinematics", "workspace",
 ]

@@ -141,7 +141,7 @@ def cmd_sweep(args) -> int:
 
     from .figures import work_range_figures
     from .units import format_number
-    from .workspace import save_voxels, workspace
+    from .sweeps import save_voxels, workspace
     from .write import atomic_write
 
     report = _checked(args.file)

@@ -8,7 +8,7 @@ import io
 import numpy as np
 
 from .model import Mechanism
-from .workspace import Workspace
+from .sweeps import Workspace
 from .write import atomic_write
 
 

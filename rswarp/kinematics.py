@@ -13,6 +13,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from . import codegen
 from .compile import KinematicTree, compile_tree, fk64
 from .model import Mechanism
 
@@ -58,6 +59,9 @@ class Kinematics:
         self._local = threading.local()
         self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
         wp.load_module(kernels, device=d)  # compile (or load from cache) once, before any thread launches
+        flanges = [(t.index(f.link), f.pose.matrix()) for f in mech.flanges]
+        self._gen = codegen.load(codegen.source(t, flanges, self.wrist_axes() if t.dof >= 5 else None))
+        wp.load_module(self._gen, device=d)
 
     # -- public ------------------------------------------------------------------------------------
     @property
@@ -70,25 +74,32 @@ class Kinematics:
         return self.tree.dof
 
     def fk(self, q, links: list[str] | None = None, out: np.ndarray | None = None) -> np.ndarray:
-        """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given)."""
-        idx = list(range(len(self.tree.links))) if links is None else [self.tree.index(n) for n in links]
-        return self.frames(q, [(i, np.eye(4)) for i in idx], out)
+        """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given).
+
+        ``out`` (C-contiguous float32 of that shape) is filled in place: reusing one buffer in a loop
+        saves the page faults of a fresh array."""
+        if links is not None:
+            return self.frames(q, [(self.tree.index(n), np.eye(4)) for n in links], out)
+        q = self._q(q)
+        out = self._out(out, (q.shape[0], len(self.tree.links), 4, 4))
+        self._launch(self._gen.fk_all, q, [(out, 2)])
+        return out
 
     def flange(self, q, name: str | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """``(N, 4, 4)`` float32 flange poses (the first flange, or the one named)."""
-        link, offset = self._flange(name)
-        res = self.frames(q, [(link, offset)], None if out is None else out[:, None])
-        return res[:, 0]
+        self._flange(name)  # checks the name
+        f = 0 if name is None else [fl.name for fl in self.mech.flanges].index(name)
+        q = self._q(q)
+        out = self._out(out, (q.shape[0], 4, 4))
+        self._launch(getattr(self._gen, f"fk_flange{f}"), q, [(out, 2)])
+        return out
 
     def frames(self, q, outputs: list[tuple[int, np.ndarray]], out: np.ndarray | None = None) -> np.ndarray:
         """``(N, len(outputs), 4, 4)``: pose of link index ``k`` times a 4x4 ``offset``, per output."""
         wp = _wp()
         q = self._q(q)
         n = q.shape[0]
-        if out is None:
-            out = np.empty((n, len(outputs), 4, 4), np.float32)
-        elif out.shape != (n, len(outputs), 4, 4) or out.dtype != np.float32 or not out.flags.c_contiguous:
-            raise ValueError(f"out must be a C-contiguous float32 array of shape {(n, len(outputs), 4, 4)}")
+        out = self._out(out, (n, len(outputs), 4, 4))
         d = self.device
         links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=d)
         offsets = wp.array([_transform(m) for _, m in outputs], dtype=wp.transform, device=d)
@@ -112,6 +123,12 @@ class Kinematics:
         q = self._q(q)
         n = q.shape[0]
         fl_link, fl_off = self._flange(flange)
+        if flange is None or flange == self.mech.flanges[0].name:
+            if wrist and self.dof < 5:
+                self.wrist_axes()  # raises the clear error
+            fpos, wpos = np.empty((n, 3), np.float32), np.empty((n, 3), np.float32)
+            self._launch(self._gen.wrist_flange, q, [(wpos, 1), (fpos, 1)])
+            return (wpos if wrist else None), fpos
         if wrist:
             (l4, p4, a4), (l5, p5, a5) = self.wrist_axes()
         else:  # any two lines will do: the result is dropped
@@ -154,6 +171,27 @@ class Kinematics:
             self._pool = None
 
     # -- plumbing ----------------------------------------------------------------------------------
+    def _out(self, out: np.ndarray | None, shape: tuple[int, ...]) -> np.ndarray:
+        if out is None:
+            return np.empty(shape, np.float32)
+        if out.shape != shape or out.dtype != np.float32 or not out.flags.c_contiguous:
+            raise ValueError(f"out must be a C-contiguous float32 array of shape {shape}")
+        return out
+
+    def _launch(self, kernel, q: np.ndarray, outputs: list[tuple[np.ndarray, int]]) -> None:
+        """Launch a generated kernel over q in chunks; ``outputs`` are (host array, trailing dims
+        folded into the Warp dtype: 2 for 4x4 matrices, 1 for vec3)."""
+        wp = _wp()
+
+        def launch(lo: int, hi: int) -> None:
+            qa, _ = self._inputs(q, lo, hi, scratch=False)
+            res = [self._output(host, lo, hi, wp.mat44 if dims == 2 else wp.vec3) for host, dims in outputs]
+            wp.launch(kernel, dim=hi - lo, device=self.device, inputs=[qa, *(r[0] for r in res)])
+            for r, (host, _) in zip(res, outputs):
+                self._finish(r, host, lo, hi)
+
+        self._run(q.shape[0], launch)
+
     def _flange(self, name: str | None) -> tuple[int, np.ndarray]:
         flanges = self.mech.flanges
         if not flanges:
@@ -177,13 +215,13 @@ class Kinematics:
             self._local.scratch = s
         return s
 
-    def _inputs(self, q: np.ndarray, lo: int, hi: int):
+    def _inputs(self, q: np.ndarray, lo: int, hi: int, scratch: bool = True):
         wp = _wp()
         if self.device.is_cpu:
             qa = wp.array(q[lo:hi], dtype=wp.float32, device=self.device, copy=False)
         else:
             qa = wp.array(q[lo:hi], dtype=wp.float32, device=self.device)
-        return qa, self._scratch(hi - lo)
+        return qa, (self._scratch(hi - lo) if scratch else None)
 
     def _output(self, host: np.ndarray, lo: int, hi: int, dtype):
         """A Warp view of ``host[lo:hi]`` on the CPU; a device array to copy back on a GPU."""
@@ -199,7 +237,10 @@ class Kinematics:
             host[lo:hi] = arr.numpy().reshape(host[lo:hi].shape)
 
     def _run(self, n: int, launch) -> None:
-        chunk = self.chunk if self.device.is_cpu else max(self.chunk, 1 << 20)
+        if self.device.is_cpu:  # at least one chunk per thread, so small batches use every core too
+            chunk = max(1, min(self.chunk, -(-n // self.threads)))
+        else:
+            chunk = max(self.chunk, 1 << 20)
         spans = [(lo, min(lo + chunk, n)) for lo in range(0, n, chunk)]
         if self._pool is None or len(spans) == 1:
             for lo, hi in spans:

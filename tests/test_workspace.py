@@ -9,7 +9,7 @@ import rswarp
 from rswarp import examples
 from rswarp.cli import main
 from rswarp.kinematics import Kinematics
-from rswarp.workspace import radial_distance, sample_chunks, workspace
+from rswarp.sweeps import radial_distance, sample_chunks, workspace
 from conftest import DATA
 
 

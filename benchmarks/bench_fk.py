@@ -1,0 +1,111 @@
+"""Batched forward kinematics: rswarp's Kinematics against Newton's eval_fk on a replicated model.
+
+Same process, same 6-axis robot (the bundled IRB 2600-12/1.65), same joint configurations.
+Newton evaluates a model replicated into B worlds (B = min(N, 100 000), one configuration per
+world) in N/B batches, as one would to keep memory bounded; its build time is that of the
+replicated model. Timings are the median of 3 runs after a warm-up call (Warp compiles kernels on
+the first call). "all links" is every link's pose: ours as (N, 7, 4, 4) float32 matrices, Newton's
+as its body_q transforms. Ours is timed writing into a reused output buffer (as Newton writes into
+its state); the fresh-array figure, which adds first-touch page faults for the output, is shown too.
+
+Run: python benchmarks/bench_fk.py [--sizes 10000,100000,1000000]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import time
+
+import numpy as np
+
+
+def median_time(fn, repeats: int = 3) -> float:
+    fn()  # warm-up: compiles and touches memory
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="10000,100000,1000000")
+    parser.add_argument("--max-worlds", type=int, default=100_000)
+    args = parser.parse_args()
+    sizes = [int(s) for s in args.sizes.split(",")]
+
+    import newton
+    import warp as wp
+
+    import rswarp
+    from rswarp import examples
+    from rswarp.kinematics import Kinematics, _wp
+    from rswarp.newton_export import newton_q_columns, to_newton
+
+    _wp()  # quiet Warp
+    mech = rswarp.load(examples.IRB2600)
+    lo, hi = mech.bounds()
+    t = time.perf_counter()
+    Kinematics(mech).close()  # compiles the generated kernels, or loads them from Warp's cache
+    ours_first = time.perf_counter() - t
+    t = time.perf_counter()
+    kin = Kinematics(mech)
+    ours_build = time.perf_counter() - t
+    cols = newton_q_columns(mech)
+
+    rows, result = [], {}
+    for n in sizes:
+        q = np.random.default_rng(n).uniform(lo, hi, (n, mech.dof)).astype(np.float32)
+        out = np.empty((n, len(kin.links), 4, 4), np.float32)
+        ours_all = median_time(lambda: kin.fk(q, out=out))
+        ours_fresh = median_time(lambda: kin.fk(q))
+        ours_flange = median_time(lambda: kin.flange(q))
+
+        worlds = min(n, args.max_worlds)
+        t = time.perf_counter()
+        many = newton.ModelBuilder()
+        many.replicate(to_newton(mech), worlds)
+        model = many.finalize(device="cpu")
+        state = model.state()
+        newton_build = time.perf_counter() - t
+        joint_q = wp.zeros(worlds * len(cols), dtype=wp.float32, device="cpu")
+        joint_qd = wp.zeros(model.joint_dof_count, dtype=wp.float32, device="cpu")
+        batches = [np.ascontiguousarray(q[b:b + worlds][:, cols]).ravel() for b in range(0, n, worlds)]
+
+        def newton_fk():
+            for batch in batches:
+                joint_q.numpy()[: batch.size] = batch  # zero-copy view on the CPU
+                newton.eval_fk(model, joint_q, joint_qd, state)
+            wp.synchronize()
+
+        peer = median_time(newton_fk)
+        # both give the same poses: check the last batch
+        last = q[(len(batches) - 1) * worlds:]
+        body_q = state.body_q.numpy().reshape(worlds, len(kin.links), 7)[: len(last)]
+        err = float(np.abs(body_q[..., :3] - kin.fk(last)[..., :3, 3]).max())
+
+        rows.append((n, worlds, n / ours_all, n / ours_fresh, n / ours_flange, n / peer, newton_build, err))
+        result = {"n": n, "ours": n / ours_all, "peer": n / peer}
+        del out, model, state, many
+
+    print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
+          f"Warp {wp.__version__}")
+    print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
+          f"kernel generation plus Warp compile or cache load); Newton per row below (replicated worlds)")
+    head = ("N", "worlds", "ours all links", "ours (fresh array)", "ours flange", "Newton all links",
+            "ratio all", "ratio flange", "Newton build", "max |dp| m")
+    print(" | ".join(head))
+    for n, worlds, a, fr, fl, p, nb, err in rows:
+        print(" | ".join([f"{n}", f"{worlds}", f"{a / 1e6:.2f} M/s", f"{fr / 1e6:.2f} M/s", f"{fl / 1e6:.2f} M/s",
+                          f"{p / 1e6:.2f} M/s", f"{a / p:.1f}x", f"{fl / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}"]))
+    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{result['n']}", "ours": round(result["ours"]),
+                      "peer": round(result["peer"]), "ratio": round(result["ours"] / result["peer"], 2)}))
+
+
+if __name__ == "__main__":
+    main()
