@@ -13,7 +13,6 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from . import codegen
 from .compile import KinematicTree, compile_tree, fk64
 from .model import Mechanism
 
@@ -42,6 +41,7 @@ class Kinematics:
     def __init__(self, mech: Mechanism, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
         wp = _wp()
         from .kernels import fk as kernels
+        from .kernels import fk_codegen
 
         self.mech = mech
         self.tree: KinematicTree = compile_tree(mech)
@@ -60,7 +60,8 @@ class Kinematics:
         self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
         wp.load_module(kernels, device=d)  # compile (or load from cache) once, before any thread launches
         flanges = [(t.index(f.link), f.pose.matrix()) for f in mech.flanges]
-        self._gen = codegen.load(codegen.source(t, flanges, self.wrist_axes() if t.dof >= 5 else None))
+        plain = fk_codegen.Tree(t.parent, t.jtype, t.qidx, t.axis, t.point)
+        self._gen = fk_codegen.load(fk_codegen.source(plain, flanges, self.wrist_axes() if t.dof >= 5 else None))
         wp.load_module(self._gen, device=d)
 
     # -- public ------------------------------------------------------------------------------------
