@@ -28,6 +28,7 @@ class KinematicTree:
     active: tuple[str, ...]  # active joints in q's column order
     lower: np.ndarray  # (dof,) limits in SI
     upper: np.ndarray
+    closing: tuple[str, ...] = ()  # joints left out because they close a loop (allow_loops only)
 
     @property
     def dof(self) -> int:
@@ -40,19 +41,25 @@ class KinematicTree:
             raise KeyError(f"no link '{link}' (links: {', '.join(self.links)})") from None
 
 
-def compile_tree(mech: Mechanism) -> KinematicTree:
-    """Arrays of the mechanism's link tree; closed loops (passive joints) are refused clearly."""
+def compile_tree(mech: Mechanism, allow_loops: bool = False) -> KinematicTree:
+    """Arrays of the mechanism's link tree. A joint that closes a loop is refused with a clear
+    error, or with ``allow_loops`` left out of the tree and listed in ``closing`` (active joints
+    enter the tree first, so a passive joint closes each loop)."""
     file = mech.path or mech.name
     by_parent: dict[str, list] = {}
-    for j in mech.joints:
+    for j in sorted(mech.joints, key=lambda j: not j.active):
         by_parent.setdefault(j.parent, []).append(j)
     order, moved_by = [mech.base_link], {mech.base_link: None}
+    closing = []
     queue = deque([mech.base_link])
     while queue:
         for j in by_parent.get(queue.popleft(), []):
             if j.child in moved_by:
-                raise RsxmlError(Diagnostic(file, j.line, f"joint '{j.name}' closes a kinematic loop: "
-                                            "Kinematics handles link trees only (no parallel rods yet)"))
+                if not allow_loops:
+                    raise RsxmlError(Diagnostic(file, j.line, f"joint '{j.name}' closes a kinematic loop: "
+                                                "Kinematics handles link trees only (no parallel rods yet)"))
+                closing.append(j.name)
+                continue
             moved_by[j.child] = j
             order.append(j.child)
             queue.append(j.child)
@@ -75,7 +82,7 @@ def compile_tree(mech: Mechanism) -> KinematicTree:
     lower, upper = mech.bounds()
     return KinematicTree(links=tuple(order), parent=parent, jtype=jtype, qidx=qidx, axis=axis, point=point,
                          joint=tuple(None if moved_by[l] is None else moved_by[l].name for l in order),
-                         active=tuple(active), lower=lower, upper=upper)
+                         active=tuple(active), lower=lower, upper=upper, closing=tuple(closing))
 
 
 def screw64(jtype: int, axis: np.ndarray, point: np.ndarray, theta: np.ndarray) -> np.ndarray:
@@ -103,4 +110,27 @@ def fk64(tree: KinematicTree, q: np.ndarray) -> np.ndarray:
             continue
         theta = q[:, tree.qidx[k]] if tree.qidx[k] >= 0 else np.zeros(q.shape[0])
         out[:, k] = out[:, tree.parent[k]] @ screw64(tree.jtype[k], tree.axis[k], tree.point[k], theta)
+    return out
+
+
+def link_origins(mech: Mechanism, tree: KinematicTree | None = None) -> dict[str, np.ndarray]:
+    """A frame origin per link for exports (world, zero position; frames stay world-aligned).
+
+    The base sits at the world origin. A moving link's origin is on its joint's axis, at the point
+    nearest to where the link leads (its first child joint's axis point, else its first flange), so
+    frames sit near their geometry whatever point the file happened to give on the axis."""
+    tree = tree or compile_tree(mech)
+    leads: dict[str, np.ndarray] = {}
+    for j in mech.joints:
+        leads.setdefault(j.parent, np.asarray(j.point1, float))
+    for f in mech.flanges:
+        leads.setdefault(f.link, f.pose.matrix()[:3, 3])
+    out = {}
+    for k, link in enumerate(tree.links):
+        if tree.parent[k] < 0:
+            out[link] = np.zeros(3)
+            continue
+        p, a = tree.point[k], tree.axis[k]
+        target = leads.get(link)
+        out[link] = p if target is None else p + a * float(np.dot(target - p, a))
     return out

@@ -1,0 +1,182 @@
+"""USD export, checked by usd-core's UsdPhysics parser, Newton's importer, and NVIDIA's validator."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import rswarp
+from rswarp import examples
+from rswarp.compile import link_origins
+from rswarp.export_usd import to_usd
+from rswarp.kinematics import Kinematics
+from conftest import DATA
+
+pxr = pytest.importorskip("pxr")
+from pxr import Usd, UsdGeom, UsdPhysics  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    """Each example exported once (flat .usda) and shared by the tests."""
+    folder = tmp_path_factory.mktemp("usd")
+    out = {}
+    for key, path in {"irb2600": examples.IRB2600, "irb2600id": examples.IRB2600ID, "branching": DATA / "branching.rsxml",
+                      "parallel": DATA / "parallel_rod.rsxml"}.items():
+        mech = rswarp.load(path)
+        target = folder / f"{key}.usda"
+        warnings = to_usd(mech, target)
+        out[key] = (mech, target, warnings)
+    return out
+
+
+def test_stage_conventions(exported):
+    mech, path, warnings = exported["irb2600"]
+    assert warnings == []
+    stage = Usd.Stage.Open(str(path))
+    assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0 and UsdGeom.GetStageUpAxis(stage) == "Z"
+    assert UsdPhysics.GetStageKilogramsPerUnit(stage) == 1.0
+    root = stage.GetDefaultPrim()
+    assert root.GetName() == "IRB2600_12_165__01" and root.GetDisplayName() == "IRB2600_12_165__01"
+    assert root.HasAPI(UsdPhysics.ArticulationRootAPI) and "NewtonArticulationRootAPI" in root.GetAppliedSchemas()
+    roots = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.ArticulationRootAPI)]
+    assert roots == [root]
+    data = root.GetCustomDataByKey("rsxml")
+    assert data["modelName"] == "IRB2600_12_165" and list(data["kinematicsFlags"]) == ["Articulated"]
+    assert list(data["jointMask"]) == [1] * 6 and data["lengthUnit"] == "m"
+    link6 = stage.GetPrimAtPath(f"{root.GetPath()}/Link6")
+    visual = stage.GetPrimAtPath(f"{link6.GetPath()}/visuals/Link6")
+    assert list(UsdGeom.Mesh(visual).GetDisplayColorAttr().Get()) == [pxr.Gf.Vec3f(215 / 255, 215 / 255, 215 / 255)]
+    col = stage.GetPrimAtPath(f"{link6.GetPath()}/collisions/Link6")
+    assert col.HasAPI(UsdPhysics.CollisionAPI) and UsdPhysics.MeshCollisionAPI(col).GetApproximationAttr().Get() == "convexHull"
+    mass = UsdPhysics.MassAPI(stage.GetPrimAtPath(f"{root.GetPath()}/Link1")).GetMassAttr().Get()
+    import trimesh
+    volume = trimesh.load(examples.IRB2600.parent / "link_1.stl").volume
+    assert mass == pytest.approx(volume * 2700, rel=1e-4)
+    j5 = stage.GetPrimAtPath(f"{root.GetPath()}/joints/J5")
+    assert j5.GetAttribute("physics:lowerLimit").Get() == pytest.approx(-120) and j5.GetAttribute("physics:upperLimit").Get() == pytest.approx(120)
+    assert j5.GetAttribute("state:angular:physics:position").Get() == pytest.approx(30)
+    assert stage.GetPrimAtPath(f"{link6.GetPath()}/wrist/site").HasAPI("NewtonSiteAPI")
+
+
+def test_usd_physics_parser_finds_the_articulation(exported):
+    mech, path, _ = exported["irb2600"]
+    parsed = UsdPhysics.LoadUsdPhysicsFromRange(Usd.Stage.Open(str(path)), ["/"])
+    by_type = {k: v for k, v in parsed.items()}
+    assert len(by_type[UsdPhysics.ObjectType.Articulation][0]) == 1
+    assert len(by_type[UsdPhysics.ObjectType.RigidBody][0]) == 7
+    assert len(by_type[UsdPhysics.ObjectType.FixedJoint][0]) == 1
+    paths, descs = by_type[UsdPhysics.ObjectType.RevoluteJoint]
+    limits = {str(p).rsplit("/", 1)[-1]: (d.limit.lower, d.limit.upper) for p, d in zip(paths, descs)}
+    assert limits == {j: pytest.approx((lo, hi)) for j, lo, hi in
+                      [("J1", -180, 180), ("J2", -95, 155), ("J3", -180, 75), ("J4", -400, 400), ("J5", -120, 120), ("J6", -400, 400)]}
+    articulation = by_type[UsdPhysics.ObjectType.Articulation][1][0]
+    assert len(articulation.articulatedJoints) == 7
+    assert len([b for b in articulation.articulatedBodies if not b.isEmpty]) == 7  # plus the world
+    assert [str(p).rsplit("/", 1)[-1] for p in articulation.rootPrims] == ["root_joint"]  # fixed base
+
+
+@pytest.mark.parametrize("key", ["irb2600", "irb2600id", "branching"])
+def test_newton_add_usd_matches_our_kinematics(exported, key):
+    newton = pytest.importorskip("newton")
+    import warp as wp
+
+    mech, path, _ = exported[key]
+    builder = newton.ModelBuilder()
+    builder.add_usd(str(path))
+    model = builder.finalize(device="cpu")
+    kin = Kinematics(mech)
+    n = 100
+    q = np.random.default_rng(11).uniform(*mech.bounds(), (n, mech.dof))
+    # Newton's joint coordinates, by joint name
+    names = [label.rsplit("/", 1)[-1] for label in model.joint_label]
+    starts = model.joint_q_start.numpy()
+    home = model.joint_q.numpy()
+    active = [j.name for j in mech.active_joints]
+    assert home[[starts[names.index(a)] for a in active]] == pytest.approx(mech.home_position(), abs=1e-6)
+    origins = link_origins(mech)
+    bodies = [label.rsplit("/", 1)[-1] for label in model.body_label]
+    state = model.state()
+    poses = kin.fk(q)
+    for i in range(n):
+        jq = home.copy()
+        for a, v in zip(active, q[i]):
+            jq[starts[names.index(a)]] = v
+        newton.eval_fk(model, wp.array(jq, dtype=wp.float32, device="cpu"), model.joint_qd, state)
+        body_q = state.body_q.numpy()
+        for b, link in enumerate(bodies):
+            want = poses[i, kin.links.index(link)].astype(float)
+            pos = want[:3, :3] @ origins[link] + want[:3, 3]
+            assert np.abs(body_q[b, :3] - pos).max() <= 1e-5
+            rot = Rotation.from_quat(body_q[b, 3:]).as_matrix()
+            assert np.abs(rot - want[:3, :3]).max() <= 1e-5
+    # the flange site rides on Link6 where our flange is
+    sites = [i for i, label in enumerate(model.shape_label) if label.endswith("/site")]
+    assert len(sites) == len(mech.flanges)
+
+
+def test_passive_loop_closing_joint_is_excluded(exported):
+    mech, path, _ = exported["parallel"]
+    stage = Usd.Stage.Open(str(path))
+    excluded = [p.GetName() for p in stage.Traverse()
+                if p.IsA(UsdPhysics.Joint) and UsdPhysics.Joint(p).GetExcludeFromArticulationAttr().Get()]
+    assert excluded == ["Rod2"]
+    rod1 = stage.GetPrimAtPath(f"{stage.GetDefaultPrim().GetPath()}/joints/Rod1")
+    assert rod1.GetCustomDataByKey("rsxml")["active"] is False
+
+
+def test_cable_as_basis_curves(exported):
+    mech, path, _ = exported["irb2600id"]
+    stage = Usd.Stage.Open(str(path))
+    hose = UsdGeom.BasisCurves(stage.GetPrimAtPath(f"{stage.GetDefaultPrim().GetPath()}/cables/Hose"))
+    assert [tuple(p) for p in hose.GetPointsAttr().Get()] == [pytest.approx((0.5385, 0, 1.495)), pytest.approx((1.205, 0, 1.495))]
+    assert list(hose.GetWidthsAttr().Get()) == [pytest.approx(0.05)]
+    prim = hose.GetPrim()
+    assert prim.GetAttribute("rsxml:maxSegmentLength").Get() == pytest.approx(0.05)
+    assert list(prim.GetAttribute("rsxml:attachedTo").Get()) == ["Link4", "Link5"]
+
+
+def test_without_meshes_exports_kinematics_with_one_warning(exported):
+    mech, path, warnings = exported["irb2600id"]
+    assert len(warnings) == 1 and "exported kinematics only" in warnings[0]
+    stage = Usd.Stage.Open(str(path))
+    assert not [p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]
+
+
+@pytest.mark.parametrize("key", ["irb2600", "irb2600id", "parallel"])
+def test_asset_validator_reports_no_errors(exported, key, tmp_path):
+    """Default rules, on the binary (.usdc) export: for .usda the validator's performance rule
+    asks for large arrays (the meshes) to be stored in crate files instead."""
+    validator = pytest.importorskip("omni.asset_validator")
+    mech, _, _ = exported[key]
+    path = tmp_path / f"{key}.usdc"
+    to_usd(mech, path)
+    results = validator.ValidationEngine().validate(str(path))
+    errors = [i for i in results.issues() if i.severity in (validator.IssueSeverity.ERROR, validator.IssueSeverity.FAILURE)]
+    assert errors == [], "\n".join(f"{i.rule}: {i.message}" for i in errors)
+
+
+@pytest.mark.parametrize("ext", [".usda", ".usdc"])
+def test_export_is_deterministic(tmp_path, ext):
+    mech = rswarp.load(examples.IRB2600)
+    to_usd(mech, tmp_path / f"a{ext}")
+    to_usd(mech, tmp_path / f"b{ext}")
+    assert (tmp_path / f"a{ext}").read_bytes() == (tmp_path / f"b{ext}").read_bytes()
+
+
+def test_export_is_atomic(tmp_path, monkeypatch):
+    mech = rswarp.load(examples.IRB2600)
+    target = tmp_path / "robot.usda"
+    target.write_text("previous")
+    import rswarp.export_usd as ex
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr(ex, "_cable", boom)
+    with pytest.raises(RuntimeError):
+        to_usd(rswarp.load(examples.IRB2600ID), target)
+    assert target.read_text() == "previous" and [p.name for p in tmp_path.iterdir()] == ["robot.usda"]
+    with pytest.raises(ValueError, match="must end in"):
+        to_usd(mech, tmp_path / "robot.obj")
