@@ -14,7 +14,7 @@ import sys
 from .documents import Report, check
 from .errors import RsxmlError
 from .info import report_dict, report_text
-from .model import Mechanism
+from .model import Mechanism, SmartComponent
 from .poses import limit_warnings
 
 
@@ -63,9 +63,14 @@ def cmd_info(args) -> int:
 
 
 def cmd_demo(args) -> int:
+    """check + info on every bundled example; for each robot also its flange at home (fk), its reach
+    (a short sweep) and its USD and URDF exports into --out."""
+    from pathlib import Path
+
     from . import examples
 
-    results = []
+    out = Path(args.out)
+    results, summary = [], []
     for path in examples.ALL:
         report = check(path)
         results.append(report)
@@ -76,9 +81,39 @@ def cmd_demo(args) -> int:
             print(f"== rswarp info {path.name}")
             print(report_text(report) if report.model is not None else "(nothing to show)")
             print()
+        if report.ok and isinstance(report.model, Mechanism):
+            summary.append(_demo_robot(report.model, out, quiet=args.json))
     if args.json:
-        _emit_json({"ok": all(r.ok for r in results), "examples": [report_dict(r) for r in results]})
+        _emit_json({"ok": all(r.ok for r in results), "examples": [report_dict(r) for r in results], "robots": summary})
     return 0 if all(r.ok for r in results) else 1
+
+
+def _demo_robot(mech: Mechanism, out, quiet: bool) -> dict:
+    from .export_urdf import to_urdf
+    from .export_usd import to_usd
+    from .kinematics import Kinematics
+    from .sweeps import workspace
+
+    kin = Kinematics(mech)
+    home = mech.home_position()
+    flange = kin.flange(home[None])[0]
+    ws = workspace(mech, samples=20_000, seed=0, kinematics=kin)
+    out.mkdir(parents=True, exist_ok=True)
+    usd, urdf = out / f"{mech.name}.usdc", out / f"{mech.name}.urdf"
+    warnings = to_usd(mech, usd) + to_urdf(mech, urdf)
+    lf, unit = mech.length_factor, mech.length_unit or "m"
+    if not quiet:
+        from .poses import rounded
+
+        pos = ", ".join(rounded(float(v), lf, 1e-4) for v in flange[:3, 3])
+        print(f"== {mech.name}: flange at home ({pos}) {unit}; reach {rounded(ws.reach.value, lf, 1e-4)} {unit} "
+              f"(J1 axis to wrist centre, 20000 samples refined)")
+        for w in warnings[:1]:
+            print(f"   {w}")
+        print(f"   exported {usd} and {urdf}")
+        print()
+    return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": ws.reach.value,
+            "usd": str(usd), "urdf": str(urdf)}
 
 
 def _joint_values(report: Report, text: str) -> "np.ndarray":
@@ -183,6 +218,39 @@ def cmd_sweep(args) -> int:
     return 0
 
 
+def cmd_export(args) -> int:
+    from pathlib import Path
+
+    report = _checked(args.file)
+    model = report.model
+    if not isinstance(model, (Mechanism, SmartComponent)):
+        raise SystemExit(f"rswarp: {args.file} is a {report.kind}: only a mechanism exports")
+    out = Path(args.output)
+    if not out.parent.is_dir():
+        raise SystemExit(f"rswarp: {out.parent}: no such folder")
+    if not args.density > 0:
+        raise SystemExit("rswarp: --density must be positive")
+    if out.suffix.lower() == ".urdf":
+        from .export_urdf import to_urdf
+
+        if isinstance(model, SmartComponent):
+            raise SystemExit("rswarp: URDF export takes a mechanism file")
+        warnings = to_urdf(model, out, density=args.density)
+    elif out.suffix.lower() in (".usda", ".usdc", ".usd", ".usdz"):
+        from .export_usd import to_usd
+
+        warnings = to_usd(model, out, density=args.density, collision=args.collision, layout=args.layout)
+    else:
+        raise SystemExit(f"rswarp: {out}: the output must end in .usda, .usdc, .usdz or .urdf")
+    for w in warnings:
+        print(w, file=sys.stderr)
+    if args.json:
+        _emit_json({"output": str(out), "warnings": warnings})
+    else:
+        print(f"wrote {out}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="rswarp", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -213,7 +281,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the report as JSON (metres, radians)")
     p.set_defaults(func=cmd_sweep)
 
+    p = sub.add_parser("export", help="write OpenUSD (.usda/.usdc/.usdz) or URDF (.urdf)")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-o", "--output", required=True, metavar="OUT")
+    p.add_argument("--layout", choices=["flat", "component"], default="flat",
+                   help="USD: one file, or an interface layer with payloaded geometry/materials/physics layers")
+    p.add_argument("--collision", choices=["convexHull", "convexDecomposition"], default="convexHull")
+    p.add_argument("--density", type=float, default=2700.0, help="kg/m^3 for link masses (default 2700)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_export)
+
     p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
+    p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the exports go (default ./rswarp-demo)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=cmd_demo)
     return parser

@@ -167,9 +167,10 @@ def build_stage(stage, model, *, density: float = DEFAULT_DENSITY, collision: st
     Usd.ModelAPI(rp).SetKind(Kind.Tokens.component)
     rp.SetDisplayName(mech.name)
     rp.SetCustomDataByKey("rsxml", _metadata(mech, sc))
-    rp.ApplyAPI("NewtonArticulationRootAPI")  # brings PhysicsArticulationRootAPI with it
-    if not rp.HasAPI(UsdPhysics.ArticulationRootAPI):
-        UsdPhysics.ArticulationRootAPI.Apply(rp)
+    # both authored: Newton's includes the UsdPhysics one, but only where Newton's schemas are
+    # registered; usdview or Isaac Sim without them must still see the articulation root
+    rp.AddAppliedSchema("PhysicsArticulationRootAPI")
+    rp.AddAppliedSchema("NewtonArticulationRootAPI")
 
     link_path: dict[str, str] = {}
     any_mesh = False
@@ -335,8 +336,9 @@ def to_usd(model, path: str | Path, *, density: float = DEFAULT_DENSITY, collisi
     """Write ``model`` to ``path`` (.usda, .usdc or .usdz); returns warnings.
 
     ``layout="flat"`` writes one file; ``"component"`` writes an asset interface layer that
-    payloads a contents layer built from geometry, materials and physics layers (as Newton's
-    urdf-usd-converter lays assets out). Written to temporary files first, then moved into place.
+    payloads ``<stem>_Payload/Contents.usda``, built from geometry, materials and physics layers
+    (as Newton's urdf-usd-converter lays assets out). Written to temporary files first, then moved
+    into place.
     """
     _, _, Sdf, _, Usd, _, _ = _pxr()
     path = Path(path)
@@ -363,8 +365,8 @@ def to_usd(model, path: str | Path, *, density: float = DEFAULT_DENSITY, collisi
             _usdz(tmp / f"{path.stem}.usda", tmp / path.name)
             os.replace(tmp / path.name, path)
             return warnings
-        payload = tmp / "Payload"
-        target = folder / "Payload"
+        payload = tmp / f"{path.stem}_Payload"
+        target = folder / f"{path.stem}_Payload"
         if target.exists():
             shutil.rmtree(target)
         os.replace(payload, target)
@@ -389,9 +391,11 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     full = stage.GetRootLayer()
     root = stage.GetDefaultPrim()
     name = root.GetName()
-    payload_dir = tmp / "Payload"
+    payload_dir = tmp / f"{path.stem}_Payload"
     payload_dir.mkdir()
-    layers = {k: Sdf.Layer.CreateNew(str(payload_dir / f"{k}.usda")) for k in ("Geometry", "Materials", "Physics")}
+    # geometry as crate: large arrays load fast (the asset validator asks for it too)
+    layers = {k: Sdf.Layer.CreateNew(str(payload_dir / f"{k}.{ext}"))
+              for k, ext in (("Geometry", "usdc"), ("Materials", "usda"), ("Physics", "usda"))}
 
     def is_physics(spec_path: str, prop: str | None) -> bool:
         p = spec_path
@@ -438,7 +442,7 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     for layer in layers.values():
         layer.Save()
     contents = Sdf.Layer.CreateNew(str(payload_dir / "Contents.usda"))
-    contents.subLayerPaths = ["./Physics.usda", "./Materials.usda", "./Geometry.usda"]
+    contents.subLayerPaths = ["./Physics.usda", "./Materials.usda", "./Geometry.usdc"]
     contents.defaultPrim = name
     for key in ("metersPerUnit", "upAxis", "kilogramsPerUnit"):
         if full.pseudoRoot.HasInfo(key):
@@ -455,7 +459,8 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     spec.SetInfo("kind", "component")
     spec.SetInfo("displayName", root.GetDisplayName())
     spec.SetInfo("customData", root.GetCustomData())
-    spec.SetInfo("payload", Sdf.PayloadListOp.Create(prependedItems=[Sdf.Payload("./Payload/Contents.usda")]))
+    spec.SetInfo("payload", Sdf.PayloadListOp.Create(
+        prependedItems=[Sdf.Payload(f"./{path.stem}_Payload/Contents.usda")]))
     iface.Save()
     if path.suffix.lower() != ".usda":
         out = Sdf.Layer.FindOrOpen(str(tmp / f"{path.stem}.usda"))

@@ -13,11 +13,14 @@ from .compile import PRISMATIC, REVOLUTE, compile_tree
 from .model import Mechanism
 
 
-def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = None):
+def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = None, shapes: bool = True,
+              density: float = 2700.0):
     """Add ``mech`` to ``builder`` (a new ``newton.ModelBuilder`` when None) and return the builder.
 
     The base link is fixed to the world at ``base_pose`` (4x4, default identity). Bodies are
-    labelled with link names, joints with joint names; one articulation holds them all.
+    labelled with link names, joints with joint names; one articulation holds them all. With
+    ``shapes``, each Part's mesh becomes a collision shape of its body (convex hull, ``density``
+    in kg/m^3 gives the masses); parts without a mesh file are skipped.
     """
     import newton
     import warp as wp
@@ -48,7 +51,29 @@ def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = N
         if qi >= 0:
             builder.joint_q[builder.joint_q_start[j]] = float(home[qi])
     builder.add_articulation(joints, label=mech.name)
+    if shapes:
+        _add_shapes(mech, tree, builder, body, density)
     return builder
+
+
+def _add_shapes(mech: Mechanism, tree, builder, body: dict[int, int], density: float) -> None:
+    """Each part's mesh (world at zero position = its body's frame) as a convex-hull shape."""
+    import newton
+
+    from .errors import MeshNotFoundError
+    from .geometry import part_mesh
+
+    for k, link in enumerate(tree.links):
+        for part, transform in mech.parts(link):
+            if not part.source:
+                continue
+            try:
+                mesh = part_mesh(mech, part, transform)
+            except MeshNotFoundError:
+                continue
+            cfg = newton.ModelBuilder.ShapeConfig(density=density)
+            nm = newton.Mesh(np.asarray(mesh.vertices, np.float32), np.asarray(mesh.faces, np.int32).ravel())
+            builder.add_shape_convex_hull(body[k], mesh=nm, cfg=cfg, label=f"{link}/{part.name}")
 
 
 def newton_q_columns(mech: Mechanism) -> np.ndarray:

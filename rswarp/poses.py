@@ -25,7 +25,7 @@ def pose_dict(m: np.ndarray) -> dict:
             "position": [round(float(v), 7) for v in m[:3, 3]]}
 
 
-def _rounded(v: float, factor: float, resolution: float) -> str:
+def rounded(v: float, factor: float, resolution: float) -> str:
     """``v`` (SI) in file units, to the decimals that ``resolution`` (SI) needs: float32 noise off."""
     digits = max(0, math.ceil(-math.log10(resolution / factor)))
     text = f"{v / factor:.{digits}f}"
@@ -40,8 +40,8 @@ def pose_text(mech: Mechanism, links: list[tuple[str, np.ndarray]], flanges: lis
     for kind, items in (("link", links), ("flange", flanges)):
         for name, m in items:
             e = euler_zyx(m[:3, :3].astype(np.float64))
-            rows.append([f"{kind} {name}", *(_rounded(float(v), lf, 1e-6) for v in m[:3, 3]),
-                         *(_rounded(a, af, 1e-5) for a in e)])
+            rows.append([f"{kind} {name}", *(rounded(float(v), lf, 1e-6) for v in m[:3, 3]),
+                         *(rounded(a, af, 1e-5) for a in e)])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths))) for r in rows)
 

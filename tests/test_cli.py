@@ -87,14 +87,19 @@ def test_info_on_bad_file_is_one_line_per_problem(capsys):
     assert err == [f"{bad}:10: point1 and point2 coincide: the joint has no axis"]
 
 
-def test_demo_runs_on_the_bundled_examples(capsys):
-    assert main(["demo"]) == 0
+def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
+    assert main(["demo", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     for path in examples.ALL:
         assert f"== rswarp check {path.name}" in out
     assert "Cable Hose" in out and "link_6.stl" in out
-    assert main(["demo", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["ok"] is True
+    assert "== IRB1300_11_90__01: flange at home" in out and "reach 901.9 mm" in out
+    assert "reach 1999.9 mm" in out and "reach 1.6533 m" in out
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01") for e in ("urdf", "usdc"))
+    assert main(["demo", "--json", "--out", str(tmp_path)]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["ok"] is True and [round(r["reach"], 4) for r in doc["robots"]] == [0.9019, 1.9999, 1.6533]
 
 
 def test_console_script_gives_no_traceback():

@@ -40,6 +40,8 @@ def test_stage_conventions(exported):
     root = stage.GetDefaultPrim()
     assert root.GetName() == "IRB2600_12_165__01" and root.GetDisplayName() == "IRB2600_12_165__01"
     assert root.HasAPI(UsdPhysics.ArticulationRootAPI) and "NewtonArticulationRootAPI" in root.GetAppliedSchemas()
+    authored = root.GetMetadata("apiSchemas").GetAddedOrExplicitItems()  # without Newton's schemas too
+    assert "PhysicsArticulationRootAPI" in authored
     roots = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.ArticulationRootAPI)]
     assert roots == [root]
     data = root.GetCustomDataByKey("rsxml")
@@ -180,3 +182,63 @@ def test_export_is_atomic(tmp_path, monkeypatch):
     assert target.read_text() == "previous" and [p.name for p in tmp_path.iterdir()] == ["robot.usda"]
     with pytest.raises(ValueError, match="must end in"):
         to_usd(mech, tmp_path / "robot.obj")
+
+
+def test_component_layout_composes_to_the_flat_stage(exported, tmp_path):
+    mech, flat_path, _ = exported["irb2600"]
+    target = tmp_path / "robot.usda"
+    to_usd(mech, target, layout="component")
+    assert sorted(p.name for p in (tmp_path / "robot_Payload").iterdir()) == [
+        "Contents.usda", "Geometry.usdc", "Materials.usda", "Physics.usda"]
+    comp, flat = Usd.Stage.Open(str(target)), Usd.Stage.Open(str(flat_path))
+    assert comp.GetRootLayer().GetPrimAtPath("/IRB2600_12_165__01").GetInfo("payload").prependedItems
+    assert sorted(str(p.GetPath()) for p in comp.Traverse()) == sorted(str(p.GetPath()) for p in flat.Traverse())
+    for p in flat.Traverse():
+        q = comp.GetPrimAtPath(p.GetPath())
+        assert set(p.GetAppliedSchemas()) == set(q.GetAppliedSchemas()), p.GetPath()
+        for a in p.GetAttributes():
+            assert q.GetAttribute(a.GetName()).Get() == a.Get(), (p.GetPath(), a.GetName())
+        for r in p.GetRelationships():
+            assert q.GetRelationship(r.GetName()).GetTargets() == r.GetTargets()
+    physics = (tmp_path / "robot_Payload" / "Physics.usda").read_text()
+    assert "physics:mass" in physics and "PhysicsRevoluteJoint" in physics
+    assert "physics:" not in (tmp_path / "robot_Payload" / "Materials.usda").read_text()
+
+
+def test_to_newton_builds_bodies_shapes_limits_and_home():
+    newton = pytest.importorskip("newton")
+    from rswarp.newton_export import to_newton
+
+    mech = rswarp.load(examples.IRB2600)
+    builder = to_newton(mech)
+    many = newton.ModelBuilder()
+    many.replicate(builder, 3)
+    model = many.finalize(device="cpu")
+    assert model.body_count == 21 and model.shape_count == 21 and model.articulation_count == 3
+    q = model.joint_q.numpy().reshape(3, 6)
+    assert np.allclose(q, mech.home_position())
+    lo, hi = mech.bounds()
+    assert np.allclose(model.joint_limit_lower.numpy().reshape(3, 6), lo) and np.allclose(model.joint_limit_upper.numpy().reshape(3, 6), hi)
+    import trimesh
+    volume = trimesh.load(examples.IRB2600.parent / "link_1.stl").volume
+    assert model.body_mass.numpy()[1] == pytest.approx(volume * 2700, rel=1e-3)
+
+
+def test_export_command(tmp_path, capsys):
+    from rswarp.cli import main
+
+    assert main(["export", str(examples.IRB2600ID), "-o", str(tmp_path / "r.usdc")]) == 0
+    captured = capsys.readouterr()
+    assert "exported kinematics only" in captured.err and f"wrote {tmp_path / 'r.usdc'}" in captured.out
+    assert main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.usdz")]) == 0
+    assert main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.urdf"), "--json"]) == 0
+    capsys.readouterr()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.urdf", "r.usdc", "r.usdz"]
+    stage = Usd.Stage.Open(str(tmp_path / "r.usdz"))
+    assert stage.GetDefaultPrim().GetName() == "IRB2600_12_165__01"
+    try:
+        main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.obj")])
+    except SystemExit as exc:
+        assert "must end in .usda, .usdc, .usdz or .urdf" in str(exc)
+    else:
+        raise AssertionError("no error")
