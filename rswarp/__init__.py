@@ -10,7 +10,8 @@ from .write import save, to_rsxml
 
 
 def __getattr__(name):
-    """Kinematics and workspace import Warp; load them on first use so reading RSXML stays light."""
+    """Kinematics, sweeps and exports import Warp, USD or Newton: loaded on first use, so reading
+    RSXML stays light."""
     if name == "Kinematics":
         from .kinematics import Kinematics
 
@@ -19,6 +20,18 @@ def __getattr__(name):
         from .sweeps import workspace
 
         return workspace
+    if name == "to_usd":
+        from .export_usd import to_usd
+
+        return to_usd
+    if name == "to_newton":
+        from .newton_export import to_newton
+
+        return to_newton
+    if name == "to_urdf":
+        from .export_urdf import to_urdf
+
+        return to_urdf
     raise AttributeError(f"module 'rswarp' has no attribute '{name}'")
 
 
@@ -28,4 +41,5 @@ __all__ = [
     "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal", "Joint",
     "Limit", "Mechanism", "MeshNotFoundError", "Part", "Pose", "Report", "RsxmlError", "RsxmlWarning",
     "SmartComponent", "check", "load", "load_library", "save", "to_rsxml", "Kinematics", "workspace",
+    "to_usd", "to_newton", "to_urdf",
 ]

@@ -20,7 +20,7 @@ def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = N
     The base link is fixed to the world at ``base_pose`` (4x4, default identity). Bodies are
     labelled with link names, joints with joint names; one articulation holds them all. With
     ``shapes``, each Part's mesh becomes a collision shape of its body (convex hull, ``density``
-    in kg/m^3 gives the masses); parts without a mesh file are skipped.
+    in kg/m^3 gives the masses); parts without a mesh file are skipped. Flanges become sites.
     """
     import newton
     import warp as wp
@@ -51,6 +51,10 @@ def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = N
         if qi >= 0:
             builder.joint_q[builder.joint_q_start[j]] = float(home[qi])
     builder.add_articulation(joints, label=mech.name)
+    for fl in mech.flanges:  # flanges as sites: frames on their bodies (bodies are world-aligned at zero)
+        m = fl.pose.matrix()
+        builder.add_site(body[tree.index(fl.link)], label=fl.name, xform=wp.transform(
+            wp.vec3(*m[:3, 3]), wp.quat_from_matrix(wp.mat33(*m[:3, :3].flatten()))))
     if shapes:
         _add_shapes(mech, tree, builder, body, density)
     return builder

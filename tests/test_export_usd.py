@@ -113,9 +113,30 @@ def test_newton_add_usd_matches_our_kinematics(exported, key):
             assert np.abs(body_q[b, :3] - pos).max() <= 1e-5
             rot = Rotation.from_quat(body_q[b, 3:]).as_matrix()
             assert np.abs(rot - want[:3, :3]).max() <= 1e-5
-    # the flange site rides on Link6 where our flange is
-    sites = [i for i, label in enumerate(model.shape_label) if label.endswith("/site")]
-    assert len(sites) == len(mech.flanges)
+    # each flange's site sits where our flange is
+    flanges = {f.name: kin.flange(q[-1:], f.name)[0] for f in mech.flanges}
+    assert_sites_at_flanges(model, state, flanges, lambda label: label.rsplit("/", 2)[-2])
+
+
+def assert_sites_at_flanges(model, state, flanges, name_of):
+    """World pose of each site shape (its body's pose times the shape's offset) = our flange."""
+    body_q = state.body_q.numpy()
+    found = 0
+    for s, label in enumerate(model.shape_label):
+        name = name_of(label)
+        if name not in flanges or not label.endswith(("/site", name)):
+            continue
+        b = model.shape_body.numpy()[s]
+        xs = model.shape_transform.numpy()[s]
+        body = np.eye(4)
+        body[:3, :3] = Rotation.from_quat(body_q[b, 3:]).as_matrix()
+        body[:3, 3] = body_q[b, :3]
+        local = np.eye(4)
+        local[:3, :3] = Rotation.from_quat(xs[3:]).as_matrix()
+        local[:3, 3] = xs[:3]
+        assert np.abs(body @ local - flanges[name]).max() <= 1e-5, name
+        found += 1
+    assert found == len(flanges)
 
 
 def test_passive_loop_closing_joint_is_excluded(exported):
@@ -214,7 +235,7 @@ def test_to_newton_builds_bodies_shapes_limits_and_home():
     many = newton.ModelBuilder()
     many.replicate(builder, 3)
     model = many.finalize(device="cpu")
-    assert model.body_count == 21 and model.shape_count == 21 and model.articulation_count == 3
+    assert model.body_count == 21 and model.shape_count == 21 + 3 and model.articulation_count == 3  # + flange sites
     q = model.joint_q.numpy().reshape(3, 6)
     assert np.allclose(q, mech.home_position())
     lo, hi = mech.bounds()
@@ -222,6 +243,24 @@ def test_to_newton_builds_bodies_shapes_limits_and_home():
     import trimesh
     volume = trimesh.load(examples.IRB2600.parent / "link_1.stl").volume
     assert model.body_mass.numpy()[1] == pytest.approx(volume * 2700, rel=1e-3)
+
+
+@pytest.mark.parametrize("name", ["irb2600", "branching"])
+def test_to_newton_flange_sites_follow_our_kinematics(name):
+    newton = pytest.importorskip("newton")
+    import warp as wp
+
+    from rswarp.newton_export import newton_q_columns, to_newton
+
+    mech = rswarp.load({"irb2600": examples.IRB2600, "branching": DATA / "branching.rsxml"}[name])
+    model = to_newton(mech).finalize(device="cpu")
+    kin = Kinematics(mech)
+    state = model.state()
+    cols = newton_q_columns(mech)
+    for q in np.random.default_rng(5).uniform(*mech.bounds(), (100, mech.dof)):
+        newton.eval_fk(model, wp.array(q[cols].astype(np.float32), dtype=wp.float32, device="cpu"), model.joint_qd, state)
+        flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
+        assert_sites_at_flanges(model, state, flanges, lambda label: label)
 
 
 def test_export_command(tmp_path, capsys):
