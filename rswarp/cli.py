@@ -14,6 +14,7 @@ import sys
 from .documents import Report, check
 from .errors import RsxmlError
 from .info import report_dict, report_text
+from .geometry import DEFAULT_DENSITY
 from .model import Mechanism, SmartComponent
 from .poses import limit_warnings
 
@@ -287,7 +288,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--layout", choices=["flat", "component"], default="flat",
                    help="USD: one file, or an interface layer with payloaded geometry/materials/physics layers")
     p.add_argument("--collision", choices=["convexHull", "convexDecomposition"], default="convexHull")
-    p.add_argument("--density", type=float, default=2700.0, help="kg/m^3 for link masses (default 2700)")
+    p.add_argument("--density", type=float, default=DEFAULT_DENSITY,
+                   help=f"kg/m^3 for link masses (default {DEFAULT_DENSITY:g}, cast aluminium)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_export)
 

@@ -15,12 +15,11 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from .compile import compile_tree, link_origins
-from .geometry import METRIC_EXTENSIONS, part_mesh, part_mesh_path
+from .geometry import DEFAULT_DENSITY, METRIC_EXTENSIONS, mass_properties, part_mesh, part_mesh_path
 from .model import Mechanism
 from .poses import euler_zyx
 from .write import atomic_write
 
-DEFAULT_DENSITY = 2700.0
 
 
 def _f(x: float) -> str:
@@ -97,16 +96,8 @@ def to_urdf_text(mech: Mechanism, path: str | Path, density: float = DEFAULT_DEN
 
 
 def _inertial(meshes, origin: np.ndarray, density: float) -> str:
-    import trimesh
-
-    mesh = trimesh.util.concatenate(meshes)
-    if not mesh.is_watertight:
-        mesh = mesh.convex_hull
-    mesh = mesh.copy()
-    mesh.apply_translation(-origin)
-    mesh.density = density
-    c, i = mesh.center_mass, mesh.moment_inertia
-    return (f'    <inertial><origin xyz="{" ".join(_f(v) for v in c)}" rpy="0 0 0"/><mass value="{_f(mesh.mass)}"/>'
+    mass, c, i, _ = mass_properties(meshes, origin, density)
+    return (f'    <inertial><origin xyz="{" ".join(_f(v) for v in c)}" rpy="0 0 0"/><mass value="{_f(mass)}"/>'
             f'<inertia ixx="{_f(i[0, 0])}" ixy="{_f(i[0, 1])}" ixz="{_f(i[0, 2])}" iyy="{_f(i[1, 1])}" '
             f'iyz="{_f(i[1, 2])}" izz="{_f(i[2, 2])}"/></inertial>')
 

@@ -17,11 +17,10 @@ import numpy as np
 
 from .compile import PRISMATIC, compile_tree, link_origins
 from .errors import MeshNotFoundError
-from .geometry import part_mesh
+from .geometry import DEFAULT_DENSITY, mass_properties, part_mesh
 from .model import Group, Mechanism, SmartComponent
 
 GRAPHITE_WHITE = (215 / 255, 215 / 255, 215 / 255)
-DEFAULT_DENSITY = 2700.0  # kg/m^3, cast aluminium: robot arm castings
 APPROXIMATIONS = ("convexHull", "convexDecomposition")
 
 
@@ -304,23 +303,14 @@ def _cable(stage, path: str, c) -> None:
 
 def _mass(prim, meshes, origin: np.ndarray, density: float, warnings: list[str], link: str) -> None:
     """Mass, centre of mass and principal inertia from the link's meshes (volume x density)."""
-    import trimesh
-
     from pxr import Gf, UsdPhysics
 
-    mesh = trimesh.util.concatenate(meshes)
-    if not mesh.is_watertight:
+    mass, com, inertia, watertight = mass_properties(meshes, origin, density)
+    if not watertight:
         warnings.append(f"link '{link}': mesh is not watertight; mass from its convex hull")
-        mesh = mesh.convex_hull
-    mesh = mesh.copy()
-    mesh.apply_translation(-origin)
-    mesh.density = density
-    mass = float(mesh.mass)
     if not mass > 0:
         warnings.append(f"link '{link}': mesh has no volume; no mass authored")
         return
-    com = np.asarray(mesh.center_mass, float)
-    inertia = np.asarray(mesh.moment_inertia, float)  # about the centre of mass, with density applied
     values, vectors = np.linalg.eigh(inertia)
     if np.linalg.det(vectors) < 0:
         vectors[:, 2] *= -1
@@ -425,12 +415,11 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
             ps.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=phys))
             spec.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=[s for s in schemas if s not in phys]))
         for attr in list(spec.attributes):
-            if is_physics(str(p), attr.name):
-                Sdf.CopySpec(geo, attr.path, layers["Physics"], attr.path) if _ensure_over(layers["Physics"], p) else None
-                spec.RemoveProperty(attr)
-            elif attr.name == "primvars:displayColor":
-                _ensure_over(layers["Materials"], p)
-                Sdf.CopySpec(geo, attr.path, layers["Materials"], attr.path)
+            target = ("Physics" if is_physics(str(p), attr.name)
+                      else "Materials" if attr.name == "primvars:displayColor" else None)
+            if target:
+                _ensure_over(layers[target], p)
+                Sdf.CopySpec(geo, attr.path, layers[target], attr.path)
                 spec.RemoveProperty(attr)
         for rel in list(spec.relationships):
             if is_physics(str(p), rel.name):
@@ -468,10 +457,10 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     return warnings
 
 
-def _ensure_over(layer, path) -> bool:
+def _ensure_over(layer, path) -> None:
+    """An ``over`` for ``path`` in ``layer`` (parents too), unless a spec is already there."""
     from pxr import Sdf
 
     if layer.GetPrimAtPath(path) is None:
         spec = Sdf.CreatePrimInLayer(layer, path)
         spec.specifier = Sdf.SpecifierOver
-    return True

@@ -14,7 +14,7 @@ from .model import Mechanism
 
 
 def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = None, shapes: bool = True,
-              density: float = 2700.0):
+              density: float | None = None):
     """Add ``mech`` to ``builder`` (a new ``newton.ModelBuilder`` when None) and return the builder.
 
     The base link is fixed to the world at ``base_pose`` (4x4, default identity). Bodies are
@@ -65,7 +65,7 @@ def _add_shapes(mech: Mechanism, tree, builder, body: dict[int, int], density: f
     import newton
 
     from .errors import MeshNotFoundError
-    from .geometry import part_mesh
+    from .geometry import DEFAULT_DENSITY, part_mesh
 
     for k, link in enumerate(tree.links):
         for part, transform in mech.parts(link):
@@ -75,7 +75,7 @@ def _add_shapes(mech: Mechanism, tree, builder, body: dict[int, int], density: f
                 mesh = part_mesh(mech, part, transform)
             except MeshNotFoundError:
                 continue
-            cfg = newton.ModelBuilder.ShapeConfig(density=density)
+            cfg = newton.ModelBuilder.ShapeConfig(density=DEFAULT_DENSITY if density is None else density)
             nm = newton.Mesh(np.asarray(mesh.vertices, np.float32), np.asarray(mesh.faces, np.int32).ravel())
             builder.add_shape_convex_hull(body[k], mesh=nm, cfg=cfg, label=f"{link}/{part.name}")
 
