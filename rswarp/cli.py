@@ -253,7 +253,9 @@ def cmd_export(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="rswarp", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="rswarp", description="ABB RobotStudio RSXML robot models: check them, export them to OpenUSD, "
+                                   "Newton and URDF, and run batched Warp kinematics and workspace sweeps.")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     p = sub.add_parser("check", help="validate RSXML, LibraryCompiler and LibraryResource files")

@@ -57,7 +57,7 @@ def compile_tree(mech: Mechanism, allow_loops: bool = False) -> KinematicTree:
             if j.child in moved_by:
                 if not allow_loops:
                     raise RsxmlError(Diagnostic(file, j.line, f"joint '{j.name}' closes a kinematic loop: "
-                                                "Kinematics handles link trees only (no parallel rods yet)"))
+                                                "kinematics, sweeps and URDF need a link tree (parallel rods are not solved yet)"))
                 closing.append(j.name)
                 continue
             moved_by[j.child] = j
