@@ -281,3 +281,19 @@ def test_export_command(tmp_path, capsys):
         assert "must end in .usda, .usdc, .usdz or .urdf" in str(exc)
     else:
         raise AssertionError("no error")
+
+
+def test_smart_component_exports_its_mechanism_with_properties(tmp_path):
+    sc = rswarp.load(DATA / "smart" / "Positioner.rsxml")
+    assert isinstance(sc, rswarp.SmartComponent)
+    warnings = to_usd(sc, tmp_path / "p.usda")
+    assert len(warnings) == 1  # no meshes: kinematics only
+    stage = Usd.Stage.Open(str(tmp_path / "p.usda"))
+    root = stage.GetDefaultPrim()
+    data = root.GetCustomDataByKey("rsxml")
+    assert root.GetName() == "Turntable" and data["type"] == "ExternalAxis"
+    assert data["smartComponent"]["properties"]["Speed"]["value"] == "0.5"
+    assert data["smartComponent"]["signals"]["Start"]["signalType"] == "DigitalInput"
+    assert data["smartComponent"]["options"]["codeBehind"] == "Positioner.CodeBehind,Positioner.dll"
+    a1 = stage.GetPrimAtPath(f"{root.GetPath()}/joints/A1")
+    assert a1.GetAttribute("state:angular:physics:position").Get() == pytest.approx(90)
