@@ -1,4 +1,7 @@
-"""Forward kinematics kernels: one thread per joint configuration walks the link tree.
+"""Generic forward kinematics kernel: one thread per joint configuration walks the link tree.
+
+Each mechanism also gets kernels of its own (``fk_codegen``), several times faster; this one
+serves any subset of links with any offsets.
 
 Inputs are plain arrays compiled from a mechanism (see ``rswarp.compile``). Links are in
 topological order (a parent before its children) and every link's frame is the world frame at the
@@ -62,36 +65,3 @@ def fk_frames(q: wp.array2d(dtype=wp.float32), parent: wp.array(dtype=wp.int32),
     walk(q, i, parent, jtype, qidx, axis, point, base, poses)
     for j in range(out_link.shape[0]):
         out[i, j] = to_mat44(wp.transform_multiply(poses[i, out_link[j]], out_offset[j]))
-
-
-@wp.func
-def line_point_nearest(p4: wp.vec3, d4: wp.vec3, p5: wp.vec3, d5: wp.vec3) -> wp.vec3:
-    """The point of line 5 nearest to line 4 (the wrist centre when 4, 5 are the J4, J5 axes)."""
-    w = p5 - p4
-    b = wp.dot(d4, d5)
-    den = 1.0 - b * b  # d4, d5 are unit vectors
-    if den < 1.0e-12:
-        return p5  # parallel axes: no unique point, keep the J5 anchor
-    s = (b * wp.dot(w, d4) - wp.dot(w, d5)) / den
-    return p5 + s * d5
-
-
-@wp.kernel
-def fk_wrist_flange(q: wp.array2d(dtype=wp.float32), parent: wp.array(dtype=wp.int32),
-                    jtype: wp.array(dtype=wp.int32), qidx: wp.array(dtype=wp.int32), axis: wp.array(dtype=wp.vec3),
-                    point: wp.array(dtype=wp.vec3), base: wp.transform,
-                    j4_link: int, j4_point: wp.vec3, j4_axis: wp.vec3,
-                    j5_link: int, j5_point: wp.vec3, j5_axis: wp.vec3,
-                    flange_link: int, flange_offset: wp.transform,
-                    poses: wp.array2d(dtype=wp.transform),
-                    wrist: wp.array(dtype=wp.vec3), flange: wp.array(dtype=wp.vec3)):
-    """Wrist-centre and flange positions per configuration (for workspace sweeps).
-
-    The J4 and J5 axes are carried by their parent links (``j4_link``, ``j5_link``)."""
-    i = wp.tid()
-    walk(q, i, parent, jtype, qidx, axis, point, base, poses)
-    t4 = poses[i, j4_link]
-    t5 = poses[i, j5_link]
-    wrist[i] = line_point_nearest(wp.transform_point(t4, j4_point), wp.transform_vector(t4, j4_axis),
-                                  wp.transform_point(t5, j5_point), wp.transform_vector(t5, j5_axis))
-    flange[i] = wp.transform_get_translation(wp.transform_multiply(poses[i, flange_link], flange_offset))

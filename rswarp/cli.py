@@ -133,7 +133,6 @@ def _joint_values(report: Report, text: str) -> "np.ndarray":
 
 
 def cmd_fk(args) -> int:
-    from .kinematics import Kinematics
     from .poses import pose_dict, pose_text
 
     report = _checked(args.file)
@@ -143,7 +142,7 @@ def cmd_fk(args) -> int:
     q = _joint_values(report, args.q)
     for warning in limit_warnings(mech, q):
         print(warning, file=sys.stderr)
-    kin = Kinematics(mech)
+    kin = _kinematics(mech, args.device)
     links = kin.fk(q[None])[0]
     flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
     if args.json:
@@ -152,6 +151,16 @@ def cmd_fk(args) -> int:
     else:
         print(pose_text(mech, list(zip(kin.links, links)), list(flanges.items())))
     return 0
+
+
+def _kinematics(mech: Mechanism, device: str):
+    """Kinematics on the device asked for; an unavailable device is a one-line error."""
+    from .kinematics import Kinematics
+
+    try:
+        return Kinematics(mech, device=device)
+    except ValueError as exc:
+        raise SystemExit(f"rswarp: {exc}") from None
 
 
 class _Progress:
@@ -193,7 +202,7 @@ def cmd_sweep(args) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     ws = workspace(mech, samples=args.samples, seed=args.seed, method=args.method, resolution=resolution,
-                   progress=_Progress("sweep"))
+                   kinematics=_kinematics(mech, args.device), progress=_Progress("sweep"))
     files = {"voxels": out / "workspace.npz", "report": out / "report.json"}
     save_voxels(ws, files["voxels"])
     if ws.reach is not None:
@@ -272,6 +281,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", metavar="FILE")
     p.add_argument("--q", required=True, help='active joint values in the file\'s units, e.g. "0,0,0,0,30,0"')
     p.add_argument("--json", action="store_true", help="machine-readable output (metres, 4x4 matrices)")
+    p.add_argument("--device", default="cpu", help='Warp device: "cpu" (default) or "cuda" / "cuda:N"')
     p.set_defaults(func=cmd_fk)
 
     p = sub.add_parser("sweep", help="workspace over the joint limits: reach, voxels, work-range figures")
@@ -282,6 +292,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--resolution", type=float, help="voxel size in the file's length unit (default 25 mm)")
     p.add_argument("--json", action="store_true", help="print the report as JSON (metres, radians)")
+    p.add_argument("--device", default="cpu", help='Warp device: "cpu" (default) or "cuda" / "cuda:N"')
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("export", help="write OpenUSD (.usda/.usdc/.usdz) or URDF (.urdf)")

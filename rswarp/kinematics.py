@@ -45,7 +45,10 @@ class Kinematics:
 
         self.mech = mech
         self.tree: KinematicTree = compile_tree(mech)
-        self.device = wp.get_device(device)
+        try:
+            self.device = wp.get_device(device)
+        except RuntimeError as exc:
+            raise ValueError(f"device '{device}' is not available here ({exc})") from None
         self.chunk = int(chunk)
         self.threads = max(1, threads or (os.cpu_count() or 1)) if self.device.is_cpu else 1
         self._k = kernels
@@ -83,74 +86,38 @@ class Kinematics:
             return self.frames(q, [(self.tree.index(n), np.eye(4)) for n in links], out)
         q = self._q(q)
         out = self._out(out, (q.shape[0], len(self.tree.links), 4, 4))
-        self._launch(self._gen.fk_all, q, [(out, 2)])
+        self._launch(self._gen.fk_all, q, [out])
         return out
 
     def flange(self, q, name: str | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """``(N, 4, 4)`` float32 flange poses (the first flange, or the one named)."""
-        self._flange(name)  # checks the name
-        f = 0 if name is None else [fl.name for fl in self.mech.flanges].index(name)
         q = self._q(q)
         out = self._out(out, (q.shape[0], 4, 4))
-        self._launch(getattr(self._gen, f"fk_flange{f}"), q, [(out, 2)])
+        self._launch(getattr(self._gen, f"fk_flange{self._flange_index(name)}"), q, [out])
         return out
 
     def frames(self, q, outputs: list[tuple[int, np.ndarray]], out: np.ndarray | None = None) -> np.ndarray:
-        """``(N, len(outputs), 4, 4)``: pose of link index ``k`` times a 4x4 ``offset``, per output."""
+        """``(N, len(outputs), 4, 4)``: pose of link index ``k`` times a 4x4 ``offset``, per output
+        (the generic tree-walking kernel)."""
         wp = _wp()
         q = self._q(q)
-        n = q.shape[0]
-        out = self._out(out, (n, len(outputs), 4, 4))
+        out = self._out(out, (q.shape[0], len(outputs), 4, 4))
         d = self.device
         links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=d)
         offsets = wp.array([_transform(m) for _, m in outputs], dtype=wp.transform, device=d)
-
-        def launch(lo: int, hi: int) -> None:
-            qa, scratch = self._inputs(q, lo, hi)
-            res = self._output(out, lo, hi, wp.mat44)
-            wp.launch(self._k.fk_frames, dim=hi - lo, device=d,
-                      inputs=[qa, self._parent, self._jtype, self._qidx, self._axis, self._point, self._base,
-                              links, offsets, scratch, res[0]])
-            self._finish(res, out, lo, hi)
-
-        self._run(n, launch)
+        self._launch(self._k.fk_frames, q, [out], tree_inputs=[links, offsets])
         return out
 
     def wrist_flange(self, q, flange: str | None = None, wrist: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
         """``(N, 3)`` wrist-centre positions (the point of the J5 axis nearest the J4 axis) and
         ``(N, 3)`` flange positions, float32 metres. The wrist needs five active joints or more;
         with ``wrist=False`` only the flange is computed and the first result is None."""
-        wp = _wp()
+        if wrist and self.dof < 5:
+            self.wrist_axes()  # raises the clear error
         q = self._q(q)
-        n = q.shape[0]
-        fl_link, fl_off = self._flange(flange)
-        if flange is None or flange == self.mech.flanges[0].name:
-            if wrist and self.dof < 5:
-                self.wrist_axes()  # raises the clear error
-            fpos, wpos = np.empty((n, 3), np.float32), np.empty((n, 3), np.float32)
-            self._launch(self._gen.wrist_flange, q, [(wpos, 1), (fpos, 1)])
-            return (wpos if wrist else None), fpos
-        if wrist:
-            (l4, p4, a4), (l5, p5, a5) = self.wrist_axes()
-        else:  # any two lines will do: the result is dropped
-            l4 = l5 = fl_link
-            p4 = p5 = a4 = a5 = np.array([0.0, 0.0, 1.0])
-        wrist_on, wrist = wrist, np.empty((n, 3), np.float32)
-        fpos = np.empty((n, 3), np.float32)
-        d = self.device
-
-        def launch(lo: int, hi: int) -> None:
-            qa, scratch = self._inputs(q, lo, hi)
-            rw, rf = self._output(wrist, lo, hi, wp.vec3), self._output(fpos, lo, hi, wp.vec3)
-            wp.launch(self._k.fk_wrist_flange, dim=hi - lo, device=d,
-                      inputs=[qa, self._parent, self._jtype, self._qidx, self._axis, self._point, self._base,
-                              l4, wp.vec3(*p4), wp.vec3(*a4), l5, wp.vec3(*p5), wp.vec3(*a5),
-                              fl_link, _transform(fl_off), scratch, rw[0], rf[0]])
-            self._finish(rw, wrist, lo, hi)
-            self._finish(rf, fpos, lo, hi)
-
-        self._run(n, launch)
-        return (wrist if wrist_on else None), fpos
+        wpos, fpos = np.empty((q.shape[0], 3), np.float32), np.empty((q.shape[0], 3), np.float32)
+        self._launch(getattr(self._gen, f"wrist_flange{self._flange_index(flange)}"), q, [wpos, fpos])
+        return (wpos if wrist else None), fpos
 
     def wrist_axes(self) -> list[tuple[int, np.ndarray, np.ndarray]]:
         """(parent link index, point, unit axis) of the 4th and 5th active joints (J4, J5)."""
@@ -179,27 +146,37 @@ class Kinematics:
             raise ValueError(f"out must be a C-contiguous float32 array of shape {shape}")
         return out
 
-    def _launch(self, kernel, q: np.ndarray, outputs: list[tuple[np.ndarray, int]]) -> None:
-        """Launch a generated kernel over q in chunks; ``outputs`` are (host array, trailing dims
-        folded into the Warp dtype: 2 for 4x4 matrices, 1 for vec3)."""
+    def _launch(self, kernel, q: np.ndarray, outputs: list[np.ndarray], tree_inputs: list | None = None) -> None:
+        """Launch ``kernel`` over q in chunks (one thread per configuration) writing ``outputs``
+        (host arrays of 4x4 matrices or 3-vectors). A generated kernel takes (q, *outputs); the
+        generic one, when ``tree_inputs`` is given, (q, tree arrays, *tree_inputs, scratch, *outputs)."""
         wp = _wp()
 
         def launch(lo: int, hi: int) -> None:
-            qa, _ = self._inputs(q, lo, hi, scratch=False)
-            res = [self._output(host, lo, hi, wp.mat44 if dims == 2 else wp.vec3) for host, dims in outputs]
-            wp.launch(kernel, dim=hi - lo, device=self.device, inputs=[qa, *(r[0] for r in res)])
-            for r, (host, _) in zip(res, outputs):
+            qa, scratch = self._inputs(q, lo, hi, scratch=tree_inputs is not None)
+            res = [self._output(host, lo, hi, wp.mat44 if host.shape[-2:] == (4, 4) else wp.vec3) for host in outputs]
+            head = [qa]
+            if tree_inputs is not None:
+                head += [self._parent, self._jtype, self._qidx, self._axis, self._point, self._base, *tree_inputs, scratch]
+            wp.launch(kernel, dim=hi - lo, device=self.device, inputs=[*head, *(r[0] for r in res)])
+            for r, host in zip(res, outputs):
                 self._finish(r, host, lo, hi)
 
         self._run(q.shape[0], launch)
 
-    def _flange(self, name: str | None) -> tuple[int, np.ndarray]:
-        flanges = self.mech.flanges
-        if not flanges:
+    def _flange_index(self, name: str | None) -> int:
+        names = [f.name for f in self.mech.flanges]
+        if not names:
             raise ValueError(f"'{self.mech.name}' has no flange")
-        fl = flanges[0] if name is None else next((f for f in flanges if f.name == name), None)
-        if fl is None:
-            raise KeyError(f"no flange '{name}' (flanges: {', '.join(f.name for f in flanges)})")
+        if name is None:
+            return 0
+        if name not in names:
+            raise KeyError(f"no flange '{name}' (flanges: {', '.join(names)})")
+        return names.index(name)
+
+    def flange_frame(self, name: str | None = None) -> tuple[int, np.ndarray]:
+        """(link index, 4x4 zero-position pose) of a flange (the first when ``name`` is None)."""
+        fl = self.mech.flanges[self._flange_index(name)]
         return self.tree.index(fl.link), fl.pose.matrix()
 
     def _q(self, q) -> np.ndarray:

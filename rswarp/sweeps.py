@@ -115,8 +115,7 @@ class _Exact:
         self.kin, self.tree, self.mech = kin, kin.tree, kin.mech
         j1 = self.mech.active_joints[0]
         self.j1_point, self.j1_axis = np.asarray(j1.point1, float), np.asarray(j1.axis, float)
-        link, self.flange_offset = kin._flange(None)
-        self.flange_link = link
+        self.flange_link, self.flange_offset = kin.flange_frame()
         self.wrist = kin.wrist_axes() if kin.dof >= 5 else None
 
     def points(self, q: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
@@ -134,7 +133,8 @@ class _Exact:
 
 
 def nearest_on_line5(p4, d4, p5, d5):
-    """Vectorized float64 twin of the kernel's line_point_nearest."""
+    """The point of line 5 nearest line 4, vectorized in float64 (the generated wrist kernels
+    compute the same in float32)."""
     w = p5 - p4
     b = np.einsum("ij,ij->i", d4, d5)
     den = 1.0 - b * b

@@ -4,6 +4,8 @@ import json
 import subprocess
 import sys
 
+import pytest
+
 import rswarp
 from rswarp import examples
 from rswarp.cli import main
@@ -139,3 +141,19 @@ def test_fk_bad_joint_values(capsys):
         raise AssertionError("no error")
     assert main(["fk", str(examples.IRB1300), "--q", "0,200,0,0,0,0"]) == 0
     assert "rswarp: warning: J2 = 200 is outside its limits [-100, 130]" in capsys.readouterr().err
+
+
+def _cuda_available() -> bool:
+    import warp as wp
+
+    return wp.is_cuda_available()
+
+
+@pytest.mark.skipif(_cuda_available(), reason="this machine has CUDA: the error path cannot happen")
+def test_unavailable_device_is_one_line(capsys):
+    try:
+        main(["fk", str(examples.IRB1300), "--q", "0,0,0,0,0,0", "--device", "cuda"])
+    except SystemExit as exc:
+        assert str(exc).startswith("rswarp: device 'cuda' is not available here")
+    else:
+        raise AssertionError("no error")

@@ -103,6 +103,10 @@ def test_prismatic_and_branching(kins):
     assert t["Arm"][:3, 3] == pytest.approx([0, 0, 0], abs=1e-6)
     assert kin.flange(q, "tool0")[0, :3, 3] == pytest.approx([0, 0.7, 0.8], abs=1e-6)
     assert kin.flange(q, "gripper")[0, :3, 3] == pytest.approx([-0.2, 0.1, 0.55], abs=1e-6)  # lifted only
+    w, g = kin.wrist_flange(q, "gripper", wrist=False)  # four axes: no wrist centre, any flange
+    assert w is None and np.array_equal(g, kin.flange(q, "gripper")[:, :3, 3])
+    with pytest.raises(ValueError, match="a wrist centre needs J4 and J5"):
+        kin.wrist_flange(q)
     only = kin.fk(q, links=["Swivel", "Arm"])
     assert only.shape == (1, 2, 4, 4) and np.allclose(only[0, 1], t["Arm"], atol=1e-6)  # generic kernel
 
