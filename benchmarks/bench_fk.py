@@ -36,8 +36,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="10000,100000,1000000")
     parser.add_argument("--max-worlds", type=int, default=100_000)
+    parser.add_argument("--cold-cache", action="store_true",
+                        help="empty Warp and rswarp kernel caches, to time the first compile on a machine")
     args = parser.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
+    if args.cold_cache:  # before Warp is imported: it reads the cache path at start-up
+        import tempfile
+
+        cold = tempfile.mkdtemp(prefix="rswarp-bench-")
+        os.environ["WARP_CACHE_PATH"] = os.path.join(cold, "warp")
+        os.environ["RSWARP_CACHE"] = os.path.join(cold, "rswarp")
 
     import newton
     import warp as wp
@@ -95,8 +103,9 @@ def main() -> None:
 
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
+    first = "compiling into empty caches" if args.cold_cache else "kernel generation plus Warp compile or cache load"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
-          f"kernel generation plus Warp compile or cache load); Newton per row below (replicated worlds)")
+          f"{first}); Newton per row below (replicated worlds)")
     head = ("N", "worlds", "ours all links", "ours (fresh array)", "ours flange", "Newton all links",
             "ratio all", "ratio flange", "Newton build", "max |dp| m")
     print(" | ".join(head))
