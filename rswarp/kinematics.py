@@ -64,14 +64,15 @@ class Kinematics:
         wp.load_module(kernels, device=d)  # compile (or load from cache) once, before any thread launches
         flanges = [(t.index(f.link), f.pose.matrix()) for f in mech.flanges]
         plain = fk_codegen.Tree(t.parent, t.jtype, t.qidx, t.axis, t.point)
-        self._gen = fk_codegen.load(fk_codegen.source(plain, flanges, self.wrist_axes() if t.dof >= 5 else None))
+        slots = [mech.link_names.index(link) for link in t.links]  # fk's columns follow the file's order
+        self._gen = fk_codegen.load(fk_codegen.source(plain, flanges, self.wrist_axes() if t.dof >= 5 else None, slots))
         wp.load_module(self._gen, device=d)
 
     # -- public ------------------------------------------------------------------------------------
     @property
     def links(self) -> tuple[str, ...]:
-        """Link names in the order of ``fk``'s second axis (topological: base first)."""
-        return self.tree.links
+        """Link names in the order of ``fk``'s second axis: the file's order (``mech.link_names``)."""
+        return self.mech.link_names
 
     @property
     def dof(self) -> int:

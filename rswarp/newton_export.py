@@ -33,8 +33,9 @@ def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = N
     joints = []
     base = np.eye(4) if base_pose is None else np.asarray(base_pose, float)
     base_xf = wp.transform(wp.vec3(*base[:3, 3]), wp.quat_from_matrix(wp.mat33(*base[:3, :3].flatten())))
-    for k, link in enumerate(tree.links):
-        body[k] = builder.add_link(xform=base_xf, label=link)
+    for link in mech.link_names:  # bodies in the file's order, like Kinematics.fk's links
+        body[tree.index(link)] = builder.add_link(xform=base_xf, label=link)
+    for k, link in enumerate(tree.links):  # joints parent before child, as eval_fk needs
         if tree.parent[k] < 0:
             joints.append(builder.add_joint_fixed(-1, body[k], parent_xform=base_xf, label=f"{link}_fixed"))
             continue
