@@ -99,7 +99,6 @@ def main() -> None:
 
         rows.append((n, worlds, n / ours_all, n / ours_fresh, n / ours_flange, n / peer, newton_build, err))
         result = {"n": n, "ours": n / ours_all, "peer": n / peer}
-        del out, model, state, many
 
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")

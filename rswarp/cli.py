@@ -117,7 +117,7 @@ def _demo_robot(mech: Mechanism, out, quiet: bool) -> dict:
             "usd": str(usd), "urdf": str(urdf)}
 
 
-def _joint_values(report: Report, text: str) -> "np.ndarray":
+def _joint_values(report: Report, text: str):
     """``--q`` in the file's units -> SI; a bad value or count is a one-line error."""
     import numpy as np
 

@@ -13,28 +13,21 @@ import shutil
 import tempfile
 from pathlib import Path
 
+import newton_usd_schemas  # noqa: F401 (registers Newton's schemas, NewtonSiteAPI and others, with USD)
 import numpy as np
+from pxr import Gf, Kind, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdUtils, Vt
 
-from .compile import PRISMATIC, compile_tree, link_origins
+from .compile import compile_tree, link_origins
 from .errors import MeshNotFoundError
 from .geometry import DEFAULT_DENSITY, mass_properties, part_mesh
-from .model import Group, Mechanism, SmartComponent
+from .model import Mechanism, SmartComponent
 
 GRAPHITE_WHITE = (215 / 255, 215 / 255, 215 / 255)
 APPROXIMATIONS = ("convexHull", "convexDecomposition")
 
 
-def _pxr():
-    from pxr import Gf, Kind, Sdf, Tf, Usd, UsdGeom, UsdPhysics, UsdShade  # noqa: F401
-
-    import newton_usd_schemas  # noqa: F401  registers Newton's schemas with USD
-
-    return Gf, Kind, Sdf, Tf, Usd, UsdGeom, UsdPhysics
-
-
 def _quat_x_to(axis: np.ndarray):
     """The rotation (Gf.Quatf) taking +X onto ``axis``: the joint frame of a joint about ``axis``."""
-    Gf = _pxr()[0]
     x = np.array([1.0, 0.0, 0.0])
     a = axis / np.linalg.norm(axis)
     c = float(np.dot(x, a))
@@ -53,7 +46,7 @@ def _matrix_quat(r: np.ndarray):
     from scipy.spatial.transform import Rotation
 
     x, y, z, w = Rotation.from_matrix(r).as_quat()
-    return _pxr()[0].Quatf(float(w), float(x), float(y), float(z))
+    return Gf.Quatf(float(w), float(x), float(y), float(z))
 
 
 class _Names:
@@ -63,7 +56,6 @@ class _Names:
         self.used: set[str] = set()
 
     def __call__(self, name: str) -> str:
-        Tf = _pxr()[3]
         base = Tf.MakeValidIdentifier(name or "unnamed")
         out, i = base, 1
         while out in self.used:
@@ -73,8 +65,7 @@ class _Names:
 
 
 def _metadata(mech: Mechanism, sc: SmartComponent | None) -> dict:
-    from pxr import Vt  # typed arrays: USD cannot infer the type of an empty list
-
+    # typed arrays (Vt): USD cannot infer the type of an empty list
     data = {
         "name": mech.name, "type": mech.type or "", "modelName": mech.model_name or "",
         "kinematicsFlags": Vt.StringArray(list(mech.kinematics_flags)), "lengthUnit": mech.length_unit or "m",
@@ -109,7 +100,6 @@ def _link_meshes(mech: Mechanism, link: str, warnings: list[str]):
 
 
 def _author_mesh(stage, path, mesh, origin: np.ndarray, color):
-    Gf, _, _, _, _, UsdGeom, _ = _pxr()
     m = UsdGeom.Mesh.Define(stage, path)
     pts = np.asarray(mesh.vertices, float) - origin
     m.CreatePointsAttr([Gf.Vec3f(*p) for p in pts.tolist()])
@@ -138,9 +128,6 @@ def _mesh_color(mesh) -> tuple[float, float, float]:
 
 def build_stage(stage, model, *, density: float = DEFAULT_DENSITY, collision: str = "convexHull") -> list[str]:
     """Author ``model`` (a Mechanism, or a SmartComponent holding one) into ``stage``; returns warnings."""
-    Gf, Kind, Sdf, Tf, Usd, UsdGeom, UsdPhysics = _pxr()
-    from pxr import Sdf as _Sdf
-
     sc = None
     if isinstance(model, SmartComponent):
         sc = model
@@ -268,14 +255,12 @@ def build_stage(stage, model, *, density: float = DEFAULT_DENSITY, collision: st
 
 def _gf_matrix(m: np.ndarray, origin: np.ndarray):
     """A 4x4 pose relative to a world-aligned frame at ``origin``, as Gf.Matrix4d (row vectors)."""
-    Gf = _pxr()[0]
     rel = m.copy()
     rel[:3, 3] = m[:3, 3] - origin
     return Gf.Matrix4d(*rel.T.flatten().tolist())
 
 
 def _cable(stage, path: str, c) -> None:
-    Gf, _, Sdf, _, _, UsdGeom, _ = _pxr()
     curve = UsdGeom.BasisCurves.Define(stage, path)
     curve.GetPrim().SetDisplayName(c.name)
     pts = [Gf.Vec3f(*p.position) for p in c.control_points]
@@ -303,8 +288,6 @@ def _cable(stage, path: str, c) -> None:
 
 def _mass(prim, meshes, origin: np.ndarray, density: float, warnings: list[str], link: str) -> None:
     """Mass, centre of mass and principal inertia from the link's meshes (volume x density)."""
-    from pxr import Gf, UsdPhysics
-
     mass, com, inertia, watertight = mass_properties(meshes, origin, density)
     if not watertight:
         warnings.append(f"link '{link}': mesh is not watertight; mass from its convex hull")
@@ -330,7 +313,6 @@ def to_usd(model, path: str | Path, *, density: float = DEFAULT_DENSITY, collisi
     (as Newton's urdf-usd-converter lays assets out). Written to temporary files first, then moved
     into place.
     """
-    _, _, Sdf, _, Usd, _, _ = _pxr()
     path = Path(path)
     ext = path.suffix.lower()
     if ext not in (".usda", ".usdc", ".usdz", ".usd"):
@@ -365,8 +347,6 @@ def to_usd(model, path: str | Path, *, density: float = DEFAULT_DENSITY, collisi
 
 
 def _usdz(src: Path, dst: Path) -> None:
-    from pxr import UsdUtils
-
     if not UsdUtils.CreateNewUsdzPackage(str(src), str(dst)):
         raise OSError(f"could not package {dst}")
 
@@ -375,7 +355,6 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     """The component layout: interface layer -> payload Contents.usda -> sublayers
     Geometry.usda (meshes, frames, cables), Materials.usda (display colours) and Physics.usda
     (physics schemas, joints, mass); each layer holds only its own opinions."""
-    _, _, Sdf, _, Usd, _, UsdPhysics = _pxr()
     stage = Usd.Stage.CreateInMemory()
     warnings = build_stage(stage, model, density=density, collision=collision)
     full = stage.GetRootLayer()
@@ -459,8 +438,6 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
 
 def _ensure_over(layer, path) -> None:
     """An ``over`` for ``path`` in ``layer`` (parents too), unless a spec is already there."""
-    from pxr import Sdf
-
     if layer.GetPrimAtPath(path) is None:
         spec = Sdf.CreatePrimInLayer(layer, path)
         spec.specifier = Sdf.SpecifierOver

@@ -128,7 +128,7 @@ def _table(rows: list[list[str]], indent: str = "  ") -> list[str]:
 
 
 def mechanism_text(mech: Mechanism) -> list[str]:
-    lf, af = mech.length_factor, mech.angle_factor
+    lf = mech.length_factor
     lu, au = mech.length_unit or "m", mech.angle_unit or "rad"
 
     def vec(v, f=lf):

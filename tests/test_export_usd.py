@@ -1,6 +1,5 @@
 """USD export, checked by usd-core's UsdPhysics parser, Newton's importer, and NVIDIA's validator."""
 
-import math
 
 import numpy as np
 import pytest
