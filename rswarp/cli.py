@@ -249,7 +249,10 @@ def cmd_export(args) -> int:
     elif out.suffix.lower() in (".usda", ".usdc", ".usd", ".usdz"):
         from .export_usd import to_usd
 
-        warnings = to_usd(model, out, density=args.density, collision=args.collision, layout=args.layout)
+        try:
+            warnings = to_usd(model, out, density=args.density, collision=args.collision, layout=args.layout)
+        except ValueError as exc:  # nothing to export (a SmartComponent without a mechanism)
+            raise SystemExit(f"rswarp: {args.file}: {exc}") from None
     else:
         raise SystemExit(f"rswarp: {out}: the output must end in .usda, .usdc, .usdz or .urdf")
     for w in warnings:

@@ -430,9 +430,8 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     spec.SetInfo("payload", Sdf.PayloadListOp.Create(
         prependedItems=[Sdf.Payload(f"./{path.stem}_Payload/Contents.usda")]))
     iface.Save()
-    if path.suffix.lower() != ".usda":
-        out = Sdf.Layer.FindOrOpen(str(tmp / f"{path.stem}.usda"))
-        out.Export(str(tmp / path.name))
+    if path.suffix.lower() in (".usdc", ".usd"):  # .usdz is packaged from the .usda by the caller
+        Sdf.Layer.FindOrOpen(str(tmp / f"{path.stem}.usda")).Export(str(tmp / path.name))
     return warnings
 
 

@@ -274,12 +274,10 @@ def test_export_command(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.urdf", "r.usdc", "r.usdz"]
     stage = Usd.Stage.Open(str(tmp_path / "r.usdz"))
     assert stage.GetDefaultPrim().GetName() == "IRB2600_12_165__01"
-    try:
+    with pytest.raises(SystemExit, match="must end in .usda, .usdc, .usdz or .urdf"):
         main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.obj")])
-    except SystemExit as exc:
-        assert "must end in .usda, .usdc, .usdz or .urdf" in str(exc)
-    else:
-        raise AssertionError("no error")
+    with pytest.raises(SystemExit, match="SmartComponent 'Counter' holds no mechanism to export"):
+        main(["export", str(DATA / "smart" / "Counter.rsxml"), "-o", str(tmp_path / "c.usda")])
 
 
 def test_smart_component_exports_its_mechanism_with_properties(tmp_path):
@@ -296,3 +294,20 @@ def test_smart_component_exports_its_mechanism_with_properties(tmp_path):
     assert data["smartComponent"]["options"]["codeBehind"] == "Positioner.CodeBehind,Positioner.dll"
     a1 = stage.GetPrimAtPath(f"{root.GetPath()}/joints/A1")
     assert a1.GetAttribute("state:angular:physics:position").Get() == pytest.approx(90)
+
+
+@pytest.mark.parametrize("ext", [".usdc", ".usdz"])
+def test_component_layout_in_binary_and_package(tmp_path, ext):
+    mech = rswarp.load(examples.IRB2600)
+    target = tmp_path / f"robot{ext}"
+    to_usd(mech, target, layout="component")
+    stage = Usd.Stage.Open(str(target))
+    parsed = UsdPhysics.LoadUsdPhysicsFromRange(stage, ["/"])
+    assert len(parsed[UsdPhysics.ObjectType.RevoluteJoint][0]) == 6
+    assert len([p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]) == 14
+    if ext == ".usdz":
+        import zipfile
+
+        names = zipfile.ZipFile(target).namelist()
+        assert names[0] == "robot.usda" and "robot_Payload/Geometry.usdc" in names
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["robot.usdz"]  # the package holds the payload
