@@ -201,8 +201,11 @@ def cmd_sweep(args) -> int:
         raise SystemExit("rswarp: --resolution must be positive")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    ws = workspace(mech, samples=args.samples, seed=args.seed, method=args.method, resolution=resolution,
-                   kinematics=_kinematics(mech, args.device), progress=_Progress("sweep"))
+    try:
+        ws = workspace(mech, samples=args.samples, seed=args.seed, method=args.method, resolution=resolution,
+                       kinematics=_kinematics(mech, args.device), progress=_Progress("sweep"))
+    except ValueError as exc:  # nothing to measure: no flange
+        raise SystemExit(f"rswarp: {args.file}: {exc}") from None
     files = {"voxels": out / "workspace.npz", "report": out / "report.json"}
     save_voxels(ws, files["voxels"])
     if ws.reach is not None:

@@ -168,7 +168,7 @@ class Kinematics:
     def _flange_index(self, name: str | None) -> int:
         names = [f.name for f in self.mech.flanges]
         if not names:
-            raise ValueError(f"'{self.mech.name}' has no flange")
+            raise ValueError(f"'{self.mech.name}' has no flange (a Flanges/Flange element names one)")
         if name is None:
             return 0
         if name not in names:

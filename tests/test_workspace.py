@@ -107,3 +107,8 @@ def test_sweep_command(tmp_path, capsys):
     assert main(["sweep", str(examples.IRB2600ID), "--samples", "500", "--out", str(out), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["reach"]["value"] == pytest.approx(1.9999, rel=1e-3) and doc["files"]["side_view"].endswith("side.png")
+
+
+def test_sweep_without_a_flange_is_one_line(tmp_path):
+    with pytest.raises(SystemExit, match=r"units_default.rsxml: 'Pendulum' has no flange"):
+        main(["sweep", str(DATA / "units_default.rsxml"), "--samples", "10", "--out", str(tmp_path)])
