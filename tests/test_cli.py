@@ -157,3 +157,28 @@ def test_unavailable_device_is_one_line(capsys):
         assert str(exc).startswith("rswarp: device 'cuda' is not available here")
     else:
         raise AssertionError("no error")
+
+
+GOOD_MECHANISMS = sorted(p for p in (DATA.glob("*.rsxml")) if p.name not in ("warnings.rsxml",)) + [
+    DATA / "meshes" / "Cell.rsxml", DATA / "smart" / "Positioner.rsxml", *examples.ALL]
+
+
+@pytest.mark.parametrize("path", GOOD_MECHANISMS, ids=lambda p: p.name)
+def test_every_command_ends_cleanly_on_every_good_file(path, tmp_path, capsys):
+    """fk, sweep and export on every good input: a result (0) or a one-line refusal (1), never an
+    internal error (2) or a traceback."""
+    report = rswarp.check(path)
+    mech = report.model
+    runs = [["export", str(path), "-o", str(tmp_path / "x.usda")], ["export", str(path), "-o", str(tmp_path / "x.urdf")],
+            ["export", str(path), "-o", str(tmp_path / "x.usdz"), "--layout", "component"]]
+    if isinstance(mech, rswarp.Mechanism):
+        home = ",".join(str(v / mech.joint_factor(j)) for v, j in zip(mech.home_position(), mech.active_joints))
+        runs += [["fk", str(path), "--q", home or "0"], ["sweep", str(path), "--samples", "50", "--out", str(tmp_path / "s")]]
+    for argv in runs:
+        try:
+            code = main(argv)
+        except SystemExit as exc:  # argparse or a one-line refusal
+            code = 1 if str(exc).startswith("rswarp:") else exc.code
+        captured = capsys.readouterr()
+        assert code in (0, 1), (argv, captured.err)
+        assert "Traceback" not in captured.err and "internal error" not in captured.err
