@@ -38,6 +38,11 @@ def test_bad_file_on_the_command_line(path, capsys):
     out = capsys.readouterr().out
     assert expectation(path) in out.splitlines()
     assert "Traceback" not in out
+    for command in (["info"], ["export", "-o", "never.usda"], ["fk", "--q", "0"]):
+        assert main([command[0], str(path), *command[1:]]) == 1
+        captured = capsys.readouterr()
+        assert expectation(path) in captured.err.splitlines() and captured.out == ""
+    assert not (path.parent / "never.usda").exists()
 
 
 def test_load_raises_with_file_and_line():
