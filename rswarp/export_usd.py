@@ -24,6 +24,7 @@ from .model import Mechanism, SmartComponent
 
 GRAPHITE_WHITE = (215 / 255, 215 / 255, 215 / 255)
 APPROXIMATIONS = ("convexHull", "convexDecomposition")
+PHYSICS_PREFIXES = ("physics:", "newton:", "state:")  # properties the component layout puts in Physics
 
 
 def _quat_x_to(axis: np.ndarray):
@@ -362,20 +363,19 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     name = root.GetName()
     payload_dir = tmp / f"{path.stem}_Payload"
     payload_dir.mkdir()
-    # geometry as crate: large arrays load fast (the asset validator asks for it too)
-    layers = {k: Sdf.Layer.CreateNew(str(payload_dir / f"{k}.{ext}"))
-              for k, ext in (("Geometry", "usdc"), ("Materials", "usda"), ("Physics", "usda"))}
 
-    def is_physics(spec_path: str, prop: str | None) -> bool:
-        p = spec_path
-        return "/joints" in p or (prop is not None and (prop.startswith("physics:") or prop.startswith("newton:")
-                                                          or prop.startswith("state:")))
-
-    for layer in layers.values():
+    def new_layer(file: Path):
+        """A layer with the stage's units, up axis and default prim."""
+        layer = Sdf.Layer.CreateNew(str(file))
         layer.defaultPrim = name
         for key in ("metersPerUnit", "upAxis", "kilogramsPerUnit"):
-            if full.pseudoRoot.GetInfo(key) if full.pseudoRoot.HasInfo(key) else None:
+            if full.pseudoRoot.HasInfo(key):
                 layer.pseudoRoot.SetInfo(key, full.pseudoRoot.GetInfo(key))
+        return layer
+
+    # geometry as crate: large arrays load fast (the asset validator asks for it too)
+    layers = {k: new_layer(payload_dir / f"{k}.{ext}")
+              for k, ext in (("Geometry", "usdc"), ("Materials", "usda"), ("Physics", "usda"))}
     # Geometry gets everything, then physics and colours are moved out to their own layers
     Sdf.CopySpec(full, Sdf.Path.absoluteRootPath, layers["Geometry"], Sdf.Path.absoluteRootPath)
     geo = layers["Geometry"]
@@ -386,7 +386,7 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
             continue
         if "/joints" in str(p):
             continue
-        schemas = [s for s in prim.GetAppliedSchemas()]
+        schemas = list(prim.GetAppliedSchemas())
         phys = [s for s in schemas if s.startswith("Physics") or s.startswith("Newton")]
         if phys:
             ps = Sdf.CreatePrimInLayer(layers["Physics"], p)
@@ -394,14 +394,14 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
             ps.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=phys))
             spec.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=[s for s in schemas if s not in phys]))
         for attr in list(spec.attributes):
-            target = ("Physics" if is_physics(str(p), attr.name)
+            target = ("Physics" if attr.name.startswith(PHYSICS_PREFIXES)
                       else "Materials" if attr.name == "primvars:displayColor" else None)
             if target:
                 _ensure_over(layers[target], p)
                 Sdf.CopySpec(geo, attr.path, layers[target], attr.path)
                 spec.RemoveProperty(attr)
         for rel in list(spec.relationships):
-            if is_physics(str(p), rel.name):
+            if rel.name.startswith(PHYSICS_PREFIXES):
                 spec.RemoveProperty(rel)
     joints = geo.GetPrimAtPath(f"/{name}/joints")
     if joints is not None:
@@ -409,18 +409,10 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
         del geo.GetPrimAtPath(f"/{name}").nameChildren["joints"]
     for layer in layers.values():
         layer.Save()
-    contents = Sdf.Layer.CreateNew(str(payload_dir / "Contents.usda"))
+    contents = new_layer(payload_dir / "Contents.usda")
     contents.subLayerPaths = ["./Physics.usda", "./Materials.usda", "./Geometry.usdc"]
-    contents.defaultPrim = name
-    for key in ("metersPerUnit", "upAxis", "kilogramsPerUnit"):
-        if full.pseudoRoot.HasInfo(key):
-            contents.pseudoRoot.SetInfo(key, full.pseudoRoot.GetInfo(key))
     contents.Save()
-    iface = Sdf.Layer.CreateNew(str(tmp / f"{path.stem}.usda"))
-    for key in ("metersPerUnit", "upAxis", "kilogramsPerUnit"):
-        if full.pseudoRoot.HasInfo(key):
-            iface.pseudoRoot.SetInfo(key, full.pseudoRoot.GetInfo(key))
-    iface.defaultPrim = name
+    iface = new_layer(tmp / f"{path.stem}.usda")
     spec = Sdf.CreatePrimInLayer(iface, f"/{name}")
     spec.specifier = Sdf.SpecifierDef
     spec.typeName = "Xform"

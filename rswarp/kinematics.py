@@ -61,12 +61,11 @@ class Kinematics:
         self._base = wp.transform_identity()
         self._local = threading.local()
         self._pool = ThreadPoolExecutor(self.threads) if self.threads > 1 else None
-        wp.load_module(kernels, device=d)  # compile (or load from cache) once, before any thread launches
         flanges = [(t.index(f.link), f.pose.matrix()) for f in mech.flanges]
         plain = fk_codegen.Tree(t.parent, t.jtype, t.qidx, t.axis, t.point)
         slots = [mech.link_names.index(link) for link in t.links]  # fk's columns follow the file's order
         self._gen = fk_codegen.load(fk_codegen.source(plain, flanges, self.wrist_axes() if t.dof >= 5 else None, slots))
-        wp.load_module(self._gen, device=d)
+        wp.load_module(self._gen, device=d)  # compile (or load from cache) before any thread launches
 
     # -- public ------------------------------------------------------------------------------------
     @property
@@ -106,6 +105,7 @@ class Kinematics:
         d = self.device
         links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=d)
         offsets = wp.array([_transform(m) for _, m in outputs], dtype=wp.transform, device=d)
+        wp.load_module(self._k, device=d)  # on first use, and before any thread launches it
         self._launch(self._k.fk_frames, q, [out], tree_inputs=[links, offsets])
         return out
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from lxml import etree
 
 from .errors import Diagnostic
-from .read import NS_COMPONENT, NS_LIBRARY, NS_RESOURCE, Reader, children, local, namespace, read_component_root
+from .read import NS_COMPONENT, Reader, children, local, namespace, read_component_root
 
 PROPERTY_TAGS = ("Title", "Author", "Revision", "Image")
 
@@ -215,5 +215,3 @@ def with_descriptions(component, resource: LibraryResource):
     """The component with its descriptions from a resource file attached (for info and exports)."""
     return replace(component, descriptions=tuple(sorted(resource.descriptions(component.name).items())))
 
-
-ROOTS = {NS_LIBRARY: "LibraryCompiler", NS_RESOURCE: "LibraryResource"}
