@@ -37,7 +37,7 @@ def main() -> None:
     parser.add_argument("--sizes", default="10000,100000,1000000")
     parser.add_argument("--max-worlds", type=int, default=100_000)
     parser.add_argument("--cold-cache", action="store_true",
-                        help="empty Warp and rswarp kernel caches, to time the first compile on a machine")
+                        help="an empty Warp kernel cache, to time the first compile of a new mechanism on a machine")
     args = parser.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
     if args.cold_cache:  # before Warp is imported: it reads the cache path at start-up
@@ -45,21 +45,24 @@ def main() -> None:
 
         cold = tempfile.mkdtemp(prefix="rswarp-bench-")
         os.environ["WARP_CACHE_PATH"] = os.path.join(cold, "warp")
-        os.environ["RSWARP_CACHE"] = os.path.join(cold, "rswarp")
 
     import newton
     import warp as wp
 
     import rswarp
     from rswarp import examples
-    from rswarp.kinematics import Kinematics, _wp
-    from rswarp.newton_export import newton_q_columns, to_newton
+    from rswarp.sim.kinematics import Kinematics, _wp
+    from rswarp.export.newton import newton_q_columns, to_newton
 
-    _wp()  # quiet Warp
+    init_warp()  # quiet Warp
     mech = rswarp.load(examples.IRB2600)
     lo, hi = mech.bounds()
+    if args.cold_cache:
+        import warp as wp
+
+        wp.config.kernel_cache_dir = os.environ["WARP_CACHE_PATH"]
     t = time.perf_counter()
-    Kinematics(mech).close()  # compiles the generated kernels, or loads them from Warp's cache
+    Kinematics(mech).close()  # builds the mechanism's kernels: Warp compiles them, or loads them from its cache
     ours_first = time.perf_counter() - t
     t = time.perf_counter()
     kin = Kinematics(mech)
@@ -102,7 +105,7 @@ def main() -> None:
 
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
-    first = "compiling into empty caches" if args.cold_cache else "kernel generation plus Warp compile or cache load"
+    first = "compiling into an empty cache" if args.cold_cache else "building the kernels, compiled or loaded from Warp's cache"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
           f"{first}); Newton per row below (replicated worlds)")
     head = ("N", "worlds", "ours all links", "ours (fresh array)", "ours flange", "Newton all links",

@@ -23,7 +23,7 @@ def main() -> None:
     import warp as wp
 
     import rswarp
-    from rswarp.compile import link_origins
+    from rswarp.export.frames import link_origins
 
     mech = rswarp.load(args.file)
     usd = Path(args.out) if args.out else Path(tempfile.mkdtemp()) / f"{mech.name}.usdc"

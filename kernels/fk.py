@@ -1,67 +1,396 @@
-"""Generic forward kinematics kernel: one thread per joint configuration walks the link tree.
+"""Forward kinematics as device code that other kernels call.
 
-Each mechanism also gets kernels of its own (``fk_codegen``), several times faster; this one
-serves any subset of links with any offsets.
+A mechanism's kinematics is a ``wp.func`` made once per chain (``tree_fk``): a closure per link,
+recursion over the tree unrolled at code generation with ``wp.static``, each joint's axis and
+point folded into constants with zero terms left out, poses passed down in registers. Every link
+the caller asks for is handed to an ``emit`` function the caller chooses: write it to an output
+array, keep it in a local array for later tests, or apply a flange offset. Precision is a choice
+(float32 for batches, float64 for refinement and checks).
 
-Inputs are plain arrays compiled from a mechanism (see ``rswarp.compile``). Links are in
-topological order (a parent before its children) and every link's frame is the world frame at the
-zero position, so a link's pose is its parent's pose times its joint's screw motion (product of
-exponentials). ``poses`` is per-thread scratch, one row per configuration.
+Chains longer than ``MAX_UNROLLED_LINKS`` and arbitrary subsets of links use the generic tree walk
+(``generic_kernels``), which reads the chain from arrays and keeps poses in a scratch array.
 """
 
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
 import warp as wp
 
-wp.set_module_options({"enable_backward": False})  # forward only: halves the compile time
+from .types import PRISMATIC, REVOLUTE, Chain, types_of
 
-REVOLUTE = wp.constant(0)
-PRISMATIC = wp.constant(1)
-FIXED = wp.constant(2)
-
-
-@wp.func
-def screw(jtype: int, axis: wp.vec3, point: wp.vec3, theta: float) -> wp.transform:
-    """The rigid motion of a joint by ``theta`` about/along a world axis through ``point``."""
-    if jtype == REVOLUTE:
-        r = wp.quat_from_axis_angle(axis, theta)
-        return wp.transform(point - wp.quat_rotate(r, point), r)
-    if jtype == PRISMATIC:
-        return wp.transform(axis * theta, wp.quat_identity())
-    return wp.transform_identity()
+# Longer chains compile slowly when unrolled (code grows with the chain): they take the generic walk.
+MAX_UNROLLED_LINKS = 64
 
 
-@wp.func
-def walk(q: wp.array2d(dtype=wp.float32), i: int, parent: wp.array(dtype=wp.int32),
-         jtype: wp.array(dtype=wp.int32), qidx: wp.array(dtype=wp.int32), axis: wp.array(dtype=wp.vec3),
-         point: wp.array(dtype=wp.vec3), base: wp.transform, poses: wp.array2d(dtype=wp.transform)):
-    """Fill ``poses[i, :]`` with every link's world pose for configuration ``i``."""
-    for k in range(parent.shape[0]):
-        p = parent[k]
-        if p < 0:
-            poses[i, k] = base
+# -- joint motions with constants folded ----------------------------------------------------------
+
+
+def _entries(matrix_type, const, cos_coef, sin_coef, rows: int, cols: int):
+    """A wp.func(c, s) -> matrix_type whose entries are const + c * cos_coef + s * sin_coef, with
+    the terms whose coefficient is zero left out (so an axis along x, y or z costs what it should)."""
+    S = matrix_type._wp_scalar_type_
+    k0, kc, ks = ([float(v) for v in np.ravel(a)] for a in (const, cos_coef, sin_coef))
+
+    @wp.func
+    def value(c: S, s: S) -> matrix_type:
+        m = matrix_type()
+        for e in range(wp.static(rows * cols)):
+            v = S(0.0)
+            if wp.static(k0[e] != 0.0):
+                v += wp.static(S(k0[e]))
+            if wp.static(kc[e] != 0.0):
+                v += wp.static(S(kc[e])) * c
+            if wp.static(ks[e] != 0.0):
+                v += wp.static(S(ks[e])) * s
+            if wp.static(cols == 1):
+                m[wp.static(e)] = v
+            else:
+                m[wp.static(e // cols), wp.static(e % cols)] = v
+        return m
+
+    return value
+
+
+def _revolute(axis: np.ndarray, point: np.ndarray, T):
+    """Rotation and translation of a revolute joint as functions of (cos, sin): Rodrigues written as
+    R = a a^T + c (I - a a^T) + s [a]x and t = p - R p."""
+    a, p = np.asarray(axis, float), np.asarray(point, float)
+    outer = np.outer(a, a)
+    ortho = np.eye(3) - outer
+    skew = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    rot = _entries(T.mat33, outer, ortho, skew, 3, 3)
+    tra = _entries(T.vec3, p - outer @ p, -ortho @ p, -skew @ p, 3, 1)
+    return rot, tra
+
+
+# -- the tree visitor ------------------------------------------------------------------------------
+
+
+def tree_fk(chain: Chain, needed, emit, scalar=wp.float32):
+    """``fk(q, i, out)``: the poses of configuration ``q[i]`` for the links in ``needed`` (and only
+    the paths to them), each handed to ``emit(out, i, k, rotation, translation)`` with ``k`` the
+    link's index in the chain."""
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    needed = frozenset(int(k) for k in needed)
+    keep = chain.ancestors(needed)
+    root = _link_visitor(chain, chain.root, keep, needed, emit, T)
+
+    @wp.func
+    def fk(q: wp.array2d(dtype=scalar), i: int, out: Any):
+        wp.static(root)(q, i, wp.identity(n=3, dtype=scalar), V3(), out)
+
+    return fk
+
+
+def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
+    """The wp.func that poses link ``k`` from its parent's pose, emits it if needed, and visits the
+    children on the way to a needed link."""
+    S, V3, M33, _, _ = T
+    kids = tuple(_link_visitor(chain, c, keep, needed, emit, T) for c in chain.children(k) if c in keep)
+    col, jtype = int(chain.qidx[k]), int(chain.jtype[k])
+    on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0  # parent pose is identity
+    moves = col >= 0 and jtype in (REVOLUTE, PRISMATIC)
+    revolute = jtype == REVOLUTE
+    rot, tra = _revolute(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
+    axis = V3(*(float(v) for v in chain.axis[k]))
+    emits = k in needed
+
+    @wp.func
+    def visit(q: wp.array2d(dtype=S), i: int, rp: M33, tp: V3, out: Any):
+        r = rp
+        t = tp
+        if wp.static(moves):
+            th = q[i, wp.static(col)]
+            if wp.static(revolute):
+                c = wp.cos(th)
+                s = wp.sin(th)
+                if wp.static(on_root):
+                    r = wp.static(rot)(c, s)
+                    t = wp.static(tra)(c, s)
+                else:
+                    r = rp * wp.static(rot)(c, s)
+                    t = rp * wp.static(tra)(c, s) + tp
+            else:
+                t = rp * (th * wp.static(axis)) + tp
+        if wp.static(emits):
+            wp.static(emit)(out, i, wp.static(k), r, t)
+        for c in range(wp.static(len(kids))):
+            wp.static(kids[c])(q, i, r, t, out)
+
+    return visit
+
+
+# -- what to do with a pose ---------------------------------------------------------------------------
+
+
+@lru_cache(maxsize=None)
+def pose_functions(scalar=wp.float32):
+    """(to_mat44, to_mat34, apply, rotate) for one precision: a pose as a 4x4 or 3x4 matrix, a
+    point moved by a 3x4 pose, a direction turned by it."""
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    S = scalar
+
+    @wp.func
+    def to_mat44(r: M33, t: V3) -> M44:
+        return M44(r[0, 0], r[0, 1], r[0, 2], t[0], r[1, 0], r[1, 1], r[1, 2], t[1],
+                       r[2, 0], r[2, 1], r[2, 2], t[2], S(0.0), S(0.0), S(0.0), S(1.0))
+
+    @wp.func
+    def to_mat34(r: M33, t: V3) -> M34:
+        return M34(r[0, 0], r[0, 1], r[0, 2], t[0], r[1, 0], r[1, 1], r[1, 2], t[1],
+                       r[2, 0], r[2, 1], r[2, 2], t[2])
+
+    @wp.func
+    def apply(m: M34, p: V3) -> V3:
+        return V3(m[0, 0] * p[0] + m[0, 1] * p[1] + m[0, 2] * p[2] + m[0, 3],
+                      m[1, 0] * p[0] + m[1, 1] * p[1] + m[1, 2] * p[2] + m[1, 3],
+                      m[2, 0] * p[0] + m[2, 1] * p[1] + m[2, 2] * p[2] + m[2, 3])
+
+    @wp.func
+    def rotate(m: M34, d: V3) -> V3:
+        return V3(m[0, 0] * d[0] + m[0, 1] * d[1] + m[0, 2] * d[2],
+                      m[1, 0] * d[0] + m[1, 1] * d[1] + m[1, 2] * d[2],
+                      m[2, 0] * d[0] + m[2, 1] * d[1] + m[2, 2] * d[2])
+
+    return to_mat44, to_mat34, apply, rotate
+
+
+def emit_matrix(scalar=wp.float32):
+    """emit: ``out[i, k]`` = the link's pose as a 4x4 matrix (``out`` is an (N, n_links) array)."""
+    to_mat44 = pose_functions(scalar)[0]
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+
+    @wp.func
+    def emit(out: wp.array2d(dtype=M44), i: int, k: int, r: M33, t: V3):
+        out[i, k] = to_mat44(r, t)
+
+    return emit
+
+
+def emit_frame(offset: np.ndarray, scalar=wp.float32):
+    """emit: ``out[i]`` = the link's pose times a constant 4x4 ``offset`` (a flange on the link)."""
+    to_mat44 = pose_functions(scalar)[0]
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    rot = M33(*(float(v) for v in np.asarray(offset)[:3, :3].ravel()))
+    tra = V3(*(float(v) for v in np.asarray(offset)[:3, 3]))
+
+    @wp.func
+    def emit(out: wp.array(dtype=M44), i: int, k: int, r: M33, t: V3):
+        out[i] = to_mat44(r * wp.static(rot), r * wp.static(tra) + t)
+
+    return emit
+
+
+def emit_local(scalar=wp.float32):
+    """emit: ``out[k]`` = the link's pose as a 3x4 matrix, into a kernel-local array
+    (``wp.zeros(shape=n_links, dtype=mat34)``) for the tests that follow in the same kernel."""
+    to_mat34 = pose_functions(scalar)[1]
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+
+    @wp.func
+    def emit(out: Any, i: int, k: int, r: M33, t: V3):
+        out[k] = to_mat34(r, t)
+
+    return emit
+
+
+@lru_cache(maxsize=None)
+def wrist_centre(scalar=wp.float32):
+    """The wrist centre as ABB defines it: the point of the J5 axis (p5, d5) nearest the J4 axis
+    (p4, d4), unit directions; where the axes are parallel, J5's anchor."""
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    S = scalar
+
+    @wp.func
+    def centre(p4: V3, d4: V3, p5: V3, d5: V3) -> V3:
+        w = p5 - p4
+        b = wp.dot(d4, d5)
+        den = S(1.0) - b * b
+        if den < S(1.0e-12):
+            return p5
+        return p5 + ((b * wp.dot(w, d4) - wp.dot(w, d5)) / den) * d5
+
+    return centre
+
+
+# -- generic tree walk: any subset of links, any chain length ---------------------------------------
+
+
+@lru_cache(maxsize=None)
+def generic_kernels(scalar=wp.float32):
+    """(Tree struct, frames kernel, wrist_flange kernel) reading the chain from arrays.
+
+    ``frames``: ``out[i, j]`` = pose of link ``links[j]`` times ``offsets[j]``.
+    ``wrist_flange``: flange position and wrist centre from link indices and constants."""
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    S = scalar
+    to_mat44, to_mat34, apply, rotate = pose_functions(scalar)
+    centre = wrist_centre(scalar)
+    module = f"rswarp_fk_generic_{scalar.__name__}"
+
+    @wp.struct
+    class Tree:
+        parent: wp.array(dtype=wp.int32)
+        jtype: wp.array(dtype=wp.int32)
+        qidx: wp.array(dtype=wp.int32)
+        axis: wp.array(dtype=V3)
+        point: wp.array(dtype=V3)
+        order: wp.array(dtype=wp.int32)
+
+    @wp.func
+    def walk(tree: Tree, q: wp.array2d(dtype=S), i: int, poses: wp.array2d(dtype=M34)):
+        """Every link's pose into ``poses[i]``, parents first."""
+        for o in range(tree.order.shape[0]):
+            k = tree.order[o]
+            p = tree.parent[k]
+            if p < 0:
+                poses[i, k] = to_mat34(wp.identity(n=3, dtype=S), V3())
+                continue
+            th = S(0.0)
+            if tree.qidx[k] >= 0:
+                th = q[i, tree.qidx[k]]
+            a = tree.axis[k]
+            r = wp.identity(n=3, dtype=S)
+            t = th * a
+            if tree.jtype[k] == REVOLUTE:
+                r = wp.quat_to_matrix(wp.quat_from_axis_angle(a, th))
+                t = tree.point[k] - r * tree.point[k]
+            m = poses[i, p]
+            rp = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
+            poses[i, k] = to_mat34(rp * r, apply(m, t))
+
+    @wp.kernel(enable_backward=False, module=module)
+    def frames(tree: Tree, links: wp.array(dtype=wp.int32), offsets: wp.array(dtype=M44),
+               q: wp.array2d(dtype=S), poses: wp.array2d(dtype=M34), out: wp.array2d(dtype=M44)):
+        i = wp.tid()
+        walk(tree, q, i, poses)
+        for j in range(links.shape[0]):
+            m = poses[i, links[j]]
+            full = M44(m[0, 0], m[0, 1], m[0, 2], m[0, 3], m[1, 0], m[1, 1], m[1, 2], m[1, 3],
+                           m[2, 0], m[2, 1], m[2, 2], m[2, 3], S(0.0), S(0.0), S(0.0), S(1.0))
+            out[i, j] = full * offsets[j]
+
+    @wp.kernel(enable_backward=False, module=module)
+    def wrist_flange(tree: Tree, links: wp.array(dtype=wp.int32), consts: wp.array(dtype=V3),
+                     q: wp.array2d(dtype=S), poses: wp.array2d(dtype=M34),
+                     wrist: wp.array(dtype=V3), flange: wp.array(dtype=V3)):
+        """links = (flange link, J4's link, J5's link); consts = (flange offset, p4, a4, p5, a5)."""
+        i = wp.tid()
+        walk(tree, q, i, poses)
+        flange[i] = apply(poses[i, links[0]], consts[0])
+        if links.shape[0] < 3:
+            wrist[i] = V3()
+            return
+        m4 = poses[i, links[1]]
+        m5 = poses[i, links[2]]
+        wrist[i] = centre(apply(m4, consts[1]), rotate(m4, consts[2]), apply(m5, consts[3]), rotate(m5, consts[4]))
+
+    return Tree, frames, wrist_flange
+
+
+# -- the kernels of one chain ------------------------------------------------------------------------
+
+
+@lru_cache(maxsize=64)
+def _chain_kernels_cached(key, chain, flanges, wrist, scalar):
+    return _make_chain_kernels(key, chain, flanges, wrist, scalar)
+
+
+def chain_kernels(chain: Chain, flanges, wrist, scalar=wp.float32):
+    """The unrolled kernels of one chain, made once per chain and precision, in a Warp module of
+    their own (named by the chain's content, so Warp's cache serves later processes):
+
+    ``all_links(q, out)``: every link's 4x4 pose; ``flange[f](q, out)``: flange f's pose;
+    ``wrist_flange[f](q, wrist, flange)``: wrist centre and flange position.
+    ``flanges`` are (link, 4x4 offset); ``wrist`` is ((link, point, axis) of J4, of J5) or None."""
+    import hashlib
+
+    h = hashlib.sha256(chain.digest().encode())
+    for link, m in flanges:
+        h.update(np.asarray([link], np.int64).tobytes() + np.asarray(m, float).tobytes())
+    for link, p, a in wrist or ():
+        h.update(np.asarray([link], np.int64).tobytes() + np.asarray([*p, *a], float).tobytes())
+    key = f"{h.hexdigest()[:16]}_{scalar.__name__}"
+    frozen = tuple((int(link), tuple(np.asarray(m, float).ravel())) for link, m in flanges)
+    wfrozen = None if wrist is None else tuple((int(link), tuple(p), tuple(a)) for link, p, a in wrist)
+    return _chain_kernels_cached(key, _Hashable(chain, key), frozen, wfrozen, scalar)
+
+
+class _Hashable:
+    """A chain hashed by its content key (numpy arrays are not hashable)."""
+
+    def __init__(self, chain: Chain, key: str):
+        self.chain, self.key = chain, key
+
+    def __hash__(self):
+        return hash(self.key)
+
+    def __eq__(self, other):
+        return isinstance(other, _Hashable) and other.key == self.key
+
+
+def _make_chain_kernels(key, held: _Hashable, flanges, wrist, scalar):
+    chain = held.chain
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    S = scalar
+    module = f"rswarp_fk_{key}"
+    n = len(chain.parent)
+    fk_all = tree_fk(chain, range(n), emit_matrix(scalar), scalar)
+
+    @wp.kernel(enable_backward=False, module=module)
+    def all_links(q: wp.array2d(dtype=S), out: wp.array2d(dtype=M44)):
+        fk_all(q, wp.tid(), out)
+
+    flange_kernels = tuple(_flange_kernel(chain, link, np.reshape(m, (4, 4)), scalar, module) for link, m in flanges)
+    wrist_kernels = tuple(_wrist_kernel(chain, link, np.reshape(m, (4, 4)), wrist, scalar, module)
+                          for link, m in flanges)
+    return all_links, flange_kernels, wrist_kernels
+
+
+def _flange_kernel(chain: Chain, link: int, offset: np.ndarray, scalar, module: str):
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    fk = tree_fk(chain, [link], emit_frame(offset, scalar), scalar)
+
+    @wp.kernel(enable_backward=False, module=module)
+    def flange(q: wp.array2d(dtype=scalar), out: wp.array(dtype=M44)):
+        fk(q, wp.tid(), out)
+
+    return flange
+
+
+def _wrist_kernel(chain: Chain, link: int, offset: np.ndarray, wrist, scalar, module: str):
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    _, _, apply, rotate = pose_functions(scalar)
+    centre = wrist_centre(scalar)
+    n = len(chain.parent)
+    has_wrist = wrist is not None
+    (l4, p4, a4), (l5, p5, a5) = wrist if has_wrist else ((link, (0, 0, 0), (1, 0, 0)),) * 2
+    fk = tree_fk(chain, {link, l4, l5} if has_wrist else {link}, emit_local(scalar), scalar)
+    tf, c4, d4, c5, d5 = (V3(*(float(x) for x in v)) for v in (offset[:3, 3], p4, a4, p5, a5))
+
+    @wp.kernel(enable_backward=False, module=module)
+    def wrist_flange(q: wp.array2d(dtype=scalar), wrist: wp.array(dtype=V3), flange: wp.array(dtype=V3)):
+        i = wp.tid()
+        poses = wp.zeros(shape=wp.static(n), dtype=M34)
+        fk(q, i, poses)
+        flange[i] = apply(poses[wp.static(link)], wp.static(tf))
+        if wp.static(has_wrist):
+            m4 = poses[wp.static(l4)]
+            m5 = poses[wp.static(l5)]
+            wrist[i] = centre(apply(m4, wp.static(c4)), rotate(m4, wp.static(d4)),
+                              apply(m5, wp.static(c5)), rotate(m5, wp.static(d5)))
         else:
-            theta = float(0.0)
-            if qidx[k] >= 0:
-                theta = q[i, qidx[k]]
-            poses[i, k] = wp.transform_multiply(poses[i, p], screw(jtype[k], axis[k], point[k], theta))
+            wrist[i] = V3()
 
-
-@wp.func
-def to_mat44(t: wp.transform) -> wp.mat44:
-    r = wp.quat_to_matrix(wp.transform_get_rotation(t))
-    p = wp.transform_get_translation(t)
-    return wp.mat44(r[0, 0], r[0, 1], r[0, 2], p[0],
-                    r[1, 0], r[1, 1], r[1, 2], p[1],
-                    r[2, 0], r[2, 1], r[2, 2], p[2],
-                    0.0, 0.0, 0.0, 1.0)
-
-
-@wp.kernel
-def fk_frames(q: wp.array2d(dtype=wp.float32), parent: wp.array(dtype=wp.int32), jtype: wp.array(dtype=wp.int32),
-              qidx: wp.array(dtype=wp.int32), axis: wp.array(dtype=wp.vec3), point: wp.array(dtype=wp.vec3),
-              base: wp.transform, out_link: wp.array(dtype=wp.int32), out_offset: wp.array(dtype=wp.transform),
-              poses: wp.array2d(dtype=wp.transform), out: wp.array2d(dtype=wp.mat44)):
-    """``out[i, j]`` = pose of link ``out_link[j]`` times ``out_offset[j]``, as a 4x4 matrix."""
-    i = wp.tid()
-    walk(q, i, parent, jtype, qidx, axis, point, base, poses)
-    for j in range(out_link.shape[0]):
-        out[i, j] = to_mat44(wp.transform_multiply(poses[i, out_link[j]], out_offset[j]))
+    return wrist_flange

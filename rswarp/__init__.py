@@ -1,45 +1,44 @@
-"""rswarp: ABB RobotStudio RSXML robot descriptions for OpenUSD, Newton and batched Warp kernels."""
+"""rswarp: ABB RobotStudio RSXML robot descriptions for OpenUSD, Newton and batched Warp kernels.
 
-from .documents import Report, RsxmlWarning, check, load, load_library
-from .errors import Diagnostic, MeshNotFoundError, RsxmlError
-from .model import (
+Layers, imports pointing down only: ``rsxml`` (the format) -> ``geometry`` (meshes, mass) ->
+``sim`` (Warp work on the host side) and ``export`` (USD, URDF, Newton) -> ``report`` (what people
+read) -> ``cli``. Device code lives in ``rswarp.kernels``.
+"""
+
+from .errors import Diagnostic, InputError, MeshNotFoundError, RsxmlError
+from .rsxml.documents import Report, RsxmlWarning, check, load, load_library
+from .rsxml.graph import LinkGraph
+from .rsxml.model import (
     Attribute, Cable, ControlPoint, DynamicProperty, Flange, Group, IOSignal, Joint, Limit, Mechanism, Part,
     Pose, SmartComponent,
 )
-from .write import save, to_rsxml
+from .rsxml.write import save, to_rsxml
+
+# Kinematics, sweeps and exports import Warp, USD or Newton: loaded on first use, so reading RSXML
+# stays light.
+_LAZY = {
+    "Kinematics": ("sim.kinematics", "Kinematics"),
+    "workspace": ("sim.workspace", "workspace"),
+    "to_usd": ("export.usd_layout", "to_usd"),
+    "to_newton": ("export.newton", "to_newton"),
+    "to_urdf": ("export.urdf", "to_urdf"),
+}
 
 
 def __getattr__(name):
-    """Kinematics, sweeps and exports import Warp, USD or Newton: loaded on first use, so reading
-    RSXML stays light."""
-    if name == "Kinematics":
-        from .kinematics import Kinematics
+    if name in _LAZY:
+        import importlib
 
-        return Kinematics
-    if name == "workspace":
-        from .sweeps import workspace
-
-        return workspace
-    if name == "to_usd":
-        from .export_usd import to_usd
-
-        return to_usd
-    if name == "to_newton":
-        from .newton_export import to_newton
-
-        return to_newton
-    if name == "to_urdf":
-        from .export_urdf import to_urdf
-
-        return to_urdf
+        module, attr = _LAZY[name]
+        return getattr(importlib.import_module(f".{module}", __name__), attr)
     raise AttributeError(f"module 'rswarp' has no attribute '{name}'")
 
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal", "Joint",
-    "Limit", "Mechanism", "MeshNotFoundError", "Part", "Pose", "Report", "RsxmlError", "RsxmlWarning",
-    "SmartComponent", "check", "load", "load_library", "save", "to_rsxml", "Kinematics", "workspace",
-    "to_usd", "to_newton", "to_urdf",
+    "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal",
+    "InputError", "Joint", "Limit", "LinkGraph", "Mechanism", "MeshNotFoundError", "Part", "Pose", "Report",
+    "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
+    "Kinematics", "workspace", "to_usd", "to_newton", "to_urdf",
 ]

@@ -1,4 +1,6 @@
-"""Diagnostics (``file:line: message``) and the one exception type rswarp raises for bad input."""
+"""The two kinds of failure a user can cause, kept apart from bugs: ``InputError`` (a bad argument,
+path or setting) and its file-bound kind ``RsxmlError`` (``file:line: message``). The command line
+turns these into exit 1; any other exception is an internal error (exit 2)."""
 
 from __future__ import annotations
 
@@ -20,8 +22,13 @@ class Diagnostic:
         return f"{where}: {prefix}{self.message}"
 
 
-class RsxmlError(Exception):
-    """Raised for an input rswarp cannot use; ``str()`` is the first problem as ``file:line: message``."""
+class InputError(ValueError):
+    """Input rswarp cannot use (an argument, a path, a model unfit for the job); ``str()`` is one line
+    saying what and where. A ValueError, so Python callers may catch either."""
+
+
+class RsxmlError(InputError):
+    """Raised for a file rswarp cannot use; ``str()`` is the first problem as ``file:line: message``."""
 
     def __init__(self, diagnostics: list[Diagnostic] | Diagnostic):
         if isinstance(diagnostics, Diagnostic):
@@ -34,3 +41,9 @@ class RsxmlError(Exception):
 
 class MeshNotFoundError(RsxmlError):
     """A Part's geometry was needed but no mesh file of its name exists; names every file tried."""
+
+
+def model_error(model, message: str, line: int | None = None) -> RsxmlError:
+    """An RsxmlError about a whole model (a Mechanism or SmartComponent), at its file and line."""
+    file = getattr(model, "path", None) or getattr(model, "name", "<model>")
+    return RsxmlError(Diagnostic(file, getattr(model, "line", 0) if line is None else line, message))

@@ -5,8 +5,8 @@ import pytest
 
 import rswarp
 from rswarp import examples
-from rswarp.export_urdf import to_urdf
-from rswarp.kinematics import Kinematics
+from rswarp.export.urdf import to_urdf
+from rswarp.sim.kinematics import Kinematics
 from conftest import DATA
 
 pin = pytest.importorskip("pinocchio")

@@ -8,7 +8,7 @@ from scipy.spatial.transform import Rotation
 
 import rswarp
 from rswarp import examples
-from rswarp.kinematics import Kinematics
+from rswarp.sim.kinematics import Kinematics
 from conftest import DATA
 
 MODELS = {"irb1300": examples.IRB1300, "irb2600id": examples.IRB2600ID, "irb2600": examples.IRB2600,
@@ -169,7 +169,7 @@ def test_agrees_with_newton_eval_fk(kins, name):
     newton = pytest.importorskip("newton")
     import warp as wp
 
-    from rswarp.newton_export import newton_q_columns, to_newton
+    from rswarp.export.newton import newton_q_columns, to_newton
 
     kin = kins(name)
     mech = kin.mech

@@ -4,8 +4,8 @@ import math
 
 import numpy as np
 
-from rswarp.model import euler_zyx_matrix
-from rswarp.poses import euler_zyx
+from rswarp.transforms import euler_zyx_matrix
+from rswarp.transforms import matrix_euler_zyx as euler_zyx
 
 
 def test_euler_round_trip():

@@ -7,7 +7,8 @@ import pytest
 
 import rswarp
 from rswarp import examples
-from rswarp.model import Group, Part, euler_zyx_matrix, iter_parts, quat_matrix
+from rswarp.rsxml.model import Group, Part, iter_parts
+from rswarp.transforms import euler_zyx_matrix, quat_matrix
 from conftest import DATA
 
 MM, DEG, IN = 1e-3, math.pi / 180, 0.0254

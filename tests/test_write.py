@@ -7,7 +7,7 @@ from lxml import etree
 
 import rswarp
 from rswarp import examples
-from rswarp.read import children, local
+from rswarp.rsxml.read import children, local
 from conftest import DATA
 
 GOOD = [examples.IRB1300, examples.IRB2600ID, examples.IRB2600, DATA / "smart" / "Counter.rsxml",

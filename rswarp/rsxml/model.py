@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Iterator, Union
 
 import numpy as np
 
+from ..transforms import euler_zyx_matrix, quat_matrix
 from .units import ANGLE_UNITS, DEFAULT_ANGLE_UNIT, DEFAULT_LENGTH_UNIT, LENGTH_UNITS
 
 Vec3 = tuple[float, float, float]
@@ -67,26 +69,6 @@ class Pose:
 
 
 IDENTITY = Pose()
-
-
-def euler_zyx_matrix(rx: float, ry: float, rz: float) -> np.ndarray:
-    """R = Rz(rz) @ Ry(ry) @ Rx(rx): ZYX Euler angles as RobotStudio writes them."""
-    cx, sx, cy, sy, cz, sz = math.cos(rx), math.sin(rx), math.cos(ry), math.sin(ry), math.cos(rz), math.sin(rz)
-    return np.array([
-        [cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
-        [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
-        [-sy, cy * sx, cy * cx],
-    ])
-
-
-def quat_matrix(q: Vec4) -> np.ndarray:
-    """Rotation matrix of a unit quaternion (w, x, y, z)."""
-    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
 
 
 @dataclass(frozen=True)
@@ -254,17 +236,24 @@ class Mechanism:
     def link_names(self) -> tuple[str, ...]:
         return tuple(link.name for link in self.links)
 
+    @cached_property
+    def graph(self):
+        """The link graph (``rswarp.rsxml.graph.LinkGraph``), built on first use and kept."""
+        from .graph import LinkGraph
+
+        return LinkGraph.build(self)
+
+    @cached_property
+    def _by_name(self) -> tuple[dict, dict, dict]:
+        """Links, joints and limits by name (the first of a repeated name)."""
+        return tuple({x_name(x): x for x in reversed(items)} for items, x_name in (
+            (self.links, lambda x: x.name), (self.joints, lambda x: x.name), (self.limits, lambda x: x.joint)))
+
     def link(self, name: str) -> Component:
-        for link in self.links:
-            if link.name == name:
-                return link
-        raise KeyError(name)
+        return self._by_name[0][name]
 
     def joint(self, name: str) -> Joint:
-        for j in self.joints:
-            if j.name == name:
-                return j
-        raise KeyError(name)
+        return self._by_name[1][name]
 
     @property
     def active_joints(self) -> tuple[Joint, ...]:
@@ -276,10 +265,7 @@ class Mechanism:
         return len(self.active_joints)
 
     def limit(self, joint: str) -> Limit | None:
-        for lim in self.limits:
-            if lim.joint == joint:
-                return lim
-        return None
+        return self._by_name[2].get(joint)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper limits of the active joints (SI); ±inf where a joint has no limit."""

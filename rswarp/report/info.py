@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .documents import Report
-from .geometry import part_mesh_path
-from .library import DocumentProperties, LibraryCompiler, LibraryResource
-from .model import Group, Mechanism, Part, Pose, SmartComponent, iter_parts
-from .units import format_number
+from ..geometry.meshes import part_mesh_path
+from ..rsxml.documents import Report
+from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource
+from ..rsxml.model import Group, Mechanism, Part, Pose, SmartComponent, iter_parts
+from ..rsxml.units import format_number
 
 
 def _pose(p: Pose | None) -> dict | None:
@@ -241,4 +241,22 @@ def report_text(report: Report) -> str:
     for sub in report.children:
         if sub.model is not None:
             lines += ["", f"{Path(sub.path).name}:"] + ["  " + line for line in model_text(sub.model)]
+    return "\n".join(lines)
+
+
+def check_dict(reports: list[Report]) -> dict:
+    """``rswarp check --json``: every file's problems."""
+    return {"ok": all(r.ok for r in reports), "files": [
+        {"path": r.path, "kind": r.kind, "ok": r.ok, "errors": [_diag(d) for d in r.errors],
+         "warnings": [_diag(d) for d in r.warnings]} for r in reports]}
+
+
+def check_text(reports: list[Report]) -> str:
+    """``rswarp check``: every problem as ``file:line: message``, then a verdict per file."""
+    lines = []
+    for r in reports:
+        lines += [str(d) for d in r.all_diagnostics]
+        ne, nw = len(r.errors), len(r.warnings)
+        lines.append(f"{r.path}: {'OK' if r.ok else 'FAILED'} ({r.kind}; {ne} error{'s' * (ne != 1)}, "
+                     f"{nw} warning{'s' * (nw != 1)})")
     return "\n".join(lines)

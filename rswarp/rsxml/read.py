@@ -13,7 +13,7 @@ from typing import Callable, Iterable
 import numpy as np
 from lxml import etree
 
-from .errors import Diagnostic, RsxmlError
+from ..errors import Diagnostic, RsxmlError
 from .model import (
     JOINT_TYPES, Attribute, Binding, Cable, Component, ControlPoint, DynamicProperty, Flange, Group,
     IOSignal, Joint, Limit, Mechanism, Part, Pose, SmartComponent,

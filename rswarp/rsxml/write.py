@@ -6,12 +6,11 @@ model saves to the same values and load -> save -> load gives an equal model.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 from lxml import etree
 
+from ..files import atomic_write
 from .model import Component, Group, Mechanism, Part, Pose, SmartComponent
 from .read import NS_COMPONENT
 from .units import ANGLE_UNITS, LENGTH_UNITS, format_number
@@ -144,22 +143,6 @@ def to_rsxml(model: Mechanism | SmartComponent | Component) -> bytes:
         root = holder[0]
         etree.cleanup_namespaces(root, top_nsmap={None: NS_COMPONENT})
     return etree.tostring(root, xml_declaration=True, encoding="utf-8", pretty_print=True)
-
-
-def atomic_write(path: str | Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same folder, then rename."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; a saved file gets the usual mode
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def save(model: Mechanism | SmartComponent | Component, path: str | Path) -> None:

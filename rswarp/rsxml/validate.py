@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import re
-from collections import Counter, deque
+from collections import Counter
 
-from .errors import Diagnostic
+from ..errors import Diagnostic
 from .model import KINEMATICS_FLAGS, KNOWN_ATTRIBUTE_KEYS, MECHANISM_TYPES, Mechanism, SmartComponent, iter_parts
 from .units import format_number
 
@@ -100,46 +100,19 @@ def _metadata(mech: Mechanism, out: _Out) -> None:
 
 
 def _graph(mech: Mechanism, out: _Out) -> None:
-    """Links reachable from the base, and loops that only passive joints may close."""
-    tree_joint: dict[str, object] = {mech.base_link: None}  # link -> joint that first reaches it
-    by_parent: dict[str, list] = {}
-    names = set()
-    for j in mech.joints:
-        # joints already reported (a repeated name, a link joined to itself, a moved base) stay out
-        if j.name not in names and j.parent != j.child and j.child != mech.base_link:
-            by_parent.setdefault(j.parent, []).append(j)
-        names.add(j.name)
-    queue, closing = deque([mech.base_link]), []
-    while queue:
-        link = queue.popleft()
-        for j in by_parent.get(link, []):
-            if j.child in tree_joint:
-                closing.append(j)
-            else:
-                tree_joint[j.child] = j
-                queue.append(j.child)
+    """Links reachable from the base, and loops that only passive joints may close (asked of the
+    link graph, which leaves out the joints already reported above)."""
+    graph = mech.graph
     for link in mech.links:
-        if link.name not in tree_joint:
+        if graph.depth[graph.index[link.name]] < 0:
             out.error(link.line, f"link '{link.name}' is not connected to the base link '{mech.base_link}'")
-
-    def path(link: str) -> list:
-        joints = []
-        while (j := tree_joint.get(link)) is not None:
-            joints.append(j)
-            link = j.parent
-        return joints
-
-    in_loop = set()
-    for j in closing:
-        a, b = path(j.parent), path(j.child)
-        shared = {id(x) for x in a} & {id(x) for x in b}
-        loop = [x for x in a + b if id(x) not in shared] + [j]
-        in_loop.update(x.name for x in loop)
-        if all(x.active for x in loop):
-            names = ", ".join(x.name for x in loop)
+    for j in graph.closing:
+        if graph.closes_all_active_loop(j):
+            names = ", ".join(x.name for x in graph.loop(j))
             out.error(j.line, f"joints {names} form a loop with no passive joint to close it")
-    for j in mech.joints:
-        if not j.active and j.name not in in_loop and j.child in tree_joint:
+    in_loops = graph.joints_in_loops
+    for j in graph.joints:
+        if not j.active and j.name not in in_loops and graph.depth[graph.index[j.child]] >= 0:
             out.warn(j.line, f"passive joint '{j.name}' closes no loop; it stays at zero")
 
 

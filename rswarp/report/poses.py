@@ -1,5 +1,5 @@
-"""Poses for people: 4x4 matrices as position + ZYX Euler angles in a file's units, and checks of
-joint values against limits (used by ``rswarp fk``)."""
+"""Poses for people: joint values typed in a file's units, 4x4 matrices shown as position + ZYX
+Euler angles in those units, and checks of joint values against limits (``rswarp fk``)."""
 
 from __future__ import annotations
 
@@ -7,17 +7,10 @@ import math
 
 import numpy as np
 
-from .model import Mechanism
-from .units import format_number
-
-
-def euler_zyx(r: np.ndarray) -> tuple[float, float, float]:
-    """(rx, ry, rz) with R = Rz(rz) Ry(ry) Rx(rx), the RSXML ``euler`` convention."""
-    cy = math.hypot(r[0, 0], r[1, 0])
-    ry = math.atan2(-r[2, 0], cy)  # atan2, not asin: well conditioned near +-90 degrees
-    if cy > 1e-6:
-        return math.atan2(r[2, 1], r[2, 2]), ry, math.atan2(r[1, 0], r[0, 0])
-    return 0.0, ry, math.atan2(-r[0, 1], r[1, 1])  # gimbal lock: put it all in rz
+from ..errors import InputError
+from ..rsxml.model import Mechanism
+from ..rsxml.units import format_number
+from ..transforms import matrix_euler_zyx
 
 
 def pose_dict(m: np.ndarray) -> dict:
@@ -39,7 +32,7 @@ def pose_text(mech: Mechanism, links: list[tuple[str, np.ndarray]], flanges: lis
     rows = [["frame", f"x [{lu}]", f"y [{lu}]", f"z [{lu}]", f"rx [{au}]", f"ry [{au}]", f"rz [{au}]"]]
     for kind, items in (("link", links), ("flange", flanges)):
         for name, m in items:
-            e = euler_zyx(m[:3, :3].astype(np.float64))
+            e = matrix_euler_zyx(m[:3, :3].astype(np.float64))
             rows.append([f"{kind} {name}", *(rounded(float(v), lf, 1e-6) for v in m[:3, 3]),
                          *(rounded(a, af, 1e-5) for a in e)])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
@@ -56,3 +49,27 @@ def limit_warnings(mech: Mechanism, q: np.ndarray) -> list[str]:
             out.append(f"rswarp: warning: {j.name} = {format_number(v, f)} is outside its limits "
                        f"[{format_number(lim.min, f)}, {format_number(lim.max, f)}]")
     return out
+
+
+def joint_values(mech: Mechanism, text: str) -> np.ndarray:
+    """Active-joint values typed in the file's units (``"0, 0, 0, 0, 30, 0"``) as SI."""
+    names = [j.name for j in mech.active_joints]
+    try:
+        values = [float(v) for v in text.replace(",", " ").split()]
+    except ValueError:
+        raise InputError(f"--q: '{text}' is not a list of numbers") from None
+    if len(values) != len(names) or not all(math.isfinite(v) for v in values):
+        raise InputError(f"--q needs {len(names)} finite values ({', '.join(names)}), got '{text}'")
+    return np.array([v * mech.joint_factor(j) for v, j in zip(values, mech.active_joints)])
+
+
+def fk_report(mech: Mechanism, q: np.ndarray, device: str = "cpu") -> tuple[dict, str]:
+    """Every link's and flange's pose for one set of joint values (SI): a JSON-ready dict and text."""
+    from ..sim.kinematics import Kinematics
+
+    kin = Kinematics(mech, device=device)
+    links = kin.fk(q[None])[0]
+    flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
+    doc = {"q": q.tolist(), "links": {n: pose_dict(m) for n, m in zip(kin.links, links)},
+           "flanges": {n: pose_dict(m) for n, m in flanges.items()}}
+    return doc, pose_text(mech, list(zip(kin.links, links)), list(flanges.items()))

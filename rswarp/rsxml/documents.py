@@ -9,7 +9,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import Diagnostic, RsxmlError
+from ..errors import Diagnostic, RsxmlError
 from .library import (
     LibraryCompiler, LibraryResource, read_library, read_resource, resolve_relative, with_descriptions,
 )
@@ -116,6 +116,22 @@ def _describe(sc: SmartComponent, folder: Path, diags: list[Diagnostic]) -> Smar
     return sc
 
 
+def checked(path: str | Path) -> Report:
+    """The report of a file without errors; raise ``RsxmlError`` (every error) otherwise."""
+    report = check(path)
+    if report.errors:
+        raise RsxmlError(report.errors)
+    return report
+
+
+def load_mechanism(path: str | Path) -> tuple[Mechanism, Report]:
+    """A mechanism file's model and report (its warnings); any other kind of file is refused."""
+    report = checked(path)
+    if not isinstance(report.model, Mechanism):
+        raise RsxmlError(Diagnostic(report.path, 1, f"this is a {report.kind}, not a mechanism"))
+    return report.model, report
+
+
 def load(path: str | Path):
     """Read and validate a component file (.rsxml); raise ``RsxmlError`` on any error.
 
@@ -145,4 +161,4 @@ def load_library(path: str | Path) -> LibraryCompiler:
     return report.model
 
 
-__all__ = ["Report", "RsxmlWarning", "check", "load", "load_library", "resolve_relative"]
+__all__ = ["Report", "RsxmlWarning", "check", "checked", "load", "load_library", "load_mechanism", "resolve_relative"]

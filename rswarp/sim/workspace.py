@@ -17,9 +17,9 @@ from typing import Callable
 
 import numpy as np
 
-from .compile import fk64
+from ..errors import InputError
+from ..rsxml.model import Mechanism
 from .kinematics import Kinematics
-from .model import Mechanism
 
 SAMPLE_CHUNK = 1 << 18
 TOP_K = 4  # best samples refined per extreme
@@ -109,38 +109,20 @@ def sample_chunks(lower: np.ndarray, upper: np.ndarray, samples: int, method: st
 
 
 class _Exact:
-    """Float64 wrist centre, flange and J1-axis distance for single configurations."""
+    """Float64 wrist centre, flange and J1-axis distance: the same device code as the batches, in
+    float64 (``Kinematics.wrist_flange64``), so an optimizer can refine extremes to the true ones."""
 
     def __init__(self, kin: Kinematics):
-        self.kin, self.tree, self.mech = kin, kin.tree, kin.mech
-        j1 = self.mech.active_joints[0]
+        self.kin = kin
+        j1 = kin.graph.first_axis
         self.j1_point, self.j1_axis = np.asarray(j1.point1, float), np.asarray(j1.axis, float)
-        self.flange_link, self.flange_offset = kin.flange_frame()
-        self.wrist = kin.wrist_axes() if kin.dof >= 5 else None
+        self.has_wrist = kin.graph.wrist_joints is not None
 
     def points(self, q: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
-        poses = fk64(self.tree, q)
-        flange = (poses[:, self.flange_link] @ self.flange_offset)[:, :3, 3]
-        if self.wrist is None:
-            return None, flange
-        (l4, p4, a4), (l5, p5, a5) = self.wrist
-        t4, t5 = poses[:, l4], poses[:, l5]
-        return nearest_on_line5(t4[:, :3, :3] @ p4 + t4[:, :3, 3], t4[:, :3, :3] @ a4,
-                                t5[:, :3, :3] @ p5 + t5[:, :3, 3], t5[:, :3, :3] @ a5), flange
+        return self.kin.wrist_flange64(np.atleast_2d(q))
 
     def radial(self, pts: np.ndarray) -> np.ndarray:
         return radial_distance(pts, self.j1_point, self.j1_axis)
-
-
-def nearest_on_line5(p4, d4, p5, d5):
-    """The point of line 5 nearest line 4, vectorized in float64 (the generated wrist kernels
-    compute the same in float32)."""
-    w = p5 - p4
-    b = np.einsum("ij,ij->i", d4, d5)
-    den = 1.0 - b * b
-    s = np.where(den < 1e-12, 0.0, (b * np.einsum("ij,ij->i", w, d4) - np.einsum("ij,ij->i", w, d5)) /
-                 np.where(den < 1e-12, 1.0, den))
-    return p5 + s[:, None] * d5
 
 
 def radial_distance(pts: np.ndarray, point: np.ndarray, axis: np.ndarray) -> np.ndarray:
@@ -180,6 +162,66 @@ class _TopK:
         self.v, self.q = v[keep], qq[keep]
 
 
+@dataclass
+class _Best:
+    """The best samples of each extreme a sweep measures (lows are kept as the highest negatives)."""
+
+    reach: _TopK
+    flange_reach: _TopK
+    wrist_low: _TopK
+    wrist_high: _TopK
+    flange_low: _TopK
+    flange_high: _TopK
+
+    @classmethod
+    def empty(cls, dof: int) -> "_Best":
+        return cls(*(_TopK(TOP_K, dof) for _ in range(6)))
+
+    def add(self, exact: _Exact, q: np.ndarray, wrist: np.ndarray | None, flange: np.ndarray) -> None:
+        f = flange.astype(float)
+        self.flange_reach.add(exact.radial(f), q)
+        self.flange_low.add(-f[:, 2], q)
+        self.flange_high.add(f[:, 2], q)
+        if wrist is not None:
+            w = wrist.astype(float)
+            self.reach.add(exact.radial(w), q)
+            self.wrist_low.add(-w[:, 2], q)
+            self.wrist_high.add(w[:, 2], q)
+
+
+@dataclass
+class _Grids:
+    """Voxel occupancy and the side and top views, filled chunk by chunk."""
+
+    origin: np.ndarray
+    resolution: float
+    radius: float
+    base: np.ndarray
+    wrist: np.ndarray | None
+    flange: np.ndarray
+    side: np.ndarray | None
+    top: np.ndarray | None
+
+    @classmethod
+    def empty(cls, base: np.ndarray, radius: float, resolution: float, has_wrist: bool) -> "_Grids":
+        dims = (int(math.ceil(2 * radius / resolution)) + 1,) * 3
+        views = (np.zeros((VIEW_BINS, VIEW_BINS), np.int64) for _ in range(2)) if has_wrist else (None, None)
+        return cls(base - radius, resolution, radius, base, np.zeros(dims, bool) if has_wrist else None,
+                   np.zeros(dims, bool), *views)
+
+    def add(self, wrist: np.ndarray | None, flange: np.ndarray, side_wrist: np.ndarray | None) -> None:
+        _mark(self.flange, flange, self.origin, self.resolution)
+        if wrist is None:
+            return
+        _mark(self.wrist, wrist, self.origin, self.resolution)
+        self.top += self._histogram(wrist[:, 0], wrist[:, 1], 0, 1)
+        self.side += self._histogram(side_wrist[:, 0], side_wrist[:, 2], 0, 2)
+
+    def _histogram(self, a: np.ndarray, b: np.ndarray, ia: int, ib: int) -> np.ndarray:
+        r, c = self.radius, self.base
+        return np.histogram2d(a, b, bins=VIEW_BINS, range=[[c[ia] - r, c[ia] + r], [c[ib] - r, c[ib] + r]])[0].astype(np.int64)
+
+
 # -- the sweep ----------------------------------------------------------------------------------------
 
 
@@ -188,69 +230,58 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
               progress: Callable[[int, int], None] | None = None) -> Workspace:
     """Sweep ``samples`` joint configurations within the limits and measure the workspace."""
     if samples < 1:
-        raise ValueError("samples must be at least 1")
+        raise InputError("samples must be at least 1")
+    if not resolution > 0:
+        raise InputError("the voxel resolution must be positive")
     kin = kinematics or Kinematics(mech)
+    kin.flange_frame()  # a mechanism without a flange has nothing to measure: a clear error
     exact = _Exact(kin)
-    lower, upper = kin.tree.lower, kin.tree.upper
+    lower, upper = mech.bounds()
     if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
-        raise ValueError("every active joint needs finite limits for a sweep")
-    has_wrist = exact.wrist is not None
+        raise InputError("every active joint needs finite limits for a sweep")
     radius = _radius(exact, lower, upper, seed)
-    base = exact.j1_point
-    origin = base - radius
-    dims = (int(math.ceil(2 * radius / resolution)) + 1,) * 3
-    wrist_vox = np.zeros(dims, bool) if has_wrist else None
-    flange_vox = np.zeros(dims, bool)
-    top = np.zeros((VIEW_BINS, VIEW_BINS), np.int64) if has_wrist else None
-    side = np.zeros((VIEW_BINS, VIEW_BINS), np.int64) if has_wrist else None
-    tops = {name: _TopK(TOP_K, kin.dof) for name in ("reach", "freach", "wlow", "whigh", "flow", "fhigh")}
+    grids = _Grids.empty(exact.j1_point, radius, resolution, exact.has_wrist)
+    best = _Best.empty(kin.dof)
     total = samples if method != "grid" else max(2, int(round(samples ** (1.0 / kin.dof)))) ** kin.dof
     done = 0
     for q in sample_chunks(lower, upper, samples, method, seed):
-        wrist, flange = kin.wrist_flange(q, wrist=has_wrist)
-        tops["freach"].add(exact.radial(flange.astype(float)), q)
-        tops["flow"].add(-flange[:, 2].astype(float), q)
-        tops["fhigh"].add(flange[:, 2].astype(float), q)
-        _mark(flange_vox, flange, origin, resolution)
-        if has_wrist:
-            w = wrist.astype(float)
-            tops["reach"].add(exact.radial(w), q)
-            tops["wlow"].add(-w[:, 2], q)
-            tops["whigh"].add(w[:, 2], q)
-            _mark(wrist_vox, wrist, origin, resolution)
-            top += np.histogram2d(w[:, 0], w[:, 1], bins=VIEW_BINS, range=[[base[0] - radius, base[0] + radius],
-                                                                           [base[1] - radius, base[1] + radius]])[0].astype(np.int64)
+        wrist, flange = kin.wrist_flange(q, wrist=exact.has_wrist)
+        best.add(exact, q, wrist, flange)
+        side = None
+        if wrist is not None:
             q0 = q.copy()
             q0[:, 0] = 0.0  # the side view: the plane of J1 = 0
-            ws, _ = kin.wrist_flange(q0)
-            side += np.histogram2d(ws[:, 0], ws[:, 2], bins=VIEW_BINS, range=[[base[0] - radius, base[0] + radius],
-                                                                             [base[2] - radius, base[2] + radius]])[0].astype(np.int64)
+            side = kin.wrist_flange(q0)[0]
+        grids.add(wrist, flange, side)
         done += len(q)
         if progress:
             progress(done, total)
+    return _result(mech, exact, best, grids, done, method, seed, lower, upper)
 
-    def refined(name: str, fun: Callable[[np.ndarray], float], sign: float = 1.0) -> Extreme:
-        t = tops[name]
-        value, q = _refine(fun, t.q[::-1], lower, upper)
-        return Extreme(value=sign * value, q=tuple(float(v) for v in q), sampled=sign * float(t.v[-1]))
 
-    def wrist_at(q):
-        return exact.points(q[None])[0][0]
+def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, method: str, seed: int,
+            lower, upper) -> Workspace:
+    """The refined extremes and the grids as a Workspace."""
 
-    def flange_at(q):
-        return exact.points(q[None])[1][0]
+    def refined(top: _TopK, which: int, fun, sign: float = 1.0) -> Extreme:
+        value, q = _refine(lambda x: sign * fun(exact.points(x)[which][0]), top.q[::-1], lower, upper)
+        return Extreme(value=sign * value, q=tuple(float(v) for v in q), sampled=sign * float(top.v[-1]))
 
+    def radial(p):
+        return float(exact.radial(p[None])[0])
+
+    w = exact.has_wrist
     return Workspace(
         mechanism=mech.name, samples=done, method=method, seed=seed,
-        reach=refined("reach", lambda q: exact.radial(wrist_at(q)[None])[0]) if has_wrist else None,
-        flange_reach=refined("freach", lambda q: exact.radial(flange_at(q)[None])[0]),
-        wrist_low=refined("wlow", lambda q: -wrist_at(q)[2], -1.0) if has_wrist else None,
-        wrist_high=refined("whigh", lambda q: wrist_at(q)[2]) if has_wrist else None,
-        flange_low=refined("flow", lambda q: -flange_at(q)[2], -1.0),
-        flange_high=refined("fhigh", lambda q: flange_at(q)[2]),
-        resolution=resolution, origin=tuple(float(v) for v in origin),
-        wrist_voxels=wrist_vox, flange_voxels=flange_vox, side=side, top=top,
-        view_extent=(float(radius), float(base[0]), float(base[1]), float(base[2])),
+        reach=refined(best.reach, 0, radial) if w else None,
+        flange_reach=refined(best.flange_reach, 1, radial),
+        wrist_low=refined(best.wrist_low, 0, lambda p: p[2], -1.0) if w else None,
+        wrist_high=refined(best.wrist_high, 0, lambda p: p[2]) if w else None,
+        flange_low=refined(best.flange_low, 1, lambda p: p[2], -1.0),
+        flange_high=refined(best.flange_high, 1, lambda p: p[2]),
+        resolution=grids.resolution, origin=tuple(float(v) for v in grids.origin),
+        wrist_voxels=grids.wrist, flange_voxels=grids.flange, side=grids.side, top=grids.top,
+        view_extent=(float(grids.radius), *(float(v) for v in grids.base)),
     )
 
 
@@ -265,7 +296,7 @@ def _radius(exact: _Exact, lower: np.ndarray, upper: np.ndarray, seed: int) -> f
             continue
         d = np.linalg.norm(pts - exact.j1_point, axis=1)
         starts = q[np.argsort(d)[-4:]]
-        value, _ = _refine(lambda x: float(np.linalg.norm(exact.points(x[None])[which][0] - exact.j1_point)),
+        value, _ = _refine(lambda x: float(np.linalg.norm(exact.points(x)[which][0] - exact.j1_point)),
                            starts, lower, upper)
         best = max(best, value)
     return best * 1.02 + 0.01
@@ -276,17 +307,3 @@ def _mark(grid: np.ndarray, pts: np.ndarray, origin: np.ndarray, resolution: flo
     inside = np.all((idx >= 0) & (idx < np.array(grid.shape)), axis=1)
     idx = idx[inside]
     grid.reshape(-1)[np.ravel_multi_index(idx.T, grid.shape)] = True
-
-
-def save_voxels(ws: Workspace, path) -> None:
-    """The occupancy grids as .npz (written to a temporary file, then renamed)."""
-    import io
-
-    from .write import atomic_write
-
-    buf = io.BytesIO()
-    arrays = {"flange": ws.flange_voxels, "origin": np.array(ws.origin), "resolution": np.array(ws.resolution)}
-    if ws.wrist_voxels is not None:
-        arrays["wrist"] = ws.wrist_voxels
-    np.savez_compressed(buf, **arrays)
-    atomic_write(path, buf.getvalue())

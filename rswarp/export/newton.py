@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .compile import PRISMATIC, REVOLUTE, compile_tree
-from .model import Mechanism
+from ..rsxml.model import Mechanism
+from ..transforms import matrix_quat
+from .frames import tree_error
 
 
 def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = None, shapes: bool = True,
@@ -23,52 +24,59 @@ def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = N
     in kg/m^3 gives the masses); parts without a mesh file are skipped. Flanges become sites.
     """
     import newton
-    import warp as wp
 
-    tree = compile_tree(mech)
+    if mech.graph.closing:
+        raise tree_error(mech, "a Newton model")
     if builder is None:
         builder = newton.ModelBuilder()
+    graph = mech.graph
+    base = _transform(np.eye(4) if base_pose is None else np.asarray(base_pose, float))
+    body = {k: builder.add_link(xform=base, label=link) for k, link in enumerate(mech.link_names)}  # file order
+    root = graph.index[graph.base]
+    joints = [builder.add_joint_fixed(-1, body[root], parent_xform=base, label=f"{graph.base}_fixed")]
     home = mech.home_position()
-    body = {}
-    joints = []
-    base = np.eye(4) if base_pose is None else np.asarray(base_pose, float)
-    base_xf = wp.transform(wp.vec3(*base[:3, 3]), wp.quat_from_matrix(wp.mat33(*base[:3, :3].flatten())))
-    for link in mech.link_names:  # bodies in the file's order, like Kinematics.fk's links
-        body[tree.index(link)] = builder.add_link(xform=base_xf, label=link)
-    for k, link in enumerate(tree.links):  # joints parent before child, as eval_fk needs
-        if tree.parent[k] < 0:
-            joints.append(builder.add_joint_fixed(-1, body[k], parent_xform=base_xf, label=f"{link}_fixed"))
-            continue
-        anchor = wp.transform(wp.vec3(*tree.point[k]), wp.quat_identity())
-        kwargs = dict(parent_xform=anchor, child_xform=anchor, axis=wp.vec3(*tree.axis[k]), label=tree.joint[k])
-        qi = tree.qidx[k]
-        if qi >= 0 and np.isfinite(tree.lower[qi]):
-            kwargs.update(limit_lower=float(tree.lower[qi]), limit_upper=float(tree.upper[qi]))
-        if tree.jtype[k] == REVOLUTE:
-            j = builder.add_joint_revolute(body[tree.parent[k]], body[k], **kwargs)
-        elif tree.jtype[k] == PRISMATIC:
-            j = builder.add_joint_prismatic(body[tree.parent[k]], body[k], **kwargs)
-        joints.append(j)
-        if qi >= 0:
-            builder.joint_q[builder.joint_q_start[j]] = float(home[qi])
+    for k, j in graph.tree_order:  # joints parent before child, as eval_fk needs
+        joints.append(_add_joint(builder, graph, body, k, j, home, mech.limit(j.name)))
     builder.add_articulation(joints, label=mech.name)
     for fl in mech.flanges:  # flanges as sites: frames on their bodies (bodies are world-aligned at zero)
-        m = fl.pose.matrix()
-        builder.add_site(body[tree.index(fl.link)], label=fl.name, xform=wp.transform(
-            wp.vec3(*m[:3, 3]), wp.quat_from_matrix(wp.mat33(*m[:3, :3].flatten()))))
+        builder.add_site(body[graph.index[fl.link]], label=fl.name, xform=_transform(fl.pose.matrix()))
     if shapes:
-        _add_shapes(mech, tree, builder, body, density)
+        _add_shapes(mech, builder, body, density)
     return builder
 
 
-def _add_shapes(mech: Mechanism, tree, builder, body: dict[int, int], density: float) -> None:
+def _transform(m: np.ndarray):
+    """A 4x4 rigid transform as a Warp transform."""
+    import warp as wp
+
+    w, x, y, z = matrix_quat(m[:3, :3])
+    return wp.transform(wp.vec3(*m[:3, 3]), wp.quat(x, y, z, w))
+
+
+def _add_joint(builder, graph, body: dict[int, int], k: int, j, home: np.ndarray, limit) -> int:
+    """Link k's tree joint: anchors on the axis, limits and the home value of an active joint."""
+    import warp as wp
+
+    anchor = wp.transform(wp.vec3(*j.point1), wp.quat_identity())
+    kwargs = dict(parent_xform=anchor, child_xform=anchor, axis=wp.vec3(*j.axis), label=j.name)
+    col = graph.column(j.name)
+    if col >= 0 and limit is not None:
+        kwargs.update(limit_lower=float(limit.min), limit_upper=float(limit.max))
+    add = builder.add_joint_revolute if j.revolute else builder.add_joint_prismatic
+    index = add(body[graph.parent[k]], body[k], **kwargs)
+    if col >= 0:
+        builder.joint_q[builder.joint_q_start[index]] = float(home[col])
+    return index
+
+
+def _add_shapes(mech: Mechanism, builder, body: dict[int, int], density: float) -> None:
     """Each part's mesh (world at zero position = its body's frame) as a convex-hull shape."""
     import newton
 
-    from .errors import MeshNotFoundError
-    from .geometry import DEFAULT_DENSITY, part_mesh
+    from ..errors import MeshNotFoundError
+    from ..geometry import DEFAULT_DENSITY, part_mesh
 
-    for k, link in enumerate(tree.links):
+    for k, link in enumerate(mech.link_names):
         for part, transform in mech.parts(link):
             if not part.source:
                 continue
@@ -83,5 +91,5 @@ def _add_shapes(mech: Mechanism, tree, builder, body: dict[int, int], density: f
 
 def newton_q_columns(mech: Mechanism) -> np.ndarray:
     """For each of Newton's joint coordinates of one world, the column of rswarp's q (-1: none)."""
-    tree = compile_tree(mech)
-    return np.array([tree.qidx[k] for k in range(len(tree.links)) if tree.parent[k] >= 0], np.int64)
+    graph = mech.graph
+    return np.array([graph.column(j.name) for _, j in graph.tree_order], np.int64)

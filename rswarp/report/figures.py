@@ -7,9 +7,10 @@ import io
 
 import numpy as np
 
-from .model import Mechanism
-from .sweeps import Workspace
-from .write import atomic_write
+from ..errors import InputError
+from ..files import atomic_write
+from ..rsxml.model import Mechanism
+from ..sim.workspace import Workspace
 
 
 def _png(fig) -> bytes:
@@ -27,7 +28,7 @@ def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> N
     from matplotlib.patches import Circle
 
     if ws.side is None or ws.reach is None:
-        raise ValueError(f"'{mech.name}' has no wrist centre: work-range figures need five axes or more")
+        raise InputError(f"'{mech.name}' has no wrist centre: work-range figures need five axes or more")
     f = mech.length_factor
     unit = mech.length_unit or "m"
     r, bx, by, bz = ws.view_extent

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from .errors import Diagnostic
+from ..errors import Diagnostic
 from .read import NS_COMPONENT, Reader, children, local, namespace, read_component_root
 
 PROPERTY_TAGS = ("Title", "Author", "Revision", "Image")

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import Diagnostic, MeshNotFoundError
-from .model import Mechanism, Part
+from ..errors import Diagnostic, MeshNotFoundError
+from ..rsxml.model import Mechanism, Part
 
 MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".glb", ".gltf", ".off")
 METRIC_EXTENSIONS = (".glb", ".gltf")  # glTF is metres by its own spec; the others carry no unit
@@ -85,22 +85,3 @@ def link_mesh(mech: Mechanism, link: str):
 
     meshes = [part_mesh(mech, p, m) for p, m in mech.parts(link) if p.source]
     return trimesh.util.concatenate(meshes) if meshes else None
-
-
-DEFAULT_DENSITY = 2700.0  # kg/m^3, cast aluminium: robot arm castings
-
-
-def mass_properties(meshes, origin: np.ndarray, density: float = DEFAULT_DENSITY):
-    """Mass (kg), centre of mass and inertia about it (link frame at ``origin``, world-aligned) of
-    a link's meshes; a mesh that is not watertight is replaced by its convex hull (second result
-    False). Returns (mass, com, inertia 3x3, watertight)."""
-    import trimesh
-
-    mesh = trimesh.util.concatenate(list(meshes))
-    watertight = bool(mesh.is_watertight)
-    if not watertight:
-        mesh = mesh.convex_hull
-    mesh = mesh.copy()
-    mesh.apply_translation(-np.asarray(origin, float))
-    mesh.density = density
-    return float(mesh.mass), np.asarray(mesh.center_mass, float), np.asarray(mesh.moment_inertia, float), watertight

@@ -1,0 +1,75 @@
+"""``rswarp demo``: check and info on every bundled example, and for each robot its flange at home,
+its reach from a short sweep, and its USD and URDF exports."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+from ..rsxml.documents import Report, check
+from ..rsxml.model import Mechanism
+from .info import report_dict, report_text
+
+DEMO_SAMPLES = 20_000
+
+
+@dataclass
+class Demo:
+    """What the demo did: a report per example and a summary per robot."""
+
+    reports: list[Report] = field(default_factory=list)
+    robots: list[dict] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return all(r.ok for r in self.reports)
+
+    def as_dict(self) -> dict:
+        return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots}
+
+
+def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) -> Demo:
+    """Run the demo, writing exports into ``out`` and telling ``say`` what it does."""
+    from .. import examples
+
+    demo = Demo()
+    for path in examples.ALL:
+        report = check(path)
+        demo.reports.append(report)
+        say(_check_text(path.name, report))
+        if report.ok and isinstance(report.model, Mechanism):
+            demo.robots.append(demo_robot(report.model, Path(out), say))
+    return demo
+
+
+def _check_text(name: str, report: Report) -> str:
+    lines = [f"== rswarp check {name}", *(str(d) for d in report.all_diagnostics),
+             f"{'OK' if report.ok else 'FAILED'}: {len(report.errors)} errors, {len(report.warnings)} warnings",
+             f"== rswarp info {name}", report_text(report) if report.model is not None else "(nothing to show)", ""]
+    return "\n".join(lines)
+
+
+def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
+    """The flange at home, the reach and the exports of one robot."""
+    from ..export import export
+    from ..sim.kinematics import Kinematics
+    from ..sim.workspace import workspace
+    from .poses import rounded
+
+    kin = Kinematics(mech)
+    flange = kin.flange(mech.home_position()[None])[0]
+    ws = workspace(mech, samples=DEMO_SAMPLES, seed=0, kinematics=kin)
+    out.mkdir(parents=True, exist_ok=True)
+    usd, urdf = out / f"{mech.name}.usdc", out / f"{mech.name}.urdf"
+    warnings = export(mech, usd) + export(mech, urdf)
+    lf, unit = mech.length_factor, mech.length_unit or "m"
+    pos = ", ".join(rounded(float(v), lf, 1e-4) for v in flange[:3, 3])
+    reach = ws.reach or ws.flange_reach
+    what = "J1 axis to wrist centre" if ws.reach is not None else "J1 axis to flange"
+    lines = [f"== {mech.name}: flange at home ({pos}) {unit}; reach {rounded(reach.value, lf, 1e-4)} {unit} "
+             f"({what}, {DEMO_SAMPLES} samples refined)", *(f"   {w}" for w in warnings[:1]),
+             f"   exported {usd} and {urdf}", ""]
+    say("\n".join(lines))
+    return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
+            "usd": str(usd), "urdf": str(urdf)}

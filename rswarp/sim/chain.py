@@ -1,0 +1,26 @@
+"""A mechanism's link tree as the flat arrays the kernels take (``rswarp.kernels.types.Chain``),
+asked of the link graph."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..kernels.types import FIXED, PRISMATIC, REVOLUTE, Chain
+from ..rsxml.graph import LinkGraph
+
+
+def chain_of(graph: LinkGraph) -> Chain:
+    """The tree joints of the graph as arrays, links in the file's order (closing joints are not in
+    the tree; a link off the tree keeps the root's identity pose)."""
+    n = len(graph.links)
+    jtype = np.full(n, FIXED, np.int32)
+    qidx = np.full(n, -1, np.int32)
+    axis = np.zeros((n, 3))
+    point = np.zeros((n, 3))
+    for k, j in graph.tree_order:
+        jtype[k] = REVOLUTE if j.revolute else PRISMATIC
+        qidx[k] = graph.column(j.name)
+        axis[k] = j.axis
+        point[k] = j.point1
+    return Chain(parent=np.asarray(graph.parent, np.int32), jtype=jtype, qidx=qidx, axis=axis, point=point,
+                 order=np.asarray(graph.order, np.int32))

@@ -1,0 +1,217 @@
+"""Batched forward kinematics of one mechanism: kernels made once per mechanism, then any batch.
+
+Poses are link frames in the file's link order (``mech.link_names``); ``q`` is ``(N, dof)``
+active-joint values in SI (rad, m), in the file's order of active joints.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import model_error
+from ..kernels import fk as fk_kernels
+from ..rsxml.model import Mechanism
+from .chain import chain_of
+from .launch import DEFAULT_CHUNK, Launcher, init_warp
+
+
+class Kinematics:
+    """Forward kinematics of one mechanism on a Warp device.
+
+    ``fk(q)`` gives every link's pose, ``flange(q)`` a flange's, ``wrist_flange(q)`` the wrist
+    centre and flange positions; ``fk64`` and ``wrist_flange64`` do the same in float64.
+    Chains up to ``MAX_UNROLLED_LINKS`` links get unrolled kernels; longer ones the generic walk."""
+
+    def __init__(self, mech: Mechanism, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
+        self.mech = mech
+        self.graph = mech.graph
+        if self.graph.closing:
+            j = self.graph.closing[0]
+            raise model_error(mech, f"joint '{j.name}' closes a kinematic loop: kinematics, sweeps and URDF need "
+                                    "a link tree (parallel rods are not solved yet)", j.line)
+        self.chain = chain_of(self.graph)
+        self.launcher = Launcher(device, chunk, threads)
+        self.device = self.launcher.device
+        self.unrolled = len(self.chain.parent) <= fk_kernels.MAX_UNROLLED_LINKS
+        self._flanges = tuple((self.graph.link_index(f.link), f.pose.matrix()) for f in mech.flanges)
+        self._wrist = self._wrist_constants()
+        self._kernels: dict = {}
+        self._kernels_for(np.float32)  # compiled (or loaded from Warp's cache) now, not mid-batch
+
+    # -- public ------------------------------------------------------------------------------------
+    @property
+    def links(self) -> tuple[str, ...]:
+        """Link names in the order of ``fk``'s second axis: the file's order (``mech.link_names``)."""
+        return self.mech.link_names
+
+    @property
+    def dof(self) -> int:
+        return len(self.graph.active)
+
+    def fk(self, q, links: list[str] | None = None, out: np.ndarray | None = None) -> np.ndarray:
+        """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given).
+
+        ``out`` (C-contiguous float32 of that shape) is filled in place: reusing one buffer in a loop
+        saves the page faults of a fresh array."""
+        if links is not None:
+            return self.frames(q, [(self.graph.link_index(n), np.eye(4)) for n in links], out)
+        return self._all_links(q, out, np.float32)
+
+    def fk64(self, q) -> np.ndarray:
+        """``(N, n_links, 4, 4)`` float64 link poses: for checks and for refining extremes."""
+        return self._all_links(q, None, np.float64)
+
+    def flange(self, q, name: str | None = None, out: np.ndarray | None = None) -> np.ndarray:
+        """``(N, 4, 4)`` float32 flange poses (the first flange, or the one named)."""
+        f = self._flange_index(name)
+        if not self.unrolled:
+            link, m = self._flanges[f]
+            res = self.frames(q, [(link, m)], None if out is None else out[:, None])
+            return res[:, 0]
+        q = self._q(q, np.float32)
+        out = self._out(out, (q.shape[0], 4, 4), np.float32)
+        self.launcher.launch(self._kernels_for(np.float32)[1][f], q.shape[0], inputs=[q], outputs=[out])
+        return out
+
+    def frames(self, q, outputs: list[tuple[int, np.ndarray]], out: np.ndarray | None = None) -> np.ndarray:
+        """``(N, len(outputs), 4, 4)``: pose of link index ``k`` times a 4x4 ``offset``, per output
+        (the generic tree walk)."""
+        q = self._q(q, np.float32)
+        out = self._out(out, (q.shape[0], len(outputs), 4, 4), np.float32)
+        tree, frames, _ = self._generic(np.float32)
+        wp = init_warp()
+        links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=self.device)
+        offsets = wp.array(np.array([m for _, m in outputs], np.float32), dtype=wp.mat44, device=self.device)
+        self.launcher.launch(frames, q.shape[0], params=[tree, links, offsets], inputs=[q], outputs=[out],
+                             scratch=(len(self.links), frames.adj.args[4].type.dtype))
+        return out
+
+    def wrist_flange(self, q, flange: str | None = None, wrist: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
+        """``(N, 3)`` wrist-centre positions (the point of the J5 axis nearest the J4 axis) and
+        ``(N, 3)`` flange positions, float32 metres. The wrist needs five active joints or more;
+        with ``wrist=False`` only the flange is computed and the first result is None."""
+        w, f = self._wrist_flange(q, flange, wrist, np.float32)
+        return (w if wrist else None), f
+
+    def wrist_flange64(self, q, flange: str | None = None) -> tuple[np.ndarray | None, np.ndarray]:
+        """As ``wrist_flange`` in float64 (the wrist is None below five axes)."""
+        w, f = self._wrist_flange(q, flange, self._wrist is not None, np.float64)
+        return (w if self._wrist is not None else None), f
+
+    def flange_frame(self, name: str | None = None) -> tuple[int, np.ndarray]:
+        """(link index, 4x4 zero-position pose) of a flange (the first when ``name`` is None)."""
+        return self._flanges[self._flange_index(name)]
+
+    def close(self) -> None:
+        self.launcher.close()
+
+    # -- plumbing ----------------------------------------------------------------------------------
+    def _wrist_constants(self):
+        joints = self.graph.wrist_joints
+        if joints is None:
+            return None
+        return tuple((self.graph.link_index(j.parent), tuple(float(v) for v in j.point1),
+                      tuple(float(v) for v in j.axis)) for j in joints)
+
+    def _kernels_for(self, dtype):
+        """(all_links, flange kernels, wrist kernels) of one precision, made on first use."""
+        if dtype not in self._kernels:
+            wp = init_warp()
+            scalar = wp.float32 if dtype == np.float32 else wp.float64
+            if self.unrolled:
+                kernels = fk_kernels.chain_kernels(self.chain, self._flanges, self._wrist, scalar)
+                self.launcher.load(kernels[0])
+            else:
+                kernels = None
+            self._kernels[dtype] = kernels
+        return self._kernels[dtype]
+
+    def _generic(self, dtype):
+        """(tree struct on the device, frames kernel, wrist kernel) of the generic walk."""
+        key = ("generic", dtype)
+        if key not in self._kernels:
+            wp = init_warp()
+            scalar = wp.float32 if dtype == np.float32 else wp.float64
+            Tree, frames, wrist = fk_kernels.generic_kernels(scalar)
+            tree = Tree()
+            c = self.chain
+            for name in ("parent", "jtype", "qidx", "order"):
+                setattr(tree, name, wp.array(getattr(c, name), dtype=wp.int32, device=self.device))
+            for name in ("axis", "point"):
+                setattr(tree, name, wp.array(getattr(c, name).astype(dtype), dtype=wp.types.vector(3, scalar),
+                                             device=self.device))
+            self.launcher.load(frames)
+            self._kernels[key] = (tree, frames, wrist)
+        return self._kernels[key]
+
+    def _all_links(self, q, out, dtype) -> np.ndarray:
+        if not self.unrolled and dtype == np.float32:
+            return self.frames(q, [(k, np.eye(4)) for k in range(len(self.links))], out)
+        q = self._q(q, dtype)
+        out = self._out(out, (q.shape[0], len(self.links), 4, 4), dtype)
+        if self.unrolled:
+            self.launcher.launch(self._kernels_for(dtype)[0], q.shape[0], inputs=[q], outputs=[out])
+        else:
+            tree, frames, _ = self._generic(dtype)
+            self._generic_frames(tree, frames, q, out, dtype)
+        return out
+
+    def _generic_frames(self, tree, frames, q, out, dtype) -> None:
+        wp = init_warp()
+        n = len(self.links)
+        mat44 = frames.adj.args[2].type.dtype
+        links = wp.array(np.arange(n, dtype=np.int32), dtype=wp.int32, device=self.device)
+        offsets = wp.array(np.tile(np.eye(4, dtype=dtype), (n, 1, 1)), dtype=mat44, device=self.device)
+        self.launcher.launch(frames, q.shape[0], params=[tree, links, offsets], inputs=[q], outputs=[out],
+                             scratch=(n, frames.adj.args[4].type.dtype))
+
+    def _wrist_flange(self, q, flange, wrist: bool, dtype):
+        if wrist and self._wrist is None:
+            raise model_error(self.mech, f"'{self.mech.name}' has {self.dof} axes: a wrist centre needs J4 and J5")
+        f = self._flange_index(flange)
+        q = self._q(q, dtype)
+        wpos, fpos = np.empty((q.shape[0], 3), dtype), np.empty((q.shape[0], 3), dtype)
+        if self.unrolled:
+            self.launcher.launch(self._kernels_for(dtype)[2][f], q.shape[0], inputs=[q], outputs=[wpos, fpos])
+        else:
+            self._generic_wrist(f, q, wpos, fpos, dtype)
+        return wpos, fpos
+
+    def _generic_wrist(self, f: int, q, wpos, fpos, dtype) -> None:
+        wp = init_warp()
+        tree, frames, kernel = self._generic(dtype)
+        link, m = self._flanges[f]
+        links, consts = [link], [m[:3, 3]]
+        if self._wrist is not None:
+            (l4, p4, a4), (l5, p5, a5) = self._wrist
+            links += [l4, l5]
+            consts += [p4, a4, p5, a5]
+        vec3 = kernel.adj.args[1].type.dtype
+        self.launcher.launch(kernel, q.shape[0], params=[
+            tree, wp.array(np.array(links, np.int32), dtype=wp.int32, device=self.device),
+            wp.array(np.array(consts, dtype), dtype=vec3, device=self.device)],
+            inputs=[q], outputs=[wpos, fpos], scratch=(len(self.links), kernel.adj.args[4].type.dtype))
+
+    def _flange_index(self, name: str | None) -> int:
+        names = [f.name for f in self.mech.flanges]
+        if not names:
+            raise model_error(self.mech, f"'{self.mech.name}' has no flange (a Flanges/Flange element names one)")
+        if name is None:
+            return 0
+        if name not in names:
+            raise KeyError(f"no flange '{name}' (flanges: {', '.join(names)})")
+        return names.index(name)
+
+    def _q(self, q, dtype) -> np.ndarray:
+        q = np.ascontiguousarray(np.atleast_2d(q), dtype=dtype)
+        if q.ndim != 2 or q.shape[1] != self.dof:
+            raise ValueError(f"q must have shape (N, {self.dof}), got {q.shape}")
+        return q
+
+    @staticmethod
+    def _out(out: np.ndarray | None, shape: tuple[int, ...], dtype) -> np.ndarray:
+        if out is None:
+            return np.empty(shape, dtype)
+        if out.shape != shape or out.dtype != dtype or not out.flags.c_contiguous:
+            raise ValueError(f"out must be a C-contiguous {np.dtype(dtype).name} array of shape {shape}")
+        return out

@@ -1,0 +1,127 @@
+"""The one launcher: Warp initialized quietly, a device picked, a batch cut into chunks and run.
+
+Warp runs a CPU launch on one core, so on a CPU a batch is cut into chunks launched from a thread
+pool (the launch releases the GIL), at least one chunk per core. On a GPU a chunk is large and
+inputs and outputs are copied across. Outputs are host arrays the caller owns, filled in place.
+Each item of the batch is computed by one thread the same way whatever the chunking, so results
+are bit-identical on one core or many.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import InputError
+
+DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
+GPU_CHUNK = 1 << 20
+
+
+def init_warp():
+    """Warp, initialized once and quietly: its banner would corrupt ``--json`` output on stdout."""
+    import warp as wp
+
+    if not getattr(init_warp, "ready", False):
+        wp.config.quiet = True
+        if hasattr(wp.config, "log_level"):
+            wp.config.log_level = getattr(wp, "LOG_ERROR", 40)
+        wp.init()
+        init_warp.ready = True
+    return wp
+
+
+class Launcher:
+    """Runs kernels over a batch of ``n`` items on one device.
+
+    A kernel's parameters are, in order: ``params`` (model constants, passed as given), then the
+    batch ``inputs`` and ``outputs`` (host NumPy arrays whose first axis is the batch; each is cut
+    per chunk and typed as the kernel declares), with a per-item ``scratch`` array between them
+    when the kernel needs one."""
+
+    def __init__(self, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
+        wp = init_warp()
+        try:
+            self.device = wp.get_device(device)
+        except (RuntimeError, ValueError) as exc:
+            raise InputError(f"device '{device}' is not available here ({exc})") from None
+        self.chunk = max(1, int(chunk))
+        self.threads = max(1, threads or (os.cpu_count() or 1)) if self.device.is_cpu else 1
+        self._pool: ThreadPoolExecutor | None = None
+        self._local = threading.local()
+
+    def load(self, kernel) -> None:
+        """Compile (or load from Warp's cache) the kernel's module before any thread launches it."""
+        init_warp().load_module(kernel.module, device=self.device)
+
+    def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence[np.ndarray] = (),
+               outputs: Sequence[np.ndarray] = (), scratch: tuple[int, type] | None = None) -> None:
+        """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk)."""
+        args = kernel.adj.args
+        first = len(params)
+        in_types = [args[first + k].type.dtype for k in range(len(inputs))]
+        last = first + len(inputs) + (scratch is not None)
+        out_types = [args[last + k].type.dtype for k in range(len(outputs))]
+
+        def run(lo: int, hi: int) -> None:
+            ins = [self._view(a[lo:hi], t) for a, t in zip(inputs, in_types)]
+            outs = [self._target(a[lo:hi], t) for a, t in zip(outputs, out_types)]
+            extra = [self._scratch(hi - lo, *scratch)] if scratch is not None else []
+            init_warp().launch(kernel, dim=hi - lo, inputs=[*params, *ins, *extra], outputs=outs, device=self.device)
+            if not self.device.is_cpu:
+                for host, dev in zip(outputs, outs):
+                    host[lo:hi] = dev.numpy().reshape(host[lo:hi].shape)
+
+        self._spread(n, run)
+
+    def _view(self, host: np.ndarray, dtype):
+        """A zero-copy Warp view of a host array on the CPU, a device copy on a GPU."""
+        wp = init_warp()
+        return wp.array(host, dtype=dtype, device=self.device, copy=not self.device.is_cpu)
+
+    def _target(self, host: np.ndarray, dtype):
+        if self.device.is_cpu:
+            return self._view(host, dtype)
+        wp = init_warp()
+        trailing = len(getattr(dtype, "_shape_", ()))
+        return wp.empty(host.shape[: host.ndim - trailing], dtype=dtype, device=self.device)
+
+    def _scratch(self, n: int, width: int, dtype):
+        """A per-thread (n, width) work array, grown as needed and reused."""
+        have = getattr(self._local, "scratch", {})
+        arr = have.get(dtype)
+        if arr is None or arr.shape[0] < n or arr.shape[1] != width:
+            arr = init_warp().empty((max(n, 1), width), dtype=dtype, device=self.device)
+            have[dtype] = arr
+            self._local.scratch = have
+        return arr
+
+    def _spread(self, n: int, run) -> None:
+        if self.device.is_cpu:  # at least one chunk per thread, so small batches use every core too
+            chunk = max(1, min(self.chunk, -(-n // self.threads)))
+        else:
+            chunk = max(self.chunk, GPU_CHUNK)
+        spans = [(lo, min(lo + chunk, n)) for lo in range(0, n, chunk)]
+        if self.threads == 1 or len(spans) <= 1:
+            for lo, hi in spans:
+                run(lo, hi)
+            return
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(self.threads)
+        for f in [self._pool.submit(run, lo, hi) for lo, hi in spans]:
+            f.result()
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
