@@ -6,7 +6,8 @@ world) in N/B batches, as one would to keep memory bounded; its build time is th
 replicated model. Timings are the median of 3 runs after a warm-up call (Warp compiles kernels on
 the first call). "all links" is every link's pose: ours as (N, 7, 4, 4) float32 matrices, Newton's
 as its body_q transforms. Ours is timed writing into a reused output buffer (as Newton writes into
-its state); the fresh-array figure, which adds first-touch page faults for the output, is shown too.
+its state), the flange too; the fresh-array figure, which adds first-touch page faults for the
+output, is shown too.
 
 Run: python benchmarks/bench_fk.py [--sizes 10000,100000,1000000]
 """
@@ -51,16 +52,13 @@ def main() -> None:
 
     import rswarp
     from rswarp import examples
-    from rswarp.sim.kinematics import Kinematics, _wp
+    from rswarp.sim.kinematics import Kinematics
+    from rswarp.sim.launch import init_warp
     from rswarp.export.newton import newton_q_columns, to_newton
 
     init_warp()  # quiet Warp
     mech = rswarp.load(examples.IRB2600)
     lo, hi = mech.bounds()
-    if args.cold_cache:
-        import warp as wp
-
-        wp.config.kernel_cache_dir = os.environ["WARP_CACHE_PATH"]
     t = time.perf_counter()
     Kinematics(mech).close()  # builds the mechanism's kernels: Warp compiles them, or loads them from its cache
     ours_first = time.perf_counter() - t
@@ -75,7 +73,8 @@ def main() -> None:
         out = np.empty((n, len(kin.links), 4, 4), np.float32)
         ours_all = median_time(lambda: kin.fk(q, out=out))
         ours_fresh = median_time(lambda: kin.fk(q))
-        ours_flange = median_time(lambda: kin.flange(q))
+        fout = np.empty((n, 4, 4), np.float32)
+        ours_flange = median_time(lambda: kin.flange(q, out=fout))
 
         worlds = min(n, args.max_worlds)
         t = time.perf_counter()

@@ -224,17 +224,13 @@ def wrist_centre(scalar=wp.float32):
 
 
 @lru_cache(maxsize=None)
-def generic_kernels(scalar=wp.float32):
-    """(Tree struct, frames kernel, wrist_flange kernel) reading the chain from arrays.
-
-    ``frames``: ``out[i, j]`` = pose of link ``links[j]`` times ``offsets[j]``.
-    ``wrist_flange``: flange position and wrist centre from link indices and constants."""
+def generic_walk(scalar=wp.float32):
+    """(Tree struct, walk): the chain as device arrays, and a wp.func that writes every link's pose
+    into ``poses[i]``, parents first."""
     T = types_of(scalar)
     _, V3, M33, M34, M44 = T
     S = scalar
-    to_mat44, to_mat34, apply, rotate = pose_functions(scalar)
-    centre = wrist_centre(scalar)
-    module = f"rswarp_fk_generic_{scalar.__name__}"
+    to_mat34, apply = pose_functions(scalar)[1], pose_functions(scalar)[2]
 
     @wp.struct
     class Tree:
@@ -247,7 +243,6 @@ def generic_kernels(scalar=wp.float32):
 
     @wp.func
     def walk(tree: Tree, q: wp.array2d(dtype=S), i: int, poses: wp.array2d(dtype=M34)):
-        """Every link's pose into ``poses[i]``, parents first."""
         for o in range(tree.order.shape[0]):
             k = tree.order[o]
             p = tree.parent[k]
@@ -267,6 +262,23 @@ def generic_kernels(scalar=wp.float32):
             rp = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
             poses[i, k] = to_mat34(rp * r, apply(m, t))
 
+    return Tree, walk
+
+
+@lru_cache(maxsize=None)
+def generic_kernels(scalar=wp.float32):
+    """(Tree struct, frames kernel, wrist_flange kernel) reading the chain from arrays.
+
+    ``frames``: ``out[i, j]`` = pose of link ``links[j]`` times ``offsets[j]``.
+    ``wrist_flange``: flange position and wrist centre from link indices and constants."""
+    T = types_of(scalar)
+    _, V3, M33, M34, M44 = T
+    S = scalar
+    _, _, apply, rotate = pose_functions(scalar)
+    centre = wrist_centre(scalar)
+    Tree, walk = generic_walk(scalar)
+    module = f"rswarp_fk_generic_{scalar.__name__}"
+
     @wp.kernel(enable_backward=False, module=module)
     def frames(tree: Tree, links: wp.array(dtype=wp.int32), offsets: wp.array(dtype=M44),
                q: wp.array2d(dtype=S), poses: wp.array2d(dtype=M34), out: wp.array2d(dtype=M44)):
@@ -275,7 +287,7 @@ def generic_kernels(scalar=wp.float32):
         for j in range(links.shape[0]):
             m = poses[i, links[j]]
             full = M44(m[0, 0], m[0, 1], m[0, 2], m[0, 3], m[1, 0], m[1, 1], m[1, 2], m[1, 3],
-                           m[2, 0], m[2, 1], m[2, 2], m[2, 3], S(0.0), S(0.0), S(0.0), S(1.0))
+                       m[2, 0], m[2, 1], m[2, 2], m[2, 3], S(0.0), S(0.0), S(0.0), S(1.0))
             out[i, j] = full * offsets[j]
 
     @wp.kernel(enable_backward=False, module=module)

@@ -190,3 +190,55 @@ def test_agrees_with_newton_eval_fk(kins, name):
     full[..., :3, :3] = rot
     assert rotation_error(ours, full).max() < 1e-5
     assert [model.body_label[i] for i in range(len(kin.links))] == list(kin.links)
+
+
+def _long_chain(n: int, seed: int = 1):
+    """A chain of n links with random joint axes and points, alternating revolute and prismatic."""
+    from rswarp.rsxml.model import Joint, Mechanism, Part
+
+    rng = np.random.default_rng(seed)
+    links = tuple(Part(f"L{i}") for i in range(n))
+    joints = []
+    for i in range(1, n):
+        p = rng.uniform(-0.5, 0.5, 3)
+        d = rng.normal(size=3)
+        joints.append(Joint(f"J{i}", f"L{i - 1}", f"L{i}", "Prismatic" if i % 5 == 0 else "Rotational",
+                            point1=tuple(p), point2=tuple(p + d / np.linalg.norm(d))))
+    return Mechanism("Chain", base_link="L0", links=links, joints=tuple(joints))
+
+
+def test_long_chain_takes_the_generic_walk_and_agrees():
+    from rswarp.kernels.fk import MAX_UNROLLED_LINKS
+
+    mech = _long_chain(MAX_UNROLLED_LINKS + 6)
+    kin = Kinematics(mech, threads=2, chunk=5)
+    assert not kin.unrolled
+    q = np.random.default_rng(2).uniform(-0.2, 0.2, (12, mech.dof))
+    got = kin.fk(q)
+    ref = np.array([[reference_fk(mech, qi)[link] for link in kin.links] for qi in q])
+    assert np.abs(got[..., :3, 3] - ref[..., :3, 3]).max() < 1e-4  # 70 joints of float32
+    assert np.abs(kin.fk64(q) - ref).max() < 1e-12
+
+
+def test_float64_kernels_match_the_reference(kins):
+    kin = kins("irb2600id")
+    mech = kin.mech
+    q = random_q(mech, 50, seed=5)
+    ref = np.array([[reference_fk(mech, qi)[link] for link in kin.links] for qi in q])
+    assert kin.fk64(q).dtype == np.float64 and np.abs(kin.fk64(q) - ref).max() < 1e-12
+    w32, f32 = kin.wrist_flange(q)
+    w64, f64 = kin.wrist_flange64(q)
+    assert np.abs(w64 - w32).max() < 1e-5 and np.abs(f64 - f32).max() < 1e-5
+    flange = ref[:, kin.links.index(mech.flanges[0].link)] @ mech.flanges[0].pose.matrix()
+    assert np.abs(f64 - flange[:, :3, 3]).max() < 1e-12
+
+
+def test_no_generated_source_anywhere():
+    """Kernels are closures specialized with wp.static: no Python source is written or imported."""
+    from pathlib import Path
+
+    import rswarp.kernels
+
+    for root in (Path(rswarp.__file__).parent, Path(rswarp.kernels.__file__).parent):
+        for f in root.rglob("*.py"):
+            assert "spec_from_file_location" not in f.read_text(), f

@@ -10,7 +10,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from pxr import Sdf, Usd, UsdUtils
+from pxr import Sdf, Usd, UsdPhysics, UsdUtils
 
 from ..errors import InputError
 from ..geometry import DEFAULT_DENSITY
@@ -69,66 +69,89 @@ def _usdz(src: Path, dst: Path) -> None:
 
 def _component(model, tmp: Path, path: Path, density: float, collision: str) -> list[str]:
     """The component layout: interface layer -> payload Contents.usda -> sublayers
-    Geometry.usda (meshes, frames, cables), Materials.usda (display colours) and Physics.usda
+    Geometry.usdc (meshes, frames, cables), Materials.usda (display colours) and Physics.usda
     (physics schemas, joints, mass); each layer holds only its own opinions."""
     stage = Usd.Stage.CreateInMemory()
     warnings = build_stage(stage, model, density=density, collision=collision)
     full = stage.GetRootLayer()
-    root = stage.GetDefaultPrim()
-    name = root.GetName()
     payload_dir = tmp / f"{path.stem}_Payload"
     payload_dir.mkdir()
-
-    def new_layer(file: Path):
-        """A layer with the stage's units, up axis and default prim."""
-        layer = Sdf.Layer.CreateNew(str(file))
-        layer.defaultPrim = name
-        for key in ("metersPerUnit", "upAxis", "kilogramsPerUnit"):
-            if full.pseudoRoot.HasInfo(key):
-                layer.pseudoRoot.SetInfo(key, full.pseudoRoot.GetInfo(key))
-        return layer
-
     # geometry as crate: large arrays load fast (the asset validator asks for it too)
-    layers = {k: new_layer(payload_dir / f"{k}.{ext}")
+    layers = {k: _new_layer(payload_dir / f"{k}.{ext}", full)
               for k, ext in (("Geometry", "usdc"), ("Materials", "usda"), ("Physics", "usda"))}
-    # Geometry gets everything, then physics and colours are moved out to their own layers
     Sdf.CopySpec(full, Sdf.Path.absoluteRootPath, layers["Geometry"], Sdf.Path.absoluteRootPath)
-    geo = layers["Geometry"]
-    for prim in list(stage.Traverse()):
-        p = prim.GetPath()
-        spec = geo.GetPrimAtPath(p)
-        if spec is None:
-            continue
-        if "/joints" in str(p):
-            continue
-        schemas = list(prim.GetAppliedSchemas())
-        phys = [s for s in schemas if s.startswith("Physics") or s.startswith("Newton")]
-        if phys:
-            ps = Sdf.CreatePrimInLayer(layers["Physics"], p)
-            ps.specifier = Sdf.SpecifierOver
-            ps.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=phys))
-            spec.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=[s for s in schemas if s not in phys]))
-        for attr in list(spec.attributes):
-            target = ("Physics" if attr.name.startswith(PHYSICS_PREFIXES)
-                      else "Materials" if attr.name == "primvars:displayColor" else None)
-            if target:
-                _ensure_over(layers[target], p)
-                Sdf.CopySpec(geo, attr.path, layers[target], attr.path)
-                spec.RemoveProperty(attr)
-        for rel in list(spec.relationships):
-            if rel.name.startswith(PHYSICS_PREFIXES):
-                spec.RemoveProperty(rel)
-    joints = geo.GetPrimAtPath(f"/{name}/joints")
-    if joints is not None:
-        Sdf.CopySpec(geo, joints.path, layers["Physics"], joints.path)
-        del geo.GetPrimAtPath(f"/{name}").nameChildren["joints"]
+    _split(stage.GetDefaultPrim(), layers)
     for layer in layers.values():
         layer.Save()
-    contents = new_layer(payload_dir / "Contents.usda")
+    contents = _new_layer(payload_dir / "Contents.usda", full)
     contents.subLayerPaths = ["./Physics.usda", "./Materials.usda", "./Geometry.usdc"]
     contents.Save()
-    iface = new_layer(tmp / f"{path.stem}.usda")
-    spec = Sdf.CreatePrimInLayer(iface, f"/{name}")
+    _interface(_new_layer(tmp / f"{path.stem}.usda", full), stage.GetDefaultPrim(), path)
+    if path.suffix.lower() in (".usdc", ".usd"):  # .usdz is packaged from the .usda by the caller
+        Sdf.Layer.FindOrOpen(str(tmp / f"{path.stem}.usda")).Export(str(tmp / path.name))
+    return warnings
+
+
+def _new_layer(file: Path, like):
+    """A layer with the units, up axis and default prim of the layer ``like``."""
+    layer = Sdf.Layer.CreateNew(str(file))
+    layer.defaultPrim = like.defaultPrim
+    for key in ("metersPerUnit", "upAxis", "kilogramsPerUnit"):
+        if like.pseudoRoot.HasInfo(key):
+            layer.pseudoRoot.SetInfo(key, like.pseudoRoot.GetInfo(key))
+    return layer
+
+
+def _physics_only(prim) -> bool:
+    """A joint, or a scope holding nothing but joints: it belongs wholly to the physics layer."""
+    if prim.IsA(UsdPhysics.Joint):
+        return True
+    kids = prim.GetChildren()
+    return prim.GetTypeName() == "Scope" and bool(kids) and all(_physics_only(k) for k in kids)
+
+
+def _split(prim, layers: dict) -> None:
+    """Move physics and colour opinions out of the Geometry layer (which starts with everything),
+    prim by prim from ``prim`` down."""
+    geo = layers["Geometry"]
+    spec = geo.GetPrimAtPath(prim.GetPath())
+    if spec is None:
+        return
+    if _physics_only(prim):
+        Sdf.CopySpec(geo, spec.path, layers["Physics"], spec.path)
+        del geo.GetPrimAtPath(spec.path.GetParentPath()).nameChildren[spec.name]
+        return
+    _move_opinions(prim, spec, layers)
+    for child in prim.GetChildren():
+        _split(child, layers)
+
+
+def _move_opinions(prim, spec, layers: dict) -> None:
+    """A prim's physics schemas and attributes to Physics, its display colour to Materials."""
+    geo, p = layers["Geometry"], prim.GetPath()
+    schemas = list(prim.GetAppliedSchemas())
+    phys = [s for s in schemas if s.startswith("Physics") or s.startswith("Newton")]
+    if phys:
+        ps = Sdf.CreatePrimInLayer(layers["Physics"], p)
+        ps.specifier = Sdf.SpecifierOver
+        ps.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=phys))
+        spec.SetInfo("apiSchemas", Sdf.TokenListOp.Create(prependedItems=[s for s in schemas if s not in phys]))
+    for attr in list(spec.attributes):
+        target = ("Physics" if attr.name.startswith(PHYSICS_PREFIXES)
+                  else "Materials" if attr.name == "primvars:displayColor" else None)
+        if target:
+            _ensure_over(layers[target], p)
+            Sdf.CopySpec(geo, attr.path, layers[target], attr.path)
+            spec.RemoveProperty(attr)
+    for rel in list(spec.relationships):
+        if rel.name.startswith(PHYSICS_PREFIXES):
+            spec.RemoveProperty(rel)
+
+
+def _interface(iface, root, path: Path) -> None:
+    """The asset's interface layer: the robot prim with its kind, name and metadata, payloading
+    the contents."""
+    spec = Sdf.CreatePrimInLayer(iface, root.GetPath())
     spec.specifier = Sdf.SpecifierDef
     spec.typeName = "Xform"
     spec.SetInfo("kind", "component")
@@ -137,9 +160,6 @@ def _component(model, tmp: Path, path: Path, density: float, collision: str) -> 
     spec.SetInfo("payload", Sdf.PayloadListOp.Create(
         prependedItems=[Sdf.Payload(f"./{path.stem}_Payload/Contents.usda")]))
     iface.Save()
-    if path.suffix.lower() in (".usdc", ".usd"):  # .usdz is packaged from the .usda by the caller
-        Sdf.Layer.FindOrOpen(str(tmp / f"{path.stem}.usda")).Export(str(tmp / path.name))
-    return warnings
 
 
 def _ensure_over(layer, path) -> None:

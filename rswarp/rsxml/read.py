@@ -25,6 +25,8 @@ NS_LIBRARY = "urn:abb-robotics-robotstudio-librarycompiler"
 NS_RESOURCE = "urn:abb-robotics-robotstudio-libraryresource"
 
 POSE_ATTRS = ("t", "x", "y", "z", "euler", "quat")
+MECHANISM_SECTIONS = ("Attributes", "Links", "Joints", "Limits", "Flanges", "BaseFrame", "HomePosition",
+                      "JointMask", "AdditionalComponents")
 ORTHO_TOL = 1e-5  # |R^T R - I| allowed for x/y/z written with six decimals
 QUAT_TOL = 1e-6  # |q| - 1 above this is warned about and normalized
 
@@ -226,29 +228,10 @@ class Reader:
         self.known(root, ("type", "name", "modelName", "kinematicsFlags", "lengthUnit", "angleUnit",
                           "motionControl"))
         lu, au = self.units(root)
-        sections: dict[str, etree._Element] = {}
-        order = ("Attributes", "Links", "Joints", "Limits", "Flanges", "BaseFrame", "HomePosition",
-                 "JointMask", "AdditionalComponents")
-        for c in children(root):
-            name = local(c)
-            if name not in order:
-                self.warn(c, f"unknown element <{name}> in <Mechanism> ignored")
-            elif name in sections:
-                self.error(c, f"<{name}> appears twice (first at line {sections[name].sourceline})")
-            else:
-                sections[name] = c
+        sections = self.sections(root)
 
         def each(section: str, tag: str) -> list[etree._Element]:
-            el = sections.get(section)
-            if el is None:
-                return []
-            out = []
-            for c in children(el):
-                if local(c) == tag:
-                    out.append(c)
-                else:
-                    self.warn(c, f"unknown element <{local(c)}> in <{section}> ignored")
-            return out
+            return self.each(sections.get(section), section, tag)
 
         links_el = sections.get("Links")
         base_link, links = "", []
@@ -270,26 +253,8 @@ class Reader:
             self.known(bf, POSE_ATTRS)
             base_frame = self.pose(bf)
         active = [j for j in joints if j.active]
-        home = None
-        if (hp := sections.get("HomePosition")) is not None:
-            self.known(hp, ("value",))
-            raw = self.floats(hp, "value", required=True)
-            if raw is not None:
-                if len(raw) != len(active):
-                    self.error(hp, f"HomePosition has {_count(len(raw), 'value')} for {len(active)} active joints")
-                else:
-                    home = tuple(v * (self.angle if j.revolute else self.length) for v, j in zip(raw, active))
-        mask = None
-        if (jm := sections.get("JointMask")) is not None:
-            self.known(jm, ("value",))
-            raw = self.floats(jm, "value", required=True)
-            if raw is not None:
-                if any(v != int(v) or v < 0 for v in raw):
-                    self.error(jm, "JointMask values must be whole numbers >= 0")
-                elif len(raw) != len(active):
-                    self.error(jm, f"JointMask has {_count(len(raw), 'value')} for {len(active)} active joints")
-                else:
-                    mask = tuple(int(v) for v in raw)
+        home = self.home(sections.get("HomePosition"), active)
+        mask = self.joint_mask(sections.get("JointMask"), active)
         attributes = [self.attribute(el) for el in each("Attributes", "Attribute")]
         cables = [self.cable(el) for el in each("AdditionalComponents", "Cable")]
         flags = tuple((self.text(root, "kinematicsFlags") or "").split())
@@ -302,6 +267,58 @@ class Reader:
             path=path, line=root.sourceline or 0,
             section_lines=tuple((k, v.sourceline or 0) for k, v in sections.items()),
         )
+
+    def sections(self, root: etree._Element) -> dict[str, etree._Element]:
+        """The Mechanism's top-level elements by name; unknown and repeated ones are reported."""
+        sections: dict[str, etree._Element] = {}
+        for c in children(root):
+            name = local(c)
+            if name not in MECHANISM_SECTIONS:
+                self.warn(c, f"unknown element <{name}> in <Mechanism> ignored")
+            elif name in sections:
+                self.error(c, f"<{name}> appears twice (first at line {sections[name].sourceline})")
+            else:
+                sections[name] = c
+        return sections
+
+    def each(self, el: etree._Element | None, section: str, tag: str) -> list[etree._Element]:
+        """The ``tag`` children of a section (others are reported and skipped)."""
+        out = []
+        for c in children(el) if el is not None else ():
+            if local(c) == tag:
+                out.append(c)
+            else:
+                self.warn(c, f"unknown element <{local(c)}> in <{section}> ignored")
+        return out
+
+    def home(self, hp: etree._Element | None, active: list[Joint]) -> tuple[float, ...] | None:
+        """HomePosition: one value per active joint, in SI."""
+        if hp is None:
+            return None
+        self.known(hp, ("value",))
+        raw = self.floats(hp, "value", required=True)
+        if raw is None:
+            return None
+        if len(raw) != len(active):
+            self.error(hp, f"HomePosition has {_count(len(raw), 'value')} for {len(active)} active joints")
+            return None
+        return tuple(v * (self.angle if j.revolute else self.length) for v, j in zip(raw, active))
+
+    def joint_mask(self, jm: etree._Element | None, active: list[Joint]) -> tuple[int, ...] | None:
+        """JointMask: one whole number >= 0 per active joint."""
+        if jm is None:
+            return None
+        self.known(jm, ("value",))
+        raw = self.floats(jm, "value", required=True)
+        if raw is None:
+            return None
+        if any(v != int(v) or v < 0 for v in raw):
+            self.error(jm, "JointMask values must be whole numbers >= 0")
+        elif len(raw) != len(active):
+            self.error(jm, f"JointMask has {_count(len(raw), 'value')} for {len(active)} active joints")
+        else:
+            return tuple(int(v) for v in raw)
+        return None
 
     def joint(self, el: etree._Element) -> Joint:
         self.known(el, ("name", "parent", "child", "type", "active", "point1", "point2"))
