@@ -33,6 +33,59 @@ def median_time(fn, repeats: int = 3) -> float:
     return statistics.median(times)
 
 
+def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float]:
+    """Configurations per second: all links into a reused buffer, into a fresh array, the flange."""
+    n = len(q)
+    out = np.empty((n, len(kin.links), 4, 4), np.float32)
+    fout = np.empty((n, 4, 4), np.float32)
+    return (n / median_time(lambda: kin.fk(q, out=out)), n / median_time(lambda: kin.fk(q)),
+            n / median_time(lambda: kin.flange(q, out=fout)))
+
+
+def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, float, float]:
+    """Newton's eval_fk on a replicated model: (worlds, configurations/s, build seconds, largest
+    position difference from ours on the last batch)."""
+    import newton
+    import warp as wp
+
+    from rswarp.export.newton import newton_q_columns, to_newton
+
+    n, cols = len(q), newton_q_columns(mech)
+    worlds = min(n, max_worlds)
+    t = time.perf_counter()
+    many = newton.ModelBuilder()
+    many.replicate(to_newton(mech), worlds)
+    model = many.finalize(device="cpu")
+    state = model.state()
+    build = time.perf_counter() - t
+    joint_q = wp.zeros(worlds * len(cols), dtype=wp.float32, device="cpu")
+    joint_qd = wp.zeros(model.joint_dof_count, dtype=wp.float32, device="cpu")
+    batches = [np.ascontiguousarray(q[b:b + worlds][:, cols]).ravel() for b in range(0, n, worlds)]
+
+    def newton_fk():
+        for batch in batches:
+            joint_q.numpy()[: batch.size] = batch  # zero-copy view on the CPU
+            newton.eval_fk(model, joint_q, joint_qd, state)
+        wp.synchronize()
+
+    rate = n / median_time(newton_fk)
+    last = q[(len(batches) - 1) * worlds:]  # both give the same poses: check the last batch
+    body_q = state.body_q.numpy().reshape(worlds, len(kin.links), 7)[: len(last)]
+    return worlds, rate, build, float(np.abs(body_q[..., :3] - kin.fk(last)[..., :3, 3]).max())
+
+
+def print_table(rows: list[tuple]) -> None:
+    head = ("N", "worlds", "ours all links", "ours (fresh array)", "ours flange", "Newton all links",
+            "ratio all", "ratio flange", "Newton build", "max |dp| m")
+    print(" | ".join(head))
+    for n, worlds, a, fr, fl, p, nb, err in rows:
+        print(" | ".join([f"{n}", f"{worlds}", f"{a / 1e6:.2f} M/s", f"{fr / 1e6:.2f} M/s", f"{fl / 1e6:.2f} M/s",
+                          f"{p / 1e6:.2f} M/s", f"{a / p:.1f}x", f"{fl / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}"]))
+    n, _, a, _, _, p, _, _ = rows[-1]
+    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}", "ours": round(a), "peer": round(p),
+                      "ratio": round(a / p, 2)}))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="10000,100000,1000000")
@@ -40,12 +93,10 @@ def main() -> None:
     parser.add_argument("--cold-cache", action="store_true",
                         help="an empty Warp kernel cache, to time the first compile of a new mechanism on a machine")
     args = parser.parse_args()
-    sizes = [int(s) for s in args.sizes.split(",")]
     if args.cold_cache:  # before Warp is imported: it reads the cache path at start-up
         import tempfile
 
-        cold = tempfile.mkdtemp(prefix="rswarp-bench-")
-        os.environ["WARP_CACHE_PATH"] = os.path.join(cold, "warp")
+        os.environ["WARP_CACHE_PATH"] = os.path.join(tempfile.mkdtemp(prefix="rswarp-bench-"), "warp")
 
     import newton
     import warp as wp
@@ -54,67 +105,27 @@ def main() -> None:
     from rswarp import examples
     from rswarp.sim.kinematics import Kinematics
     from rswarp.sim.launch import init_warp
-    from rswarp.export.newton import newton_q_columns, to_newton
 
     init_warp()  # quiet Warp
     mech = rswarp.load(examples.IRB2600)
-    lo, hi = mech.bounds()
     t = time.perf_counter()
     Kinematics(mech).close()  # builds the mechanism's kernels: Warp compiles them, or loads them from its cache
     ours_first = time.perf_counter() - t
     t = time.perf_counter()
     kin = Kinematics(mech)
     ours_build = time.perf_counter() - t
-    cols = newton_q_columns(mech)
-
-    rows, result = [], {}
-    for n in sizes:
-        q = np.random.default_rng(n).uniform(lo, hi, (n, mech.dof)).astype(np.float32)
-        out = np.empty((n, len(kin.links), 4, 4), np.float32)
-        ours_all = median_time(lambda: kin.fk(q, out=out))
-        ours_fresh = median_time(lambda: kin.fk(q))
-        fout = np.empty((n, 4, 4), np.float32)
-        ours_flange = median_time(lambda: kin.flange(q, out=fout))
-
-        worlds = min(n, args.max_worlds)
-        t = time.perf_counter()
-        many = newton.ModelBuilder()
-        many.replicate(to_newton(mech), worlds)
-        model = many.finalize(device="cpu")
-        state = model.state()
-        newton_build = time.perf_counter() - t
-        joint_q = wp.zeros(worlds * len(cols), dtype=wp.float32, device="cpu")
-        joint_qd = wp.zeros(model.joint_dof_count, dtype=wp.float32, device="cpu")
-        batches = [np.ascontiguousarray(q[b:b + worlds][:, cols]).ravel() for b in range(0, n, worlds)]
-
-        def newton_fk():
-            for batch in batches:
-                joint_q.numpy()[: batch.size] = batch  # zero-copy view on the CPU
-                newton.eval_fk(model, joint_q, joint_qd, state)
-            wp.synchronize()
-
-        peer = median_time(newton_fk)
-        # both give the same poses: check the last batch
-        last = q[(len(batches) - 1) * worlds:]
-        body_q = state.body_q.numpy().reshape(worlds, len(kin.links), 7)[: len(last)]
-        err = float(np.abs(body_q[..., :3] - kin.fk(last)[..., :3, 3]).max())
-
-        rows.append((n, worlds, n / ours_all, n / ours_fresh, n / ours_flange, n / peer, newton_build, err))
-        result = {"n": n, "ours": n / ours_all, "peer": n / peer}
-
+    rows = []
+    for n in (int(s) for s in args.sizes.split(",")):
+        q = np.random.default_rng(n).uniform(*mech.bounds(), (n, mech.dof)).astype(np.float32)
+        all_links, fresh, flange = ours_rates(kin, q)
+        worlds, peer, build, err = newton_rate(mech, kin, q, args.max_worlds)
+        rows.append((n, worlds, all_links, fresh, flange, peer, build, err))
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
     first = "compiling into an empty cache" if args.cold_cache else "building the kernels, compiled or loaded from Warp's cache"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
           f"{first}); Newton per row below (replicated worlds)")
-    head = ("N", "worlds", "ours all links", "ours (fresh array)", "ours flange", "Newton all links",
-            "ratio all", "ratio flange", "Newton build", "max |dp| m")
-    print(" | ".join(head))
-    for n, worlds, a, fr, fl, p, nb, err in rows:
-        print(" | ".join([f"{n}", f"{worlds}", f"{a / 1e6:.2f} M/s", f"{fr / 1e6:.2f} M/s", f"{fl / 1e6:.2f} M/s",
-                          f"{p / 1e6:.2f} M/s", f"{a / p:.1f}x", f"{fl / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}"]))
-    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{result['n']}", "ours": round(result["ours"]),
-                      "peer": round(result["peer"]), "ratio": round(result["ours"] / result["peer"], 2)}))
+    print_table(rows)
 
 
 if __name__ == "__main__":

@@ -230,7 +230,7 @@ def generic_walk(scalar=wp.float32):
     T = types_of(scalar)
     _, V3, M33, M34, M44 = T
     S = scalar
-    to_mat34, apply = pose_functions(scalar)[1], pose_functions(scalar)[2]
+    _, to_mat34, apply, _ = pose_functions(scalar)
 
     @wp.struct
     class Tree:
@@ -311,9 +311,7 @@ def generic_kernels(scalar=wp.float32):
 # -- the kernels of one chain ------------------------------------------------------------------------
 
 
-@lru_cache(maxsize=64)
-def _chain_kernels_cached(key, chain, flanges, wrist, scalar):
-    return _make_chain_kernels(key, chain, flanges, wrist, scalar)
+_CHAIN_KERNELS: dict[str, tuple] = {}
 
 
 def chain_kernels(chain: Chain, flanges, wrist, scalar=wp.float32):
@@ -331,26 +329,12 @@ def chain_kernels(chain: Chain, flanges, wrist, scalar=wp.float32):
     for link, p, a in wrist or ():
         h.update(np.asarray([link], np.int64).tobytes() + np.asarray([*p, *a], float).tobytes())
     key = f"{h.hexdigest()[:16]}_{scalar.__name__}"
-    frozen = tuple((int(link), tuple(np.asarray(m, float).ravel())) for link, m in flanges)
-    wfrozen = None if wrist is None else tuple((int(link), tuple(p), tuple(a)) for link, p, a in wrist)
-    return _chain_kernels_cached(key, _Hashable(chain, key), frozen, wfrozen, scalar)
+    if key not in _CHAIN_KERNELS:
+        _CHAIN_KERNELS[key] = _make_chain_kernels(key, chain, flanges, wrist, scalar)
+    return _CHAIN_KERNELS[key]
 
 
-class _Hashable:
-    """A chain hashed by its content key (numpy arrays are not hashable)."""
-
-    def __init__(self, chain: Chain, key: str):
-        self.chain, self.key = chain, key
-
-    def __hash__(self):
-        return hash(self.key)
-
-    def __eq__(self, other):
-        return isinstance(other, _Hashable) and other.key == self.key
-
-
-def _make_chain_kernels(key, held: _Hashable, flanges, wrist, scalar):
-    chain = held.chain
+def _make_chain_kernels(key: str, chain: Chain, flanges, wrist, scalar):
     T = types_of(scalar)
     _, V3, M33, M34, M44 = T
     S = scalar
@@ -362,9 +346,8 @@ def _make_chain_kernels(key, held: _Hashable, flanges, wrist, scalar):
     def all_links(q: wp.array2d(dtype=S), out: wp.array2d(dtype=M44)):
         fk_all(q, wp.tid(), out)
 
-    flange_kernels = tuple(_flange_kernel(chain, link, np.reshape(m, (4, 4)), scalar, module) for link, m in flanges)
-    wrist_kernels = tuple(_wrist_kernel(chain, link, np.reshape(m, (4, 4)), wrist, scalar, module)
-                          for link, m in flanges)
+    flange_kernels = tuple(_flange_kernel(chain, link, m, scalar, module) for link, m in flanges)
+    wrist_kernels = tuple(_wrist_kernel(chain, link, m, wrist, scalar, module) for link, m in flanges)
     return all_links, flange_kernels, wrist_kernels
 
 

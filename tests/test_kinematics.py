@@ -242,3 +242,22 @@ def test_no_generated_source_anywhere():
     for root in (Path(rswarp.__file__).parent, Path(rswarp.kernels.__file__).parent):
         for f in root.rglob("*.py"):
             assert "spec_from_file_location" not in f.read_text(), f
+
+
+def test_generic_walk_gives_what_the_unrolled_kernels_give(kins, monkeypatch):
+    """Every method through the generic walk (forced by a low chain-length limit) against the
+    unrolled kernels of the same robot."""
+    import rswarp.kernels.fk as fk_kernels
+
+    unrolled = kins("irb2600id")
+    monkeypatch.setattr(fk_kernels, "MAX_UNROLLED_LINKS", 3)
+    generic = Kinematics(unrolled.mech, threads=2)
+    assert not generic.unrolled and unrolled.unrolled
+    q = random_q(unrolled.mech, 40, seed=7)
+    assert np.abs(generic.fk(q) - unrolled.fk(q)).max() < 1e-5
+    assert np.abs(generic.flange(q) - unrolled.flange(q)).max() < 1e-5
+    for a, b in zip(generic.wrist_flange(q), unrolled.wrist_flange(q)):
+        assert np.abs(a - b).max() < 1e-5
+    assert np.abs(generic.fk64(q) - unrolled.fk64(q)).max() < 1e-12
+    for a, b in zip(generic.wrist_flange64(q), unrolled.wrist_flange64(q)):
+        assert np.abs(a - b).max() < 1e-12

@@ -76,15 +76,7 @@ class Kinematics:
     def frames(self, q, outputs: list[tuple[int, np.ndarray]], out: np.ndarray | None = None) -> np.ndarray:
         """``(N, len(outputs), 4, 4)``: pose of link index ``k`` times a 4x4 ``offset``, per output
         (the generic tree walk)."""
-        q = self._q(q, np.float32)
-        out = self._out(out, (q.shape[0], len(outputs), 4, 4), np.float32)
-        tree, frames, _ = self._generic(np.float32)
-        wp = init_warp()
-        links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=self.device)
-        offsets = wp.array(np.array([m for _, m in outputs], np.float32), dtype=wp.mat44, device=self.device)
-        self.launcher.launch(frames, q.shape[0], params=[tree, links, offsets], inputs=[q], outputs=[out],
-                             scratch=(len(self.links), frames.adj.args[4].type.dtype))
-        return out
+        return self._frames(q, outputs, out, np.float32)
 
     def wrist_flange(self, q, flange: str | None = None, wrist: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
         """``(N, 3)`` wrist-centre positions (the point of the J5 axis nearest the J4 axis) and
@@ -145,25 +137,25 @@ class Kinematics:
         return self._kernels[key]
 
     def _all_links(self, q, out, dtype) -> np.ndarray:
-        if not self.unrolled and dtype == np.float32:
-            return self.frames(q, [(k, np.eye(4)) for k in range(len(self.links))], out)
+        if not self.unrolled:
+            return self._frames(q, [(k, np.eye(4)) for k in range(len(self.links))], out, dtype)
         q = self._q(q, dtype)
         out = self._out(out, (q.shape[0], len(self.links), 4, 4), dtype)
-        if self.unrolled:
-            self.launcher.launch(self._kernels_for(dtype)[0], q.shape[0], inputs=[q], outputs=[out])
-        else:
-            tree, frames, _ = self._generic(dtype)
-            self._generic_frames(tree, frames, q, out, dtype)
+        self.launcher.launch(self._kernels_for(dtype)[0], q.shape[0], inputs=[q], outputs=[out])
         return out
 
-    def _generic_frames(self, tree, frames, q, out, dtype) -> None:
+    def _frames(self, q, outputs: list[tuple[int, np.ndarray]], out, dtype) -> np.ndarray:
+        """The generic walk's frames kernel in one precision."""
         wp = init_warp()
-        n = len(self.links)
-        mat44 = frames.adj.args[2].type.dtype
-        links = wp.array(np.arange(n, dtype=np.int32), dtype=wp.int32, device=self.device)
-        offsets = wp.array(np.tile(np.eye(4, dtype=dtype), (n, 1, 1)), dtype=mat44, device=self.device)
+        q = self._q(q, dtype)
+        out = self._out(out, (q.shape[0], len(outputs), 4, 4), dtype)
+        tree, frames, _ = self._generic(dtype)
+        links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=self.device)
+        offsets = wp.array(np.array([m for _, m in outputs], dtype), dtype=frames.adj.args[2].type.dtype,
+                           device=self.device)
         self.launcher.launch(frames, q.shape[0], params=[tree, links, offsets], inputs=[q], outputs=[out],
-                             scratch=(n, frames.adj.args[4].type.dtype))
+                             scratch=len(self.links))
+        return out
 
     def _wrist_flange(self, q, flange, wrist: bool, dtype):
         if wrist and self._wrist is None:
@@ -186,11 +178,11 @@ class Kinematics:
             (l4, p4, a4), (l5, p5, a5) = self._wrist
             links += [l4, l5]
             consts += [p4, a4, p5, a5]
-        vec3 = kernel.adj.args[1].type.dtype
+        vec3 = kernel.adj.args[2].type.dtype  # consts
         self.launcher.launch(kernel, q.shape[0], params=[
             tree, wp.array(np.array(links, np.int32), dtype=wp.int32, device=self.device),
             wp.array(np.array(consts, dtype), dtype=vec3, device=self.device)],
-            inputs=[q], outputs=[wpos, fpos], scratch=(len(self.links), kernel.adj.args[4].type.dtype))
+            inputs=[q], outputs=[wpos, fpos], scratch=len(self.links))
 
     def _flange_index(self, name: str | None) -> int:
         names = [f.name for f in self.mech.flanges]

@@ -41,7 +41,7 @@ class Launcher:
     A kernel's parameters are, in order: ``params`` (model constants, passed as given), then the
     batch ``inputs`` and ``outputs`` (host NumPy arrays whose first axis is the batch; each is cut
     per chunk and typed as the kernel declares), with a per-item ``scratch`` array between them
-    when the kernel needs one."""
+    when the kernel needs one (``scratch`` is its width; its type is the kernel's)."""
 
     def __init__(self, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
         wp = init_warp()
@@ -59,18 +59,19 @@ class Launcher:
         init_warp().load_module(kernel.module, device=self.device)
 
     def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence[np.ndarray] = (),
-               outputs: Sequence[np.ndarray] = (), scratch: tuple[int, type] | None = None) -> None:
+               outputs: Sequence[np.ndarray] = (), scratch: int | None = None) -> None:
         """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk)."""
         args = kernel.adj.args
         first = len(params)
         in_types = [args[first + k].type.dtype for k in range(len(inputs))]
         last = first + len(inputs) + (scratch is not None)
+        scratch_type = args[last - 1].type.dtype if scratch is not None else None
         out_types = [args[last + k].type.dtype for k in range(len(outputs))]
 
         def run(lo: int, hi: int) -> None:
             ins = [self._view(a[lo:hi], t) for a, t in zip(inputs, in_types)]
             outs = [self._target(a[lo:hi], t) for a, t in zip(outputs, out_types)]
-            extra = [self._scratch(hi - lo, *scratch)] if scratch is not None else []
+            extra = [self._scratch(hi - lo, scratch, scratch_type)] if scratch is not None else []
             init_warp().launch(kernel, dim=hi - lo, inputs=[*params, *ins, *extra], outputs=outs, device=self.device)
             if not self.device.is_cpu:
                 for host, dev in zip(outputs, outs):
