@@ -5,7 +5,7 @@ Layers, imports pointing down only: ``rsxml`` (the format) -> ``geometry`` (mesh
 read) -> ``cli``. Device code lives in ``rswarp.kernels``.
 """
 
-from .errors import Diagnostic, InputError, MeshNotFoundError, RsxmlError
+from .errors import Diagnostic, InputError, MeshError, MeshNotFoundError, RsxmlError
 from .rsxml.documents import Report, RsxmlWarning, check, load, load_library
 from .rsxml.graph import LinkGraph
 from .rsxml.model import (
@@ -38,7 +38,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal",
-    "InputError", "Joint", "Limit", "LinkGraph", "Mechanism", "MeshNotFoundError", "Part", "Pose", "Report",
+    "InputError", "Joint", "Limit", "LinkGraph", "Mechanism", "MeshError", "MeshNotFoundError", "Part", "Pose", "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
     "Kinematics", "workspace", "to_usd", "to_newton", "to_urdf",
 ]

@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 
-from .errors import InputError, RsxmlError
+from .errors import InputError, RsxmlError, one_line
+from .files import DEFAULT_MAX_FILE_SIZE, file_size_limit
 from .geometry.mass import DEFAULT_DENSITY
 from .rsxml.documents import check, checked, load_mechanism
 
@@ -19,15 +21,17 @@ def _emit_json(obj) -> None:
 
 
 def cmd_check(args) -> int:
-    reports = [check(f) for f in args.files]
+    from .report.info import check_dict, check_verdict
+
+    reports = []
+    for f in args.files:
+        reports.append(report := check(f))
+        if not args.json:  # problems on stderr, the verdict on stdout, file by file
+            for d in report.all_diagnostics:
+                print(str(d), file=sys.stderr, flush=True)
+            print(check_verdict(report), flush=True)
     if args.json:
-        from .report.info import check_dict
-
         _emit_json(check_dict(reports))
-    else:
-        from .report.info import check_text
-
-        print(check_text(reports))
     return 0 if all(r.ok for r in reports) else 1
 
 
@@ -57,11 +61,12 @@ def cmd_fk(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from .report.outputs import sweep_resolution, sweep_text, write_sweep
+    from .report.outputs import check_sweep_folder, sweep_resolution, sweep_text, write_sweep
     from .sim.kinematics import Kinematics
     from .sim.workspace import workspace
 
     mech, _ = load_mechanism(args.file)
+    check_sweep_folder(args.out)
     ws = workspace(mech, samples=args.samples, seed=args.seed, method=args.method,
                    resolution=sweep_resolution(mech, args.resolution),
                    kinematics=Kinematics(mech, device=args.device), progress=_Progress("sweep"))
@@ -108,11 +113,20 @@ class _Progress:
             print(f"{self.label}: {frac:.0%} ({done}/{total})", file=sys.stderr, flush=True)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a usage error on one line (``rswarp sweep: --seed: must be at least 0, ...``)."""
+
+    def error(self, message: str):
+        self.exit(1, f"{self.prog}: {one_line(message)} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="rswarp", description="ABB RobotStudio RSXML robot models: check them, export them to OpenUSD, "
                                    "Newton and URDF, and run batched Warp kinematics and workspace sweeps.")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an internal error")
+    parser.add_argument("--max-file-size", type=_positive, metavar="MIB", default=DEFAULT_MAX_FILE_SIZE / 2**20,
+                        help=f"largest input file read, in MiB (default {DEFAULT_MAX_FILE_SIZE // 2**20})")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     json_help = "machine-readable output (metres, radians, snake_case keys)"
     device_help = 'Warp device: "cpu" (default) or "cuda" / "cuda:N"'
@@ -136,11 +150,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sweep", help="workspace over the joint limits: reach, voxels, work-range figures")
     p.add_argument("file", metavar="FILE")
-    p.add_argument("--samples", type=int, default=1_000_000, help="joint configurations (default 1000000)")
+    p.add_argument("--samples", type=_count(1), default=1_000_000, help="joint configurations (default 1000000)")
     p.add_argument("--out", required=True, metavar="DIR", help="folder for workspace.npz, side.png, top.png, report.json")
     p.add_argument("--method", choices=["random", "sobol", "grid"], default="random")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--resolution", type=float, help="voxel size in the file's length unit (default 25 mm)")
+    p.add_argument("--seed", type=_count(0), default=0, help="random and sobol sampling seed, >= 0 (default 0)")
+    p.add_argument("--resolution", type=_positive, help="voxel size in the file's length unit (default 25 mm)")
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--device", default="cpu", help=device_help)
     p.set_defaults(func=cmd_sweep)
@@ -151,7 +165,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--layout", choices=["flat", "component"], default="flat",
                    help="USD: one file, or an interface layer with payloaded geometry/materials/physics layers")
     p.add_argument("--collision", choices=["convexHull", "convexDecomposition"], default="convexHull")
-    p.add_argument("--density", type=float, default=DEFAULT_DENSITY,
+    p.add_argument("--density", type=_positive, default=DEFAULT_DENSITY,
                    help=f"kg/m^3 for link masses (default {DEFAULT_DENSITY:g}, cast aluminium)")
     p.add_argument("--json", action="store_true", help=json_help)
     p.set_defaults(func=cmd_export)
@@ -161,6 +175,30 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help=json_help)
     p.set_defaults(func=cmd_demo)
     return parser
+
+
+def _positive(text: str) -> float:
+    """A finite number > 0 (``inf`` and ``nan`` are refused here, not deep inside a computation)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, not '{text}'")
+    return value
+
+
+def _count(least: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+        if value < least:
+            raise argparse.ArgumentTypeError(f"must be at least {least}, not {value}")
+        return value
+    parse.__name__ = "whole number"
+    return parse
 
 
 def _joined_values(argv: list[str]) -> list[str]:
@@ -178,15 +216,20 @@ def _joined_values(argv: list[str]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(_joined_values(sys.argv[1:] if argv is None else argv))
+    parser = build_parser()
     try:
-        return args.func(args)
+        args = parser.parse_args(_joined_values(sys.argv[1:] if argv is None else argv))
+    except SystemExit as exc:  # a usage error is the user's (exit 1), --help is exit 0
+        return 1 if exc.code else 0
+    try:
+        with file_size_limit(int(args.max_file_size * 2**20)):
+            return args.func(args)
     except RsxmlError as exc:
         for d in exc.diagnostics:
             print(str(d), file=sys.stderr)
         return 1
     except InputError as exc:
-        print(f"rswarp: {exc}", file=sys.stderr)
+        print(f"rswarp: {one_line(str(exc))}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         return 130

@@ -19,7 +19,16 @@ class Diagnostic:
     def __str__(self) -> str:
         where = f"{self.file}:{self.line}" if self.line else self.file
         prefix = "warning: " if self.severity == "warning" else ""
-        return f"{where}: {prefix}{self.message}"
+        return one_line(f"{where}: {prefix}{self.message}")
+
+
+_CONTROL = {c: f"\\x{c:02x}" for c in (*range(32), 127)} | {10: "\\n", 13: "\\r", 9: "\\t"}
+
+
+def one_line(text: str) -> str:
+    """``text`` with control characters escaped, so a newline in a file or link name cannot split
+    a diagnostic line (or forge another)."""
+    return text.translate(_CONTROL)
 
 
 class InputError(ValueError):
@@ -40,7 +49,13 @@ class RsxmlError(InputError):
 
 
 class MeshNotFoundError(RsxmlError):
-    """A Part's geometry was needed but no mesh file of its name exists; names every file tried."""
+    """A Part's geometry was needed but no mesh file of its name exists; names every file tried.
+    Exports go on without that Part (a warning): the kinematics are still worth having."""
+
+
+class MeshError(RsxmlError):
+    """A Part's mesh file exists but cannot be used (unreadable, corrupt, flat): an error in every
+    export, since going on would silently drop geometry the author meant to be there."""
 
 
 def model_error(model, message: str, line: int | None = None) -> RsxmlError:

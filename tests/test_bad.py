@@ -35,9 +35,10 @@ def test_bad_file_reports_its_error(path):
 @pytest.mark.parametrize("path", BAD, ids=[p.name for p in BAD])
 def test_bad_file_on_the_command_line(path, capsys):
     assert main(["check", str(path)]) == 1
-    out = capsys.readouterr().out
-    assert expectation(path) in out.splitlines()
-    assert "Traceback" not in out
+    out = capsys.readouterr()
+    assert expectation(path) in out.err.splitlines()  # problems on stderr
+    assert out.out.splitlines() == [f"{path}: FAILED" + out.out.split("FAILED", 1)[1].rstrip()]
+    assert "Traceback" not in out.out + out.err
     for command in (["info"], ["export", "-o", "never.usda"], ["fk", "--q", "0"]):
         assert main([command[0], str(path), *command[1:]]) == 1
         captured = capsys.readouterr()

@@ -21,14 +21,14 @@ def test_check_clean_file(capsys):
 
 def test_check_prints_warnings_and_still_passes(capsys):
     assert main(["check", str(DATA / "naming.rsxml")]) == 0
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err
     assert f"{DATA / 'naming.rsxml'}:3: warning: name 'MyRobot' does not follow" in out
 
 
 def test_check_fails_on_any_bad_file(capsys):
     bad = DATA / "bad" / "home_outside_limits.rsxml"
     assert main(["check", str(examples.IRB1300), str(bad)]) == 1
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err
     assert f"{bad}:19: HomePosition of 'J2' is 120, outside its limits [-90, 90]" in out
 
 
@@ -134,7 +134,7 @@ def test_fk_json_is_si(capsys):
 
 def test_fk_bad_joint_values(capsys):
     assert main(["fk", str(examples.IRB1300), "--q", "0,0,0"]) == 1
-    assert capsys.readouterr().err == "rswarp: --q needs 6 finite values (J1, J2, J3, J4, J5, J6), got '0,0,0'\n"
+    assert capsys.readouterr().err == "rswarp: --q needs 6 values (J1, J2, J3, J4, J5, J6), got '0,0,0'\n"
     assert main(["fk", str(examples.IRB1300), "--q", "-90,0,0,0,0,0"]) == 0  # a leading '-' is a value
     capsys.readouterr()
     assert main(["fk", str(examples.IRB1300), "--q", "0,200,0,0,0,0"]) == 0

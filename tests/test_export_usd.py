@@ -276,7 +276,7 @@ def test_export_command(tmp_path, capsys):
     stage = Usd.Stage.Open(str(tmp_path / "r.usdz"))
     assert stage.GetDefaultPrim().GetName() == "IRB2600_12_165__01"
     assert main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.obj")]) == 1
-    assert "must end in .usda, .usdc, .usdz or .urdf\n" in capsys.readouterr().err
+    assert "must end in .usda, .usdc, .usd, .usdz or .urdf\n" in capsys.readouterr().err
     assert main(["export", str(DATA / "smart" / "Counter.rsxml"), "-o", str(tmp_path / "c.usda")]) == 1
     assert re.match(r".*Counter.rsxml:\d+: SmartComponent 'Counter' holds no mechanism to export\n",
                     capsys.readouterr().err)

@@ -7,7 +7,7 @@ from lxml import etree
 
 import rswarp
 from rswarp import examples
-from rswarp.rsxml.read import children, local
+from rswarp.rsxml.parse import children, local
 from conftest import DATA
 
 GOOD = [examples.IRB1300, examples.IRB2600ID, examples.IRB2600, DATA / "smart" / "Counter.rsxml",
@@ -78,13 +78,13 @@ def test_save_is_atomic(tmp_path, monkeypatch):
         raise OSError("disk full")
 
     monkeypatch.setattr(os, "replace", broken_replace)
-    with pytest.raises(OSError, match="disk full"):
+    with pytest.raises(rswarp.InputError, match=f"{target}: cannot write: disk full"):
         rswarp.save(rswarp.load(examples.IRB1300), target)
     assert target.read_text() == "previous content"
     assert [p.name for p in tmp_path.iterdir()] == ["robot.rsxml"]  # no temporary file left behind
 
 
 def test_save_into_missing_folder_leaves_nothing(tmp_path):
-    with pytest.raises(FileNotFoundError):
+    with pytest.raises(rswarp.InputError, match="cannot write: No such file or directory"):
         rswarp.save(rswarp.load(examples.IRB1300), tmp_path / "nope" / "r.rsxml")
     assert list(tmp_path.iterdir()) == []

@@ -3,9 +3,11 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from ..errors import InputError
+from ..files import new_folders, output_error
 
 USD_SUFFIXES = (".usda", ".usdc", ".usd", ".usdz")
 
@@ -22,19 +24,30 @@ def export(model, path: str | Path, *, layout: str = "flat", collision: str = "c
                          "holding one) does")
     path = Path(path)
     density = DEFAULT_DENSITY if density is None else density
-    if not density > 0:
-        raise InputError(f"density must be positive, not {density:g}")
-    if not (path.parent if str(path.parent) else Path(".")).is_dir():
-        raise InputError(f"{path.parent}: no such folder")
+    if not (math.isfinite(density) and density > 0):
+        raise InputError(f"density must be a finite number > 0, not {density:g}")
+    try:
+        if path.is_dir():
+            raise InputError(f"{path}: is a folder; name the file to write")
+    except OSError as exc:
+        raise output_error(path, exc) from None
     suffix = path.suffix.lower()
+    if suffix == ".urdf" and not isinstance(model, Mechanism):
+        raise InputError("URDF export takes a mechanism file")
+    if suffix != ".urdf" and suffix not in USD_SUFFIXES:
+        raise InputError(f"{path}: the output must end in .usda, .usdc, .usd, .usdz or .urdf")
+    try:
+        with new_folders(path):  # missing folders are made, and removed again if the export fails
+            return _write(model, path, suffix, density, collision, layout)
+    except OSError as exc:
+        raise output_error(path, exc) from None
+
+
+def _write(model, path: Path, suffix: str, density: float, collision: str, layout: str) -> list[str]:
     if suffix == ".urdf":
-        if not isinstance(model, Mechanism):
-            raise InputError("URDF export takes a mechanism file")
         from .urdf import to_urdf
 
         return to_urdf(model, path, density=density)
-    if suffix in USD_SUFFIXES:
-        from .usd_layout import to_usd
+    from .usd_layout import to_usd
 
-        return to_usd(model, path, density=density, collision=collision, layout=layout)
-    raise InputError(f"{path}: the output must end in .usda, .usdc, .usdz or .urdf")
+    return to_usd(model, path, density=density, collision=collision, layout=layout)

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import Diagnostic, MeshNotFoundError
+from ..errors import Diagnostic, MeshError, MeshNotFoundError, one_line
+from ..files import check_regular
 from ..rsxml.model import Mechanism, Part
 
 MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".glb", ".gltf", ".off")
@@ -29,8 +30,16 @@ def mesh_candidates(source: str, folder: Path) -> list[Path]:
 
 
 def find_mesh(source: str, folder: Path) -> Path | None:
-    """The first candidate that exists, matching names case-insensitively."""
-    for cand in mesh_candidates(source, folder):
+    """The first candidate that exists, matching names case-insensitively (None if none does, or
+    the name cannot be a file: too long, a folder that cannot be listed)."""
+    try:
+        return _first_existing(mesh_candidates(source, folder))
+    except OSError:
+        return None
+
+
+def _first_existing(candidates: list[Path]) -> Path | None:
+    for cand in candidates:
         if cand.exists():
             return cand
         if cand.parent.is_dir():
@@ -50,17 +59,35 @@ def part_mesh_path(mech: Mechanism, part: Part) -> Path | None:
 
 @lru_cache(maxsize=64)
 def _load(path: str, mtime: float):
+    """The mesh in a file, or ``ValueError`` saying in one line why it cannot be used."""
     import trimesh  # imported on first use: kinematics never needs it
 
-    mesh = trimesh.load(path, force="mesh")  # process=True merges STL vertices
+    try:
+        check_regular(path)
+    except OSError as exc:
+        raise ValueError(f"cannot read it: {exc.strerror or exc}") from None
+    kind = Path(path).suffix.lower().lstrip(".")
+    try:
+        mesh = trimesh.load(path, force="mesh")  # process=True merges STL vertices
+    except Exception as exc:  # trimesh raises many types (even ImportError) for broken files
+        detail = "" if isinstance(exc, ImportError) else f" ({one_line(str(exc))[:120]})"
+        raise ValueError(f"not a readable {kind} file{detail}") from None
     if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        raise ValueError("no triangles")
+        raise ValueError(f"the {kind} file holds no triangles")
+    if not np.all(np.isfinite(mesh.vertices)):
+        raise ValueError("it has non-finite vertex coordinates")
+    centred = mesh.vertices - mesh.vertices.mean(axis=0)
+    s = np.linalg.svd(centred, compute_uv=False)
+    if len(s) < 3 or s[2] <= 1e-9 * max(s[0], 1e-300):
+        raise ValueError("it is flat (all its points lie in one plane or line): no volume for a mass "
+                         "or a collision hull; give the part a solid mesh or remove it")
     return mesh
 
 
 def part_mesh(mech: Mechanism, part: Part, transform: np.ndarray | None = None):
     """The Part's mesh in world coordinates at the zero position, metres; ``transform`` is the
-    Part's placement (see ``Mechanism.parts``). Raises MeshNotFoundError naming the files tried."""
+    Part's placement (see ``Mechanism.parts``). Raises MeshNotFoundError naming the files tried
+    when there is no mesh, MeshError when the mesh found cannot be used."""
     file = mech.path or "<memory>"
     if not part.source:
         raise MeshNotFoundError(Diagnostic(file, part.line, f"part '{part.name}' has no source"))
@@ -71,8 +98,8 @@ def part_mesh(mech: Mechanism, part: Part, transform: np.ndarray | None = None):
                                            f"(source '{part.source}'); looked for {tried}"))
     try:
         mesh = _load(str(path), path.stat().st_mtime).copy()
-    except Exception as exc:  # trimesh raises many types for broken files
-        raise MeshNotFoundError(Diagnostic(str(path), 0, f"cannot read mesh: {exc}")) from None
+    except (ValueError, OSError) as exc:
+        raise MeshError(Diagnostic(file, part.line, f"mesh {path} of part '{part.name}': {exc}")) from None
     scale = 1.0 if path.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
     m = (np.eye(4) if transform is None else transform) @ np.diag([scale, scale, scale, 1.0])
     mesh.apply_transform(m)

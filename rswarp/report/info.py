@@ -5,17 +5,20 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..errors import one_line
 from ..geometry.meshes import part_mesh_path
 from ..rsxml.documents import Report
 from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource
 from ..rsxml.model import Group, Mechanism, Part, Pose, SmartComponent, iter_parts
 from ..rsxml.units import format_number
+from ..transforms import matrix_euler_zyx
 
 
 def _pose(p: Pose | None) -> dict | None:
-    if p is None:
-        return None
-    m = p.matrix()
+    return None if p is None else _matrix(p.matrix())
+
+
+def _matrix(m) -> dict:
     return {"translation": [round(float(v), 12) for v in m[:3, 3]],
             "rotation": [[round(float(v), 12) for v in row] for row in m[:3, :3]]}
 
@@ -24,9 +27,10 @@ def mechanism_dict(mech: Mechanism) -> dict:
     links = []
     for link in mech.links:
         parts = []
-        for part, _ in iter_parts(link):
+        for part, placed in iter_parts(link):
             mesh = part_mesh_path(mech, part)
-            parts.append({"name": part.name, "source": part.source, "mesh": str(mesh) if mesh else None})
+            parts.append({"name": part.name, "source": part.source, "mesh": str(mesh) if mesh else None,
+                          "placement": _matrix(placed)})
         links.append({"name": link.name, "group": isinstance(link, Group), "parts": parts})
     joints = []
     for j in mech.joints:
@@ -127,6 +131,11 @@ def _table(rows: list[list[str]], indent: str = "  ") -> list[str]:
     return [indent + "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
 
 
+def _rounded(values, factor: float) -> str:
+    """SI values in file units to 6 decimals: placements are computed, so their last digits are noise."""
+    return "(" + ", ".join(format_number(round(float(v) / factor, 6) * factor, factor) for v in values) + ")"
+
+
 def mechanism_text(mech: Mechanism) -> list[str]:
     lf = mech.length_factor
     lu, au = mech.length_unit or "m", mech.angle_unit or "rad"
@@ -139,11 +148,12 @@ def mechanism_text(mech: Mechanism) -> list[str]:
     if mech.motion_control:
         out.append(f"  motion control: {mech.motion_control}")
     out.append(f"Links ({len(mech.links)}, base {mech.base_link}):")
-    rows = [["link", "part", "source", "mesh"]]
+    rows = [["link", "part", "source", "mesh", f"placed at [{lu}]", f"rotated zyx [{au}]"]]
     for link in mech.links:
-        for part, _ in iter_parts(link):
+        for part, placed in iter_parts(link):
             mesh = part_mesh_path(mech, part)
-            rows.append([link.name, part.name, part.source or "-", mesh.name if mesh else "-"])
+            rows.append([link.name, part.name, part.source or "-", mesh.name if mesh else "-",
+                         _rounded(placed[:3, 3], lf), _rounded(matrix_euler_zyx(placed[:3, :3]), mech.angle_factor)])
     out += _table(rows)
     out.append("Joints:")
     rows = [["joint", "type", "active", "parent -> child", f"axis point1 -> point2 [{lu}]", "min", "max", "home"]]
@@ -251,12 +261,13 @@ def check_dict(reports: list[Report]) -> dict:
          "warnings": [_diag(d) for d in r.warnings]} for r in reports]}
 
 
+def check_verdict(r: Report) -> str:
+    """``rswarp check``'s line per file: OK or FAILED, with the counts of problems."""
+    ne, nw = len(r.errors), len(r.warnings)
+    return one_line(f"{r.path}: {'OK' if r.ok else 'FAILED'} ({r.kind}; {ne} error{'s' * (ne != 1)}, "
+                    f"{nw} warning{'s' * (nw != 1)})")
+
+
 def check_text(reports: list[Report]) -> str:
-    """``rswarp check``: every problem as ``file:line: message``, then a verdict per file."""
-    lines = []
-    for r in reports:
-        lines += [str(d) for d in r.all_diagnostics]
-        ne, nw = len(r.errors), len(r.warnings)
-        lines.append(f"{r.path}: {'OK' if r.ok else 'FAILED'} ({r.kind}; {ne} error{'s' * (ne != 1)}, "
-                     f"{nw} warning{'s' * (nw != 1)})")
-    return "\n".join(lines)
+    """Every problem as ``file:line: message``, then a verdict per file (as ``check`` prints them)."""
+    return "\n".join(line for r in reports for line in [*(str(d) for d in r.all_diagnostics), check_verdict(r)])

@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import io
 import json
+import math
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from ..files import atomic_write
+from ..files import atomic_folder, atomic_write, check_replaceable
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
 from ..sim.workspace import Workspace
@@ -27,23 +28,42 @@ def sweep_resolution(mech: Mechanism, resolution: float | None) -> float:
     return resolution * mech.length_factor
 
 
-def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path) -> dict:
-    """Write the sweep's files into ``out`` (created if needed); the report as a dict, with the
-    files it wrote under ``files``."""
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: not a folder")
-    out.mkdir(parents=True, exist_ok=True)
-    files = {"voxels": out / "workspace.npz", "report": out / "report.json"}
-    save_voxels(ws, files["voxels"])
-    if ws.reach is not None:
-        from .figures import work_range_figures
+SWEEP_FILES = ("workspace.npz", "report.json", "side.png", "top.png")
 
+
+def check_sweep_folder(out: str | Path) -> None:
+    """Refuse an output folder the sweep could not replace, before any sampling is done."""
+    check_replaceable(Path(out), SWEEP_FILES)
+
+
+def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path) -> dict:
+    """Write the sweep's files into ``out`` as one set: written into a temporary folder that then
+    replaces ``out`` (a folder holding an earlier sweep's files only, or none), so an interrupted
+    run never leaves new voxels beside an old report. The report as a dict, its files under ``files``."""
+    out = Path(out)
+    files = {"voxels": out / "workspace.npz", "report": out / "report.json"}
+    if ws.reach is not None:
         files["side_view"], files["top_view"] = out / "side.png", out / "top.png"
-        work_range_figures(ws, mech, files["side_view"], files["top_view"])
-    doc = ws.report() | {"files": {k: str(v) for k, v in files.items()}}
-    atomic_write(files["report"], (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
+    doc = json_safe(ws.report()) | {"files": {k: str(v) for k, v in files.items()}}
+    with atomic_folder(out, SWEEP_FILES) as tmp:
+        save_voxels(ws, tmp / files["voxels"].name)
+        if ws.reach is not None:
+            from .figures import work_range_figures
+
+            work_range_figures(ws, mech, tmp / "side.png", tmp / "top.png")
+        atomic_write(tmp / files["report"].name, (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
     return doc
+
+
+def json_safe(value):
+    """``value`` with every non-finite float as None: JSON has no NaN, and a reader must not choke."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(v) for v in value]
+    return value
 
 
 def save_voxels(ws: Workspace, path) -> None:

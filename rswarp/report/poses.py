@@ -9,7 +9,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..rsxml.model import Mechanism
-from ..rsxml.units import format_number
+from ..rsxml.parse import number
+from ..rsxml.units import MAX_ANGLE, MAX_LENGTH, format_number
 from ..transforms import matrix_euler_zyx
 
 
@@ -52,15 +53,21 @@ def limit_warnings(mech: Mechanism, q: np.ndarray) -> list[str]:
 
 
 def joint_values(mech: Mechanism, text: str) -> np.ndarray:
-    """Active-joint values typed in the file's units (``"0, 0, 0, 0, 30, 0"``) as SI."""
+    """Active-joint values typed in the file's units (``"0, 0, 0, 0, 30, 0"``) as SI: plain ASCII
+    decimals, each within what a joint can do (``MAX_ANGLE``, ``MAX_LENGTH``)."""
     names = [j.name for j in mech.active_joints]
     try:
-        values = [float(v) for v in text.replace(",", " ").split()]
-    except ValueError:
-        raise InputError(f"--q: '{text}' is not a list of numbers") from None
-    if len(values) != len(names) or not all(math.isfinite(v) for v in values):
-        raise InputError(f"--q needs {len(names)} finite values ({', '.join(names)}), got '{text}'")
-    return np.array([v * mech.joint_factor(j) for v, j in zip(values, mech.active_joints)])
+        values = [number(v) for v in text.replace(",", " ").split()]
+    except ValueError as exc:
+        raise InputError(f"--q: '{text}' has {exc}") from None
+    if len(values) != len(names):
+        raise InputError(f"--q needs {len(names)} values ({', '.join(names)}), got '{text}'")
+    si = [v * mech.joint_factor(j) for v, j in zip(values, mech.active_joints)]
+    for v, s, j in zip(values, si, mech.active_joints):
+        bound, what = (MAX_ANGLE, "rad") if j.revolute else (MAX_LENGTH, "m")
+        if abs(s) > bound:
+            raise InputError(f"--q: {j.name} = {v:g} is beyond what a joint can do ({bound:g} {what})")
+    return np.array(si)
 
 
 def fk_report(mech: Mechanism, q: np.ndarray, device: str = "cpu") -> tuple[dict, str]:

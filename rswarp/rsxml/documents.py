@@ -5,16 +5,20 @@
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import Diagnostic, RsxmlError
+from ..files import file_size_limit
 from .library import (
     LibraryCompiler, LibraryResource, read_library, read_resource, resolve_relative, with_descriptions,
 )
 from .model import Mechanism, SmartComponent
-from .read import NS_LIBRARY, NS_RESOURCE, local, namespace, parse_xml, read_component_root
+from .parse import local, namespace, parse_xml
+from .read import NS_LIBRARY, NS_RESOURCE, read_component_root
 from .validate import robot_name_parts, validate_mechanism, validate_smart_component
 
 
@@ -49,96 +53,162 @@ class Report:
         return not self.errors
 
 
-def check(path: str | Path, _seen: frozenset[str] = frozenset()) -> Report:
-    """Read and validate one file; never raises for bad input (problems are in the report)."""
-    file = str(path)
-    diags: list[Diagnostic] = []
+MAX_LIBRARY_DEPTH = 32  # LibraryCompiler files building LibraryCompiler files, at most this deep
+
+
+def check(path: str | Path, *, max_file_size: int | None = None) -> Report:
+    """Read and validate one file; never raises for bad input (problems are in the report).
+
+    Files are read within ``max_file_size`` bytes (default ``rswarp.files.DEFAULT_MAX_FILE_SIZE``)."""
+    with file_size_limit(max_file_size), _no_cyclic_gc():
+        return _Checker().check(str(path), 0)
+
+
+@contextlib.contextmanager
+def _no_cyclic_gc():
+    """Pause Python's cycle collector while a model is read: the millions of objects of a large
+    model trigger it over and over (a quarter of the time), and reading makes no cycles to collect."""
+    enabled = gc.isenabled()
+    gc.disable()
     try:
-        root = parse_xml(path)
-    except RsxmlError as exc:
-        return Report(file, "unknown", None, tuple(exc.diagnostics))
-    ns, kind = namespace(root), local(root)
-    if ns == NS_LIBRARY and kind == "LibraryCompiler":
-        lib = read_library(root, file, diags)
-        subs = _check_sources(lib, diags, _seen | {str(Path(file).resolve())})
-        return Report(file, kind, lib, tuple(diags), subs)
-    if ns == NS_RESOURCE and kind == "LibraryResource":
-        return Report(file, kind, read_resource(root, file, diags), tuple(diags))
-    model = read_component_root(root, file, diags)
-    if isinstance(model, Mechanism):
-        validate_mechanism(model, file, diags)
-    elif isinstance(model, SmartComponent):
-        validate_smart_component(model, file, diags)
-        model = _describe(model, Path(file).parent, diags)
-    return Report(file, kind, model, tuple(diags))
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
-def _check_sources(lib: LibraryCompiler, diags: list[Diagnostic], seen: frozenset[str]) -> tuple[Report, ...]:
-    """Check every source a library builds, and its Revision against the component's name."""
-    reports = []
-    for entry in lib.libraries:
-        component = entry.component
-        if entry.source_path:
-            if str(Path(entry.source_path).resolve()) in seen:
-                diags.append(Diagnostic(lib.path, entry.line, f"Library source '{entry.source}' refers back to itself"))
-                continue
-            sub = check(entry.source_path, seen)
-            reports.append(sub)
-            component = sub.model
-        elif isinstance(component, SmartComponent):
-            validate_smart_component(component, lib.path, diags)
-            component = _describe(component, Path(lib.path).parent, diags)
-        elif isinstance(component, Mechanism):
-            validate_mechanism(component, lib.path, diags)
-        name = getattr(component, "name", None)
-        parts = robot_name_parts(name) if name else None
-        rev = entry.properties.revision
-        if parts and rev is not None and rev != parts["revision"]:
-            diags.append(Diagnostic(lib.path, entry.line, f"Revision {rev} disagrees with the revision "
-                                    f"{parts['revision']} in the name '{name}'", "warning"))
-    return tuple(reports)
+class _Checker:
+    """One ``check`` run: each file is read and validated once, however many libraries build it
+    (without that, two Library entries per level double the work at every level)."""
+
+    def __init__(self):
+        self.done: dict[str, Report] = {}
+        self.open: set[str] = set()  # libraries being checked: a source among them is a cycle
+
+    def check(self, file: str, depth: int) -> Report:
+        diags: list[Diagnostic] = []
+        try:
+            root = parse_xml(file)
+        except RsxmlError as exc:
+            return Report(file, "unknown", None, tuple(exc.diagnostics))
+        ns, kind = namespace(root), local(root)
+        if ns == NS_LIBRARY and kind == "LibraryCompiler":
+            lib = read_library(root, file, diags)
+            key = _key(file)
+            self.open.add(key)
+            try:
+                subs = self._sources(lib, diags, depth)
+            finally:
+                self.open.discard(key)
+            return Report(file, kind, lib, tuple(diags), subs)
+        if ns == NS_RESOURCE and kind == "LibraryResource":
+            return Report(file, kind, read_resource(root, file, diags), tuple(diags))
+        model = read_component_root(root, file, diags)
+        if isinstance(model, Mechanism):
+            validate_mechanism(model, file, diags)
+        elif isinstance(model, SmartComponent):
+            validate_smart_component(model, file, diags)
+            model = self._describe(model, Path(file).parent, diags)
+        return Report(file, kind, model, tuple(diags))
+
+    def _source(self, lib: LibraryCompiler, entry, diags: list[Diagnostic], depth: int) -> Report | None:
+        """The report of one Library source, checked the first time only (None: not checkable)."""
+        key = _key(entry.source_path)
+        if key in self.open:
+            diags.append(Diagnostic(lib.path, entry.line, f"Library source '{entry.source}' refers back to itself"))
+            return None
+        if key not in self.done:
+            if depth >= MAX_LIBRARY_DEPTH:
+                diags.append(Diagnostic(lib.path, entry.line, f"Library sources nest deeper than {MAX_LIBRARY_DEPTH} "
+                                        f"levels; '{entry.source}' is not checked"))
+                return None
+            self.done[key] = self.check(entry.source_path, depth + 1)
+        return self.done[key]
+
+    def _sources(self, lib: LibraryCompiler, diags: list[Diagnostic], depth: int) -> tuple[Report, ...]:
+        """Check every source a library builds, and its Revision against the component's name.
+        A source built twice is reported once (under its first Library)."""
+        reports = []
+        for entry in lib.libraries:
+            component = entry.component
+            if entry.source_path:
+                first = _key(entry.source_path) not in self.done
+                sub = self._source(lib, entry, diags, depth)
+                if sub is None:
+                    continue
+                if first:
+                    reports.append(sub)
+                component = sub.model
+            elif isinstance(component, SmartComponent):
+                validate_smart_component(component, lib.path, diags)
+                component = self._describe(component, Path(lib.path).parent, diags)
+            elif isinstance(component, Mechanism):
+                validate_mechanism(component, lib.path, diags)
+            _revision(lib, entry, component, diags)
+        return tuple(reports)
+
+    def _describe(self, sc: SmartComponent, folder: Path, diags: list[Diagnostic]) -> SmartComponent:
+        """Attach descriptions from ``<name>.<language>.xml`` beside the component (English first)."""
+        try:
+            names = [p for p in folder.iterdir() if p.name.startswith(f"{sc.name}.") and p.suffix == ".xml"
+                     and len(p.suffixes) >= 2]
+        except OSError:
+            return sc
+        for path in sorted(names, key=lambda p: (p.suffixes[-2:-1] != [".en"], p.name)):
+            report = self.check(str(path), 0)
+            if isinstance(report.model, LibraryResource):
+                diags.extend(report.diagnostics)
+                _unknown_descriptions(sc, report.model, path, diags)
+                return with_descriptions(sc, report.model)
+        return sc
 
 
-def _describe(sc: SmartComponent, folder: Path, diags: list[Diagnostic]) -> SmartComponent:
-    """Attach descriptions from ``<name>.<language>.xml`` beside the component (English first)."""
-    candidates = sorted(folder.glob(f"{sc.name}.*.xml"), key=lambda p: (p.suffixes[-2:-1] != [".en"], p.name))
-    for path in candidates:
-        report = check(path)
-        if isinstance(report.model, LibraryResource):
-            diags.extend(report.diagnostics)
-            known = {p.name for p in sc.properties} | {s.name for s in sc.signals}
-            for e in report.model.entries:
-                for c in e.children if e.name == sc.name else ():
-                    if c.name not in known:
-                        diags.append(Diagnostic(str(path), c.line, f"{c.kind} '{c.name}' is not in SmartComponent "
-                                                f"'{sc.name}'", "warning"))
-            return with_descriptions(sc, report.model)
-    return sc
+def _key(file: str) -> str:
+    return str(Path(file).resolve())
 
 
-def checked(path: str | Path) -> Report:
+def _revision(lib: LibraryCompiler, entry, component, diags: list[Diagnostic]) -> None:
+    """Warn when a Library's Revision disagrees with the revision in its robot's name."""
+    name = getattr(component, "name", None)
+    parts = robot_name_parts(name) if name else None
+    rev = entry.properties.revision
+    if parts and rev is not None and rev != parts["revision"]:
+        diags.append(Diagnostic(lib.path, entry.line, f"Revision {rev} disagrees with the revision "
+                                f"{parts['revision']} in the name '{name}'", "warning"))
+
+
+def _unknown_descriptions(sc: SmartComponent, resource: LibraryResource, path: Path, diags: list[Diagnostic]) -> None:
+    known = {p.name for p in sc.properties} | {s.name for s in sc.signals}
+    for e in resource.entries:
+        for c in e.children if e.name == sc.name else ():
+            if c.name not in known:
+                diags.append(Diagnostic(str(path), c.line, f"{c.kind} '{c.name}' is not in SmartComponent "
+                                        f"'{sc.name}'", "warning"))
+
+
+def checked(path: str | Path, *, max_file_size: int | None = None) -> Report:
     """The report of a file without errors; raise ``RsxmlError`` (every error) otherwise."""
-    report = check(path)
+    report = check(path, max_file_size=max_file_size)
     if report.errors:
         raise RsxmlError(report.errors)
     return report
 
 
-def load_mechanism(path: str | Path) -> tuple[Mechanism, Report]:
+def load_mechanism(path: str | Path, *, max_file_size: int | None = None) -> tuple[Mechanism, Report]:
     """A mechanism file's model and report (its warnings); any other kind of file is refused."""
-    report = checked(path)
+    report = checked(path, max_file_size=max_file_size)
     if not isinstance(report.model, Mechanism):
         raise RsxmlError(Diagnostic(report.path, 1, f"this is a {report.kind}, not a mechanism"))
     return report.model, report
 
 
-def load(path: str | Path):
+def load(path: str | Path, *, max_file_size: int | None = None):
     """Read and validate a component file (.rsxml); raise ``RsxmlError`` on any error.
 
     Returns a ``Mechanism`` for a mechanism file (a ``SmartComponent``, ``Group`` or ``Part`` for
     those roots); warnings are issued as ``RsxmlWarning``.
     """
-    report = check(path)
+    report = check(path, max_file_size=max_file_size)
     if report.errors:
         raise RsxmlError(report.errors)
     if report.kind in ("LibraryCompiler", "LibraryResource"):
@@ -149,9 +219,9 @@ def load(path: str | Path):
     return report.model
 
 
-def load_library(path: str | Path) -> LibraryCompiler:
+def load_library(path: str | Path, *, max_file_size: int | None = None) -> LibraryCompiler:
     """Read a LibraryCompiler XML and check every source it builds; raise ``RsxmlError`` on errors."""
-    report = check(path)
+    report = check(path, max_file_size=max_file_size)
     if report.errors:
         raise RsxmlError(report.errors)
     if report.kind != "LibraryCompiler":

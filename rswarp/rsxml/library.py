@@ -9,7 +9,8 @@ from pathlib import Path
 from lxml import etree
 
 from ..errors import Diagnostic
-from .read import NS_COMPONENT, Reader, children, local, namespace, read_component_root
+from .parse import children, local, namespace
+from .read import NS_COMPONENT, Reader, read_component_root
 
 PROPERTY_TAGS = ("Title", "Author", "Revision", "Image")
 
@@ -105,26 +106,31 @@ class LibraryResource:
 
 
 def resolve_relative(base_dir: Path, source: str) -> Path | None:
-    """A path written in a file (``dir\\file.rsxml`` allowed), found case-insensitively."""
-    rel = Path(*source.replace("\\", "/").split("/"))
-    direct = base_dir / rel
-    if direct.exists():
-        return direct
-    folder = base_dir
-    for part in rel.parts:
-        if not folder.is_dir():
-            return None
-        match = [p for p in folder.iterdir() if p.name.lower() == part.lower()]
-        if not match:
-            return None
-        folder = match[0]
-    return folder
+    """A path written in a file (``dir\\file.rsxml`` allowed, absolute or relative to ``base_dir``),
+    found case-insensitively; None when there is no such file (or the name cannot be one)."""
+    posix = source.replace("\\", "/")
+    rel = Path(posix) if posix.startswith("/") else Path(*posix.split("/"))
+    try:
+        direct = base_dir / rel  # an absolute rel replaces base_dir
+        if direct.exists():
+            return direct
+        folder = Path(rel.anchor) if rel.is_absolute() else base_dir
+        for part in rel.parts[1:] if rel.is_absolute() else rel.parts:
+            if not folder.is_dir():
+                return None
+            match = [p for p in folder.iterdir() if p.name.lower() == part.lower()]
+            if not match:
+                return None
+            folder = match[0]
+        return folder
+    except OSError:  # a name too long, a folder that cannot be listed: not a file we can read
+        return None
 
 
 def _properties(r: Reader, el: etree._Element) -> DocumentProperties:
     values: dict[str, object] = {}
     extra = []
-    for c in children(el):
+    for c in r.children(el):
         tag = local(c)
         if tag == "Image":
             r.known(c, ("generate", "source", "zoom", "panx", "pany", "flip"))
@@ -143,7 +149,7 @@ def read_library(root: etree._Element, file: str, diagnostics: list[Diagnostic])
     r = Reader(file, diagnostics)
     base_dir = Path(file).parent
     defaults, entries = DocumentProperties(), []
-    for el in children(root):
+    for el in r.children(root):
         tag = local(el)
         if tag == "DefaultProperties":
             defaults = _properties(r, el)
@@ -156,12 +162,14 @@ def read_library(root: etree._Element, file: str, diagnostics: list[Diagnostic])
         r.known(el, ("source", "fileName"))
         source = r.text(el, "source")
         own, variants, component = DocumentProperties(), [], None
-        for c in children(el):
+        for c in children(el):  # an inline component is in the component namespace
             tag = local(c)
-            if tag == "DocumentProperties":
+            if namespace(c) not in (namespace(el), NS_COMPONENT):
+                r.foreign(c)
+            elif tag == "DocumentProperties":
                 own = _properties(r, c)
             elif tag == "Variant":
-                props = next((_properties(r, p) for p in children(c) if local(p) == "DocumentProperties"),
+                props = next((_properties(r, p) for p in r.children(c) if local(p) == "DocumentProperties"),
                              DocumentProperties())
                 variants.append(Variant(name=c.get("name"), options=r.options(c, ("name",)),
                                         properties=props.over(own.over(defaults)), line=c.sourceline or 0))
@@ -179,6 +187,8 @@ def read_library(root: etree._Element, file: str, diagnostics: list[Diagnostic])
                 file_name = ""
         if source is None and component is None:
             r.error(el, "Library has neither a source nor a component inside")
+        elif source == "":
+            r.error(el, "Library has an empty source")
         path = resolve_relative(base_dir, source) if source else None
         if source and path is None:
             r.error(el, f"Library source '{source}' not found (looked for {base_dir / source.replace(chr(92), '/')})")
@@ -202,13 +212,13 @@ def read_resource(root: etree._Element, file: str, diagnostics: list[Diagnostic]
 
     def entry(el: etree._Element) -> ResourceEntry:
         return ResourceEntry(kind=local(el), name=r.text(el, "name", True) or "", description=el.get("description"),
-                             children=tuple(entry(c) for c in children(el)), line=el.sourceline or 0)
+                             children=tuple(entry(c) for c in r.children(el)), line=el.sourceline or 0)
 
     suffixes = Path(file).suffixes
     language = suffixes[-2].lstrip(".") if len(suffixes) >= 2 and suffixes[-1].lower() == ".xml" else None
     if language is None:
         r.warn(root, "a LibraryResource file should be named <Name>.<language>.xml")
-    return LibraryResource(path=file, language=language, entries=tuple(entry(c) for c in children(root)))
+    return LibraryResource(path=file, language=language, entries=tuple(entry(c) for c in r.children(root)))
 
 
 def with_descriptions(component, resource: LibraryResource):

@@ -211,6 +211,7 @@ class Mechanism:
     path: str | None = field(default=None, compare=False, repr=False)
     line: int = _line()
     section_lines: tuple[tuple[str, int], ...] = field(default=(), compare=False, repr=False)
+    comments: tuple[str, ...] = field(default=(), compare=False, repr=False)  # before the root, kept by save
 
     def section_line(self, name: str) -> int:
         """Source line of a top-level element (Links, HomePosition, ...), or the root's."""
@@ -346,6 +347,7 @@ class SmartComponent:
     assets: tuple[str, ...] = ()
     descriptions: tuple[tuple[str, str], ...] = field(default=(), compare=False)  # from LibraryResource
     path: str | None = field(default=None, compare=False, repr=False)
+    comments: tuple[str, ...] = field(default=(), compare=False, repr=False)  # before the root, kept by save
     line: int = _line()
 
     def option(self, key: str) -> str | None:

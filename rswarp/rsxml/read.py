@@ -1,24 +1,26 @@
 """Read GraphicComponent XML (.rsxml) into the model, collecting every problem with its line.
 
-Parsing is safe: no entity expansion, no network, no huge trees; a document that declares entities
-(the way external-entity and billion-laughs attacks start) is refused outright.
+Parsing is safe (``parse``): no entity expansion, no network, no huge trees, regular files within
+the size limit. Values are checked for physical sense as they are read: lengths within 1 km, angles
+within ``MAX_ANGLE``, so nothing downstream overflows float32 or turns into NaN.
 """
 
 from __future__ import annotations
 
 import math
-from pathlib import Path
+from dataclasses import replace
 from typing import Callable, Iterable
 
 import numpy as np
 from lxml import etree
 
-from ..errors import Diagnostic, RsxmlError
+from ..errors import Diagnostic
 from .model import (
     JOINT_TYPES, Attribute, Binding, Cable, Component, ControlPoint, DynamicProperty, Flange, Group,
     IOSignal, Joint, Limit, Mechanism, Part, Pose, SmartComponent,
 )
-from .units import ANGLE_UNITS, LENGTH_UNITS
+from .parse import children, local, namespace, number, prolog_comments
+from .units import ANGLE_UNITS, LENGTH_UNITS, MAX_ANGLE, MAX_LENGTH
 
 NS_COMPONENT = "urn:abb-robotics-robotstudio-graphiccomponent"
 NS_LIBRARY = "urn:abb-robotics-robotstudio-librarycompiler"
@@ -29,47 +31,6 @@ MECHANISM_SECTIONS = ("Attributes", "Links", "Joints", "Limits", "Flanges", "Bas
                       "JointMask", "AdditionalComponents")
 ORTHO_TOL = 1e-5  # |R^T R - I| allowed for x/y/z written with six decimals
 QUAT_TOL = 1e-6  # |q| - 1 above this is warned about and normalized
-
-
-def parse_xml(path: str | Path) -> etree._Element:
-    """Parse an XML file safely; raise RsxmlError(file:line: ...) when it is not usable XML."""
-    file = str(path)
-    parser = etree.XMLParser(
-        resolve_entities=False, no_network=True, huge_tree=False, load_dtd=False,
-        dtd_validation=False, remove_pis=True, remove_comments=True,
-    )
-    try:
-        data = Path(path).read_bytes()
-    except OSError as exc:
-        raise RsxmlError(Diagnostic(file, 0, f"cannot read file: {exc.strerror or exc}")) from None
-    at = data.find(b"<!ENTITY")
-    if at >= 0:  # refused before parsing: external entities and entity bombs start this way
-        end = data.find(b">", at)
-        decl = data[at:end].split()
-        name = decl[1].decode("utf-8", "replace") if len(decl) > 1 else "?"
-        kind = "external entity" if b"SYSTEM" in decl or b"PUBLIC" in decl else "entity"
-        raise RsxmlError(Diagnostic(file, data[:at].count(b"\n") + 1,
-                                    f"{kind} '{name}' declared in the DOCTYPE: entities are refused"))
-    try:
-        tree = etree.fromstring(data, parser, base_url=None).getroottree()
-    except etree.XMLSyntaxError as exc:
-        line = exc.lineno or 0
-        msg = exc.msg.split(f", line {line}")[0] if exc.msg else "not well-formed XML"
-        raise RsxmlError(Diagnostic(file, line, f"XML syntax error: {msg}")) from None
-    return tree.getroot()
-
-
-def local(el: etree._Element) -> str:
-    return etree.QName(el).localname
-
-
-def namespace(el: etree._Element) -> str | None:
-    return etree.QName(el).namespace
-
-
-def children(el: etree._Element) -> list[etree._Element]:
-    """Element children (comments and processing instructions dropped)."""
-    return [c for c in el if isinstance(c.tag, str)]
 
 
 class Reader:
@@ -90,9 +51,23 @@ class Reader:
         line = where if isinstance(where, int) else (where.sourceline or 0)
         self.diagnostics.append(Diagnostic(self.file, line, message, "warning"))
 
+    def children(self, el: etree._Element) -> list[etree._Element]:
+        """Element children in ``el``'s namespace; an element of another namespace is not RSXML
+        (``<x:Joints xmlns:x="...xhtml">`` is no Joints section): reported and skipped."""
+        ns, out = namespace(el), []
+        for c in children(el):
+            if namespace(c) == ns:
+                out.append(c)
+            else:
+                self.foreign(c)
+        return out
+
+    def foreign(self, el: etree._Element) -> None:
+        self.warn(el, f"element <{el.prefix + ':' if el.prefix else ''}{local(el)}> of namespace "
+                      f"'{namespace(el)}' is not RSXML; ignored")
+
     # -- attributes --------------------------------------------------------------------------------
     def known(self, el: etree._Element, allowed: Iterable[str]) -> None:
-        allowed = set(allowed)
         for key in el.attrib:
             name = etree.QName(key).localname if key.startswith("{") else key
             if key.startswith("{") or name in allowed:
@@ -111,30 +86,38 @@ class Reader:
         return value
 
     def floats(self, el: etree._Element, name: str, count: int | None = None, factor: float = 1.0,
-               required: bool = False) -> tuple[float, ...] | None:
+               required: bool = False, bound: str | None = None) -> tuple[float, ...] | None:
+        """Numbers of an attribute ("1, 2, 3" or "1 2 3") times ``factor`` (to SI); ``bound`` is
+        "length" or "angle" when the values must be within ``MAX_LENGTH`` or ``MAX_ANGLE``."""
         raw = self.text(el, name, required)
         if raw is None:
             return None
-        parts = [p for p in (raw.split(",") if "," in raw else raw.split())]
-        values = []
-        for p in parts:
-            p = p.strip()
-            try:
-                v = float(p)
-            except ValueError:
-                self.error(el, f"'{name}' has a bad number '{p}'")
-                return None
-            if not math.isfinite(v):
-                self.error(el, f"'{name}' has a non-finite number '{p}'")
-                return None
-            values.append(v * factor)
+        try:
+            values = tuple(number(p) * factor for p in (raw.split(",") if "," in raw else raw.split()))
+        except ValueError as exc:
+            self.error(el, f"'{name}' has {exc}")
+            return None
         if count is not None and len(values) != count:
             self.error(el, f"'{name}' needs {count} numbers, got {len(values)}")
             return None
-        return tuple(values)
+        if bound and values and max(map(abs, values)) > (MAX_LENGTH if bound == "length" else MAX_ANGLE):
+            worst = max(range(len(values)), key=lambda i: abs(values[i]))
+            self.within(el, name, format(values[worst] / factor, "g"), values[worst], bound)
+            return None
+        return values
 
-    def number(self, el: etree._Element, name: str, factor: float = 1.0, required: bool = False) -> float | None:
-        values = self.floats(el, name, 1, factor, required)
+    def within(self, where: etree._Element, name: str, text: str, si: float, bound: str) -> bool:
+        """Whether an SI length or angle makes physical sense; reports it when not."""
+        limit, what = (MAX_LENGTH, "1 km, the most a model may span") if bound == "length" else \
+            (MAX_ANGLE, f"{MAX_ANGLE:g} rad (about {MAX_ANGLE / (2 * math.pi):,.0f} turns), the most a joint may turn")
+        if abs(si) <= limit:
+            return True
+        self.error(where, f"'{name}' value {text} is beyond {what}")
+        return False
+
+    def number(self, el: etree._Element, name: str, factor: float = 1.0, required: bool = False,
+               bound: str | None = None) -> float | None:
+        values = self.floats(el, name, 1, factor, required, bound)
         return None if values is None else values[0]
 
     def boolean(self, el: etree._Element, name: str, default: bool | None) -> bool | None:
@@ -154,9 +137,9 @@ class Reader:
 
     def pose(self, el: etree._Element) -> Pose:
         """The 3D transform attributes of ``el`` (t, x/y/z, euler, quat), validated."""
-        t = self.floats(el, "t", 3, self.length)
+        t = self.floats(el, "t", 3, self.length, bound="length")
         x, y, z = (self.floats(el, k, 3) for k in "xyz")
-        euler = self.floats(el, "euler", 3, self.angle)
+        euler = self.floats(el, "euler", 3, self.angle, bound="angle")
         quat = self.floats(el, "quat", 4)
         given = [k for k in "xyz" if el.get(k) is not None]
         forms = (["x/y/z"] if given else []) + [k for k in ("euler", "quat") if el.get(k) is not None]
@@ -195,7 +178,7 @@ class Reader:
         if kind == "GraphicComponentGroup":
             self.known(el, ("name", *POSE_ATTRS))
             kids: list[Component] = []
-            for c in children(el):
+            for c in self.children(el):
                 if local(c) == "GraphicComponents":
                     kids.extend(self.components(c))
                 else:
@@ -207,7 +190,7 @@ class Reader:
 
     def components(self, el: etree._Element) -> list[Component]:
         out = []
-        for c in children(el):
+        for c in self.children(el):
             comp = self.component(c)
             if comp is not None:
                 out.append(comp)
@@ -271,7 +254,7 @@ class Reader:
     def sections(self, root: etree._Element) -> dict[str, etree._Element]:
         """The Mechanism's top-level elements by name; unknown and repeated ones are reported."""
         sections: dict[str, etree._Element] = {}
-        for c in children(root):
+        for c in self.children(root):
             name = local(c)
             if name not in MECHANISM_SECTIONS:
                 self.warn(c, f"unknown element <{name}> in <Mechanism> ignored")
@@ -284,7 +267,7 @@ class Reader:
     def each(self, el: etree._Element | None, section: str, tag: str) -> list[etree._Element]:
         """The ``tag`` children of a section (others are reported and skipped)."""
         out = []
-        for c in children(el) if el is not None else ():
+        for c in self.children(el) if el is not None else ():
             if local(c) == tag:
                 out.append(c)
             else:
@@ -302,7 +285,11 @@ class Reader:
         if len(raw) != len(active):
             self.error(hp, f"HomePosition has {_count(len(raw), 'value')} for {len(active)} active joints")
             return None
-        return tuple(v * (self.angle if j.revolute else self.length) for v, j in zip(raw, active))
+        si = tuple(v * (self.angle if j.revolute else self.length) for v, j in zip(raw, active))
+        for v, s, j in zip(raw, si, active):
+            if not self.within(hp, "value", format(v, "g"), s, "angle" if j.revolute else "length"):
+                return None
+        return si
 
     def joint_mask(self, jm: etree._Element | None, active: list[Joint]) -> tuple[int, ...] | None:
         """JointMask: one whole number >= 0 per active joint."""
@@ -326,9 +313,9 @@ class Reader:
         if jtype not in JOINT_TYPES:
             self.error(el, f"joint type '{jtype}' is neither Rotational nor Prismatic")
             jtype = "Rotational"
-        p1 = self.floats(el, "point1", 3, self.length, True)
-        p2 = self.floats(el, "point2", 3, self.length, True)
-        if p1 is not None and p2 is not None and np.linalg.norm(np.subtract(p2, p1)) <= 1e-9 * max(1.0, *map(abs, p1)):
+        p1 = self.floats(el, "point1", 3, self.length, True, "length")
+        p2 = self.floats(el, "point2", 3, self.length, True, "length")
+        if p1 is not None and p2 is not None and math.dist(p1, p2) <= 1e-9 * max(1.0, *map(abs, p1)):
             self.error(el, "point1 and point2 coincide: the joint has no axis")
             p2 = None
         return Joint(
@@ -348,9 +335,9 @@ class Reader:
         if joint is None:
             self.error(el, f"Limit names unknown joint '{name}'")
             return None
-        factor = self.angle if joint.revolute else self.length
-        lo = self.number(el, "min", factor, True)
-        hi = self.number(el, "max", factor, True)
+        factor, bound = (self.angle, "angle") if joint.revolute else (self.length, "length")
+        lo = self.number(el, "min", factor, True, bound)
+        hi = self.number(el, "max", factor, True, bound)
         if lo is None or hi is None:
             return None
         if lo > hi:
@@ -364,9 +351,9 @@ class Reader:
 
     def cable(self, el: etree._Element) -> Cable:
         self.known(el, ("radius", "maxSegmentLength", "name", "color", "desiredLength", "youngsModulus"))
-        radius = self.number(el, "radius", self.length, True)
-        seg = self.number(el, "maxSegmentLength", self.length, True)
-        desired = self.number(el, "desiredLength", self.length)
+        radius = self.number(el, "radius", self.length, True, "length")
+        seg = self.number(el, "maxSegmentLength", self.length, True, "length")
+        desired = self.number(el, "desiredLength", self.length, bound="length")
         young = self.number(el, "youngsModulus")
         for key, value in (("radius", radius), ("maxSegmentLength", seg), ("desiredLength", desired),
                            ("youngsModulus", young)):
@@ -379,11 +366,11 @@ class Reader:
             else:
                 color = tuple(int(c) for c in rgb)
         points = []
-        for c in children(el):
+        for c in self.children(el):
             if local(c) != "ControlPoints":
                 self.warn(c, f"unknown element <{local(c)}> in <Cable> ignored")
                 continue
-            for p in children(c):
+            for p in self.children(c):
                 if local(p) != "ControlPoint":
                     self.warn(p, f"unknown element <{local(p)}> in <ControlPoints> ignored")
                     continue
@@ -396,7 +383,7 @@ class Reader:
 
     def control_point(self, el: etree._Element) -> ControlPoint:
         self.known(el, ("attachedTo", "position", "direction"))
-        pos = self.floats(el, "position", 3, self.length, True)
+        pos = self.floats(el, "position", 3, self.length, True, "length")
         direction = self.floats(el, "direction", 3)
         if direction is not None and float(np.linalg.norm(direction)) < 1e-12:
             self.error(el, "ControlPoint direction is zero")
@@ -408,9 +395,9 @@ class Reader:
     def smart_component(self, root: etree._Element, path: str | None = None) -> SmartComponent:
         self.units(root)
         props, signals, bindings, comps, assets = [], [], [], [], []
-        for section in children(root):
+        for section in self.children(root):
             kind = local(section)
-            items = children(section)
+            items = self.children(section)
             if kind == "Properties":
                 props += [self.dynamic_property(p) for p in items if self._expect(p, "DynamicProperty", kind)]
             elif kind == "Signals":
@@ -445,7 +432,7 @@ class Reader:
 
     def dynamic_property(self, el: etree._Element) -> DynamicProperty:
         attrs = []
-        for a in children(el):
+        for a in self.children(el):
             if self._expect(a, "Attribute", "DynamicProperty"):
                 attrs.append((self.text(a, "key", True) or "", a.get("value", "")))
         return DynamicProperty(name=self.text(el, "name", True) or "", value_type=self.text(el, "valueType"),
@@ -498,4 +485,7 @@ def read_component_root(root: etree._Element, file: str, diagnostics: list[Diagn
         r.error(root, f"unknown root element <{local(root)}> (expected Mechanism, SmartComponent, "
                       "GraphicComponentGroup or Part)")
         return None
-    return reader(r, root, file)
+    model = reader(r, root, file)
+    if isinstance(model, (Mechanism, SmartComponent)) and root.getparent() is None:
+        model = replace(model, comments=prolog_comments(root))
+    return model

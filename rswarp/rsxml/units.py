@@ -11,6 +11,11 @@ ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 DEFAULT_LENGTH_UNIT = "m"
 DEFAULT_ANGLE_UNIT = "rad"
 
+# Physical sense, and what float32 kernels can hold: a robot (or cell) fits in a 1 km box, and a
+# joint turns at most about 16,000 revolutions (ABB's "endless" axis 6 option), in SI units.
+MAX_LENGTH = 1000.0  # m
+MAX_ANGLE = 1e5  # rad
+
 
 def format_number(si: float, factor: float = 1.0) -> str:
     """The shortest decimal text that reads back (``float(text) * factor``) to exactly ``si``.

@@ -71,7 +71,7 @@ def validate_mechanism(mech: Mechanism, file: str, diagnostics: list[Diagnostic]
     for f in mech.flanges:
         if f.link and f.link not in links:
             out.error(f.line, f"flange '{f.name}' link '{f.link}' is not a link")
-    part_names = {p.name for link in mech.links for p, _ in iter_parts(link)}
+    part_names = {p.name for link in mech.links for p, _ in iter_parts(link)} if mech.cables else set()
     for c in mech.cables:
         for p in c.control_points:
             if p.attached_to is not None and p.attached_to not in links | part_names:

@@ -142,9 +142,12 @@ def to_rsxml(model: Mechanism | SmartComponent | Component) -> bytes:
         _Writer(1.0, 1.0).component(holder, model)
         root = holder[0]
         etree.cleanup_namespaces(root, top_nsmap={None: NS_COMPONENT})
-    return etree.tostring(root, xml_declaration=True, encoding="utf-8", pretty_print=True)
+    for text in getattr(model, "comments", ()):  # the note before the root (licence, provenance)
+        root.addprevious(etree.Comment(text))
+    return etree.tostring(root.getroottree(), xml_declaration=True, encoding="utf-8", pretty_print=True)
 
 
 def save(model: Mechanism | SmartComponent | Component, path: str | Path) -> None:
-    """Write a model as RSXML in its own units (atomic)."""
+    """Write a model as RSXML in its own units (atomic). The comments before the root element are
+    kept; comments inside it are not (the model does not hold them)."""
     atomic_write(path, to_rsxml(model))

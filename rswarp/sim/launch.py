@@ -9,7 +9,10 @@ are bit-identical on one core or many.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
+import tempfile
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from typing import Sequence
@@ -22,17 +25,47 @@ DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache
 GPU_CHUNK = 1 << 20
 
 
+CUDA_DRIVER_WARNING = b"Warp CUDA warning: Could not find or load the NVIDIA CUDA driver"
+
+
 def init_warp():
-    """Warp, initialized once and quietly: its banner would corrupt ``--json`` output on stdout."""
+    """Warp, initialized once and quietly: its banner would corrupt ``--json`` output on stdout, and
+    on a machine without a GPU its native "no CUDA driver" line is noise (asking for ``cuda`` there
+    is answered by the launcher); any other line Warp's native code prints is passed on."""
     import warp as wp
 
     if not getattr(init_warp, "ready", False):
         wp.config.quiet = True
         if hasattr(wp.config, "log_level"):
             wp.config.log_level = getattr(wp, "LOG_ERROR", 40)
-        wp.init()
+        with _native_stderr() as said:
+            wp.init()
+        for line in said():
+            if not line.startswith(CUDA_DRIVER_WARNING):
+                sys.stderr.write(line.decode(errors="replace"))
         init_warp.ready = True
     return wp
+
+
+@contextlib.contextmanager
+def _native_stderr():
+    """Capture what native code writes to file descriptor 2 during the block (lines, as bytes)."""
+    lines: list[bytes] = []
+    try:
+        saved = os.dup(2)
+    except OSError:  # no stderr at all: nothing to capture
+        yield lambda: lines
+        return
+    with tempfile.TemporaryFile() as tmp:
+        sys.stderr.flush()
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield lambda: lines
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            lines.extend(tmp.read().splitlines(keepends=True))
 
 
 class Launcher:

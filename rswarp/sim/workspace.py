@@ -17,13 +17,14 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, model_error
 from ..rsxml.model import Mechanism
 from .kinematics import Kinematics
 
 SAMPLE_CHUNK = 1 << 18
 TOP_K = 4  # best samples refined per extreme
 VIEW_BINS = 400  # pixels across a side or top view
+MAX_VOXELS = 1 << 26  # cells per occupancy grid (64 MiB each as booleans): memory is bounded by this
 
 
 @dataclass(frozen=True)
@@ -95,14 +96,18 @@ def sample_chunks(lower: np.ndarray, upper: np.ndarray, samples: int, method: st
                 block = engine.random(min(chunk, samples - lo))
             yield lower + span * block
     elif method == "grid":
-        per = max(2, int(round(samples ** (1.0 / dof))))
-        axes = [np.linspace(a, b, per) for a, b in zip(lower, upper)]
+        per = grid_points(samples, dof)
         total = per ** dof
-        for lo in range(0, total, chunk):
+        for lo in range(0, total, chunk):  # values from indices: memory is one chunk, whatever ``per``
             idx = np.unravel_index(np.arange(lo, min(lo + chunk, total)), (per,) * dof)
-            yield np.stack([ax[i] for ax, i in zip(axes, idx)], axis=1)
+            yield lower + span * (np.stack(idx, axis=1) / (per - 1))
     else:
         raise ValueError(f"unknown sampling method '{method}' (random, sobol or grid)")
+
+
+def grid_points(samples: int, dof: int) -> int:
+    """Points per axis of a grid of about ``samples`` configurations (at least 2)."""
+    return max(2, int(round(samples ** (1.0 / dof))))
 
 
 # -- float64 geometry used to refine extremes ---------------------------------------------------------
@@ -204,7 +209,7 @@ class _Grids:
 
     @classmethod
     def empty(cls, base: np.ndarray, radius: float, resolution: float, has_wrist: bool) -> "_Grids":
-        dims = (int(math.ceil(2 * radius / resolution)) + 1,) * 3
+        dims = (voxels_per_side(radius, resolution),) * 3
         views = (np.zeros((VIEW_BINS, VIEW_BINS), np.int64) for _ in range(2)) if has_wrist else (None, None)
         return cls(base - radius, resolution, radius, base, np.zeros(dims, bool) if has_wrist else None,
                    np.zeros(dims, bool), *views)
@@ -222,6 +227,18 @@ class _Grids:
         return np.histogram2d(a, b, bins=VIEW_BINS, range=[[c[ia] - r, c[ia] + r], [c[ib] - r, c[ib] + r]])[0].astype(np.int64)
 
 
+def voxels_per_side(radius: float, resolution: float) -> int:
+    """Cells along each side of the cubic grid that spans ``radius`` around the base; more cells
+    in all than ``MAX_VOXELS`` is an ``InputError`` naming the finest resolution that fits."""
+    side = int(math.ceil(2 * radius / resolution)) + 1
+    if side ** 3 > MAX_VOXELS:
+        finest = 2 * radius / (round(MAX_VOXELS ** (1 / 3)) - 1)
+        raise InputError(f"a {resolution * 1000:g} mm voxel grid over this robot's {radius:.3g} m reach has "
+                         f"{side ** 3:.3g} cells, over the cap of {MAX_VOXELS:.3g}; use a resolution of "
+                         f"{math.ceil(finest * 1000):g} mm or coarser")
+    return side
+
+
 # -- the sweep ----------------------------------------------------------------------------------------
 
 
@@ -234,6 +251,8 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
     if not resolution > 0:
         raise InputError("the voxel resolution must be positive")
     kin = kinematics or Kinematics(mech)
+    if kin.dof == 0:
+        raise model_error(mech, f"mechanism '{mech.name}' has no active joints: there is no workspace to sweep")
     kin.flange_frame()  # a mechanism without a flange has nothing to measure: a clear error
     exact = _Exact(kin)
     lower, upper = mech.bounds()
@@ -242,7 +261,7 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
     radius = _radius(exact, lower, upper, seed)
     grids = _Grids.empty(exact.j1_point, radius, resolution, exact.has_wrist)
     best = _Best.empty(kin.dof)
-    total = samples if method != "grid" else max(2, int(round(samples ** (1.0 / kin.dof)))) ** kin.dof
+    total = samples if method != "grid" else grid_points(samples, kin.dof) ** kin.dof
     done = 0
     for q in sample_chunks(lower, upper, samples, method, seed):
         wrist, flange = kin.wrist_flange(q, wrist=exact.has_wrist)

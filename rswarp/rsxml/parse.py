@@ -1,0 +1,119 @@
+"""Safe XML and number parsing for the RSXML family.
+
+The document is parsed with entities, DTDs and network off, from a regular file within the size
+limit; whether it declares or uses entities is decided on the parsed document (its DTD and nodes),
+so every encoding is judged alike and a comment that mentions ``<!ENTITY`` is harmless. Numbers are
+plain ASCII decimals, as RobotStudio writes them.
+"""
+
+from __future__ import annotations
+
+import codecs
+import math
+import re
+from pathlib import Path
+
+from lxml import etree
+
+from ..errors import Diagnostic, RsxmlError
+from ..files import read_regular
+
+NON_FINITE = ("nan", "+nan", "-nan", "inf", "+inf", "-inf", "infinity", "+infinity", "-infinity")
+MAX_NUMBER = 1e30  # any number beyond this is out of range (float32 overflows past 3.4e38)
+
+
+def number(text: str) -> float:
+    """An RSXML number: a plain ASCII decimal within ±1e30; ``ValueError`` saying why otherwise."""
+    text = text.strip()
+    # float() alone would also take "1_80", non-ASCII digits ("١٨٠"), "nan" and "inf"
+    if text.isascii() and "_" not in text:
+        try:
+            value = float(text)
+        except ValueError:
+            raise ValueError(f"a bad number '{text}'") from None
+        if abs(value) <= MAX_NUMBER:
+            return value
+        if math.isnan(value) or (math.isinf(value) and text.lower() in NON_FINITE):
+            raise ValueError(f"a non-finite number '{text}'")
+        raise ValueError(f"a number out of range '{text}'")
+    raise ValueError(f"a bad number '{text}'")
+
+
+def _parser() -> etree.XMLParser:
+    return etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=False, load_dtd=False,
+                           dtd_validation=False, remove_pis=True, remove_comments=False)  # kept for save
+
+
+def parse_xml(path: str | Path) -> etree._Element:
+    """Parse an XML file safely; raise RsxmlError(file:line: ...) when it is not usable XML."""
+    file = str(path)
+    try:
+        data = read_regular(path)
+    except OSError as exc:
+        raise RsxmlError(Diagnostic(file, 0, f"cannot read file: {exc.strerror or exc}")) from None
+    try:
+        root = etree.fromstring(data, _parser(), base_url=None)
+    except etree.XMLSyntaxError as exc:
+        _refuse_entities(_recovered(data), data, file)  # an entity may be why it failed: say so
+        line = exc.lineno or 0
+        msg = exc.msg.split(f", line {line}")[0] if exc.msg else "not well-formed XML"
+        if "amplification" in msg:  # libxml2 stopped an entity bomb inside an attribute
+            raise RsxmlError(Diagnostic(file, line, "entity expansion too large: entities are refused")) from None
+        raise RsxmlError(Diagnostic(file, line, f"XML syntax error: {msg}")) from None
+    _refuse_entities(root, data, file)
+    return root
+
+
+def _recovered(data: bytes) -> etree._Element | None:
+    """What libxml2's recovery mode makes of a broken document (same safe settings), or None."""
+    parser = etree.XMLParser(recover=True, resolve_entities=False, no_network=True, huge_tree=False,
+                             load_dtd=False, remove_pis=True, remove_comments=True)
+    try:
+        return etree.fromstring(data, parser, base_url=None)
+    except etree.XMLSyntaxError:
+        return None
+
+
+def _refuse_entities(root: etree._Element | None, data: bytes, file: str) -> None:
+    """External-entity and entity-bomb attacks start with a declaration or a reference: refuse both."""
+    if root is None:
+        return
+    tree = root.getroottree()
+    dtd = tree.docinfo.internalDTD
+    declared = list(dtd.iterentities()) if dtd is not None else []
+    if declared:
+        first = declared[0]
+        kind = "external entity" if first.system_url else "entity"
+        line = _declaration_line(data, tree.docinfo.encoding, first.name)
+        raise RsxmlError(Diagnostic(file, line, f"{kind} '{first.name}' declared in the DOCTYPE: entities are refused"))
+    for node in root.iter(etree.Entity):
+        raise RsxmlError(Diagnostic(file, node.sourceline or 0,
+                                    f"entity reference {node.text} to an external DTD: entities are refused"))
+
+
+def _declaration_line(data: bytes, encoding: str | None, name: str) -> int:
+    """The line of ``<!ENTITY name`` in the document's own encoding (1 when it cannot be told)."""
+    try:
+        text = codecs.decode(data, encoding or "utf-8")
+    except (LookupError, ValueError):
+        return 1
+    m = re.search(r"<!ENTITY\s+(?:%\s+)?" + re.escape(name) + r"[\s\"']", text)
+    return text.count("\n", 0, m.start()) + 1 if m else 1
+
+
+def prolog_comments(root: etree._Element) -> tuple[str, ...]:
+    """The comments before the root element (a licence or provenance note), in document order."""
+    return tuple(c.text or "" for c in reversed(list(root.itersiblings(etree.Comment, preceding=True))))
+
+
+def local(el: etree._Element) -> str:
+    return etree.QName(el).localname
+
+
+def namespace(el: etree._Element) -> str | None:
+    return etree.QName(el).namespace
+
+
+def children(el: etree._Element) -> list[etree._Element]:
+    """Element children (comments and processing instructions dropped)."""
+    return [c for c in el if isinstance(c.tag, str)]
