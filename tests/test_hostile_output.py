@@ -99,7 +99,7 @@ def test_sweep_without_active_joints(tmp_path, capsys, active):
 
 
 def test_thousand_axis_chain_uses_the_generic_kernel(tmp_path, capsys):
-    from kernels.fk import MAX_UNROLLED_LINKS
+    from rswarp.kernels.fk import MAX_UNROLLED_LINKS
 
     path = tmp_path / "long.rsxml"
     path.write_text(mechanism(1000))
@@ -174,18 +174,21 @@ endsolid f
 """
 
 
+# What trimesh makes of a corrupt STL depends on the optional modules it finds (without
+# charset_normalizer it raises ImportError): either way the file is named as unusable.
 @pytest.mark.parametrize("mesh, says", [
-    (FLAT_STL, "it is flat (all its points lie in one plane or line)"),
-    (b"solid x\n" + bytes(range(256)) * 8, "the stl file holds no triangles"),
+    (FLAT_STL, ("it is flat (all its points lie in one plane or line)",)),
+    (b"solid x\n" + bytes(range(256)) * 8, ("the stl file holds no triangles", "not a readable stl file")),
     (b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 \xff\xfe\nendloop\nendfacet\nendsolid\n",
-     "not a readable stl file (string or file could not be read"),
+     ("not a readable stl file",)),
 ])
 def test_unusable_mesh_is_the_same_error_in_every_export(tmp_path, capsys, mesh, says):
     path = _robot_with_mesh(tmp_path, mesh)
     for out in ("r.usda", "r.urdf"):
         code, _, err = run(["export", path, "-o", tmp_path / out], capsys)
-        assert code == 1 and err.startswith(f"{path}:4: mesh {tmp_path / 'Link1.stl'} of part 'L1': {says}"), err
-        assert err.count("\n") == 1 and "charset" not in err and "Qhull" not in err
+        prefix = f"{path}:4: mesh {tmp_path / 'Link1.stl'} of part 'L1': "
+        assert code == 1 and any(err.startswith(prefix + s) for s in says), err
+        assert err.count("\n") == 1 and "charset" not in err and "Qhull" not in err and "module" not in err
 
 
 def test_a_mesh_reader_missing_a_module_is_not_blamed_on_the_module(tmp_path, capsys, monkeypatch):
