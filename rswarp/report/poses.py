@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InputError
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
-from ..rsxml.units import MAX_ANGLE, MAX_LENGTH, format_number
+from ..rsxml.units import BOUNDS, format_number
 from ..transforms import matrix_euler_zyx
 
 
@@ -54,7 +54,7 @@ def limit_warnings(mech: Mechanism, q: np.ndarray) -> list[str]:
 
 def joint_values(mech: Mechanism, text: str) -> np.ndarray:
     """Active-joint values typed in the file's units (``"0, 0, 0, 0, 30, 0"``) as SI: plain ASCII
-    decimals, each within what a joint can do (``MAX_ANGLE``, ``MAX_LENGTH``)."""
+    decimals, each within what a joint can do (``BOUNDS``)."""
     names = [j.name for j in mech.active_joints]
     try:
         values = [number(v) for v in text.replace(",", " ").split()]
@@ -64,7 +64,7 @@ def joint_values(mech: Mechanism, text: str) -> np.ndarray:
         raise InputError(f"--q needs {len(names)} values ({', '.join(names)}), got '{text}'")
     si = [v * mech.joint_factor(j) for v, j in zip(values, mech.active_joints)]
     for v, s, j in zip(values, si, mech.active_joints):
-        bound, what = (MAX_ANGLE, "rad") if j.revolute else (MAX_LENGTH, "m")
+        bound, what = BOUNDS["angle" if j.revolute else "length"][0], "rad" if j.revolute else "m"
         if abs(s) > bound:
             raise InputError(f"--q: {j.name} = {v:g} is beyond what a joint can do ({bound:g} {what})")
     return np.array(si)

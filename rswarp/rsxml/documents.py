@@ -67,7 +67,7 @@ def check(path: str | Path, *, max_file_size: int | None = None) -> Report:
 @contextlib.contextmanager
 def _no_cyclic_gc():
     """Pause Python's cycle collector while a model is read: the millions of objects of a large
-    model trigger it over and over (a quarter of the time), and reading makes no cycles to collect."""
+    model trigger it over and over, and reading makes no cycles to collect."""
     enabled = gc.isenabled()
     gc.disable()
     try:
@@ -111,19 +111,20 @@ class _Checker:
             model = self._describe(model, Path(file).parent, diags)
         return Report(file, kind, model, tuple(diags))
 
-    def _source(self, lib: LibraryCompiler, entry, diags: list[Diagnostic], depth: int) -> Report | None:
-        """The report of one Library source, checked the first time only (None: not checkable)."""
+    def _source(self, lib: LibraryCompiler, entry, diags: list[Diagnostic], depth: int) -> tuple[Report | None, bool]:
+        """The report of one Library source (None: not checkable), and whether this is its first check."""
         key = _key(entry.source_path)
         if key in self.open:
             diags.append(Diagnostic(lib.path, entry.line, f"Library source '{entry.source}' refers back to itself"))
-            return None
-        if key not in self.done:
-            if depth >= MAX_LIBRARY_DEPTH:
-                diags.append(Diagnostic(lib.path, entry.line, f"Library sources nest deeper than {MAX_LIBRARY_DEPTH} "
-                                        f"levels; '{entry.source}' is not checked"))
-                return None
-            self.done[key] = self.check(entry.source_path, depth + 1)
-        return self.done[key]
+            return None, False
+        if key in self.done:
+            return self.done[key], False
+        if depth >= MAX_LIBRARY_DEPTH:
+            diags.append(Diagnostic(lib.path, entry.line, f"Library sources nest deeper than {MAX_LIBRARY_DEPTH} "
+                                    f"levels; '{entry.source}' is not checked"))
+            return None, False
+        self.done[key] = self.check(entry.source_path, depth + 1)
+        return self.done[key], True
 
     def _sources(self, lib: LibraryCompiler, diags: list[Diagnostic], depth: int) -> tuple[Report, ...]:
         """Check every source a library builds, and its Revision against the component's name.
@@ -132,8 +133,7 @@ class _Checker:
         for entry in lib.libraries:
             component = entry.component
             if entry.source_path:
-                first = _key(entry.source_path) not in self.done
-                sub = self._source(lib, entry, diags, depth)
+                sub, first = self._source(lib, entry, diags, depth)
                 if sub is None:
                     continue
                 if first:

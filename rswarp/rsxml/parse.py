@@ -39,9 +39,10 @@ def number(text: str) -> float:
     raise ValueError(f"a bad number '{text}'")
 
 
-def _parser() -> etree.XMLParser:
+def _parser(recover: bool = False) -> etree.XMLParser:
     return etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=False, load_dtd=False,
-                           dtd_validation=False, remove_pis=True, remove_comments=False)  # kept for save
+                           dtd_validation=False, remove_pis=True, remove_comments=False,  # kept for save
+                           recover=recover)
 
 
 def parse_xml(path: str | Path) -> etree._Element:
@@ -66,10 +67,8 @@ def parse_xml(path: str | Path) -> etree._Element:
 
 def _recovered(data: bytes) -> etree._Element | None:
     """What libxml2's recovery mode makes of a broken document (same safe settings), or None."""
-    parser = etree.XMLParser(recover=True, resolve_entities=False, no_network=True, huge_tree=False,
-                             load_dtd=False, remove_pis=True, remove_comments=True)
     try:
-        return etree.fromstring(data, parser, base_url=None)
+        return etree.fromstring(data, _parser(recover=True), base_url=None)
     except etree.XMLSyntaxError:
         return None
 

@@ -20,7 +20,7 @@ from .model import (
     IOSignal, Joint, Limit, Mechanism, Part, Pose, SmartComponent,
 )
 from .parse import children, local, namespace, number, prolog_comments
-from .units import ANGLE_UNITS, LENGTH_UNITS, MAX_ANGLE, MAX_LENGTH
+from .units import ANGLE_UNITS, BOUNDS, LENGTH_UNITS
 
 NS_COMPONENT = "urn:abb-robotics-robotstudio-graphiccomponent"
 NS_LIBRARY = "urn:abb-robotics-robotstudio-librarycompiler"
@@ -88,7 +88,7 @@ class Reader:
     def floats(self, el: etree._Element, name: str, count: int | None = None, factor: float = 1.0,
                required: bool = False, bound: str | None = None) -> tuple[float, ...] | None:
         """Numbers of an attribute ("1, 2, 3" or "1 2 3") times ``factor`` (to SI); ``bound`` is
-        "length" or "angle" when the values must be within ``MAX_LENGTH`` or ``MAX_ANGLE``."""
+        "length" or "angle" when the values must be within its ``BOUNDS``."""
         raw = self.text(el, name, required)
         if raw is None:
             return None
@@ -100,16 +100,15 @@ class Reader:
         if count is not None and len(values) != count:
             self.error(el, f"'{name}' needs {count} numbers, got {len(values)}")
             return None
-        if bound and values and max(map(abs, values)) > (MAX_LENGTH if bound == "length" else MAX_ANGLE):
-            worst = max(range(len(values)), key=lambda i: abs(values[i]))
-            self.within(el, name, format(values[worst] / factor, "g"), values[worst], bound)
-            return None
+        if bound:
+            worst = max(values, key=abs, default=0.0)
+            if not self.within(el, name, format(worst / factor, "g"), worst, bound):
+                return None
         return values
 
     def within(self, where: etree._Element, name: str, text: str, si: float, bound: str) -> bool:
         """Whether an SI length or angle makes physical sense; reports it when not."""
-        limit, what = (MAX_LENGTH, "1 km, the most a model may span") if bound == "length" else \
-            (MAX_ANGLE, f"{MAX_ANGLE:g} rad (about {MAX_ANGLE / (2 * math.pi):,.0f} turns), the most a joint may turn")
+        limit, what = BOUNDS[bound]
         if abs(si) <= limit:
             return True
         self.error(where, f"'{name}' value {text} is beyond {what}")
