@@ -11,7 +11,8 @@ import os
 import sys
 
 from .errors import InputError, RsxmlError, one_line
-from .files import DEFAULT_MAX_FILE_SIZE, file_size_limit
+from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit
+from .export.physics import DRIVE_HZ
 from .geometry.mass import DEFAULT_DENSITY
 from .rsxml.documents import check, checked, load_mechanism
 
@@ -77,12 +78,17 @@ def cmd_sweep(args) -> int:
 
 def cmd_export(args) -> int:
     from .export import export
+    from .export.physics import PhysicsOptions
+    from .report.exports import export_dict, export_text
 
     report = checked(args.file)
-    warnings = export(report.model, args.output, layout=args.layout, collision=args.collision, density=args.density)
-    for w in warnings:
+    physics = PhysicsOptions(density=args.density, mass=args.mass, collision=args.collision,
+                             drive_hz=args.drive_hz or None, armature=args.armature, effort=args.effort,
+                             velocity=args.velocity)
+    result = export(report.model, args.output, layout=args.layout, mesh_paths=args.mesh_paths, physics=physics)
+    for w in result.warnings:
         print(w, file=sys.stderr)
-    _emit_json({"output": str(args.output), "warnings": warnings}) if args.json else print(f"wrote {args.output}")
+    _emit_json(export_dict(result)) if args.json else print(export_text(result))
     return 0
 
 
@@ -162,11 +168,29 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("export", help="write OpenUSD (.usda/.usdc/.usdz) or URDF (.urdf)")
     p.add_argument("file", metavar="FILE")
     p.add_argument("-o", "--output", required=True, metavar="OUT")
-    p.add_argument("--layout", choices=["flat", "component"], default="flat",
-                   help="USD: one file, or an interface layer with payloaded geometry/materials/physics layers")
-    p.add_argument("--collision", choices=["convexHull", "convexDecomposition"], default="convexHull")
+    p.add_argument("--layout", choices=["flat", "component"],
+                   help="USD only: one file (default), or an interface layer with payloaded geometry/materials/"
+                        "physics layers")
+    p.add_argument("--mesh-paths", choices=["absolute", "relative"],
+                   help="URDF only: name the meshes/ files by absolute path (default: every loader finds them, "
+                        "pinocchio included) or relative to the URDF (a folder that can be moved)")
+    p.add_argument("--collision", choices=["convexHull", "convexDecomposition"], default="convexHull",
+                   help="collision geometry rswarp computes once (cached): a convex hull per part (default), or "
+                        "a convex decomposition with CoACD")
     p.add_argument("--density", type=_positive, default=DEFAULT_DENSITY,
                    help=f"kg/m^3 for link masses (default {DEFAULT_DENSITY:g}, cast aluminium)")
+    p.add_argument("--mass", type=_positive, metavar="KG",
+                   help="the robot's total mass: scales the density so the links weigh this in all")
+    p.add_argument("--drive-hz", type=_non_negative, default=DRIVE_HZ, metavar="HZ",
+                   help=f"bandwidth of the position drives holding home (default {DRIVE_HZ:g}; 0: no drives)")
+    p.add_argument("--armature", type=_non_negative, metavar="KGM2",
+                   help="motor reflected inertia for every joint, kg m^2 (kg for prismatic joints); default "
+                        "1e-3 x total mass x reach^2")
+    p.add_argument("--effort", type=_positive, metavar="NM",
+                   help="effort limit for every joint, N m (N); default twice the largest gravity load plus "
+                        "10 rad/s^2 of acceleration")
+    p.add_argument("--velocity", type=_positive, metavar="RAD_S",
+                   help="velocity limit for every joint, rad/s (m/s); default 90 deg/s (0.5 m/s)")
     p.add_argument("--json", action="store_true", help=json_help)
     p.set_defaults(func=cmd_export)
 
@@ -186,6 +210,13 @@ def _positive(text: str) -> float:
     if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"must be a finite number > 0, not '{text}'")
     return value
+
+
+def _non_negative(text: str) -> float:
+    """A finite number >= 0."""
+    if text.strip() in ("0", "0.0", "-0"):
+        return 0.0
+    return _positive(text)
 
 
 def _count(least: int):
@@ -233,6 +264,8 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     except KeyboardInterrupt:
         return 130
+    except Terminated:  # SIGTERM during a write: temporary files are gone, the usual status
+        return 143
     except BrokenPipeError:
         return 0
     except Exception as exc:  # a bug, not bad input

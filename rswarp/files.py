@@ -8,10 +8,13 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import errno
 import os
 import shutil
+import signal
 import stat
 import tempfile
+import threading
 from pathlib import Path
 from typing import Iterator
 
@@ -143,6 +146,29 @@ def new_folders(path: str | Path) -> Iterator[None]:
         raise
 
 
+class Terminated(BaseException):
+    """SIGTERM arrived while writing: raised so that every ``finally`` and ``with`` cleans up."""
+
+
+@contextlib.contextmanager
+def cleanup_on_terminate() -> Iterator[None]:
+    """For the block, SIGTERM raises ``Terminated`` (SIGINT already raises KeyboardInterrupt), so
+    temporary files are removed before the process ends. Only the main thread can set handlers;
+    elsewhere the block runs unchanged."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Terminated()
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def _remove_empty(folders: list[Path]) -> None:
     for f in folders:  # deepest first
         with contextlib.suppress(OSError):
@@ -202,3 +228,17 @@ def _swap_in(tmp: Path, out: Path) -> None:
         raise
     finally:
         shutil.rmtree(old, ignore_errors=True)
+
+
+def merge_folder(src: Path, out: Path) -> None:
+    """Move the files of ``src`` into ``out``: the whole folder in one rename when ``out`` is
+    missing, else file by file (each an atomic replace), so files in ``out`` that ``src`` does not
+    name are kept and two writers racing for the same ``out`` both succeed."""
+    try:
+        os.rename(src, out)
+        return
+    except OSError as exc:
+        if exc.errno not in (errno.EEXIST, errno.ENOTEMPTY):
+            raise
+    for f in sorted(src.iterdir()):
+        os.replace(f, out / f.name)

@@ -29,3 +29,27 @@ def library(sources: list[str], title: str = "T") -> str:
     entries = "".join(f'<Library source="{s}" fileName="f{i}.rslib"><DocumentProperties><Title>{title}</Title>'
                       f"</DocumentProperties></Library>" for i, s in enumerate(sources))
     return f'<LibraryCompiler xmlns="urn:abb-robotics-robotstudio-librarycompiler">{entries}</LibraryCompiler>\n'
+
+
+def torus_ply(path, n: int, m: int, radii: tuple[float, float] = (300.0, 100.0)) -> int:
+    """A closed torus of ``2 n m`` triangles written as binary PLY (millimetres); returns that count."""
+    import numpy as np
+
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, n, endpoint=False), np.linspace(0, 2 * np.pi, m, endpoint=False),
+                       indexing="ij")
+    big, small = radii
+    pts = np.stack([(big + small * np.cos(v)) * np.cos(u), (big + small * np.cos(v)) * np.sin(u), small * np.sin(v)],
+                   axis=-1).reshape(-1, 3).astype(np.float32)
+    i, j = np.meshgrid(np.arange(n), np.arange(m), indexing="ij")
+    a, b = i * m + j, ((i + 1) % n) * m + j
+    c, d = ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m
+    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(pts)}\nproperty float x\nproperty float y\n"
+              f"property float z\nelement face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    rows = np.empty(len(faces), dtype=[("k", "u1"), ("f", "<i4", 3)])
+    rows["k"], rows["f"] = 3, faces
+    with open(path, "wb") as fh:
+        fh.write(header.encode())
+        fh.write(pts.astype("<f4").tobytes())
+        fh.write(rows.tobytes())
+    return len(faces)

@@ -1,7 +1,11 @@
 """URDF export, checked by pinocchio's URDF parser and its forward kinematics."""
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
+import trimesh
 
 import rswarp
 from rswarp import examples
@@ -40,16 +44,28 @@ def test_pinocchio_gives_the_same_flange_poses(path, tmp_path):
             assert np.abs(data.oMf[fid].homogeneous - ours[i]).max() < 1e-5
 
 
-def test_meshes_are_referenced_relative_and_scaled(tmp_path):
+def test_meshes_are_written_beside_in_metres(tmp_path):
+    """Each part's mesh is written to meshes/<stem>/ in metres in its link's frame (an OBJ of a
+    millimetre file included), named by absolute path by default and relative on request."""
+    from rswarp.export.frames import link_origins
+    from rswarp.geometry import part_mesh
+
     mech = rswarp.load(DATA / "meshes" / "Cell.rsxml")
     urdf = tmp_path / "cell.urdf"
     warnings = to_urdf(mech, urdf)
     text = urdf.read_text()
-    assert 'scale="0.001 0.001 0.001"' in text  # an OBJ in a millimetre file
-    assert "ARM.OBJ" in text and "parts/base.stl" in text
-    assert warnings == ["part 'Ghost' of link 'Ghost': no mesh beside the file; left out"]
+    files = re.findall(r'<mesh filename="([^"]+)"/>', text)
+    assert files and all(f.startswith(str(tmp_path / "meshes" / "cell")) and Path(f).is_file() for f in files)
+    assert len(warnings) == 1 and "no mesh for part 'Ghost'" in warnings[0]
+    origins = link_origins(mech)
+    for part, transform in mech.parts("Arm"):
+        ours = trimesh.load(tmp_path / "meshes" / "cell" / "Arm.stl")  # the part is the link: one name
+        expected = part_mesh(mech, part, transform).bounds - origins["Arm"]
+        assert np.abs(ours.bounds - expected).max() < 1e-6
     model = pin.buildModelFromUrdf(str(urdf))
     assert [model.names[i] for i in range(1, model.njoints)] == ["J1", "J2"]
+    to_urdf(mech, tmp_path / "moved" / "cell.urdf", mesh_paths="relative")
+    assert 'filename="meshes/cell/' in (tmp_path / "moved" / "cell.urdf").read_text()
     irb = rswarp.load(examples.IRB2600)
     to_urdf(irb, tmp_path / "irb.urdf")
     masses = pin.buildModelFromUrdf(str(tmp_path / "irb.urdf")).inertias

@@ -28,6 +28,19 @@ def link_origins(mech: Mechanism) -> dict[str, np.ndarray]:
     return out
 
 
+def mechanism_of(model):
+    """The mechanism to export, and the SmartComponent around it (None if there is none)."""
+    from ..errors import model_error
+    from ..rsxml.model import SmartComponent
+
+    if isinstance(model, SmartComponent):
+        mechs = [c for c in model.components if isinstance(c, Mechanism)]
+        if not mechs:
+            raise model_error(model, f"SmartComponent '{model.name}' holds no mechanism to export")
+        return mechs[0], model
+    return model, None
+
+
 def tree_error(mech: Mechanism, what: str):
     """The error for a mechanism with a loop, where ``what`` needs a link tree."""
     from ..errors import model_error
@@ -35,3 +48,25 @@ def tree_error(mech: Mechanism, what: str):
     j = mech.graph.closing[0]
     return model_error(mech, f"joint '{j.name}' closes a kinematic loop: {what} needs a link tree "
                              "(parallel rods are not solved yet)", j.line)
+
+
+def link_poses(mech: Mechanism, q: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """World pose (4x4) of each reached link at joint values ``q`` (SI, default home); passive
+    joints stay at zero. Link frames are the world frame at the zero position, so each tree joint
+    is a rotation about (or a slide along) its world axis composed onto its parent's pose."""
+    from scipy.spatial.transform import Rotation
+
+    graph = mech.graph
+    q = mech.home_position() if q is None else np.asarray(q, float)
+    poses = {graph.base: np.eye(4)} if graph.base in graph.index else {}
+    for k, j in graph.tree_order:
+        col = graph.column(j.name)
+        value = float(q[col]) if col >= 0 else 0.0
+        m = np.eye(4)
+        if j.revolute:
+            m[:3, :3] = Rotation.from_rotvec(j.axis * value).as_matrix()
+            m[:3, 3] = np.asarray(j.point1, float) - m[:3, :3] @ np.asarray(j.point1, float)
+        else:
+            m[:3, 3] = j.axis * value
+        poses[graph.links[k]] = poses[graph.links[graph.parent[k]]] @ m
+    return poses

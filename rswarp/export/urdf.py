@@ -1,25 +1,40 @@
-"""Export a mechanism to URDF so that ROS tools can use RSXML robots.
+"""Export a mechanism to URDF so that ROS tools and simulators load it without extra arguments.
 
 Link frames are world-aligned at the zero position with their origins on their joints' axes (the
-same frames as the USD export). Parts reference their mesh files by a path relative to the URDF,
-scaled to metres. Flanges become fixed child links. URDF has no closed chains: a mechanism with a
-loop is refused with a clear error.
+same frames as the USD export). The meshes are written beside the URDF, in metres and in their
+link's frame, under ``meshes/<urdf stem>/`` (so robots exported to one folder keep their own):
+``<link>_<part>.stl`` for the visuals and the convex collision pieces rswarp computed as
+``<link>_<part>_collision[_<i>].stl``. The URDF names them by absolute
+path by default, so pinocchio (which resolves a relative mesh path only against package
+folders), yourdfpy and Newton find them with no extra arguments; ``mesh_paths="relative"`` writes
+``meshes/<stem>/...`` paths for a folder that can be moved (Newton and yourdfpy resolve them against the
+URDF's folder; pinocchio then needs ``package_dirs=[folder]``). Flanges become fixed
+child links. URDF has no closed chains: a mechanism with a loop is refused with a clear error.
+
+Every joint limit carries an effort and a velocity (``physics.JointPhysics``: given, or the
+defaults scaled to the robot; never 0, which MuJoCo reads as a joint that cannot move). URDF has
+no drives and no armature: simulators take those from their own settings (rswarp's values are in
+``export --json``).
 """
 
 from __future__ import annotations
 
-import os
+import re
+import tempfile
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ..files import atomic_write
-from ..geometry import DEFAULT_DENSITY, METRIC_EXTENSIONS, mass_properties, part_mesh, part_mesh_path
+from ..errors import InputError
+from ..files import cleanup_on_terminate, merge_folder, new_folders
 from ..rsxml.model import Mechanism
-from ..transforms import matrix_euler_zyx, translated
+from ..transforms import matrix_euler_zyx
 from .frames import link_origins, tree_error
+from .physics import BodyPhysics, PhysicsOptions, RobotPhysics, robot_physics
 
+MESHES = "meshes"  # the folder beside the URDF
+MESH_PATHS = ("absolute", "relative")
 
 
 def _f(x: float) -> str:
@@ -31,51 +46,73 @@ def _origin(m: np.ndarray) -> str:
     return f'<origin xyz="{" ".join(_f(v) for v in m[:3, 3])}" rpy="{" ".join(_f(v) for v in rpy)}"/>'
 
 
-def to_urdf_text(mech: Mechanism, path: str | Path, density: float = DEFAULT_DENSITY) -> tuple[str, list[str]]:
-    """The URDF document for a file at ``path`` (mesh paths are relative to it), and warnings."""
+class _Files:
+    """Mesh files to write: unique, portable names under ``meshes/``."""
+
+    def __init__(self, stem: str, folder: Path | None = None):
+        self.arrays: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self.prefix = f"{MESHES}/{stem}"
+        self.folder = folder  # where meshes/ will be: absolute paths; None: relative ones
+
+    def add(self, stem: str, vertices: np.ndarray, faces: np.ndarray) -> str:
+        base = re.sub(r"[^A-Za-z0-9_.-]", "_", stem) or "mesh"
+        name, i = f"{base}.stl", 1
+        while name.lower() in {n.lower() for n in self.arrays}:
+            name, i = f"{base}_{i}.stl", i + 1
+        self.arrays[name] = (vertices, faces)
+        return f"{self.prefix}/{name}" if self.folder is None else (self.folder / self.prefix / name).as_posix()
+
+    def write(self, folder: Path) -> None:
+        import trimesh
+
+        folder.mkdir()
+        for name, (v, f) in self.arrays.items():
+            trimesh.Trimesh(v, f, process=False).export(folder / name, file_type="stl")
+
+
+def to_urdf_text(mech: Mechanism, path: str | Path, physics: PhysicsOptions | RobotPhysics | None = None,
+                 files: _Files | None = None) -> tuple[str, list[str]]:
+    """The URDF document for a file at ``path``, and warnings; the meshes it names are added to
+    ``files`` (written by ``to_urdf``)."""
     graph = mech.graph
     if graph.closing:
         raise tree_error(mech, "URDF")
+    robot = physics if isinstance(physics, RobotPhysics) else robot_physics(mech, physics)
+    files = _Files(Path(path).stem) if files is None else files
     origins = link_origins(mech)
-    warnings: list[str] = []
     lines = ['<?xml version="1.0"?>', f"<robot name={quoteattr(mech.name)}>",
              '  <material name="graphite_white"><color rgba="0.843 0.843 0.843 1"/></material>']
     for k in graph.order:
-        lines += _link(mech, graph.links[k], origins, Path(path).resolve().parent, density, warnings)
+        lines += _link(robot.bodies[graph.links[k]], files)
     for k, j in graph.tree_order:
-        lines += _joint(mech, j, origins)
+        lines += _joint(mech, j, origins, robot)
     lines += _flanges(mech, origins)
     lines.append("</robot>")
-    if warnings and not any("<mesh " in line for line in lines):
-        warnings = [f"{mech.path or mech.name}: warning: no mesh beside the file for any part: exported "
-                    "kinematics only (links without geometry or inertia)"]
-    return "\n".join(lines) + "\n", warnings
+    return "\n".join(lines) + "\n", list(robot.warnings)
 
 
-def _link(mech: Mechanism, link: str, origins: dict, folder: Path, density: float, warnings: list[str]) -> list[str]:
-    """A <link> with a visual and a collision per Part that has a mesh, and its inertial."""
-    lines, meshes = [f"  <link name={quoteattr(link)}>"], []
-    for part, transform in mech.parts(link):
-        mesh_file = part_mesh_path(mech, part) if part.source else None
-        if mesh_file is None:
-            if part.source:
-                warnings.append(f"part '{part.name}' of link '{link}': no mesh beside the file; left out")
-            continue
-        scale = 1.0 if mesh_file.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
-        rel = translated(transform, origins[link])
-        file = Path(os.path.relpath(mesh_file.resolve(), folder)).as_posix()
-        geometry = (f'<geometry><mesh filename={quoteattr(file)} scale="{_f(scale)} {_f(scale)} {_f(scale)}"/>'
-                    "</geometry>")
-        lines.append(f"    <visual name={quoteattr(part.name)}>{_origin(rel)}{geometry}"
-                     '<material name="graphite_white"/></visual>')
-        lines.append(f"    <collision name={quoteattr(part.name)}>{_origin(rel)}{geometry}</collision>")
-        meshes.append(part_mesh(mech, part, transform))
-    if meshes:
-        lines.append(_inertial(meshes, origins[link], density))
+def _link(body: BodyPhysics, files: _Files) -> list[str]:
+    """A <link> with a visual per part, a collision per convex piece, and its inertial."""
+    lines = [f"  <link name={quoteattr(body.link)}>"]
+    for part in body.parts:
+        stem = body.link if part.name == body.link else f"{body.link}_{part.name}"
+        mesh = files.add(stem, np.asarray(part.mesh.vertices) - body.origin, np.asarray(part.mesh.faces))
+        lines.append(f"    <visual name={quoteattr(part.name)}><geometry><mesh filename={quoteattr(mesh)}/>"
+                     '</geometry><material name="graphite_white"/></visual>')
+        for i, piece in enumerate(part.pieces):
+            suffix = "_collision" if len(part.pieces) == 1 else f"_collision_{i}"
+            col = files.add(stem + suffix, piece.vertices - body.origin, piece.faces)
+            lines.append(f"    <collision name={quoteattr(part.name)}><geometry><mesh filename={quoteattr(col)}/>"
+                         "</geometry></collision>")
+    if body.mass > 0:
+        c, i = body.com, body.inertia
+        lines.append(f'    <inertial><origin xyz="{" ".join(_f(v) for v in c)}" rpy="0 0 0"/><mass value="{_f(body.mass)}"/>'
+                     f'<inertia ixx="{_f(i[0, 0])}" ixy="{_f(i[0, 1])}" ixz="{_f(i[0, 2])}" iyy="{_f(i[1, 1])}" '
+                     f'iyz="{_f(i[1, 2])}" izz="{_f(i[2, 2])}"/></inertial>')
     return lines + ["  </link>"]
 
 
-def _joint(mech: Mechanism, j, origins: dict) -> list[str]:
+def _joint(mech: Mechanism, j, origins: dict, robot: RobotPhysics) -> list[str]:
     """A tree joint, its origin the child's frame in the parent's; a passive joint outside any loop
     stays at zero and is written fixed."""
     offset = np.eye(4)
@@ -85,15 +122,17 @@ def _joint(mech: Mechanism, j, origins: dict) -> list[str]:
              f"    <parent link={quoteattr(j.parent)}/><child link={quoteattr(j.child)}/>{_origin(offset)}"]
     if kind != "fixed":
         lines.append(f'    <axis xyz="{" ".join(_f(v) for v in j.axis)}"/>')
-        lim = mech.limit(j.name)
-        if lim is not None:
-            # RSXML carries no effort or velocity limits; URDF requires the attributes
-            lines.append(f'    <limit lower="{_f(lim.min)}" upper="{_f(lim.max)}" effort="0" velocity="0"/>')
+        lim, jp = mech.limit(j.name), robot.joints.get(j.name)
+        if lim is not None and jp is not None:
+            lines.append(f'    <limit lower="{_f(lim.min)}" upper="{_f(lim.max)}" effort="{_f(jp.effort)}" '
+                         f'velocity="{_f(jp.velocity)}"/>')
     return lines + ["  </joint>"]
 
 
 def _flanges(mech: Mechanism, origins: dict) -> list[str]:
     """Each flange as a fixed child link (renamed ``<name>_flange`` where a link has its name)."""
+    from ..transforms import translated
+
     lines, names = [], set(mech.link_names)
     for fl in mech.flanges:
         name = fl.name if fl.name not in names else f"{fl.name}_flange"
@@ -104,15 +143,27 @@ def _flanges(mech: Mechanism, origins: dict) -> list[str]:
     return lines
 
 
-def _inertial(meshes, origin: np.ndarray, density: float) -> str:
-    mass, c, i, _ = mass_properties(meshes, origin, density)
-    return (f'    <inertial><origin xyz="{" ".join(_f(v) for v in c)}" rpy="0 0 0"/><mass value="{_f(mass)}"/>'
-            f'<inertia ixx="{_f(i[0, 0])}" ixy="{_f(i[0, 1])}" ixz="{_f(i[0, 2])}" iyy="{_f(i[1, 1])}" '
-            f'iyz="{_f(i[1, 2])}" izz="{_f(i[2, 2])}"/></inertial>')
+def to_urdf(mech: Mechanism, path: str | Path, physics: PhysicsOptions | RobotPhysics | None = None, *,
+            mesh_paths: str = "absolute", **options) -> list[str]:
+    """Write ``mech`` as URDF to ``path`` with its meshes in ``meshes/`` beside it; returns warnings.
 
+    Everything is written into a temporary folder beside the target first; then the meshes are
+    moved into ``meshes/`` (files already there that this export does not write are kept) and the
+    URDF is renamed into place last, so a reader never sees a URDF naming a missing mesh."""
+    import os
 
-def to_urdf(mech: Mechanism, path: str | Path, density: float = DEFAULT_DENSITY) -> list[str]:
-    """Write ``mech`` as URDF to ``path`` (atomically); returns warnings."""
-    text, warnings = to_urdf_text(mech, path, density)
-    atomic_write(path, text.encode())
+    path = Path(path)
+    if mesh_paths not in MESH_PATHS:
+        raise InputError(f"mesh paths must be {' or '.join(MESH_PATHS)}, not {mesh_paths!r}")
+    folder = path.parent if str(path.parent) else Path(".")
+    files = _Files(path.stem, folder.resolve() if mesh_paths == "absolute" else None)
+    text, warnings = to_urdf_text(mech, path, physics or PhysicsOptions(**options), files)
+    with cleanup_on_terminate(), new_folders(path), tempfile.TemporaryDirectory(dir=folder, prefix=f".{path.stem}.") as tmp:
+        tmp = Path(tmp)
+        (tmp / path.name).write_text(text)
+        if files.arrays:
+            files.write(tmp / MESHES)
+            with new_folders(folder / files.prefix):  # meshes/ made if missing, removed again on failure
+                merge_folder(tmp / MESHES, folder / files.prefix)
+        os.replace(tmp / path.name, path)
     return warnings

@@ -6,58 +6,57 @@ beside the target, then moved into place."""
 from __future__ import annotations
 
 import os
-import shutil
 import tempfile
 from pathlib import Path
 
 from pxr import Sdf, Usd, UsdPhysics, UsdUtils
 
 from ..errors import InputError
-from ..geometry import DEFAULT_DENSITY
+from ..files import cleanup_on_terminate, merge_folder
 from . import USD_SUFFIXES
+from .physics import PhysicsOptions, RobotPhysics
 from .usd import build_stage
 
-PHYSICS_PREFIXES = ("physics:", "newton:", "state:")  # properties the component layout puts in Physics
+LAYOUTS = ("flat", "component")
+
+PHYSICS_PREFIXES = ("physics:", "newton:", "state:", "drive:")  # properties the component layout puts in Physics
 
 
-def to_usd(model, path: str | Path, *, density: float = DEFAULT_DENSITY, collision: str = "convexHull",
-           layout: str = "flat") -> list[str]:
-    """Write ``model`` to ``path`` (.usda, .usdc or .usdz); returns warnings.
+def to_usd(model, path: str | Path, *, layout: str = "flat", physics: PhysicsOptions | RobotPhysics | None = None,
+           **options) -> list[str]:
+    """Write ``model`` to ``path`` (.usda, .usdc, .usd or .usdz); returns warnings.
 
     ``layout="flat"`` writes one file; ``"component"`` writes an asset interface layer that
     payloads ``<stem>_Payload/Contents.usda``, built from geometry, materials and physics layers
-    (as Newton's urdf-usd-converter lays assets out). Written to temporary files first, then moved
-    into place.
+    (as Newton's urdf-usd-converter lays assets out). ``physics`` (or its fields as keywords:
+    ``density``, ``mass``, ``collision``, ``drive_hz``, ...) says how the robot simulates. Files are
+    written into a temporary folder beside the target and moved into place; in an existing payload
+    folder only the export's own files are replaced.
     """
     path = Path(path)
     ext = path.suffix.lower()
     if ext not in USD_SUFFIXES:
         raise InputError(f"{path}: the USD file must end in .usda, .usdc, .usd or .usdz")
-    if layout not in ("flat", "component"):
-        raise InputError("layout must be flat or component")
+    if layout not in LAYOUTS:
+        raise InputError(f"layout must be {' or '.join(LAYOUTS)}, not {layout!r}")
+    physics = physics or PhysicsOptions(**options)
     folder = path.parent if str(path.parent) else Path(".")
-    with tempfile.TemporaryDirectory(dir=folder, prefix=f".{path.stem}.") as tmp:
+    with cleanup_on_terminate(), tempfile.TemporaryDirectory(dir=folder, prefix=f".{path.stem}.") as tmp:
         tmp = Path(tmp)
         if layout == "flat":
             stage = Usd.Stage.CreateInMemory()
-            warnings = build_stage(stage, model, density=density, collision=collision)
+            warnings = build_stage(stage, model, physics)
             if ext == ".usdz":
                 stage.GetRootLayer().Export(str(tmp / f"{path.stem}.usdc"))
                 _usdz(tmp / f"{path.stem}.usdc", tmp / path.name)
             else:
                 stage.GetRootLayer().Export(str(tmp / path.name))
-            os.replace(tmp / path.name, path)
-            return warnings
-        warnings = _component(model, tmp, path, density, collision)
-        if ext == ".usdz":
-            _usdz(tmp / f"{path.stem}.usda", tmp / path.name)
-            os.replace(tmp / path.name, path)
-            return warnings
-        payload = tmp / f"{path.stem}_Payload"
-        target = folder / f"{path.stem}_Payload"
-        if target.exists():
-            shutil.rmtree(target)
-        os.replace(payload, target)
+        else:
+            warnings = _component(model, tmp, path, physics)
+            if ext == ".usdz":
+                _usdz(tmp / f"{path.stem}.usda", tmp / path.name)
+            else:
+                merge_folder(tmp / f"{path.stem}_Payload", folder / f"{path.stem}_Payload")
         os.replace(tmp / path.name, path)
         return warnings
 
@@ -67,12 +66,12 @@ def _usdz(src: Path, dst: Path) -> None:
         raise OSError(f"could not package {dst}")
 
 
-def _component(model, tmp: Path, path: Path, density: float, collision: str) -> list[str]:
+def _component(model, tmp: Path, path: Path, physics) -> list[str]:
     """The component layout: interface layer -> payload Contents.usda -> sublayers
     Geometry.usdc (meshes, frames, cables), Materials.usda (display colours) and Physics.usda
     (physics schemas, joints, mass); each layer holds only its own opinions."""
     stage = Usd.Stage.CreateInMemory()
-    warnings = build_stage(stage, model, density=density, collision=collision)
+    warnings = build_stage(stage, model, physics)
     full = stage.GetRootLayer()
     payload_dir = tmp / f"{path.stem}_Payload"
     payload_dir.mkdir()
@@ -145,6 +144,8 @@ def _move_opinions(prim, spec, layers: dict) -> None:
             spec.RemoveProperty(attr)
     for rel in list(spec.relationships):
         if rel.name.startswith(PHYSICS_PREFIXES):
+            _ensure_over(layers["Physics"], p)
+            Sdf.CopySpec(geo, rel.path, layers["Physics"], rel.path)
             spec.RemoveProperty(rel)
 
 

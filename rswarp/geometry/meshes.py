@@ -97,13 +97,17 @@ def part_mesh(mech: Mechanism, part: Part, transform: np.ndarray | None = None):
         raise MeshNotFoundError(Diagnostic(file, part.line, f"no mesh for part '{part.name}' "
                                            f"(source '{part.source}'); looked for {tried}"))
     try:
-        mesh = _load(str(path), path.stat().st_mtime).copy()
+        loaded = _load(str(path), path.stat().st_mtime)
     except (ValueError, OSError) as exc:
         raise MeshError(Diagnostic(file, part.line, f"mesh {path} of part '{part.name}': {exc}")) from None
+    import trimesh
+
     scale = 1.0 if path.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
     m = (np.eye(4) if transform is None else transform) @ np.diag([scale, scale, scale, 1.0])
-    mesh.apply_transform(m)
-    return mesh
+    # a new mesh on the moved vertices, sharing the faces: no copy of the loaded mesh's caches
+    vertices = loaded.vertices @ m[:3, :3].T + m[:3, 3]
+    faces = loaded.faces if np.linalg.det(m[:3, :3]) > 0 else loaded.faces[:, ::-1]
+    return trimesh.Trimesh(vertices, faces, visual=loaded.visual, process=False, validate=False)
 
 
 def link_mesh(mech: Mechanism, link: str):

@@ -62,14 +62,24 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     ws = workspace(mech, samples=DEMO_SAMPLES, seed=0, kinematics=kin)
     out.mkdir(parents=True, exist_ok=True)
     usd, urdf = out / f"{mech.name}.usdc", out / f"{mech.name}.urdf"
-    warnings = export(mech, usd) + export(mech, urdf)
+    done = [export(mech, usd), export(mech, urdf)]
+    warnings = [w for d in done for w in d.warnings]
     lf, unit = mech.length_factor, mech.length_unit or "m"
     pos = ", ".join(rounded(float(v), lf, 1e-4) for v in flange[:3, 3])
     reach = ws.reach or ws.flange_reach
     what = "J1 axis to wrist centre" if ws.reach is not None else "J1 axis to flange"
     lines = [f"== {mech.name}: flange at home ({pos}) {unit}; reach {rounded(reach.value, lf, 1e-4)} {unit} "
              f"({what}, {DEMO_SAMPLES} samples refined)", *(f"   {w}" for w in warnings[:1]),
-             f"   exported {usd} and {urdf}", ""]
+             f"   exported {usd} and {urdf}: {_physics_line(done[0].physics)}", ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
             "usd": str(usd), "urdf": str(urdf)}
+
+
+def _physics_line(robot) -> str:
+    """Mass, drives and filtered pairs of an export, in one line."""
+    if not robot.total_mass > 0:
+        return "kinematics only"
+    touching = sum(1 for *_, r in robot.filtered if r != "adjacent")
+    return (f"{robot.total_mass:.1f} kg, drives holding home on {sum(j.stiffness > 0 for j in robot.joints.values())} "
+            f"joints, {len(robot.filtered)} link pairs filtered ({touching} touching at home)")

@@ -1,0 +1,294 @@
+"""What every export needs to simulate, computed once: per link its meshes, convex collision pieces
+and mass; per active joint its drive gains, limit spring, armature and effort/velocity limits;
+and the link pairs whose collisions are filtered.
+
+Gains are chosen from the robot itself. A joint's effective inertia is the inertia of everything
+it carries about its axis at home, plus its armature. The drive is a critically damped PD loop at
+``drive_hz``: stiffness = I·ω², damping = 2·I·ω. The limit spring is the same at ``LIMIT_HZ``. All
+values here are SI, per radian for revolute joints. The exports convert them to their units.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError, MeshNotFoundError
+from ..geometry import DEFAULT_DENSITY, mass_properties, part_mesh
+from ..geometry.collision import METHODS, Convex, convex_pieces, halfspaces, overlap
+from ..rsxml.model import Mechanism
+from .frames import link_origins, link_poses
+
+DRIVE_HZ = 10.0  # drive bandwidth: stiff enough to hold a pose within a fraction of a degree
+LIMIT_HZ = 100.0  # limit spring bandwidth: holds the limit under gravity, stable at dt = 1 ms
+ARMATURE_SCALE = 1e-3  # default armature: 1e-3 x total mass x reach^2 (kg m^2), or x total mass (kg)
+EFFORT_MARGIN = 2.0  # default effort: twice the largest gravity load the joint can ever carry,
+ACCELERATION = 10.0  # plus what accelerates its inertia at 10 rad/s^2 (10 m/s^2)
+VELOCITY = {True: math.radians(90.0), False: 0.5}  # default velocity limit: 90 deg/s, 0.5 m/s
+CONTACT_MARGIN = 0.005  # pieces closer than this at home count as touching (m)
+GRAVITY = 9.81
+
+
+@dataclass(frozen=True)
+class PhysicsOptions:
+    """How to make the robot simulate. ``mass`` (kg) scales the density so the links weigh that in
+    all; ``drive_hz=None`` leaves the drives out; ``armature``, ``effort`` and ``velocity`` set
+    one value for every joint (SI) in place of the defaults scaled to the robot."""
+
+    density: float = DEFAULT_DENSITY
+    mass: float | None = None
+    collision: str = "convexHull"
+    drive_hz: float | None = DRIVE_HZ
+    armature: float | None = None
+    effort: float | None = None
+    velocity: float | None = None
+
+    def __post_init__(self):
+        if self.collision not in METHODS:
+            raise InputError(f"collision must be one of {', '.join(METHODS)}, not {self.collision!r}")
+        for name in ("density", "mass", "drive_hz", "effort", "velocity"):
+            _check(name, getattr(self, name), strict=True)
+        _check("armature", self.armature, strict=False)
+
+
+def _check(name: str, value, strict: bool) -> None:
+    if value is None:
+        return
+    ok = math.isfinite(value) and (value > 0 if strict else value >= 0)
+    if not ok:
+        raise InputError(f"{name} must be a finite number {'>' if strict else '>='} 0, not {value:g}")
+
+
+@dataclass(frozen=True)
+class PartGeometry:
+    """A part's mesh and its convex collision pieces, world coordinates at the zero position."""
+
+    name: str
+    mesh: object  # trimesh.Trimesh
+    pieces: tuple[Convex, ...]
+
+
+@dataclass(frozen=True)
+class BodyPhysics:
+    """A link's frame origin (world-aligned at zero), geometry, and mass properties in that frame."""
+
+    link: str
+    origin: np.ndarray
+    parts: tuple[PartGeometry, ...]
+    mass: float = 0.0
+    com: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about the centre of mass
+
+
+@dataclass(frozen=True)
+class JointPhysics:
+    """An active joint's dynamics, SI: N·m/rad (N/m), N·m·s/rad (N·s/m), kg·m² (kg), N·m (N)."""
+
+    name: str
+    revolute: bool
+    inertia: float  # what the joint moves, about its axis at home, armature included
+    armature: float
+    stiffness: float  # drive; 0 when drives are off
+    damping: float
+    limit_stiffness: float
+    limit_damping: float
+    effort: float
+    velocity: float
+
+
+@dataclass(frozen=True)
+class RobotPhysics:
+    bodies: dict[str, BodyPhysics]
+    joints: dict[str, JointPhysics]
+    filtered: tuple[tuple[str, str, str], ...]  # (link, link, reason): "adjacent" or "overlap at home"
+    density: float
+    collision: str
+    warnings: tuple[str, ...]
+
+    @property
+    def total_mass(self) -> float:
+        return float(sum(b.mass for b in self.bodies.values()))
+
+
+def robot_physics(mech: Mechanism, options: PhysicsOptions | None = None, *, geometry: bool = True) -> RobotPhysics:
+    """Everything the exports author to make ``mech`` simulate (``geometry=False``: no meshes)."""
+    options = options or PhysicsOptions()
+    warnings: list[str] = []
+    parts = _geometry(mech, options.collision, warnings) if geometry else {}
+    bodies, density = _bodies(mech, parts, options, warnings)
+    joints = _joints(mech, bodies, options)
+    return RobotPhysics(bodies, joints, _filtered(mech, bodies), density, options.collision, tuple(warnings))
+
+
+def _geometry(mech: Mechanism, collision: str, warnings: list[str]) -> dict[str, tuple[PartGeometry, ...]]:
+    """Each link's parts that have a mesh; one warning when no part has one."""
+    out, missing = {}, []
+    for link in mech.link_names:
+        found = []
+        for part, transform in mech.parts(link):
+            if not part.source:
+                continue
+            try:
+                mesh = part_mesh(mech, part, transform)
+            except MeshNotFoundError as exc:
+                missing.append(str(exc))
+                continue
+            found.append(PartGeometry(part.name, mesh, tuple(convex_pieces(mesh.vertices, mesh.faces, collision))))
+        out[link] = tuple(found)
+    if not any(out.values()):
+        missing = [f"{mech.path or mech.name}: warning: no mesh beside the file for any part (looked for "
+                   "<source stem>.stl/.obj/.ply/.glb/.gltf/.off): exported kinematics only, bodies and "
+                   "joints without geometry or mass"]
+    warnings += missing
+    return out
+
+
+def _bodies(mech: Mechanism, parts: dict, options: PhysicsOptions, warnings: list[str]):
+    """Mass properties per link at the given density, or scaled so the robot weighs ``mass``."""
+    origins = link_origins(mech)
+    unit = {}
+    for link in [mech.graph.links[k] for k in mech.graph.order]:
+        geo = parts.get(link, ())
+        if not geo:
+            unit[link] = None
+            continue
+        mass, com, inertia, watertight = mass_properties([p.mesh for p in geo], origins[link], 1.0)
+        if not watertight:
+            warnings.append(f"link '{link}': mesh is not watertight; mass from its convex hull")
+        if not mass > 0:
+            warnings.append(f"link '{link}': mesh has no volume; no mass authored")
+        unit[link] = (mass, com, inertia)
+    density = options.density
+    volume = sum(u[0] for u in unit.values() if u is not None and u[0] > 0)
+    if options.mass is not None:
+        if not volume > 0:
+            raise InputError("--mass needs link meshes with volume; this model has none")
+        density = options.mass / volume
+    bodies = {}
+    for link, u in unit.items():
+        props = {} if u is None or not u[0] > 0 else dict(mass=u[0] * density, com=u[1], inertia=u[2] * density)
+        bodies[link] = BodyPhysics(link, origins[link], parts.get(link, ()), **props)
+    return bodies, density
+
+
+def _world_inertia(body: BodyPhysics, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The body's centre of mass and inertia (about it) in the world, with the link at ``pose``."""
+    r = pose[:3, :3]
+    return pose[:3, :3] @ (body.origin + body.com) + pose[:3, 3], r @ body.inertia @ r.T
+
+
+def _subtrees(mech: Mechanism) -> dict[str, list[str]]:
+    """Each reached link and the links it carries (itself first)."""
+    graph = mech.graph
+    carried = {graph.links[k]: [graph.links[k]] for k in graph.order}
+    for k in reversed(graph.order):
+        p = graph.parent[k]
+        if p >= 0:
+            carried[graph.links[p]] += carried[graph.links[k]]
+    return carried
+
+
+def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], options: PhysicsOptions) -> dict[str, JointPhysics]:
+    graph, poses, carried = mech.graph, link_poses(mech), _subtrees(mech)
+    total = sum(b.mass for b in bodies.values())
+    reach = max([float(np.linalg.norm(p[:3, 3] - poses[graph.base][:3, 3])) for p in poses.values()]
+                + [float(np.linalg.norm(fl.pose.matrix()[:3, 3])) for fl in mech.flanges] + [0.1])
+    out = {}
+    for k, j in graph.tree_order:
+        if graph.column(j.name) < 0:
+            continue
+        link = graph.links[k]
+        moved = [bodies[l] for l in carried[link] if l in bodies and bodies[l].mass > 0]
+        parent = poses[graph.links[graph.parent[k]]]
+        axis, point = parent[:3, :3] @ j.axis, parent[:3, :3] @ np.asarray(j.point1, float) + parent[:3, 3]
+        default_armature = ARMATURE_SCALE * max(total, 1.0) * (reach ** 2 if j.revolute else 1.0)
+        armature = default_armature if options.armature is None else options.armature
+        inertia = _axis_inertia(moved, poses, axis, point, j.revolute) + armature
+        out[j.name] = _joint_physics(j, inertia, armature, _gravity_load(mech, j, moved), options)
+    return out
+
+
+def _axis_inertia(moved, poses, axis: np.ndarray, point: np.ndarray, revolute: bool) -> float:
+    if not revolute:
+        return float(sum(b.mass for b in moved))
+    total = 0.0
+    for b in moved:
+        com, inertia = _world_inertia(b, poses[b.link])
+        r = com - point
+        r_perp = r - axis * float(r @ axis)
+        total += float(axis @ inertia @ axis) + b.mass * float(r_perp @ r_perp)
+    return total
+
+
+def _gravity_load(mech: Mechanism, j, moved) -> float:
+    """An upper bound of the gravity force or torque on joint ``j`` over every pose: each carried
+    mass at the longest lever its chain of joints allows (distances measured at the zero position)."""
+    if not j.revolute:
+        return GRAVITY * sum(b.mass for b in moved)
+    graph = mech.graph
+    lever = {j.child: (np.asarray(j.point1, float), 0.0)}  # link -> (its joint's point, chain length)
+    load = 0.0
+    for b in moved:
+        if b.link not in lever:
+            tj = graph.tree_joint[graph.index[b.link]]
+            anchor, length = lever[tj.parent]
+            p = np.asarray(tj.point1, float)
+            lever[b.link] = (p, length + float(np.linalg.norm(p - anchor)))
+        anchor, length = lever[b.link]
+        load += b.mass * (length + float(np.linalg.norm(b.origin + b.com - anchor)))
+    return GRAVITY * load
+
+
+def _joint_physics(j, inertia: float, armature: float, load: float, options: PhysicsOptions) -> JointPhysics:
+    w_limit = 2 * math.pi * LIMIT_HZ
+    stiffness = damping = 0.0
+    if options.drive_hz is not None:
+        w = 2 * math.pi * options.drive_hz
+        stiffness, damping = inertia * w * w, 2 * inertia * w
+    effort = options.effort if options.effort is not None else EFFORT_MARGIN * load + inertia * ACCELERATION
+    return JointPhysics(
+        name=j.name, revolute=j.revolute, inertia=inertia, armature=armature, stiffness=stiffness,
+        damping=damping, limit_stiffness=inertia * w_limit ** 2, limit_damping=2 * inertia * w_limit,
+        effort=effort, velocity=options.velocity or VELOCITY[j.revolute])
+
+
+def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics]) -> tuple[tuple[str, str, str], ...]:
+    """Link pairs kept from colliding: joined by a joint, or touching at home (their pieces within
+    ``CONTACT_MARGIN``), which would otherwise push the robot off its home pose at the start."""
+    graph, poses = mech.graph, link_poses(mech)
+    order = [graph.links[k] for k in graph.order]
+    solid = [l for l in order if bodies.get(l) and bodies[l].parts]
+    # links without geometry are contracted away (MoveIt's rule): links joined through them are adjacent
+    adjacent = graph.adjacent_pairs(has_geometry=solid)
+    out = [(*_ordered(a, b, order), "adjacent") for a, b in (tuple(p) for p in adjacent)]
+    shapes = {l: _posed(bodies[l], poses[l]) for l in solid}
+    for i, a in enumerate(solid):
+        for b in solid[i + 1:]:
+            if frozenset((a, b)) not in adjacent and _touch(shapes[a], shapes[b]):
+                out.append((a, b, "overlap at home"))
+    return tuple(sorted(set(out), key=lambda t: (order.index(t[0]), order.index(t[1]))))
+
+
+def _ordered(a: str, b: str, order: list[str]) -> tuple[str, str]:
+    return (a, b) if order.index(a) <= order.index(b) else (b, a)
+
+
+def _posed(body: BodyPhysics, pose: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Each piece at home: (box min, box max, halfspaces)."""
+    out = []
+    for part in body.parts:
+        for piece in part.pieces:
+            v = piece.vertices @ pose[:3, :3].T + pose[:3, 3]
+            out.append((v.min(axis=0), v.max(axis=0), halfspaces(piece, pose)))
+    return out
+
+
+def _touch(a, b) -> bool:
+    for lo_a, hi_a, h_a in a:
+        for lo_b, hi_b, h_b in b:
+            if np.all(lo_a <= hi_b + CONTACT_MARGIN) and np.all(lo_b <= hi_a + CONTACT_MARGIN) \
+                    and overlap(h_a, h_b, CONTACT_MARGIN):
+                return True
+    return False

@@ -1,0 +1,55 @@
+"""What ``rswarp export`` prints: the mass table (link, mass, centre of mass), the joints' drive
+and limit settings, and the link pairs kept from colliding. JSON is SI (metres, radians); the
+text uses the file's length unit."""
+
+from __future__ import annotations
+
+import math
+
+from .poses import rounded
+
+
+def export_dict(result) -> dict:
+    """The export as JSON: output, warnings, masses, joints, filtered pairs (SI, per radian)."""
+    robot = result.physics
+    return {
+        "output": str(result.output),
+        "warnings": list(result.warnings),
+        "total_mass": robot.total_mass,
+        "density": robot.density,
+        "collision": robot.collision,
+        "links": [{"link": b.link, "mass": b.mass, "center_of_mass": (b.origin + b.com).tolist(),
+                   "collision_pieces": sum(len(p.pieces) for p in b.parts)} for b in robot.bodies.values()],
+        "joints": [{"joint": j.name, "stiffness": j.stiffness, "damping": j.damping, "armature": j.armature,
+                    "limit_stiffness": j.limit_stiffness, "limit_damping": j.limit_damping, "effort": j.effort,
+                    "velocity": j.velocity, "inertia": j.inertia} for j in robot.joints.values()],
+        "filtered_pairs": [{"link1": a, "link2": b, "reason": reason} for a, b, reason in robot.filtered],
+    }
+
+
+def export_text(result) -> str:
+    """The mass table and a line each on drives, collisions and the file written."""
+    robot, mech = result.physics, result.mechanism
+    lf, unit = mech.length_factor, mech.length_unit or "m"
+    rows = [(b.link, f"{b.mass:.3f}", *(rounded(float(v), lf, 1e-4) for v in b.origin + b.com))
+            for b in robot.bodies.values() if b.mass > 0]
+    lines = []
+    if rows:
+        head = ("link", "mass kg", f"com x {unit}", f"com y {unit}", f"com z {unit}")
+        widths = [max(len(r[i]) for r in [head, *rows]) for i in range(5)]
+        lines += ["  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
+                  for r in [head, *rows]]
+        lines.append(f"total {robot.total_mass:.3f} kg (density {robot.density:.6g} kg/m^3; centre of mass in the "
+                     "base frame at the zero position)")
+    driven = [j for j in robot.joints.values() if j.stiffness > 0]
+    if driven:
+        hz = math.sqrt(driven[0].stiffness / driven[0].inertia) / (2 * math.pi)
+        lines.append(f"drives: {len(driven)} joints hold home, critically damped at {hz:.3g} Hz")
+    elif robot.joints:
+        lines.append("drives: none (--drive-hz 0)")
+    adjacent = sum(1 for *_, r in robot.filtered if r == "adjacent")
+    touching = [f"{a}/{b}" for a, b, r in robot.filtered if r != "adjacent"]
+    lines.append(f"collisions filtered: {adjacent} jointed pairs" + (
+        f", {len(touching)} touching at home ({', '.join(touching)})" if touching else ""))
+    lines.append(f"wrote {result.output}")
+    return "\n".join(lines)
