@@ -165,6 +165,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--device", default="cpu", help=device_help)
     p.set_defaults(func=cmd_sweep)
 
+    _export_parser(sub, json_help)
+
+    p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
+    p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the exports go (default ./rswarp-demo)")
+    p.add_argument("--json", action="store_true", help=json_help)
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+
+def _export_parser(sub, json_help: str) -> None:
+    """``rswarp export``: the output, its layout, and how the robot simulates."""
     p = sub.add_parser("export", help="write OpenUSD (.usda/.usdc/.usdz) or URDF (.urdf)")
     p.add_argument("file", metavar="FILE")
     p.add_argument("-o", "--output", required=True, metavar="OUT")
@@ -193,13 +205,6 @@ def build_parser() -> argparse.ArgumentParser:
                    help="velocity limit for every joint, rad/s (m/s); default 90 deg/s (0.5 m/s)")
     p.add_argument("--json", action="store_true", help=json_help)
     p.set_defaults(func=cmd_export)
-
-    p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
-    p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the exports go (default ./rswarp-demo)")
-    p.add_argument("--json", action="store_true", help=json_help)
-    p.set_defaults(func=cmd_demo)
-    return parser
-
 
 def _positive(text: str) -> float:
     """A finite number > 0 (``inf`` and ``nan`` are refused here, not deep inside a computation)."""
