@@ -184,7 +184,7 @@ def atomic_folder(out: str | Path, owned: tuple[str, ...]) -> Iterator[Path]:
     no file the user owns is ever deleted."""
     out = Path(out)
     check_replaceable(out, owned)
-    with new_folders(out):
+    with cleanup_on_terminate(), new_folders(out):
         try:
             tmp = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".tmp", dir=_folder(out)))
         except OSError as exc:
