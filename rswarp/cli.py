@@ -206,22 +206,24 @@ def _export_parser(sub, json_help: str) -> None:
     p.add_argument("--json", action="store_true", help=json_help)
     p.set_defaults(func=cmd_export)
 
-def _positive(text: str) -> float:
-    """A finite number > 0 (``inf`` and ``nan`` are refused here, not deep inside a computation)."""
+def _number(text: str, *, zero: bool) -> float:
+    """A finite number > 0 (>= 0 with ``zero``); ``inf`` and ``nan`` are refused here, not deep
+    inside a computation."""
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, not '{text}'")
+    if not (math.isfinite(value) and (value >= 0 if zero else value > 0)):
+        raise argparse.ArgumentTypeError(f"must be a finite number {'>=' if zero else '>'} 0, not '{text}'")
     return value
 
 
+def _positive(text: str) -> float:
+    return _number(text, zero=False)
+
+
 def _non_negative(text: str) -> float:
-    """A finite number >= 0."""
-    if text.strip() in ("0", "0.0", "-0"):
-        return 0.0
-    return _positive(text)
+    return _number(text, zero=True)
 
 
 def _count(least: int):

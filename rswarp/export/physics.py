@@ -118,8 +118,9 @@ def robot_physics(mech: Mechanism, options: PhysicsOptions | None = None, *, geo
     warnings: list[str] = []
     parts = _geometry(mech, options.collision, warnings) if geometry else {}
     bodies, density = _bodies(mech, parts, options, warnings)
-    joints = _joints(mech, bodies, options)
-    return RobotPhysics(bodies, joints, _filtered(mech, bodies), density, options.collision, tuple(warnings))
+    poses = link_poses(mech)  # home, asked once by the gains and by the contact filter
+    joints = _joints(mech, bodies, poses, options)
+    return RobotPhysics(bodies, joints, _filtered(mech, bodies, poses), density, options.collision, tuple(warnings))
 
 
 def _geometry(mech: Mechanism, collision: str, warnings: list[str]) -> dict[str, tuple[PartGeometry, ...]]:
@@ -190,8 +191,8 @@ def _subtrees(mech: Mechanism) -> dict[str, list[str]]:
     return carried
 
 
-def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], options: PhysicsOptions) -> dict[str, JointPhysics]:
-    graph, poses, carried = mech.graph, link_poses(mech), _subtrees(mech)
+def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict, options: PhysicsOptions) -> dict[str, JointPhysics]:
+    graph, carried = mech.graph, _subtrees(mech)
     total = sum(b.mass for b in bodies.values())
     reach = max([float(np.linalg.norm(p[:3, 3] - poses[graph.base][:3, 3])) for p in poses.values()]
                 + [float(np.linalg.norm(fl.pose.matrix()[:3, 3])) for fl in mech.flanges] + [0.1])
@@ -254,10 +255,10 @@ def _joint_physics(j, inertia: float, armature: float, load: float, options: Phy
         effort=effort, velocity=options.velocity or VELOCITY[j.revolute])
 
 
-def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics]) -> tuple[tuple[str, str, str], ...]:
+def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict) -> tuple[tuple[str, str, str], ...]:
     """Link pairs kept from colliding: joined by a joint, or touching at home (their pieces within
     ``CONTACT_MARGIN``), which would otherwise push the robot off its home pose at the start."""
-    graph, poses = mech.graph, link_poses(mech)
+    graph = mech.graph
     order = [graph.links[k] for k in graph.order]
     solid = [l for l in order if bodies.get(l) and bodies[l].parts]
     # links without geometry are contracted away (MoveIt's rule): links joined through them are adjacent

@@ -51,14 +51,16 @@ class _Files:
 
     def __init__(self, stem: str, folder: Path | None = None):
         self.arrays: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self.taken: set[str] = set()  # lower-case: names must differ on case-insensitive disks too
         self.prefix = f"{MESHES}/{stem}"
         self.folder = folder  # where meshes/ will be: absolute paths; None: relative ones
 
     def add(self, stem: str, vertices: np.ndarray, faces: np.ndarray) -> str:
         base = re.sub(r"[^A-Za-z0-9_.-]", "_", stem) or "mesh"
         name, i = f"{base}.stl", 1
-        while name.lower() in {n.lower() for n in self.arrays}:
+        while name.lower() in self.taken:
             name, i = f"{base}_{i}.stl", i + 1
+        self.taken.add(name.lower())
         self.arrays[name] = (vertices, faces)
         return f"{self.prefix}/{name}" if self.folder is None else (self.folder / self.prefix / name).as_posix()
 
