@@ -76,6 +76,22 @@ def cmd_sweep(args) -> int:
     return 0
 
 
+def cmd_collisions(args) -> int:
+    from .report.collisions import check_collisions_folder, collisions_text, environment_meshes, write_collisions
+    from .sim.collisions import collisions
+
+    mech, _ = load_mechanism(args.file)
+    check_collisions_folder(args.out)
+    result = collisions(mech, samples=args.samples, seed=args.seed, padding=args.padding * mech.length_factor,
+                        environment=environment_meshes(mech, args.env), device=args.device,
+                        progress=None if args.json else _Progress("collisions"))
+    for w in result.warnings:
+        print(w, file=sys.stderr)
+    doc = write_collisions(result, args.out)
+    _emit_json(doc) if args.json else print(collisions_text(result, mech, doc["files"]))
+    return 0
+
+
 def cmd_export(args) -> int:
     from .export import export
     from .export.physics import PhysicsOptions
@@ -84,12 +100,28 @@ def cmd_export(args) -> int:
     report = checked(args.file)
     physics = PhysicsOptions(density=args.density, mass=args.mass, collision=args.collision,
                              drive_hz=args.drive_hz or None, armature=args.armature, effort=args.effort,
-                             velocity=args.velocity)
+                             velocity=args.velocity, disabled=_collision_matrix(report.model, args))
     result = export(report.model, args.output, layout=args.layout, mesh_paths=args.mesh_paths, physics=physics)
     for w in result.warnings:
         print(w, file=sys.stderr)
     _emit_json(export_dict(result)) if args.json else print(export_text(result))
     return 0
+
+
+def _collision_matrix(model, args) -> tuple:
+    """The disabled pairs of ``--collision-matrix FILE``, or of a sweep of ``--collision-samples N``."""
+    from .export.frames import mechanism_of
+
+    if args.collision_matrix is None and args.collision_samples is None:
+        return ()
+    mech = mechanism_of(model)[0]
+    if args.collision_matrix is not None:
+        from .export.srdf import read_srdf
+
+        return read_srdf(args.collision_matrix, mech.link_names)
+    from .sim.collisions import collisions
+
+    return tuple(collisions(mech, samples=args.collision_samples).disabled())
 
 
 def cmd_demo(args) -> int:
@@ -165,6 +197,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--device", default="cpu", help=device_help)
     p.set_defaults(func=cmd_sweep)
 
+    p = sub.add_parser("collisions", help="self-collision sweep over the joint limits and the MoveIt collision matrix")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--samples", type=_count(1), default=1_000_000, help="random configurations (default 1000000)")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="folder for collision_matrix.srdf, report.json and heatmap.png")
+    p.add_argument("--seed", type=_count(0), default=0, help="sampling seed, >= 0 (default 0)")
+    p.add_argument("--padding", type=_non_negative, default=0.0,
+                   help="pairs closer than this (file's length unit) count as colliding (default 0)")
+    p.add_argument("--env", action="append", default=[], metavar="MESH@x,y,z",
+                   help="an environment mesh placed in the world (file's length unit), tested against every "
+                        "link; repeat for more")
+    p.add_argument("--json", action="store_true", help=json_help)
+    p.add_argument("--device", default="cpu", help=device_help)
+    p.set_defaults(func=cmd_collisions)
+
     _export_parser(sub, json_help)
 
     p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
@@ -201,6 +248,11 @@ def _export_parser(sub, json_help: str) -> None:
     p.add_argument("--effort", type=_positive, metavar="NM",
                    help="effort limit for every joint, N m (N); default twice the largest gravity load plus "
                         "10 rad/s^2 of acceleration")
+    matrix = p.add_mutually_exclusive_group()
+    matrix.add_argument("--collision-matrix", metavar="SRDF",
+                        help="filter every pair an SRDF disables (from 'rswarp collisions' or MoveIt) from contact")
+    matrix.add_argument("--collision-samples", type=_count(1), metavar="N",
+                        help="run a collision sweep of N samples and filter every pair its matrix disables")
     p.add_argument("--velocity", type=_positive, metavar="RAD_S",
                    help="velocity limit for every joint, rad/s (m/s); default 90 deg/s (0.5 m/s)")
     p.add_argument("--json", action="store_true", help=json_help)

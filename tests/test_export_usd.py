@@ -272,7 +272,7 @@ def test_export_command(tmp_path, capsys):
     assert main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.usdz")]) == 0
     assert main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.urdf"), "--json"]) == 0
     capsys.readouterr()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["meshes", "r.urdf", "r.usdc", "r.usdz"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["meshes", "r.srdf", "r.urdf", "r.usdc", "r.usdz"]
     stage = Usd.Stage.Open(str(tmp_path / "r.usdz"))
     assert stage.GetDefaultPrim().GetName() == "IRB2600_12_165__01"
     assert main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.obj")]) == 1

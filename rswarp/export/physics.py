@@ -44,6 +44,8 @@ class PhysicsOptions:
     armature: float | None = None
     effort: float | None = None
     velocity: float | None = None
+    # pairs a collision matrix disables (link, link, MoveIt reason): filtered like the adjacent ones
+    disabled: tuple[tuple[str, str, str], ...] = ()
 
     def __post_init__(self):
         if self.collision not in METHODS:
@@ -102,7 +104,8 @@ class JointPhysics:
 class RobotPhysics:
     bodies: dict[str, BodyPhysics]
     joints: dict[str, JointPhysics]
-    filtered: tuple[tuple[str, str, str], ...]  # (link, link, reason): "adjacent" or "overlap at home"
+    # (link, link, reason): "adjacent", "overlap at home", or a collision matrix's reason in lower case
+    filtered: tuple[tuple[str, str, str], ...]
     density: float
     collision: str
     warnings: tuple[str, ...]
@@ -120,7 +123,8 @@ def robot_physics(mech: Mechanism, options: PhysicsOptions | None = None, *, geo
     bodies, density = _bodies(mech, parts, options, warnings)
     poses = link_poses(mech)  # home, asked once by the gains and by the contact filter
     joints = _joints(mech, bodies, poses, options)
-    return RobotPhysics(bodies, joints, _filtered(mech, bodies, poses), density, options.collision, tuple(warnings))
+    filtered = _filtered(mech, bodies, poses, options.disabled)
+    return RobotPhysics(bodies, joints, filtered, density, options.collision, tuple(warnings))
 
 
 def _geometry(mech: Mechanism, collision: str, warnings: list[str]) -> dict[str, tuple[PartGeometry, ...]]:
@@ -255,9 +259,11 @@ def _joint_physics(j, inertia: float, armature: float, load: float, options: Phy
         effort=effort, velocity=options.velocity or VELOCITY[j.revolute])
 
 
-def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict) -> tuple[tuple[str, str, str], ...]:
-    """Link pairs kept from colliding: joined by a joint, or touching at home (their pieces within
-    ``CONTACT_MARGIN``), which would otherwise push the robot off its home pose at the start."""
+def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict,
+              disabled=()) -> tuple[tuple[str, str, str], ...]:
+    """Link pairs kept from colliding: joined by a joint, touching at home (their pieces within
+    ``CONTACT_MARGIN``), which would otherwise push the robot off its home pose at the start, and
+    those a collision matrix disables (``disabled``)."""
     graph = mech.graph
     order = [graph.links[k] for k in graph.order]
     solid = [l for l in order if bodies.get(l) and bodies[l].parts]
@@ -269,6 +275,11 @@ def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict) -> t
         for b in solid[i + 1:]:
             if frozenset((a, b)) not in adjacent and _touch(shapes[a], shapes[b]):
                 out.append((a, b, "overlap at home"))
+    have = {frozenset(t[:2]) for t in out}
+    for a, b, reason in disabled:
+        if a != b and a in solid and b in solid and frozenset((a, b)) not in have:
+            have.add(frozenset((a, b)))
+            out.append((*_ordered(a, b, order), reason.lower()))
     return tuple(sorted(set(out), key=lambda t: (order.index(t[0]), order.index(t[1]))))
 
 

@@ -32,6 +32,9 @@ from ..rsxml.model import Mechanism
 from ..transforms import matrix_euler_zyx
 from .frames import link_origins, tree_error
 from .physics import BodyPhysics, PhysicsOptions, RobotPhysics, robot_physics
+from .srdf import EXPORT_REASONS, srdf_text
+
+SRDF_MARK = "written by rswarp export"
 
 MESHES = "meshes"  # the folder beside the URDF
 MESH_PATHS = ("absolute", "relative")
@@ -159,13 +162,31 @@ def to_urdf(mech: Mechanism, path: str | Path, physics: PhysicsOptions | RobotPh
         raise InputError(f"mesh paths must be {' or '.join(MESH_PATHS)}, not {mesh_paths!r}")
     folder = path.parent if str(path.parent) else Path(".")
     files = _Files(path.stem, folder.resolve() if mesh_paths == "absolute" else None)
-    text, warnings = to_urdf_text(mech, path, physics or PhysicsOptions(**options), files)
+    srdf = path.with_suffix(".srdf")
+    physics = physics if isinstance(physics, RobotPhysics) else robot_physics(mech, physics or PhysicsOptions(**options))
+    text, warnings = to_urdf_text(mech, path, physics, files)
     with cleanup_on_terminate(), new_folders(path), tempfile.TemporaryDirectory(dir=folder, prefix=f".{path.stem}.") as tmp:
         tmp = Path(tmp)
         (tmp / path.name).write_text(text)
+        # URDF cannot say which pairs never need a contact test: an SRDF beside it does (MoveIt reads
+        # it); one the user wrote is left alone
+        own_srdf = not srdf.exists() or SRDF_MARK in srdf.read_text(errors="replace")[:400]
+        if own_srdf:
+            (tmp / srdf.name).write_text(urdf_srdf(mech, physics))
+        else:
+            warnings.append(f"{srdf}: kept (not written by rswarp); the filtered pairs are in --json")
         if files.arrays:
             files.write(tmp / MESHES)
             with new_folders(folder / files.prefix):  # meshes/ made if missing, removed again on failure
                 merge_folder(tmp / MESHES, folder / files.prefix)
+        if own_srdf:
+            os.replace(tmp / srdf.name, srdf)
         os.replace(tmp / path.name, path)
     return warnings
+
+
+def urdf_srdf(mech: Mechanism, robot: RobotPhysics) -> str:
+    """The SRDF of an export's filtered pairs, in MoveIt's words."""
+    pairs = [(a, b, EXPORT_REASONS.get(r, r.capitalize())) for a, b, r in robot.filtered]
+    return srdf_text(mech.name, pairs, f"{SRDF_MARK}: link pairs the export filters from contact: Adjacent "
+                                       "(joined), User (convex pieces within 5 mm at home), and a collision matrix's")

@@ -61,8 +61,9 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     flange = kin.flange(mech.home_position()[None])[0]
     ws = workspace(mech, samples=DEMO_SAMPLES, seed=0, kinematics=kin)
     out.mkdir(parents=True, exist_ok=True)
+    matrix, collision_line = _collisions(mech, out)
     usd, urdf = out / f"{mech.name}.usdc", out / f"{mech.name}.urdf"
-    done = [export(mech, usd), export(mech, urdf)]
+    done = [export(mech, usd, disabled=matrix), export(mech, urdf, disabled=matrix)]
     warnings = [w for d in done for w in d.warnings]
     lf, unit = mech.length_factor, mech.length_unit or "m"
     pos = ", ".join(rounded(float(v), lf, 1e-4) for v in flange[:3, 3])
@@ -70,16 +71,34 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     what = "J1 axis to wrist centre" if ws.reach is not None else "J1 axis to flange"
     lines = [f"== {mech.name}: flange at home ({pos}) {unit}; reach {rounded(reach.value, lf, 1e-4)} {unit} "
              f"({what}, {DEMO_SAMPLES} samples refined)", *(f"   {w}" for w in warnings[:1]),
+             f"   {collision_line}",
              f"   exported {usd} and {urdf}: {_physics_line(done[0].physics)}", ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
             "usd": str(usd), "urdf": str(urdf)}
 
 
+def _collisions(mech: Mechanism, out: Path) -> tuple[tuple, str]:
+    """A collision sweep and its matrix (written to ``out/<name>-collisions``), for the exports."""
+    from ..errors import InputError
+    from ..sim.collisions import collisions
+    from .collisions import write_collisions
+
+    try:
+        c = collisions(mech, samples=DEMO_SAMPLES, seed=0)
+    except InputError as exc:  # no meshes: nothing to collide
+        return (), f"no collision sweep: {exc}"
+    folder = out / f"{mech.name}-collisions"
+    write_collisions(c, folder)
+    counts = {r: sum(1 for *_, x in c.disabled() if x == r) for r in ("Adjacent", "Default", "Always", "Never")}
+    return tuple(c.disabled()), (f"collisions: {c.free_fraction:.1%} of {c.samples} samples free; matrix disables "
+                                 + ", ".join(f"{v} {k.lower()}" for k, v in counts.items()) + f" pairs -> {folder}")
+
+
 def _physics_line(robot) -> str:
     """Mass, drives and filtered pairs of an export, in one line."""
     if not robot.total_mass > 0:
         return "kinematics only"
-    touching = sum(1 for *_, r in robot.filtered if r != "adjacent")
+    touching = sum(1 for *_, r in robot.filtered if r == "overlap at home")
     return (f"{robot.total_mass:.1f} kg, drives holding home on {sum(j.stiffness > 0 for j in robot.joints.values())} "
             f"joints, {len(robot.filtered)} link pairs filtered ({touching} touching at home)")

@@ -48,8 +48,11 @@ def export_text(result) -> str:
     elif robot.joints:
         lines.append("drives: none (--drive-hz 0)")
     adjacent = sum(1 for *_, r in robot.filtered if r == "adjacent")
-    touching = [f"{a}/{b}" for a, b, r in robot.filtered if r != "adjacent"]
-    lines.append(f"collisions filtered: {adjacent} jointed pairs" + (
-        f", {len(touching)} touching at home ({', '.join(touching)})" if touching else ""))
+    groups: dict[str, list[str]] = {}
+    for a, b, r in robot.filtered:
+        if r != "adjacent":
+            groups.setdefault("touching at home" if r == "overlap at home" else f"matrix '{r}'", []).append(f"{a}/{b}")
+    lines.append(f"collisions filtered: {adjacent} jointed pairs" + "".join(
+        f", {len(v)} {k} ({', '.join(v)})" for k, v in groups.items()))
     lines.append(f"wrote {result.output}")
     return "\n".join(lines)

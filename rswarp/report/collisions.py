@@ -1,0 +1,132 @@
+"""What a collision sweep leaves in its output folder (``collision_matrix.srdf``, ``report.json``,
+``heatmap.png``) and the summary it prints, in the file's units."""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..export.srdf import srdf_text
+from ..files import atomic_folder, atomic_write, check_replaceable
+from ..rsxml.model import Mechanism
+from ..rsxml.units import format_number
+from ..sim.bodies import Environment
+from ..sim.collisions import Collisions
+from .outputs import json_safe
+
+COLLISION_FILES = ("collision_matrix.srdf", "report.json", "heatmap.png")
+
+
+def check_collisions_folder(out: str | Path) -> None:
+    """Refuse an output folder the sweep could not replace, before any sampling is done."""
+    check_replaceable(Path(out), COLLISION_FILES)
+
+
+def environment_meshes(mech: Mechanism, specs: list[str]) -> tuple[Environment, ...]:
+    """``MESH@x,y,z`` (a position in the file's length unit; ``@...`` may be left out) as placed meshes."""
+    out = []
+    for spec in specs:
+        path, _, at = spec.rpartition("@") if "@" in spec else (spec, "", "")
+        try:
+            xyz = [float(v) for v in at.split(",")] if at else [0.0, 0.0, 0.0]
+        except ValueError:
+            xyz = []
+        if len(xyz) != 3 or not np.all(np.isfinite(xyz)):
+            raise InputError(f"--env '{spec}': give MESH@x,y,z with three numbers in the file's length unit")
+        pose = np.eye(4)
+        pose[:3, 3] = np.asarray(xyz) * mech.length_factor
+        out.append(Environment(Path(path).stem, path, pose))
+    return tuple(out)
+
+
+def collisions_srdf(c: Collisions) -> str:
+    return srdf_text(c.mechanism, c.disabled(),
+                     f"rswarp collision matrix: {c.samples} random samples (seed {c.seed}), padding "
+                     f"{c.padding:g} m; Default = colliding at the RSXML HomePosition")
+
+
+def write_collisions(c: Collisions, out: str | Path) -> dict:
+    """Write the SRDF, the JSON report and the heat map into ``out`` as one set (an interrupted run
+    leaves the folder as it was); the report, its files under ``files``."""
+    out = Path(out)
+    files = {name.split(".")[0]: out / name for name in COLLISION_FILES}
+    doc = json_safe(c.report()) | {"files": {k: str(v) for k, v in files.items()}}
+    with atomic_folder(out, COLLISION_FILES) as tmp:
+        atomic_write(tmp / "collision_matrix.srdf", collisions_srdf(c).encode())
+        atomic_write(tmp / "heatmap.png", heatmap_png(c))
+        atomic_write(tmp / "report.json", (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
+    return doc
+
+
+def rate_matrix(c: Collisions) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """Bodies (links, then environment meshes), collision rates (NaN: not tested), and the matrix
+    of reasons' codes (0 checked, 1 Adjacent, 2 Default, 3 Always, 4 Never)."""
+    names = list(c.links) + [p.body2 for p in c.pairs if p.environment and p.body2 not in c.links]
+    names = list(dict.fromkeys(names))
+    idx = {n: i for i, n in enumerate(names)}
+    rate = np.full((len(names), len(names)), np.nan)
+    code = np.zeros((len(names), len(names)), int)
+    for a, b in c.adjacent:
+        code[idx[a], idx[b]] = code[idx[b], idx[a]] = 1
+    for p in c.pairs:
+        i, j = idx[p.body1], idx[p.body2]
+        rate[i, j] = rate[j, i] = p.collisions / max(c.samples, 1)
+        code[i, j] = code[j, i] = 0 if p.reason is None else ("Adjacent", "Default", "Always", "Never").index(p.reason) + 1
+    return names, rate, code
+
+
+def heatmap_png(c: Collisions) -> bytes:
+    """A labelled lower-triangle matrix of pair collision rates; each cell says the rate and why the
+    matrix disables the pair."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names, rate, code = rate_matrix(c)
+    n = len(names)
+    shown = np.where(np.tril(np.ones((n, n), bool), -1), rate, np.nan)
+    fig, ax = plt.subplots(figsize=(1.1 * n + 2.5, 1.0 * n + 1.5), dpi=100)
+    im = ax.imshow(np.ma.masked_invalid(shown * 100), cmap="magma_r", vmin=0, vmax=100)
+    tags = ("", "adjacent", "default", "always", "never")
+    for i in range(n):
+        for j in range(i):
+            text = tags[code[i, j]] if np.isnan(rate[i, j]) else f"{rate[i, j]:.1%}\n{tags[code[i, j]]}".strip()
+            ax.text(j, i, text, ha="center", va="center", fontsize=7,
+                    color="white" if not np.isnan(rate[i, j]) and rate[i, j] > 0.5 else "black")
+    ax.set_xticks(range(n), names, rotation=45, ha="right")
+    ax.set_yticks(range(n), names)
+    ax.set_title(f"{c.mechanism}: share of {c.samples} samples in collision")
+    fig.colorbar(im, ax=ax, label="% of samples")
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def collisions_text(c: Collisions, mech: Mechanism, files: dict) -> str:
+    """The sweep's summary, lengths and angles in the file's units."""
+    lf, unit = mech.length_factor, mech.length_unit or "m"
+
+    def length(v):
+        return f"{format_number(round(v / lf, 1 if lf < 0.01 else 4) * lf, lf)} {unit}"
+
+    lines = [f"{c.mechanism}: {c.samples} samples (seed {c.seed}), padding {length(c.padding)}",
+             f"collision-free: {c.free_fraction:.2%} of samples (pairs the matrix keeps checking)",
+             f"{'pair':<28} {'collide':>9}  matrix    clearance (never colliding)"]
+    for p in c.pairs:
+        name = f"{p.body1} / {p.body2}"
+        clear = ""
+        if p.clearance is not None:
+            clear = f"closest {length(p.clearance)}, never under {length(max(p.clearance_floor, 0.0))}"
+        lines.append(f"{name:<28} {p.collisions / max(c.samples, 1):>9.3%}  {p.reason or 'checked':<9} {clear}")
+    counts = {r: sum(1 for *_, reason in c.disabled() if reason == r) for r in ("Adjacent", "Default", "Always", "Never")}
+    lines.append("disabled: " + ", ".join(f"{v} {k.lower()}" for k, v in counts.items())
+                 + f" ({c.always_rounds} round(s) of 200 for 'always')")
+    lines += [f"{k}: {v}" for k, v in files.items()]
+    return "\n".join(lines)

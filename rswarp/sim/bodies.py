@@ -1,0 +1,164 @@
+"""The bodies a collision sweep tests: each link with geometry (its parts as one mesh, in the
+link's frame: the world at the zero position) and each environment mesh placed in the world, as
+the flat arrays of ``rswarp.kernels.collide``; and the pairs to test."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, MeshNotFoundError
+from ..geometry.bvh import MAX_DEPTH, build_bvh, component_points, join
+from ..geometry.meshes import link_mesh
+from ..rsxml.model import Mechanism
+
+
+@dataclass(frozen=True)
+class Environment:
+    """A mesh placed in the world (a floor, a pedestal, a wall): a file read in the mechanism's
+    length unit, moved by ``pose`` (4x4, metres)."""
+
+    name: str
+    path: str
+    pose: np.ndarray = field(default_factory=lambda: np.eye(4), compare=False)
+
+
+@dataclass(frozen=True)
+class Body:
+    """A link or an environment mesh: its triangles in its own frame (metres)."""
+
+    name: str
+    link: int  # chain link index, -1 for an environment body
+    vertices: np.ndarray = field(repr=False)
+    faces: np.ndarray = field(repr=False)
+    watertight: bool
+    pose: np.ndarray = field(default_factory=lambda: np.eye(4), repr=False)  # fixed pose (environment)
+
+
+@dataclass(frozen=True)
+class Bodies:
+    """Bodies, the pairs tested (indices into ``bodies``), and warnings about the geometry."""
+
+    bodies: tuple[Body, ...]
+    pairs: tuple[tuple[int, int], ...]
+    adjacent: frozenset[frozenset[str]]
+    warnings: tuple[str, ...]
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(b.name for b in self.bodies)
+
+    def pair_names(self) -> list[tuple[str, str]]:
+        return [(self.bodies[a].name, self.bodies[b].name) for a, b in self.pairs]
+
+    @property
+    def links(self) -> tuple[int, ...]:
+        return tuple(b.link for b in self.bodies if b.link >= 0)
+
+
+def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ()) -> Bodies:
+    """The links with geometry and the environment meshes; pairs: every two links not joined by a
+    joint (links without geometry contracted away, as MoveIt does), and each environment mesh with
+    every link."""
+    graph = mech.graph
+    bodies, warnings = [], []
+    for k in graph.order:
+        name = graph.links[k]
+        try:
+            mesh = link_mesh(mech, name)
+        except MeshNotFoundError as exc:
+            warnings.append(f"{exc}: link '{name}' left out of the collision sweep")
+            continue
+        if mesh is None:
+            continue
+        bodies.append(_body(name, int(k), mesh, np.eye(4), warnings))
+    if not bodies:
+        raise InputError(f"{mech.path or mech.name}: no link has a mesh: there is nothing to test for collisions")
+    links = [b.name for b in bodies]
+    for env in environment:
+        if env.name in links or env.name in [b.name for b in bodies[len(links):]]:
+            raise InputError(f"environment mesh '{env.name}' has the name of another body; rename its file")
+        bodies.append(_body(env.name, -1, _environment_mesh(mech, env), env.pose, warnings))
+    adjacent = graph.adjacent_pairs(has_geometry=links)
+    pairs = [(i, j) for i in range(len(links)) for j in range(i + 1, len(links))
+             if frozenset((links[i], links[j])) not in adjacent]
+    pairs += [(i, j) for j in range(len(links), len(bodies)) for i in range(len(links))]
+    return Bodies(tuple(bodies), tuple(pairs), adjacent, tuple(warnings))
+
+
+def _body(name: str, link: int, mesh, pose: np.ndarray, warnings: list[str]) -> Body:
+    if not mesh.is_watertight:
+        warnings.append(f"'{name}': mesh is not closed; whether it contains another body is judged by its "
+                        "winding number")
+    return Body(name, link, np.asarray(mesh.vertices, np.float64), np.asarray(mesh.faces, np.int64),
+                bool(mesh.is_watertight), np.asarray(pose, np.float64))
+
+
+def _environment_mesh(mech: Mechanism, env: Environment):
+    """An environment mesh, read like a part's (the file's length unit unless glTF)."""
+    from ..geometry.meshes import _load, METRIC_EXTENSIONS
+    import trimesh
+
+    path = Path(env.path)
+    try:
+        loaded = _load(str(path), path.stat().st_mtime)
+    except FileNotFoundError:
+        raise InputError(f"{env.path}: no such environment mesh") from None
+    except (ValueError, OSError) as exc:
+        raise InputError(f"{env.path}: {exc}") from None
+    scale = 1.0 if path.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
+    return trimesh.Trimesh(loaded.vertices * scale, loaded.faces, process=False, validate=False)
+
+
+# -- device arrays ---------------------------------------------------------------------------------
+
+
+class DeviceBodies:
+    """The bodies as a ``rswarp.kernels.collide`` struct on a device (made once per sweep; it holds
+    the ``wp.Mesh`` objects the struct refers to)."""
+
+    def __init__(self, bodies: Bodies, padding: float, device, scalar):
+        import warp as wp
+
+        from ..kernels.collide import bodies_struct
+        from ..kernels.types import types_of
+
+        S, V3, M33, M34, _ = types_of(scalar)
+        trees = [build_bvh(b.vertices, b.faces) for b in bodies.bodies]
+        tree, roots = join(trees)
+        if tree.depth > MAX_DEPTH:  # a median split halves every level: unreachable
+            raise RuntimeError(f"a collision tree is {tree.depth} levels deep, over {MAX_DEPTH}")
+        points = [component_points(b.vertices, b.faces) for b in bodies.bodies]
+        self.meshes = [wp.Mesh(points=wp.array(b.vertices.astype(np.float32), dtype=wp.vec3, device=device),
+                               indices=wp.array(b.faces.astype(np.int32).ravel(), dtype=wp.int32, device=device),
+                               support_winding_number=True)
+                       for b in bodies.bodies]
+        # boxes and spheres grown by a hair: rounding to float32 must never shrink them
+        grow = 1e-6 * (np.abs(tree.center).max() + 1.0)
+        centre, radius = zip(*(_sphere(b.vertices) for b in bodies.bodies))
+        s = bodies_struct(scalar)()
+        arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=device)  # noqa: E731
+        s.link = arr(np.array([b.link for b in bodies.bodies], np.int32), wp.int32)
+        s.pose = arr(np.array([b.pose[:3] for b in bodies.bodies]), M34)
+        s.root = arr(roots, wp.int32)
+        s.mesh = arr(np.array([m.id for m in self.meshes], np.uint64), wp.uint64)
+        s.center, s.radius = arr(np.array(centre), V3), arr(np.array(radius) * (1 + 1e-6) + grow, S)
+        counts = np.array([len(p) for p in points], np.int32)
+        s.point_start = arr(np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32), wp.int32)
+        s.point_count = arr(counts, wp.int32)
+        s.points = arr(np.concatenate(points), V3)
+        s.node_center, s.node_half = arr(tree.center, V3), arr(tree.half * (1 + 1e-6) + grow, V3)
+        s.node_left, s.node_right = arr(tree.left, wp.int32), arr(tree.right, wp.int32)
+        s.triangles = arr(tree.triangles.reshape(-1, 3), V3)
+        pairs = np.array(bodies.pairs, np.int32).reshape(-1, 2)
+        s.pair_a, s.pair_b = arr(pairs[:, 0], wp.int32), arr(pairs[:, 1], wp.int32)
+        s.padding = S(padding)
+        self.struct = s
+
+
+def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:
+    """A bounding sphere: the box centre and the farthest vertex from it."""
+    c = (vertices.min(axis=0) + vertices.max(axis=0)) / 2
+    return c, float(np.sqrt(((vertices - c) ** 2).sum(axis=1).max()))

@@ -1,0 +1,257 @@
+"""Self-collision sweeps over the joint limits, and the collision matrix MoveIt Setup Assistant
+computes (``compute_default_collisions.cpp``), step by step:
+
+1. links without geometry are contracted away; pairs joined by a joint are **Adjacent**;
+2. pairs colliding at the default state are **Default** (MoveIt uses 0 or mid-range; rswarp uses the
+   RSXML ``HomePosition``, the robot's own default);
+3. rounds of 200 random states: a pair colliding in at least 191 of a round is **Always**; rounds
+   repeat until one disables nothing;
+4. the sweep: a pair never seen colliding in any sample (nor in those rounds) is **Never**.
+
+Verdicts are exact (``rswarp.kernels.collide``). Samples are drawn chunk by chunk from the seed and
+the chunk's index, so a sweep gives the same numbers on one core or many, and memory is one chunk.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..errors import InputError, model_error
+from ..rsxml.model import Mechanism
+from .bodies import Bodies, DeviceBodies, Environment, collision_bodies
+from .chain import chain_of
+from .launch import Launcher, init_warp
+from .workspace import sample_chunks
+
+ROUND = 200  # MoveIt's SMALL_TRIAL_COUNT
+ALWAYS_FRACTION = 0.95  # MoveIt's min_collision_fraction: more than int(200 * 0.95) = 190 of a round
+EXAMPLES = 3  # colliding configurations kept per pair
+CANDIDATES = 32  # nearest samples (by bounding volumes) whose exact clearance is measured per free pair
+CHUNK = 1 << 16
+REASONS = ("Adjacent", "Default", "Always", "Never")
+
+
+@dataclass(frozen=True)
+class PairResult:
+    """What the sweep found for one pair (SI units)."""
+
+    body1: str
+    body2: str
+    environment: bool  # body2 is an environment mesh
+    collisions: int  # samples of the sweep in which the pair collides
+    examples: tuple[tuple[float, ...], ...]  # a few colliding configurations, first found first
+    clearance: float | None  # pairs that never collide: the smallest exact clearance found
+    clearance_q: tuple[float, ...] | None  # where it was found
+    clearance_floor: float | None  # every sample is at least this far apart (bounding volumes)
+    reason: str | None  # why the matrix disables the pair (REASONS), None: checked
+
+
+@dataclass(frozen=True)
+class Collisions:
+    """A sweep's results and its collision matrix."""
+
+    mechanism: str
+    samples: int
+    seed: int
+    padding: float
+    links: tuple[str, ...]  # links with geometry, the matrix's rows
+    pairs: tuple[PairResult, ...]  # every pair tested (non-adjacent links, environment x links)
+    adjacent: tuple[tuple[str, str], ...]
+    default_q: tuple[float, ...]
+    always_rounds: int
+    free_samples: int  # samples where no pair the matrix keeps checking collides
+    warnings: tuple[str, ...]
+
+    @property
+    def free_fraction(self) -> float:
+        return self.free_samples / max(self.samples, 1)
+
+    def disabled(self) -> list[tuple[str, str, str]]:
+        """(link1, link2, reason) of every disabled pair of links, adjacent first, in link order."""
+        out = [(a, b, "Adjacent") for a, b in self.adjacent]
+        out += [(p.body1, p.body2, p.reason) for p in self.pairs if p.reason and not p.environment]
+        return out
+
+    def report(self) -> dict:
+        """A JSON-ready summary (metres, radians, snake_case)."""
+        return {
+            "mechanism": self.mechanism, "samples": self.samples, "seed": self.seed, "padding": self.padding,
+            "links": list(self.links), "default_q": list(self.default_q), "always_rounds": self.always_rounds,
+            "collision_free_fraction": self.free_fraction,
+            "pairs": [{"body1": p.body1, "body2": p.body2, "environment": p.environment,
+                       "collisions": p.collisions, "rate": p.collisions / max(self.samples, 1),
+                       "examples": [list(q) for q in p.examples], "clearance": p.clearance,
+                       "clearance_q": None if p.clearance_q is None else list(p.clearance_q),
+                       "clearance_floor": p.clearance_floor, "disabled": p.reason} for p in self.pairs],
+            "disabled": [{"link1": a, "link2": b, "reason": r} for a, b, r in self.disabled()],
+            "warnings": list(self.warnings),
+        }
+
+
+class Checker:
+    """The compiled collision kernels of one mechanism's bodies on a device: ``verdicts(q)`` for
+    batches, ``distances(q, pairs)`` for exact clearances (float64)."""
+
+    def __init__(self, mech: Mechanism, bodies: Bodies, padding: float = 0.0, device: str = "cpu",
+                 threads: int | None = None):
+        wp = init_warp()
+        from ..kernels.collide import collision_kernels
+
+        self.bodies = bodies
+        chain = chain_of(mech.graph)
+        self.launcher = Launcher(device, chunk=1024, threads=threads)
+        self._f32 = DeviceBodies(bodies, padding, self.launcher.device, wp.float32)
+        self._f64 = None
+        self._collide = collision_kernels(chain, bodies.links, wp.float32)[0]
+        self._distance = collision_kernels(chain, bodies.links, wp.float64)[1]
+        self._padding = padding
+        self.launcher.load(self._collide)
+
+    @property
+    def pair_count(self) -> int:
+        return len(self.bodies.pairs)
+
+    def verdicts(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(hit, gap)``: (N, pairs) booleans, and float32 lower bounds of free pairs' distances."""
+        q = np.ascontiguousarray(q, np.float32)
+        hit = np.empty((len(q), self.pair_count), np.uint8)
+        gap = np.empty((len(q), self.pair_count), np.float32)
+        self.launcher.launch(self._collide, len(q), params=[self._f32.struct], inputs=[q], outputs=[hit, gap])
+        return hit.astype(bool), gap
+
+    def distances(self, q: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+        """Exact distances (float64) of pair ``pairs[i]`` at ``q[i]``; -1 where one body contains the other."""
+        if self._f64 is None:
+            self._f64 = DeviceBodies(self.bodies, self._padding, self.launcher.device, init_warp().float64)
+        out = np.empty(len(q), np.float64)
+        self.launcher.launch(self._distance, len(q), params=[self._f64.struct],
+                             inputs=[np.ascontiguousarray(q, np.float64), np.ascontiguousarray(pairs, np.int32)],
+                             outputs=[out])
+        return out
+
+
+def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: float = 0.0,
+               environment: tuple[Environment, ...] = (), device: str = "cpu", threads: int | None = None,
+               progress: Callable[[int, int], None] | None = None) -> Collisions:
+    """Sweep ``samples`` random configurations within the joint limits for collisions between the
+    links (and with the environment meshes), and compute the collision matrix."""
+    if samples < 1:
+        raise InputError("samples must be at least 1")
+    if not (np.isfinite(padding) and padding >= 0):
+        raise InputError("the padding must be a finite distance >= 0")
+    lower, upper = _limits(mech)
+    bodies = collision_bodies(mech, tuple(environment))
+    checker = Checker(mech, bodies, padding, device, threads)
+    home = mech.home_position()
+    default = checker.verdicts(home[None])[0][0]
+    always, rounds, seen = _always(checker, lower, upper, seed, default)
+    checked = ~(default | always)
+    sweep = _Sweep.empty(checker.pair_count, len(lower))
+    for q in sample_chunks(lower, upper, samples, "random", seed, chunk=CHUNK):
+        hit, gap = checker.verdicts(q)
+        sweep.add(q, hit, gap, checked)
+        if progress:
+            progress(sweep.done, samples)
+    clear = _clearances(checker, sweep, seen)
+    return _result(mech, bodies, sweep, clear, default, always, seen, rounds, home, padding, seed)
+
+
+def _limits(mech: Mechanism) -> tuple[np.ndarray, np.ndarray]:
+    if not mech.graph.active:
+        raise model_error(mech, f"mechanism '{mech.name}' has no active joints: there is nothing to sweep")
+    lower, upper = mech.bounds()
+    if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
+        raise InputError("every active joint needs finite limits for a collision sweep")
+    return lower, upper
+
+
+def _always(checker: Checker, lower, upper, seed: int, default: np.ndarray):
+    """MoveIt's rounds: pairs colliding in more than 190 of 200 random states are Always; rounds go
+    on until one disables nothing. Returns (always, rounds, pairs seen colliding)."""
+    always = np.zeros(checker.pair_count, bool)
+    seen = np.zeros(checker.pair_count, bool)
+    limit = int(ROUND * ALWAYS_FRACTION)
+    rounds = 0
+    while True:
+        rng = np.random.default_rng([seed, 0x5EED, rounds])  # apart from the sweep's chunk streams
+        q = lower + (upper - lower) * rng.random((ROUND, len(lower)))
+        hit = checker.verdicts(q)[0] & ~(default | always)  # disabled pairs are not checked (MoveIt's ACM)
+        seen |= hit.any(axis=0)
+        rounds += 1
+        found = hit.sum(axis=0) > limit
+        if not found.any():
+            return always, rounds, seen
+        always |= found
+
+
+@dataclass
+class _Sweep:
+    """Counts, examples and the nearest samples of free pairs, gathered chunk by chunk."""
+
+    done: int
+    counts: np.ndarray
+    free: int
+    examples: list[list[np.ndarray]]
+    near_gap: np.ndarray  # (pairs, CANDIDATES + 1): smallest lower bounds seen, ascending
+    near_q: np.ndarray  # (pairs, CANDIDATES + 1, dof)
+
+    @classmethod
+    def empty(cls, pairs: int, dof: int) -> "_Sweep":
+        return cls(0, np.zeros(pairs, np.int64), 0, [[] for _ in range(pairs)],
+                   np.full((pairs, CANDIDATES + 1), np.inf), np.zeros((pairs, CANDIDATES + 1, dof)))
+
+    def add(self, q: np.ndarray, hit: np.ndarray, gap: np.ndarray, checked: np.ndarray) -> None:
+        self.done += len(q)
+        self.counts += hit.sum(axis=0)
+        self.free += int((~hit[:, checked].any(axis=1)).sum())
+        for p in np.nonzero(hit.any(axis=0))[0]:
+            if len(self.examples[p]) < EXAMPLES:
+                self.examples[p] += list(q[np.nonzero(hit[:, p])[0][:EXAMPLES - len(self.examples[p])]])
+        for p in np.nonzero(self.counts == 0)[0]:
+            k = min(CANDIDATES + 1, len(q))
+            take = np.argpartition(gap[:, p], k - 1)[:k]
+            g = np.concatenate([self.near_gap[p], gap[take, p]])
+            qq = np.concatenate([self.near_q[p], q[take]])
+            keep = np.argsort(g, kind="stable")[:CANDIDATES + 1]
+            self.near_gap[p], self.near_q[p] = g[keep], qq[keep]
+
+
+def _clearances(checker: Checker, sweep: _Sweep, seen: np.ndarray) -> dict[int, tuple[float, np.ndarray, float]]:
+    """For each pair never seen colliding: (smallest exact clearance among its nearest samples, where,
+    a floor below which no sample comes: the exact values and the bound of the samples not measured)."""
+    free = [p for p in range(checker.pair_count) if sweep.counts[p] == 0 and not seen[p]]
+    if not free:
+        return {}
+    n = min(CANDIDATES, sweep.done)
+    q = np.concatenate([sweep.near_q[p, :n] for p in free])
+    pairs = np.repeat(np.asarray(free, np.int32), n)
+    d = checker.distances(q, pairs).reshape(len(free), n)
+    out = {}
+    for row, p in enumerate(free):
+        k = int(np.argmin(d[row]))
+        rest = float(sweep.near_gap[p, n]) if sweep.done > n else np.inf
+        out[p] = (float(d[row, k]), sweep.near_q[p, k], min(float(d[row, k]), rest))
+    return out
+
+
+def _result(mech, bodies: Bodies, sweep: _Sweep, clear: dict, default, always, seen, rounds, home, padding,
+            seed) -> Collisions:
+    pairs = []
+    for p, (a, b) in enumerate(bodies.pairs):
+        reason = "Default" if default[p] else "Always" if always[p] else \
+            "Never" if sweep.counts[p] == 0 and not seen[p] else None
+        c = clear.get(p)
+        pairs.append(PairResult(
+            body1=bodies.bodies[a].name, body2=bodies.bodies[b].name, environment=bodies.bodies[b].link < 0,
+            collisions=int(sweep.counts[p]), examples=tuple(tuple(float(v) for v in q) for q in sweep.examples[p]),
+            clearance=None if c is None else c[0], clearance_q=None if c is None else tuple(float(v) for v in c[1]),
+            clearance_floor=None if c is None else c[2], reason=reason))
+    links = tuple(b.name for b in bodies.bodies if b.link >= 0)
+    adjacent = sorted((tuple(sorted(p, key=links.index)) for p in bodies.adjacent),
+                      key=lambda ab: (links.index(ab[0]), links.index(ab[1])))
+    return Collisions(mechanism=mech.name, samples=sweep.done, seed=seed, padding=padding, links=links,
+                      pairs=tuple(pairs), adjacent=tuple(adjacent), default_q=tuple(float(v) for v in home),
+                      always_rounds=rounds, free_samples=sweep.free, warnings=bodies.warnings)
