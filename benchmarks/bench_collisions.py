@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 
 import rswarp
-from rswarp.sim.bodies import collision_bodies
+from rswarp.report.collisions import collisions_text
+from rswarp.sim.bodies import Bodies, collision_bodies
 from rswarp.sim.collisions import Checker, collisions
 
 IRB = Path(__file__).resolve().parents[1] / "examples" / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"
@@ -58,11 +59,22 @@ def peer_verdicts(lib, bodies, poses: np.ndarray) -> tuple[np.ndarray, float]:
     return out, time.perf_counter() - t
 
 
+def per_pair(mech, bodies, q: np.ndarray) -> None:
+    """Where the time goes: each pair alone, on one core (forward kinematics included in each)."""
+    print(f"\n{'pair (one core)':<20} {'us/state':>9} {'collides':>9}")
+    for p, names in enumerate(bodies.pair_names()):
+        checker = Checker(mech, Bodies(bodies.bodies, (bodies.pairs[p],), bodies.adjacent, ()), threads=1)
+        t = time.perf_counter()
+        hit = checker.verdicts(q)[0]
+        print(f"{'/'.join(names):<20} {(time.perf_counter() - t) / len(q) * 1e6:>9.2f} {hit.mean():>9.2%}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--states", type=int, default=200_000, help="states for rswarp")
     ap.add_argument("--peer-states", type=int, default=5_000, help="states for each peer (a prefix of ours)")
     ap.add_argument("--matrix", type=int, default=1_000_000, help="samples of the full-matrix run (0: skip)")
+    ap.add_argument("--per-pair", type=int, default=20_000, help="states for the per-pair table (0: skip)")
     args = ap.parse_args()
     mech = rswarp.load(str(IRB))
     bodies = collision_bodies(mech)
@@ -93,11 +105,13 @@ def main() -> None:
     print(f"{'peer':<8} {'agree':>8} {'peer only':>10} {'ours only (containment)':>24}")
     for name, (same, peer_only, ours_only) in agree.items():
         print(f"{name:<8} {same:>8} {peer_only:>10} {ours_only:>24}")
+    if args.per_pair:
+        per_pair(mech, bodies, q[:args.per_pair])
     if args.matrix:
         t = time.perf_counter()
         c = collisions(mech, samples=args.matrix)
-        print(f"\nfull matrix from {c.samples} samples: {time.perf_counter() - t:.1f} s "
-              f"({len(c.disabled())} pairs disabled, {c.free_fraction:.2%} collision-free)")
+        print(f"\nfull matrix from {c.samples} samples: {time.perf_counter() - t:.1f} s")
+        print(collisions_text(c, mech, {}))
     ours_rate = args.states / ours_s
     fcl_row = [r for r in rows if r[0].startswith("python-fcl")]
     peer_rate = fcl_row[0][1] / fcl_row[0][2] if fcl_row else float("nan")

@@ -197,6 +197,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--device", default="cpu", help=device_help)
     p.set_defaults(func=cmd_sweep)
 
+    _collisions_parser(sub, json_help, device_help)
+
+    _export_parser(sub, json_help)
+
+    p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
+    p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the exports go (default ./rswarp-demo)")
+    p.add_argument("--json", action="store_true", help=json_help)
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+
+def _collisions_parser(sub, json_help: str, device_help: str) -> None:
+    """``rswarp collisions``: the sweep, its padding and environment, and where the matrix goes."""
     p = sub.add_parser("collisions", help="self-collision sweep over the joint limits and the MoveIt collision matrix")
     p.add_argument("file", metavar="FILE")
     p.add_argument("--samples", type=_count(1), default=1_000_000, help="random configurations (default 1000000)")
@@ -211,15 +225,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--device", default="cpu", help=device_help)
     p.set_defaults(func=cmd_collisions)
-
-    _export_parser(sub, json_help)
-
-    p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
-    p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the exports go (default ./rswarp-demo)")
-    p.add_argument("--json", action="store_true", help=json_help)
-    p.set_defaults(func=cmd_demo)
-    return parser
-
 
 
 def _export_parser(sub, json_help: str) -> None:

@@ -97,11 +97,17 @@ def part_mesh(mech: Mechanism, part: Part, transform: np.ndarray | None = None):
         raise MeshNotFoundError(Diagnostic(file, part.line, f"no mesh for part '{part.name}' "
                                            f"(source '{part.source}'); looked for {tried}"))
     try:
-        loaded = _load(str(path), path.stat().st_mtime)
+        return file_mesh(mech, path, transform)
     except (ValueError, OSError) as exc:
         raise MeshError(Diagnostic(file, part.line, f"mesh {path} of part '{part.name}': {exc}")) from None
+
+
+def file_mesh(mech: Mechanism, path: Path, transform: np.ndarray | None = None):
+    """The mesh in a file, in metres (read in the document's length unit unless glTF), moved by
+    ``transform``; ValueError or OSError saying in one line why it cannot be used."""
     import trimesh
 
+    loaded = _load(str(path), path.stat().st_mtime)
     scale = 1.0 if path.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
     m = (np.eye(4) if transform is None else transform) @ np.diag([scale, scale, scale, 1.0])
     # a new mesh on the moved vertices, sharing the faces: no copy of the loaded mesh's caches

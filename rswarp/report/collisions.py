@@ -15,7 +15,7 @@ from ..files import atomic_folder, atomic_write, check_replaceable
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
 from ..sim.bodies import Environment
-from ..sim.collisions import Collisions
+from ..sim.collisions import REASONS, Collisions
 from .outputs import json_safe
 
 COLLISION_FILES = ("collision_matrix.srdf", "report.json", "heatmap.png")
@@ -64,7 +64,7 @@ def write_collisions(c: Collisions, out: str | Path) -> dict:
 
 def rate_matrix(c: Collisions) -> tuple[list[str], np.ndarray, np.ndarray]:
     """Bodies (links, then environment meshes), collision rates (NaN: not tested), and the matrix
-    of reasons' codes (0 checked, 1 Adjacent, 2 Default, 3 Always, 4 Never)."""
+    of reasons' codes (0 checked, then 1 + the index in REASONS)."""
     names = list(c.links) + [p.body2 for p in c.pairs if p.environment and p.body2 not in c.links]
     names = list(dict.fromkeys(names))
     idx = {n: i for i, n in enumerate(names)}
@@ -75,7 +75,7 @@ def rate_matrix(c: Collisions) -> tuple[list[str], np.ndarray, np.ndarray]:
     for p in c.pairs:
         i, j = idx[p.body1], idx[p.body2]
         rate[i, j] = rate[j, i] = p.collisions / max(c.samples, 1)
-        code[i, j] = code[j, i] = 0 if p.reason is None else ("Adjacent", "Default", "Always", "Never").index(p.reason) + 1
+        code[i, j] = code[j, i] = 0 if p.reason is None else REASONS.index(p.reason) + 1
     return names, rate, code
 
 
@@ -92,7 +92,7 @@ def heatmap_png(c: Collisions) -> bytes:
     shown = np.where(np.tril(np.ones((n, n), bool), -1), rate, np.nan)
     fig, ax = plt.subplots(figsize=(1.1 * n + 2.5, 1.0 * n + 1.5), dpi=100)
     im = ax.imshow(np.ma.masked_invalid(shown * 100), cmap="magma_r", vmin=0, vmax=100)
-    tags = ("", "adjacent", "default", "always", "never")
+    tags = ("", *(r.lower() for r in REASONS))
     for i in range(n):
         for j in range(i):
             text = tags[code[i, j]] if np.isnan(rate[i, j]) else f"{rate[i, j]:.1%}\n{tags[code[i, j]]}".strip()
@@ -125,8 +125,7 @@ def collisions_text(c: Collisions, mech: Mechanism, files: dict) -> str:
         if p.clearance is not None:
             clear = f"closest {length(p.clearance)}, never under {length(max(p.clearance_floor, 0.0))}"
         lines.append(f"{name:<28} {p.collisions / max(c.samples, 1):>9.3%}  {p.reason or 'checked':<9} {clear}")
-    counts = {r: sum(1 for *_, reason in c.disabled() if reason == r) for r in ("Adjacent", "Default", "Always", "Never")}
-    lines.append("disabled: " + ", ".join(f"{v} {k.lower()}" for k, v in counts.items())
+    lines.append("disabled: " + ", ".join(f"{v} {k.lower()}" for k, v in c.reason_counts().items())
                  + f" ({c.always_rounds} round(s) of 200 for 'always')")
     lines += [f"{k}: {v}" for k, v in files.items()]
     return "\n".join(lines)

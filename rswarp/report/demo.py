@@ -90,9 +90,9 @@ def _collisions(mech: Mechanism, out: Path) -> tuple[tuple, str]:
         return (), f"no collision sweep: {exc}"
     folder = out / f"{mech.name}-collisions"
     write_collisions(c, folder)
-    counts = {r: sum(1 for *_, x in c.disabled() if x == r) for r in ("Adjacent", "Default", "Always", "Never")}
+    counts = ", ".join(f"{v} {k.lower()}" for k, v in c.reason_counts().items())
     return tuple(c.disabled()), (f"collisions: {c.free_fraction:.1%} of {c.samples} samples free; matrix disables "
-                                 + ", ".join(f"{v} {k.lower()}" for k, v in counts.items()) + f" pairs -> {folder}")
+                                 f"{counts} pairs -> {folder}")
 
 
 def _physics_line(robot) -> str:

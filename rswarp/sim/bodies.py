@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import InputError, MeshNotFoundError
 from ..geometry.bvh import MAX_DEPTH, build_bvh, component_points, join
-from ..geometry.meshes import link_mesh
+from ..geometry.meshes import file_mesh, link_mesh
 from ..rsxml.model import Mechanism
 
 
@@ -78,7 +78,7 @@ def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ())
         raise InputError(f"{mech.path or mech.name}: no link has a mesh: there is nothing to test for collisions")
     links = [b.name for b in bodies]
     for env in environment:
-        if env.name in links or env.name in [b.name for b in bodies[len(links):]]:
+        if env.name in {b.name for b in bodies}:
             raise InputError(f"environment mesh '{env.name}' has the name of another body; rename its file")
         bodies.append(_body(env.name, -1, _environment_mesh(mech, env), env.pose, warnings))
     adjacent = graph.adjacent_pairs(has_geometry=links)
@@ -97,65 +97,72 @@ def _body(name: str, link: int, mesh, pose: np.ndarray, warnings: list[str]) -> 
 
 
 def _environment_mesh(mech: Mechanism, env: Environment):
-    """An environment mesh, read like a part's (the file's length unit unless glTF)."""
-    from ..geometry.meshes import _load, METRIC_EXTENSIONS
-    import trimesh
-
-    path = Path(env.path)
+    """An environment mesh, read like a part's (the file's length unit unless glTF), unmoved."""
     try:
-        loaded = _load(str(path), path.stat().st_mtime)
+        return file_mesh(mech, Path(env.path))
     except FileNotFoundError:
         raise InputError(f"{env.path}: no such environment mesh") from None
     except (ValueError, OSError) as exc:
         raise InputError(f"{env.path}: {exc}") from None
-    scale = 1.0 if path.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
-    return trimesh.Trimesh(loaded.vertices * scale, loaded.faces, process=False, validate=False)
 
 
 # -- device arrays ---------------------------------------------------------------------------------
 
 
 class DeviceBodies:
-    """The bodies as a ``rswarp.kernels.collide`` struct on a device (made once per sweep; it holds
-    the ``wp.Mesh`` objects the struct refers to)."""
+    """The bodies as ``rswarp.kernels.collide`` structs on a device: the box trees, the pieces'
+    points, the bounding spheres and the ``wp.Mesh`` objects (which the structs refer to) are made
+    once; ``struct(scalar)`` gives the arrays in a precision."""
 
-    def __init__(self, bodies: Bodies, padding: float, device, scalar):
+    def __init__(self, bodies: Bodies, padding: float, device):
+        import warp as wp
+
+        self.bodies, self.padding, self.device = bodies, padding, device
+        self.tree, self.roots = join([build_bvh(b.vertices, b.faces) for b in bodies.bodies])
+        if self.tree.depth > MAX_DEPTH:  # a median split halves every level: unreachable
+            raise RuntimeError(f"a collision tree is {self.tree.depth} levels deep, over {MAX_DEPTH}")
+        self.points = [component_points(b.vertices, b.faces) for b in bodies.bodies]
+        self.spheres = [_sphere(b.vertices) for b in bodies.bodies]
+        self.meshes = [wp.Mesh(points=wp.array(b.vertices.astype(np.float32), dtype=wp.vec3, device=device),
+                               indices=wp.array(b.faces.astype(np.int32).ravel(), dtype=wp.int32, device=device),
+                               support_winding_number=True)
+                       for b in bodies.bodies]
+        self._structs: dict = {}
+
+    def struct(self, scalar):
+        if scalar not in self._structs:
+            self._structs[scalar] = self._make(scalar)
+        return self._structs[scalar]
+
+    def _make(self, scalar):
         import warp as wp
 
         from ..kernels.collide import bodies_struct
         from ..kernels.types import types_of
 
         S, V3, M33, M34, _ = types_of(scalar)
-        trees = [build_bvh(b.vertices, b.faces) for b in bodies.bodies]
-        tree, roots = join(trees)
-        if tree.depth > MAX_DEPTH:  # a median split halves every level: unreachable
-            raise RuntimeError(f"a collision tree is {tree.depth} levels deep, over {MAX_DEPTH}")
-        points = [component_points(b.vertices, b.faces) for b in bodies.bodies]
-        self.meshes = [wp.Mesh(points=wp.array(b.vertices.astype(np.float32), dtype=wp.vec3, device=device),
-                               indices=wp.array(b.faces.astype(np.int32).ravel(), dtype=wp.int32, device=device),
-                               support_winding_number=True)
-                       for b in bodies.bodies]
+        bodies, tree = self.bodies.bodies, self.tree
         # boxes and spheres grown by a hair: rounding to float32 must never shrink them
         grow = 1e-6 * (np.abs(tree.center).max() + 1.0)
-        centre, radius = zip(*(_sphere(b.vertices) for b in bodies.bodies))
+        centre, radius = zip(*self.spheres)
         s = bodies_struct(scalar)()
-        arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=device)  # noqa: E731
-        s.link = arr(np.array([b.link for b in bodies.bodies], np.int32), wp.int32)
-        s.pose = arr(np.array([b.pose[:3] for b in bodies.bodies]), M34)
-        s.root = arr(roots, wp.int32)
+        arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
+        s.link = arr(np.array([b.link for b in bodies], np.int32), wp.int32)
+        s.pose = arr(np.array([b.pose[:3] for b in bodies]), M34)
+        s.root = arr(self.roots, wp.int32)
         s.mesh = arr(np.array([m.id for m in self.meshes], np.uint64), wp.uint64)
         s.center, s.radius = arr(np.array(centre), V3), arr(np.array(radius) * (1 + 1e-6) + grow, S)
-        counts = np.array([len(p) for p in points], np.int32)
+        counts = np.array([len(p) for p in self.points], np.int32)
         s.point_start = arr(np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32), wp.int32)
         s.point_count = arr(counts, wp.int32)
-        s.points = arr(np.concatenate(points), V3)
+        s.points = arr(np.concatenate(self.points), V3)
         s.node_center, s.node_half = arr(tree.center, V3), arr(tree.half * (1 + 1e-6) + grow, V3)
         s.node_left, s.node_right = arr(tree.left, wp.int32), arr(tree.right, wp.int32)
         s.triangles = arr(tree.triangles.reshape(-1, 3), V3)
-        pairs = np.array(bodies.pairs, np.int32).reshape(-1, 2)
+        pairs = np.array(self.bodies.pairs, np.int32).reshape(-1, 2)
         s.pair_a, s.pair_b = arr(pairs[:, 0], wp.int32), arr(pairs[:, 1], wp.int32)
-        s.padding = S(padding)
-        self.struct = s
+        s.padding = S(self.padding)
+        return s
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:

@@ -75,6 +75,11 @@ class Collisions:
         out += [(p.body1, p.body2, p.reason) for p in self.pairs if p.reason and not p.environment]
         return out
 
+    def reason_counts(self) -> dict[str, int]:
+        """How many pairs of links the matrix disables, per reason (in REASONS' order)."""
+        disabled = [r for *_, r in self.disabled()]
+        return {r: disabled.count(r) for r in REASONS}
+
     def report(self) -> dict:
         """A JSON-ready summary (metres, radians, snake_case)."""
         return {
@@ -103,11 +108,9 @@ class Checker:
         self.bodies = bodies
         chain = chain_of(mech.graph)
         self.launcher = Launcher(device, chunk=1024, threads=threads)
-        self._f32 = DeviceBodies(bodies, padding, self.launcher.device, wp.float32)
-        self._f64 = None
+        self._device = DeviceBodies(bodies, padding, self.launcher.device)
         self._collide = collision_kernels(chain, bodies.links, wp.float32)[0]
         self._distance = collision_kernels(chain, bodies.links, wp.float64)[1]
-        self._padding = padding
         self.launcher.load(self._collide)
 
     @property
@@ -119,15 +122,13 @@ class Checker:
         q = np.ascontiguousarray(q, np.float32)
         hit = np.empty((len(q), self.pair_count), np.uint8)
         gap = np.empty((len(q), self.pair_count), np.float32)
-        self.launcher.launch(self._collide, len(q), params=[self._f32.struct], inputs=[q], outputs=[hit, gap])
+        self.launcher.launch(self._collide, len(q), params=[self._device.struct(init_warp().float32)], inputs=[q], outputs=[hit, gap])
         return hit.astype(bool), gap
 
     def distances(self, q: np.ndarray, pairs: np.ndarray) -> np.ndarray:
         """Exact distances (float64) of pair ``pairs[i]`` at ``q[i]``; -1 where one body contains the other."""
-        if self._f64 is None:
-            self._f64 = DeviceBodies(self.bodies, self._padding, self.launcher.device, init_warp().float64)
         out = np.empty(len(q), np.float64)
-        self.launcher.launch(self._distance, len(q), params=[self._f64.struct],
+        self.launcher.launch(self._distance, len(q), params=[self._device.struct(init_warp().float64)],
                              inputs=[np.ascontiguousarray(q, np.float64), np.ascontiguousarray(pairs, np.int32)],
                              outputs=[out])
         return out

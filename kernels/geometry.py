@@ -1,0 +1,230 @@
+"""Distances and overlap tests between points, segments, triangles and boxes, as device code in
+one precision: the narrow and middle phases of the collision kernels (``collide``)."""
+
+from functools import lru_cache
+
+import warp as wp
+
+from .types import types_of
+
+FAR = 1.0e30
+EPS_AXIS = 1.0e-6  # added to |R| in the box test: parallel edges never separate boxes that touch
+
+
+@lru_cache(maxsize=None)
+def point_triangle_function(scalar=wp.float32):
+    """point_triangle_sq(p, a, b, c): the squared distance from a point to a triangle."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.func
+    def point_triangle_sq(p: V3, a: V3, b: V3, c: V3) -> S:
+        """Squared distance from a point to a triangle (Ericson, Real-Time Collision Detection 5.1.5)."""
+        ab = b - a
+        ac = c - a
+        ap = p - a
+        d1 = wp.dot(ab, ap)
+        d2 = wp.dot(ac, ap)
+        if d1 <= S(0.0) and d2 <= S(0.0):
+            return wp.length_sq(ap)
+        bp = p - b
+        d3 = wp.dot(ab, bp)
+        d4 = wp.dot(ac, bp)
+        if d3 >= S(0.0) and d4 <= d3:
+            return wp.length_sq(bp)
+        vc = d1 * d4 - d3 * d2
+        if vc <= S(0.0) and d1 >= S(0.0) and d3 <= S(0.0):
+            return wp.length_sq(ap - (d1 / (d1 - d3)) * ab)
+        cp = p - c
+        d5 = wp.dot(ab, cp)
+        d6 = wp.dot(ac, cp)
+        if d6 >= S(0.0) and d5 <= d6:
+            return wp.length_sq(cp)
+        vb = d5 * d2 - d1 * d6
+        if vb <= S(0.0) and d2 >= S(0.0) and d6 <= S(0.0):
+            return wp.length_sq(ap - (d2 / (d2 - d6)) * ac)
+        va = d3 * d6 - d5 * d4
+        if va <= S(0.0) and d4 - d3 >= S(0.0) and d5 - d6 >= S(0.0):
+            return wp.length_sq(bp - ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b))
+        den = S(1.0) / (va + vb + vc)
+        return wp.length_sq(ap - (vb * den) * ab - (vc * den) * ac)
+
+    return point_triangle_sq
+
+
+@lru_cache(maxsize=None)
+def segment_function(scalar=wp.float32):
+    """segment_segment_sq(p1, q1, p2, q2): the squared distance between two segments."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.func
+    def segment_segment_sq(p1: V3, q1: V3, p2: V3, q2: V3) -> S:
+        """Squared distance between two segments (Ericson 5.1.9)."""
+        d1 = q1 - p1
+        d2 = q2 - p2
+        r = p1 - p2
+        a = wp.dot(d1, d1)
+        e = wp.dot(d2, d2)
+        f = wp.dot(d2, r)
+        eps = S(1.0e-20)
+        s = S(0.0)
+        t = S(0.0)
+        if a <= eps and e <= eps:
+            return wp.dot(r, r)
+        if a <= eps:
+            t = wp.clamp(f / e, S(0.0), S(1.0))
+        else:
+            c = wp.dot(d1, r)
+            if e <= eps:
+                s = wp.clamp(-c / a, S(0.0), S(1.0))
+            else:
+                b = wp.dot(d1, d2)
+                den = a * e - b * b
+                if den > S(0.0):
+                    s = wp.clamp((b * f - c * e) / den, S(0.0), S(1.0))
+                t = (b * s + f) / e
+                if t < S(0.0):
+                    t = S(0.0)
+                    s = wp.clamp(-c / a, S(0.0), S(1.0))
+                elif t > S(1.0):
+                    t = S(1.0)
+                    s = wp.clamp((b - c) / a, S(0.0), S(1.0))
+        return wp.length_sq(r + s * d1 - t * d2)
+
+    return segment_segment_sq
+
+
+@lru_cache(maxsize=None)
+def crossing_function(scalar=wp.float32):
+    """triangles_cross(a0, a1, a2, b0, b1, b2): whether two triangles in one frame meet."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.func
+    def orient(a: V3, b: V3, c: V3, d: V3) -> S:
+        """Six times the signed volume of tetrahedron abcd: which side of plane abc d is on."""
+        return wp.dot(wp.cross(b - a, c - a), d - a)
+
+    @wp.func
+    def segment_hits_triangle(p: V3, q: V3, a: V3, b: V3, c: V3) -> bool:
+        """Whether segment pq meets triangle abc (touching counts): its ends are not both on one side
+        of the plane, and its line passes inside the three edges (signs of signed volumes only)."""
+        dp = orient(a, b, c, p)
+        dq = orient(a, b, c, q)
+        if (dp > S(0.0) and dq > S(0.0)) or (dp < S(0.0) and dq < S(0.0)) or (dp == S(0.0) and dq == S(0.0)):
+            return False
+        s1 = orient(p, q, a, b)
+        s2 = orient(p, q, b, c)
+        s3 = orient(p, q, c, a)
+        return (s1 >= S(0.0) and s2 >= S(0.0) and s3 >= S(0.0)) or (s1 <= S(0.0) and s2 <= S(0.0) and s3 <= S(0.0))
+
+    @wp.func
+    def triangles_cross(a0: V3, a1: V3, a2: V3, b0: V3, b1: V3, b2: V3) -> bool:
+        """Whether two triangles meet. Two triangles not in one plane meet exactly where an edge of
+        one meets the other; every test is a sign, free of the absolute tolerances that make Moller's
+        test (``wp.intersect_tri_tri``) call small, distant triangles coplanar and crossing.
+        Coplanar triangles are left to the distance tests."""
+        n = wp.cross(a1 - a0, a2 - a0)
+        d0 = wp.dot(n, b0 - a0)
+        d1 = wp.dot(n, b1 - a0)
+        d2 = wp.dot(n, b2 - a0)
+        if (d0 > S(0.0) and d1 > S(0.0) and d2 > S(0.0)) or (d0 < S(0.0) and d1 < S(0.0) and d2 < S(0.0)):
+            return False
+        m = wp.cross(b1 - b0, b2 - b0)
+        e0 = wp.dot(m, a0 - b0)
+        e1 = wp.dot(m, a1 - b0)
+        e2 = wp.dot(m, a2 - b0)
+        if (e0 > S(0.0) and e1 > S(0.0) and e2 > S(0.0)) or (e0 < S(0.0) and e1 < S(0.0) and e2 < S(0.0)):
+            return False
+        return (segment_hits_triangle(a0, a1, b0, b1, b2) or segment_hits_triangle(a1, a2, b0, b1, b2)
+                or segment_hits_triangle(a2, a0, b0, b1, b2) or segment_hits_triangle(b0, b1, a0, a1, a2)
+                or segment_hits_triangle(b1, b2, a0, a1, a2) or segment_hits_triangle(b2, b0, a0, a1, a2))
+
+    return triangles_cross
+
+
+@lru_cache(maxsize=None)
+def triangle_functions(scalar=wp.float32):
+    """(triangles_cross, triangle_distance) for two triangles in one frame."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    point_triangle_sq = point_triangle_function(scalar)
+    segment_segment_sq = segment_function(scalar)
+    triangles_cross = crossing_function(scalar)
+
+    @wp.func
+    def triangle_distance(a0: V3, a1: V3, a2: V3, b0: V3, b1: V3, b2: V3) -> S:
+        """Distance between two triangles: 0 when they intersect, else the nearest of the vertex-face
+        and edge-edge distances (where two disjoint triangles come closest)."""
+        if triangles_cross(a0, a1, a2, b0, b1, b2):
+            return S(0.0)
+        d = point_triangle_sq(a0, b0, b1, b2)
+        d = wp.min(d, point_triangle_sq(a1, b0, b1, b2))
+        d = wp.min(d, point_triangle_sq(a2, b0, b1, b2))
+        d = wp.min(d, point_triangle_sq(b0, a0, a1, a2))
+        d = wp.min(d, point_triangle_sq(b1, a0, a1, a2))
+        d = wp.min(d, point_triangle_sq(b2, a0, a1, a2))
+        d = wp.min(d, segment_segment_sq(a0, a1, b0, b1))
+        d = wp.min(d, segment_segment_sq(a0, a1, b1, b2))
+        d = wp.min(d, segment_segment_sq(a0, a1, b2, b0))
+        d = wp.min(d, segment_segment_sq(a1, a2, b0, b1))
+        d = wp.min(d, segment_segment_sq(a1, a2, b1, b2))
+        d = wp.min(d, segment_segment_sq(a1, a2, b2, b0))
+        d = wp.min(d, segment_segment_sq(a2, a0, b0, b1))
+        d = wp.min(d, segment_segment_sq(a2, a0, b1, b2))
+        d = wp.min(d, segment_segment_sq(a2, a0, b2, b0))
+        return wp.sqrt(d)
+
+    return triangles_cross, triangle_distance
+
+
+@lru_cache(maxsize=None)
+def box_functions(scalar=wp.float32):
+    """(abs_rotation, box_gap): |r| + eps, and a lower bound of the distance between two boxes."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.func
+    def abs_rotation(r: M33) -> M33:
+        """|r| + eps, which the box test takes: parallel edges never separate boxes that touch."""
+        ar = M33()
+        for i in range(3):
+            for j in range(3):
+                ar[i, j] = wp.abs(r[i, j]) + S(EPS_AXIS)
+        return ar
+
+    @wp.func
+    def box_gap(ca: V3, ea: V3, cb: V3, eb: V3, r: M33, ar: M33, t: V3) -> S:
+        """A lower bound of the distance between box A (centre ``ca``, half-sizes ``ea``, A's frame)
+        and box B (in B's frame, x_A = r x_B + t; ``ar`` = |r| + eps); negative when no separating
+        axis of the two boxes (Gottschalk's 15) parts them. Where A's or B's face axes part them, the
+        bound is the distance between A and B's bounding box in A's frame (or the other way round):
+        diagonal gaps count in full, not only along one axis."""
+        d = r * cb + t - ca
+        sa = S(0.0)
+        sb = S(0.0)
+        worst = S(-FAR)
+        for i in range(3):
+            g = wp.abs(d[i]) - ea[i] - (ar[i, 0] * eb[0] + ar[i, 1] * eb[1] + ar[i, 2] * eb[2])
+            worst = wp.max(worst, g)
+            if g > S(0.0):
+                sa += g * g
+        for j in range(3):
+            ra = ar[0, j] * ea[0] + ar[1, j] * ea[1] + ar[2, j] * ea[2]
+            g = wp.abs(d[0] * r[0, j] + d[1] * r[1, j] + d[2] * r[2, j]) - ra - eb[j]
+            worst = wp.max(worst, g)
+            if g > S(0.0):
+                sb += g * g
+        if worst > S(0.0):
+            return wp.sqrt(wp.max(sa, sb))
+        for i in range(3):
+            i1 = (i + 1) % 3
+            i2 = (i + 2) % 3
+            for j in range(3):
+                j1 = (j + 1) % 3
+                j2 = (j + 2) % 3
+                n2 = S(1.0) - r[i, j] * r[i, j]
+                if n2 > S(1.0e-6):
+                    ra = ea[i1] * ar[i2, j] + ea[i2] * ar[i1, j]
+                    rb = eb[j1] * ar[i, j2] + eb[j2] * ar[i, j1]
+                    s = wp.abs(d[i2] * r[i1, j] - d[i1] * r[i2, j])
+                    worst = wp.max(worst, (s - ra - rb) / wp.sqrt(n2))
+        return worst
+
+    return abs_rotation, box_gap
