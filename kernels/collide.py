@@ -16,147 +16,10 @@ from typing import Any
 import warp as wp
 
 from .fk import emit_local, pose_functions, tree_fk
-from .geometry import FAR, box_functions, triangle_functions
-from .types import Chain, types_of
-
-STACK = 96  # node pairs a traversal keeps pending: two balanced trees of depth 40 need at most 81
-
-
-@lru_cache(maxsize=None)
-def bodies_struct(scalar=wp.float32):
-    """The struct of everything the collision kernels read about bodies and pairs (one precision)."""
-    _, V3, M33, M34, M44 = types_of(scalar)
-
-    @wp.struct
-    class Bodies:
-        link: wp.array(dtype=wp.int32)  # the chain link that moves the body, -1: fixed in the world
-        pose: wp.array(dtype=M34)  # a fixed body's pose
-        root: wp.array(dtype=wp.int32)  # its tree's root node
-        mesh: wp.array(dtype=wp.uint64)  # its wp.Mesh, for point-inside queries
-        center: wp.array(dtype=V3)  # bounding sphere, body frame
-        radius: wp.array(dtype=scalar)
-        point_start: wp.array(dtype=wp.int32)  # one point per connected piece (containment)
-        point_count: wp.array(dtype=wp.int32)
-        points: wp.array(dtype=V3)
-        node_center: wp.array(dtype=V3)  # box trees (rswarp.geometry.bvh), all bodies joined
-        node_half: wp.array(dtype=V3)
-        node_left: wp.array(dtype=wp.int32)
-        node_right: wp.array(dtype=wp.int32)
-        triangles: wp.array(dtype=V3)  # three vertices per triangle, leaf order
-        pair_a: wp.array(dtype=wp.int32)
-        pair_b: wp.array(dtype=wp.int32)
-        padding: scalar
-
-    return Bodies
-
-
-@lru_cache(maxsize=None)
-def node_functions(scalar=wp.float32):
-    """(leaf_distance, node_gap, split): what the tree walk does with one pair of nodes."""
-    S, V3, M33, M34, M44 = types_of(scalar)
-    triangles_cross, triangle_distance = triangle_functions(scalar)
-    _, box_gap = box_functions(scalar)
-    Bodies = bodies_struct(scalar)
-
-    @wp.func
-    def leaf_distance(m: Bodies, na: int, nb: int, r: M33, t: V3, overlap_only: bool) -> S:
-        """The distance between the triangles of two leaves; with ``overlap_only``, 0 if two cross
-        and huge otherwise."""
-        best = S(FAR)
-        fa = -1 - m.node_left[na]
-        fb = -1 - m.node_left[nb]
-        for kb in range(fb, fb + m.node_right[nb]):
-            b0 = r * m.triangles[3 * kb] + t
-            b1 = r * m.triangles[3 * kb + 1] + t
-            b2 = r * m.triangles[3 * kb + 2] + t
-            for ka in range(fa, fa + m.node_right[na]):
-                a0 = m.triangles[3 * ka]
-                a1 = m.triangles[3 * ka + 1]
-                a2 = m.triangles[3 * ka + 2]
-                if overlap_only:
-                    if triangles_cross(a0, a1, a2, b0, b1, b2):
-                        return S(0.0)
-                else:
-                    best = wp.min(best, triangle_distance(a0, a1, a2, b0, b1, b2))
-        return best
-
-    @wp.func
-    def node_gap(m: Bodies, na: int, nb: int, r: M33, ar: M33, t: V3) -> S:
-        return box_gap(m.node_center[na], m.node_half[na], m.node_center[nb], m.node_half[nb], r, ar, t)
-
-    @wp.func
-    def split(m: Bodies, na: int, nb: int) -> wp.vec4i:
-        """The two node pairs (a1, b1, a2, b2) that (na, nb) opens into: the larger node's children
-        (the one that is not a leaf)."""
-        ha = m.node_half[na]
-        hb = m.node_half[nb]
-        if m.node_left[nb] < 0 or (m.node_left[na] >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2]):
-            return wp.vec4i(m.node_left[na], nb, m.node_right[na], nb)
-        return wp.vec4i(na, m.node_left[nb], na, m.node_right[nb])
-
-    return leaf_distance, node_gap, split
-
-
-@lru_cache(maxsize=None)
-def traversal_functions(scalar=wp.float32):
-    """(node_gap, mesh_distance): the box gap of two tree nodes, and the dual walk of two bodies'
-    box trees down to their nearest (or crossing) triangles."""
-    S, V3, M33, M34, M44 = types_of(scalar)
-    abs_rotation, _ = box_functions(scalar)
-    leaf_distance, node_gap, split = node_functions(scalar)
-    Bodies = bodies_struct(scalar)
-
-    @wp.func
-    def mesh_distance(m: Bodies, a: int, b: int, r: M33, t: V3, limit: S, stop: S) -> S:
-        """The distance between bodies a and b (x_A = r x_B + t) where it is at most ``limit``, else
-        a distance above ``limit`` or a huge value; returns as soon as one at or below ``stop`` is
-        found. With ``limit`` 0 only crossing surfaces are looked for (0 if they cross).
-
-        Depth first, nearer (more overlapping) children first: crossings and small distances are
-        found early, and a small distance prunes the rest."""
-        ar = abs_rotation(r)
-        overlap_only = limit <= S(0.0)
-        best = S(FAR)
-        if node_gap(m, m.root[a], m.root[b], r, ar, t) > limit:
-            return best
-        stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
-        gaps = wp.zeros(shape=wp.static(STACK), dtype=S)
-        stack[0] = m.root[a]
-        stack[1] = m.root[b]
-        gaps[0] = S(-FAR)
-        top = int(1)
-        while top > 0:
-            top -= 1
-            na = stack[2 * top]
-            nb = stack[2 * top + 1]
-            if gaps[top] > wp.min(best, limit):  # a nearer pair was found since this one was pushed
-                continue
-            if m.node_left[na] < 0 and m.node_left[nb] < 0:
-                best = wp.min(best, leaf_distance(m, na, nb, r, t, overlap_only))
-                if best <= stop:
-                    return best
-                continue
-            if top + 2 > STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
-                return S(-1.0)
-            c = split(m, na, nb)
-            g1 = node_gap(m, c[0], c[1], r, ar, t)
-            g2 = node_gap(m, c[2], c[3], r, ar, t)
-            near = int(2)  # the nearer pair goes on top
-            if g1 < g2:
-                near = 0
-            far = 2 - near
-            cut = wp.min(best, limit)
-            for k in range(2):
-                j = far if k == 0 else near
-                g = g1 if j == 0 else g2
-                if g <= cut:
-                    stack[2 * top] = c[j]
-                    stack[2 * top + 1] = c[j + 1]
-                    gaps[top] = g
-                    top += 1
-        return best
-
-    return node_gap, mesh_distance
+from .geometry import FAR
+from .tree import sampling_functions, traversal_functions
+from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
+from .witness import witness_functions
 
 
 @lru_cache(maxsize=None)
@@ -166,19 +29,43 @@ def containment_functions(scalar=wp.float32):
     Bodies = bodies_struct(scalar)
 
     @wp.func
+    def in_box(m: Bodies, node: int, p: V3) -> bool:
+        o = wp.transpose(m.node_axes[node]) * (p - m.node_center[node])
+        h = m.node_half[node]
+        return wp.abs(o[0]) <= h[0] and wp.abs(o[1]) <= h[1] and wp.abs(o[2]) <= h[2]
+
+    @wp.func
+    def point_inside(m: Bodies, body: int, p: wp.vec3) -> bool:
+        """Whether a point lies inside a body: on a closed mesh, the parity of three rays' crossings
+        (two of three agreeing, so a ray that grazes an edge is outvoted; a quarter of the
+        cost of the winding number), else the generalized winding number."""
+        if m.closed[body] == 0:
+            q = wp.mesh_query_point_sign_winding_number(m.mesh[body], p, wp.float32(FAR))
+            return q.result and q.sign < wp.float32(0.0)
+        votes = int(0)
+        for k in range(3):
+            d = wp.vec3(0.5257311, 0.8506508, 0.0)  # three directions off every axis and plane
+            if k == 1:
+                d = wp.vec3(0.0, 0.5257311, 0.8506508)
+            elif k == 2:
+                d = wp.vec3(0.8506508, 0.0, 0.5257311)
+            votes += wp.mesh_query_ray_count_intersections(m.mesh[body], p, d) % 2
+        return votes >= 2
+
+    @wp.func
     def contains(m: Bodies, outer: int, inner: int, r: M33, t: V3) -> bool:
         """Whether a piece of body ``inner`` lies inside closed body ``outer`` (x_outer = r x_inner + t),
-        given that their surfaces do not cross: one point per piece decides."""
+        given that their surfaces do not cross: one point per piece decides, once the piece's
+        extreme points are all in the outer body's box."""
         root = m.root[outer]
-        c = m.node_center[root]
-        h = m.node_half[root]
         for k in range(m.point_start[inner], m.point_start[inner] + m.point_count[inner]):
-            p = r * m.points[k] + t
-            o = p - c
-            if wp.abs(o[0]) <= h[0] and wp.abs(o[1]) <= h[1] and wp.abs(o[2]) <= h[2]:
-                pf = wp.vec3(wp.float32(p[0]), wp.float32(p[1]), wp.float32(p[2]))
-                q = wp.mesh_query_point_sign_winding_number(m.mesh[outer], pf, wp.float32(FAR))
-                if q.result and q.sign < wp.float32(0.0):
+            inside = bool(True)
+            for j in range(wp.static(PIECE_POINTS)):
+                if inside and not in_box(m, root, r * m.points[PIECE_POINTS * k + j] + t):
+                    inside = False
+            if inside:
+                p = r * m.points[PIECE_POINTS * k] + t
+                if point_inside(m, outer, wp.vec3(wp.float32(p[0]), wp.float32(p[1]), wp.float32(p[2]))):
                     return True
         return False
 
@@ -215,33 +102,35 @@ def pose_helpers(scalar=wp.float32):
 def pair_functions(scalar=wp.float32):
     """(pair_verdict, pair_distance) over a ``Bodies`` struct."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    _, _, apply, _ = pose_functions(scalar)
-    abs_rotation, _ = box_functions(scalar)
-    node_gap, mesh_distance = traversal_functions(scalar)
+    node_gap, mesh_distance, meshes_cross = traversal_functions(scalar)
     rotation, relative = pose_helpers(scalar)
     enclosed = containment_functions(scalar)
+    _, witness_hit = witness_functions(scalar)
     Bodies = bodies_struct(scalar)
 
     @wp.func
-    def pair_verdict(m: Bodies, a: int, b: int, pa: M34, pb: M34) -> S:
-        """Bodies a and b at poses pa and pb: at most the padding if they collide (-1 if one
-        contains the other), else a lower bound of their distance above the padding (from their
-        bounding spheres and root boxes)."""
-        ca = apply(pa, m.center[a])
-        cb = apply(pb, m.center[b])
-        gap = wp.length(ca - cb) - m.radius[a] - m.radius[b]
-        if gap > m.padding:
-            return gap
+    def pair_verdict(m: Bodies, a: int, b: int, pa: M34, pb: M34, cell: int, sphere_gap: S) -> S:
+        """Bodies a and b at poses pa and pb, whose bounding spheres are ``sphere_gap`` apart (at
+        most the padding): at most the padding if they collide (-1 if one contains the other),
+        else a lower bound of their distance above the padding (from their spheres and root
+        boxes). ``cell``: the pair's witness cell, -1 for none."""
+        gap = sphere_gap
         rel = relative(pa, pb)
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
-        ar = abs_rotation(r)
-        gap = wp.max(gap, node_gap(m, m.root[a], m.root[b], r, ar, t))
+        gap = wp.max(gap, node_gap(m, m.root[a], m.root[b], r, t))
         if gap > m.padding:
             return gap
-        d = mesh_distance(m, a, b, r, t, m.padding, m.padding)
-        if d <= m.padding:
-            return d
+        if cell >= 0:
+            if witness_hit(m, cell, r, t):
+                return S(0.0)
+        if m.padding <= S(0.0):
+            if meshes_cross(m, a, b, r, t):
+                return S(0.0)
+        else:
+            d = mesh_distance(m, a, b, r, t, m.padding, m.padding)
+            if d <= m.padding:
+                return d
         if enclosed(m, a, b, r, t):
             return S(-1.0)
         return wp.max(gap, m.padding + S(1.0e-9))
@@ -265,11 +154,13 @@ _KERNELS: dict[str, Any] = {}
 
 
 def collision_kernels(chain: Chain, links, scalar=wp.float32):
-    """(collide, distance) for bodies riding on chain ``links``:
+    """(collide, distance, witness) for bodies riding on chain ``links``:
 
     ``collide(bodies, q, hit, gap)``: for configuration ``q[i]``, each pair's verdict ``hit[i, p]``
     (1: collides) and ``gap[i, p]``, a lower bound of the pair's distance when it is free.
-    ``distance(bodies, q, pair, out)``: the exact distance of pair ``pair[i]`` at ``q[i]``."""
+    ``distance(bodies, q, pair, out)``: the exact distance of pair ``pair[i]`` at ``q[i]``.
+    ``witness(bodies, q, pair, out)``: crossing triangle pairs of pair ``pair[i]`` at ``q[i]``,
+    spread over all that cross (``witness_vec``, -1 where fewer cross)."""
     key = f"{chain.digest()}_{'_'.join(str(int(k)) for k in sorted(links))}_{scalar.__name__}"
     if key not in _KERNELS:
         _KERNELS[key] = _make_kernels(key, chain, links, scalar)
@@ -277,10 +168,12 @@ def collision_kernels(chain: Chain, links, scalar=wp.float32):
 
 
 def _body_pose(scalar):
-    """body_pose(m, poses, b): body b's pose, from the chain's poses or its fixed one. Made anew for
-    each kernel module: a generic (``Any``) function shared by modules whose pose arrays differ in
-    length is specialized for one of them only (a C++ build error in the others)."""
+    """(body_pose, body_centre): body b's pose, from the chain's poses or its fixed one; and its
+    bounding sphere's centre in the world, from the links' (``centres``) or its fixed pose. Made
+    anew for each kernel module: a generic (``Any``) function shared by modules whose local arrays
+    differ in length is specialized for one of them only (a C++ build error in the others)."""
     S, V3, M33, M34, M44 = types_of(scalar)
+    _, _, apply, _ = pose_functions(scalar)
     Bodies = bodies_struct(scalar)
 
     @wp.func
@@ -290,14 +183,25 @@ def _body_pose(scalar):
             return poses[k]
         return m.pose[b]
 
-    return body_pose
+    @wp.func
+    def body_centre(m: Bodies, centres: Any, b: int) -> V3:
+        k = m.link[b]
+        if k >= 0:
+            return centres[k]
+        return apply(m.pose[b], m.center[b])
+
+    return body_pose, body_centre
 
 
 def _make_kernels(key: str, chain: Chain, links, scalar):
     S, V3, M33, M34, M44 = types_of(scalar)
     Bodies = bodies_struct(scalar)
     pair_verdict, pair_distance = pair_functions(scalar)
-    body_pose = _body_pose(scalar)
+    rotation, relative = pose_helpers(scalar)
+    witness_cell, _ = witness_functions(scalar)
+    crossing_sample = sampling_functions(scalar)
+    body_pose, body_centre = _body_pose(scalar)
+    _, _, apply, _ = pose_functions(scalar)
     n = max(len(chain.parent), 1)
     fk = tree_fk(chain, set(int(k) for k in links) or {chain.root}, emit_local(scalar), scalar)
     module = f"rswarp_collide_{key}"
@@ -307,10 +211,16 @@ def _make_kernels(key: str, chain: Chain, links, scalar):
         i = wp.tid()
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
+        centres = wp.zeros(shape=n, dtype=V3)  # each link's bounding-sphere centre, world frame
+        for k in range(m.link.shape[0]):
+            if m.link[k] >= 0:
+                centres[m.link[k]] = apply(poses[m.link[k]], m.center[k])
         for p in range(m.pair_a.shape[0]):
             a = m.pair_a[p]
             b = m.pair_b[p]
-            g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b))
+            g = wp.length(body_centre(m, centres, a) - body_centre(m, centres, b)) - m.radius[a] - m.radius[b]
+            if g <= m.padding:
+                g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i), g)
             if g <= m.padding:
                 hit[i, p] = wp.uint8(1)
                 gap[i, p] = S(0.0)
@@ -327,4 +237,14 @@ def _make_kernels(key: str, chain: Chain, links, scalar):
         b = m.pair_b[pair[i]]
         out[i] = pair_distance(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b))
 
-    return collide, distance
+    @wp.kernel(enable_backward=False, module=module)
+    def witness(m: Bodies, q: wp.array2d(dtype=S), pair: wp.array(dtype=wp.int32), out: wp.array(dtype=witness_vec)):
+        i = wp.tid()
+        poses = wp.zeros(shape=n, dtype=M34)
+        fk(q, i, poses)
+        a = m.pair_a[pair[i]]
+        b = m.pair_b[pair[i]]
+        rel = relative(body_pose(m, poses, a), body_pose(m, poses, b))
+        out[i] = crossing_sample(m, a, b, rotation(rel), V3(rel[0, 3], rel[1, 3], rel[2, 3]))
+
+    return collide, distance, witness

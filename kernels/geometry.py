@@ -190,41 +190,44 @@ def box_functions(scalar=wp.float32):
         return ar
 
     @wp.func
-    def box_gap(ca: V3, ea: V3, cb: V3, eb: V3, r: M33, ar: M33, t: V3) -> S:
-        """A lower bound of the distance between box A (centre ``ca``, half-sizes ``ea``, A's frame)
-        and box B (in B's frame, x_A = r x_B + t; ``ar`` = |r| + eps); negative when no separating
-        axis of the two boxes (Gottschalk's 15) parts them. Where A's or B's face axes part them, the
-        bound is the distance between A and B's bounding box in A's frame (or the other way round):
-        diagonal gaps count in full, not only along one axis."""
-        d = r * cb + t - ca
-        sa = S(0.0)
-        sb = S(0.0)
-        worst = S(-FAR)
-        for i in range(3):
-            g = wp.abs(d[i]) - ea[i] - (ar[i, 0] * eb[0] + ar[i, 1] * eb[1] + ar[i, 2] * eb[2])
-            worst = wp.max(worst, g)
-            if g > S(0.0):
-                sa += g * g
-        for j in range(3):
-            ra = ar[0, j] * ea[0] + ar[1, j] * ea[1] + ar[2, j] * ea[2]
-            g = wp.abs(d[0] * r[0, j] + d[1] * r[1, j] + d[2] * r[2, j]) - ra - eb[j]
-            worst = wp.max(worst, g)
-            if g > S(0.0):
-                sb += g * g
+    def cross_gap(ea: V3, eb: V3, r: M33, ar: M33, d: V3, i: int, j: int) -> S:
+        """The gap along A's axis i x B's axis j, times that axis' length."""
+        i1 = (i + 1) % 3
+        i2 = (i + 2) % 3
+        j1 = (j + 1) % 3
+        j2 = (j + 2) % 3
+        ra = ea[i1] * ar[i2, j] + ea[i2] * ar[i1, j]
+        rb = eb[j1] * ar[i, j2] + eb[j2] * ar[i, j1]
+        return wp.abs(d[i2] * r[i1, j] - d[i1] * r[i2, j]) - ra - rb
+
+    @wp.func
+    def box_gap(ea: V3, eb: V3, r: M33, ar: M33, d: V3, bound: bool) -> S:
+        """A lower bound of the distance between box A (half-sizes ``ea``, centred on its frame's
+        origin, along its axes) and box B (half-sizes ``eb``, centre ``d`` and axes ``r`` in A's
+        frame; ``ar`` = |r| + eps). Negative when no separating axis of the two boxes (Gottschalk's
+        15) parts them: the face axes' value then, which orders overlapping pairs. Where A's or B's
+        face axes part them, the bound is the distance between A and B's bounding box in A's frame
+        (or the other way round): diagonal gaps count in full. Without ``bound`` a pair apart only
+        gets some positive value (no square root)."""
+        ga = V3(wp.abs(d[0]) - ea[0] - wp.dot(V3(ar[0, 0], ar[0, 1], ar[0, 2]), eb),
+                wp.abs(d[1]) - ea[1] - wp.dot(V3(ar[1, 0], ar[1, 1], ar[1, 2]), eb),
+                wp.abs(d[2]) - ea[2] - wp.dot(V3(ar[2, 0], ar[2, 1], ar[2, 2]), eb))
+        db = wp.transpose(r) * d
+        fa = wp.transpose(ar) * ea
+        gb = V3(wp.abs(db[0]) - fa[0] - eb[0], wp.abs(db[1]) - fa[1] - eb[1], wp.abs(db[2]) - fa[2] - eb[2])
+        worst = wp.max(wp.max(ga[0], wp.max(ga[1], ga[2])), wp.max(gb[0], wp.max(gb[1], gb[2])))
+        if worst > S(0.0) and not bound:  # apart: how far is not asked
+            return worst
         if worst > S(0.0):
-            return wp.sqrt(wp.max(sa, sb))
+            pa = V3(wp.max(ga[0], S(0.0)), wp.max(ga[1], S(0.0)), wp.max(ga[2], S(0.0)))
+            pb = V3(wp.max(gb[0], S(0.0)), wp.max(gb[1], S(0.0)), wp.max(gb[2], S(0.0)))
+            return wp.sqrt(wp.max(wp.dot(pa, pa), wp.dot(pb, pb)))
         for i in range(3):
-            i1 = (i + 1) % 3
-            i2 = (i + 2) % 3
             for j in range(3):
-                j1 = (j + 1) % 3
-                j2 = (j + 2) % 3
+                g = cross_gap(ea, eb, r, ar, d, i, j)
                 n2 = S(1.0) - r[i, j] * r[i, j]
-                if n2 > S(1.0e-6):
-                    ra = ea[i1] * ar[i2, j] + ea[i2] * ar[i1, j]
-                    rb = eb[j1] * ar[i, j2] + eb[j2] * ar[i, j1]
-                    s = wp.abs(d[i2] * r[i1, j] - d[i1] * r[i2, j])
-                    worst = wp.max(worst, (s - ra - rb) / wp.sqrt(n2))
+                if g > S(0.0) and n2 > S(1.0e-6):  # the axis A_i x B_j parts them; its length is sqrt(n2)
+                    worst = wp.max(worst, g / wp.sqrt(n2))
         return worst
 
     return abs_rotation, box_gap

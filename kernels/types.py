@@ -51,6 +51,11 @@ class Chain(NamedTuple):
         return h.hexdigest()[:16]
 
 
+PIECE_POINTS = 7  # points per connected piece of a body (rswarp.geometry.bvh.component_points)
+WITNESSES = 8  # crossing triangle pairs kept per cell of a pair's witness grid
+witness_vec = wp.types.vector(length=2 * WITNESSES, dtype=wp.int32)  # (A's, B's) triangle, pair after pair
+
+
 class Scalar(NamedTuple):
     """The Warp types of one precision (float32 for batches, float64 for refinement and checks)."""
 
@@ -65,3 +70,41 @@ class Scalar(NamedTuple):
 def types_of(scalar) -> Scalar:
     return Scalar(scalar, wp.types.vector(3, scalar), wp.types.matrix((3, 3), scalar),
                   wp.types.matrix((3, 4), scalar), wp.types.matrix((4, 4), scalar))
+
+
+@lru_cache(maxsize=None)
+def bodies_struct(scalar=wp.float32):
+    """The struct of everything the collision kernels read about bodies and pairs (one precision)."""
+    _, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.struct
+    class Bodies:
+        link: wp.array(dtype=wp.int32)  # the chain link that moves the body, -1: fixed in the world
+        pose: wp.array(dtype=M34)  # a fixed body's pose
+        root: wp.array(dtype=wp.int32)  # its tree's root node
+        mesh: wp.array(dtype=wp.uint64)  # its wp.Mesh, for point-inside queries
+        closed: wp.array(dtype=wp.int32)  # 1: a watertight mesh (inside by ray parity)
+        center: wp.array(dtype=V3)  # bounding sphere, body frame
+        radius: wp.array(dtype=scalar)
+        point_start: wp.array(dtype=wp.int32)  # first connected piece (containment)
+        point_count: wp.array(dtype=wp.int32)  # pieces
+        points: wp.array(dtype=V3)  # PIECE_POINTS per piece (rswarp.geometry.bvh.component_points)
+        node_center: wp.array(dtype=V3)  # box trees (rswarp.geometry.bvh), all bodies joined
+        node_axes: wp.array(dtype=M33)  # each box's axes (columns) in its body's frame
+        node_half: wp.array(dtype=V3)
+        node_left: wp.array(dtype=wp.int32)
+        node_right: wp.array(dtype=wp.int32)
+        triangles: wp.array(dtype=V3)  # three vertices per triangle, leaf order
+        pair_a: wp.array(dtype=wp.int32)
+        pair_b: wp.array(dtype=wp.int32)
+        padding: scalar
+        # per pair, a grid over the (at most two) joints its relative pose depends on, holding
+        # triangle pairs that cross at each cell's centre: tried before any walk (rswarp.sim.witness)
+        cell_start: wp.array(dtype=wp.int32)  # its first cell, -1: no grid
+        cell_col: wp.array(dtype=wp.int32)  # two per pair: the q column of each grid axis, -1: none
+        cell_lo: wp.array(dtype=scalar)  # two per pair: the axis' lower limit
+        cell_scale: wp.array(dtype=scalar)  # two per pair: cells per unit of q
+        cell_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
+        witness: wp.array(dtype=wp.vec2i)  # WITNESSES per cell: (A's, B's) triangle, -1: none
+
+    return Bodies

@@ -4,6 +4,7 @@ files written, determinism, bounded memory, and the matrix in exports."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import tracemalloc
@@ -14,7 +15,11 @@ import pytest
 import rswarp
 from rswarp.cli import main
 from rswarp.sim.bodies import collision_bodies
+from rswarp.geometry.bvh import PIECE_POINTS, build_bvh, component_points
+from rswarp.kernels import types as kernel_types
+from rswarp.sim.chain import chain_of
 from rswarp.sim.collisions import CHUNK, Checker, collisions
+from rswarp.sim.witness import pair_columns
 
 from conftest import DATA
 
@@ -75,6 +80,18 @@ def test_ball_inside_a_box_collides():
     x = np.array([0.0, 0.1, 0.3, 0.38, 0.45, 0.5, 0.55, 0.62, 0.8, 1.0])
     hit = checker.verdicts(np.stack([x, np.full_like(x, 0.3)], axis=1))[0][:, 0]
     np.testing.assert_array_equal(hit, x < 0.6)
+
+
+def test_open_meshes_judge_inside_by_winding_number():
+    """Closed meshes are judged by ray parity, open ones by the winding number: the same verdicts."""
+    mech = load("ball.rsxml")
+    bodies = collision_bodies(mech)
+    opened = dataclasses.replace(bodies, bodies=tuple(dataclasses.replace(b, watertight=False) for b in bodies.bodies))
+    x = np.linspace(0.0, 1.0, 41)
+    q = np.stack([x, np.full_like(x, 0.3)], axis=1)
+    closed_hit = Checker(mech, bodies).verdicts(q)[0]
+    np.testing.assert_array_equal(closed_hit, Checker(mech, opened).verdicts(q)[0])
+    np.testing.assert_array_equal(closed_hit[:, 0], x < 0.6)
 
 
 def test_exact_distance_of_the_fold():
@@ -196,6 +213,57 @@ def test_environment_meshes(tmp_path):
     assert floor_pairs["Base"].reason == "Default"  # the base stands 1 mm into the floor
     assert floor_pairs["Link6"].collisions > 0  # the wrist reaches the floor
     assert floor_pairs["Link1"].reason == "Never"
+
+
+# -- what only speeds the verdicts up -------------------------------------------------------------
+
+
+def test_oriented_boxes_hold_their_triangles():
+    """Every node's box (oriented, a proper rotation) holds every vertex of the triangles below it."""
+    import trimesh
+
+    mesh = trimesh.load(str(IRB.parent / "link_3.stl"))
+    tree = build_bvh(mesh.vertices, mesh.faces)
+    assert np.allclose(np.linalg.det(tree.axes), 1.0)
+    assert not np.allclose(tree.axes, np.eye(3))  # some boxes are turned to fit
+    first = np.zeros(len(tree.left), np.int64)
+    count = np.zeros(len(tree.left), np.int64)
+    for k in range(len(tree.left) - 1, -1, -1):  # children come after their parent
+        if tree.left[k] < 0:
+            first[k], count[k] = -1 - tree.left[k], tree.right[k]
+        else:
+            first[k] = first[tree.left[k]]
+            count[k] = count[tree.left[k]] + count[tree.right[k]]
+    for k in range(len(tree.left)):
+        local = (tree.triangles[first[k]:first[k] + count[k]].reshape(-1, 3) - tree.center[k]) @ tree.axes[k]
+        assert (np.abs(local) <= tree.half[k] + 1e-12).all()
+    assert PIECE_POINTS == kernel_types.PIECE_POINTS
+    assert component_points(mesh.vertices, mesh.faces).shape == (1, PIECE_POINTS, 3)
+
+
+def test_pair_columns_are_the_joints_between_the_bodies(irb):
+    mech, bodies, _ = irb
+    cols = dict(zip(bodies.pair_names(), pair_columns(chain_of(mech.graph), bodies)))
+    assert cols[("Base", "Link2")] == (0, 1)
+    assert cols[("Link4", "Link6")] == (4, 5)
+    assert cols[("Base", "Link6")] == (0, 1, 2, 3, 4, 5)
+
+
+def test_witness_grids_change_no_verdict(irb):
+    """The witnesses only spare walks: with and without them, the same verdicts and gaps; and the
+    pair that always collides (Link4/Link6) has witnesses in nearly every cell."""
+    mech, bodies, checker = irb
+    p = bodies.pair_names().index(("Link4", "Link6"))
+    grid = checker.witnesses
+    cells = grid.witness.reshape(-1, kernel_types.WITNESSES, 2)[grid.start[p]:grid.start[p] + 32 * 32]
+    assert (cells[:, 0, 0] >= 0).mean() > 0.95
+    lower, upper = mech.bounds()
+    q = lower + (upper - lower) * np.random.default_rng(11).random((3000, len(lower)))
+    hit, gap = checker.verdicts(q)
+    bare_hit, bare_gap = Checker(mech, bodies, witnesses=False).verdicts(q)
+    np.testing.assert_array_equal(hit, bare_hit)
+    np.testing.assert_array_equal(gap, bare_gap)
+    assert hit[:, p].all()
 
 
 # -- sweep properties ---------------------------------------------------------------------------------

@@ -137,7 +137,7 @@ class DeviceBodies:
     def _make(self, scalar):
         import warp as wp
 
-        from ..kernels.collide import bodies_struct
+        from ..kernels.types import bodies_struct
         from ..kernels.types import types_of
 
         S, V3, M33, M34, _ = types_of(scalar)
@@ -151,18 +151,43 @@ class DeviceBodies:
         s.pose = arr(np.array([b.pose[:3] for b in bodies]), M34)
         s.root = arr(self.roots, wp.int32)
         s.mesh = arr(np.array([m.id for m in self.meshes], np.uint64), wp.uint64)
+        s.closed = arr(np.array([b.watertight for b in bodies], np.int32), wp.int32)
         s.center, s.radius = arr(np.array(centre), V3), arr(np.array(radius) * (1 + 1e-6) + grow, S)
         counts = np.array([len(p) for p in self.points], np.int32)
         s.point_start = arr(np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32), wp.int32)
         s.point_count = arr(counts, wp.int32)
-        s.points = arr(np.concatenate(self.points), V3)
+        s.points = arr(np.concatenate(self.points).reshape(-1, 3), V3)
         s.node_center, s.node_half = arr(tree.center, V3), arr(tree.half * (1 + 1e-6) + grow, V3)
+        s.node_axes = arr(tree.axes, M33)
         s.node_left, s.node_right = arr(tree.left, wp.int32), arr(tree.right, wp.int32)
         s.triangles = arr(tree.triangles.reshape(-1, 3), V3)
         pairs = np.array(self.bodies.pairs, np.int32).reshape(-1, 2)
         s.pair_a, s.pair_b = arr(pairs[:, 0], wp.int32), arr(pairs[:, 1], wp.int32)
         s.padding = S(self.padding)
+        self._set_witnesses(s, scalar, None)
         return s
+
+    def set_witnesses(self, grid, scalar) -> None:
+        """Give the struct of one precision its witness grids (``rswarp.sim.witness``)."""
+        self._set_witnesses(self.struct(scalar), scalar, grid)
+
+    def _set_witnesses(self, s, scalar, grid) -> None:
+        import warp as wp
+
+        pairs = len(self.bodies.pairs)
+        arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
+        if grid is None:
+            from ..kernels.types import WITNESSES
+
+            s.cell_start, s.cell_col = arr(np.full(pairs, -1, np.int32), wp.int32), arr(np.full(2 * pairs, -1, np.int32), wp.int32)
+            s.cell_res = arr(np.ones(2 * pairs, np.int32), wp.int32)
+            s.witness = arr(np.full((WITNESSES, 2), -1, np.int32), wp.vec2i)
+            lo = scale = np.zeros(2 * pairs)
+        else:
+            s.cell_start, s.cell_col = arr(grid.start, wp.int32), arr(grid.col, wp.int32)
+            s.cell_res, s.witness = arr(grid.res, wp.int32), arr(grid.witness, wp.vec2i)
+            lo, scale = grid.lo, grid.scale
+        s.cell_lo, s.cell_scale = arr(lo, scalar), arr(scale, scalar)
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:

@@ -1,0 +1,251 @@
+"""Walking two bodies' box trees (``rswarp.geometry.bvh``) together, as device code: the node-pair
+test, the split, the leaves' triangles, and the walks built on them (nearest or crossing triangles;
+a spread sample of all crossing triangle pairs)."""
+
+from functools import lru_cache
+
+import warp as wp
+
+from .geometry import FAR, box_functions, triangle_functions
+from .types import WITNESSES, bodies_struct, types_of, witness_vec
+
+STACK = 96  # node pairs a traversal keeps pending: two balanced trees of depth 40 need at most 81
+SAMPLE = 32  # crossing triangle pairs a sampling walk holds at once
+
+
+@lru_cache(maxsize=None)
+def node_functions(scalar=wp.float32):
+    """(leaf_distance, node_gap, child_gaps, split): what the tree walk does with one pair of nodes."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    V2 = wp.types.vector(2, scalar)
+    triangles_cross, triangle_distance = triangle_functions(scalar)
+    abs_rotation, box_gap = box_functions(scalar)
+    Bodies = bodies_struct(scalar)
+
+    @wp.func
+    def leaf_distance(m: Bodies, na: int, nb: int, r: M33, t: V3, overlap_only: bool) -> S:
+        """The distance between the triangles of two leaves; with ``overlap_only``, 0 if two cross
+        and huge otherwise."""
+        best = S(FAR)
+        fa = -1 - m.node_left[na]
+        fb = -1 - m.node_left[nb]
+        for kb in range(fb, fb + m.node_right[nb]):
+            b0 = r * m.triangles[3 * kb] + t
+            b1 = r * m.triangles[3 * kb + 1] + t
+            b2 = r * m.triangles[3 * kb + 2] + t
+            for ka in range(fa, fa + m.node_right[na]):
+                a0 = m.triangles[3 * ka]
+                a1 = m.triangles[3 * ka + 1]
+                a2 = m.triangles[3 * ka + 2]
+                if overlap_only:
+                    if triangles_cross(a0, a1, a2, b0, b1, b2):
+                        return S(0.0)
+                else:
+                    best = wp.min(best, triangle_distance(a0, a1, a2, b0, b1, b2))
+        return best
+
+    @wp.func
+    def node_gap(m: Bodies, na: int, nb: int, r: M33, t: V3) -> S:
+        """A lower bound of the distance between the boxes of nodes na (body A) and nb (body B),
+        x_A = r x_B + t: B's box is carried into the frame of A's."""
+        at = wp.transpose(m.node_axes[na])
+        rr = at * (r * m.node_axes[nb])
+        d = at * (r * m.node_center[nb] + t - m.node_center[na])
+        return box_gap(m.node_half[na], m.node_half[nb], rr, abs_rotation(rr), d, True)
+
+    @wp.func
+    def child_gaps(m: Bodies, c: wp.vec4i, r: M33, t: V3, bound: bool) -> V2:
+        """node_gap of the two pairs ``split`` gives (a1, b1, a2, b2), the node they share carried
+        across once: B's box into A's body frame, or the frame of A's box into B's body. Without
+        ``bound``, a pair apart only gets some positive value."""
+        g = V2()
+        if c[1] == c[3]:  # A's node was split
+            rb = r * m.node_axes[c[1]]
+            cb = r * m.node_center[c[1]] + t
+            for k in range(2):
+                at = wp.transpose(m.node_axes[c[2 * k]])
+                rr = at * rb
+                g[k] = box_gap(m.node_half[c[2 * k]], m.node_half[c[1]], rr, abs_rotation(rr),
+                               at * (cb - m.node_center[c[2 * k]]), bound)
+            return g
+        at = wp.transpose(m.node_axes[c[0]])
+        ar = at * r
+        d0 = at * (t - m.node_center[c[0]])
+        for k in range(2):
+            rr = ar * m.node_axes[c[2 * k + 1]]
+            g[k] = box_gap(m.node_half[c[0]], m.node_half[c[2 * k + 1]], rr, abs_rotation(rr),
+                           ar * m.node_center[c[2 * k + 1]] + d0, bound)
+        return g
+
+    @wp.func
+    def split(m: Bodies, na: int, nb: int) -> wp.vec4i:
+        """The two node pairs (a1, b1, a2, b2) that (na, nb) opens into: the larger node's children
+        (the one that is not a leaf)."""
+        ha = m.node_half[na]
+        hb = m.node_half[nb]
+        if m.node_left[nb] < 0 or (m.node_left[na] >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2]):
+            return wp.vec4i(m.node_left[na], nb, m.node_right[na], nb)
+        return wp.vec4i(na, m.node_left[nb], na, m.node_right[nb])
+
+    return leaf_distance, node_gap, child_gaps, split
+
+
+@lru_cache(maxsize=None)
+def traversal_functions(scalar=wp.float32):
+    """(node_gap, mesh_distance, meshes_cross): the box gap of two tree nodes, and the dual walks of
+    two bodies' box trees down to their nearest triangles, or to a crossing pair."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    leaf_distance, node_gap, child_gaps, split = node_functions(scalar)
+    Bodies = bodies_struct(scalar)
+
+    @wp.func
+    def mesh_distance(m: Bodies, a: int, b: int, r: M33, t: V3, limit: S, stop: S) -> S:
+        """The distance between bodies a and b (x_A = r x_B + t) where it is at most ``limit``, else
+        a distance above ``limit`` or a huge value; returns as soon as one at or below ``stop`` is
+        found. With ``limit`` 0 only crossing surfaces are looked for (0 if they cross).
+
+        Depth first, nearer (more overlapping) children first: crossings and small distances are
+        found early, and a small distance prunes the rest."""
+        overlap_only = limit <= S(0.0)
+        best = S(FAR)
+        if node_gap(m, m.root[a], m.root[b], r, t) > limit:
+            return best
+        stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
+        gaps = wp.zeros(shape=wp.static(STACK), dtype=S)
+        stack[0] = m.root[a]
+        stack[1] = m.root[b]
+        gaps[0] = S(-FAR)
+        top = int(1)
+        while top > 0:
+            top -= 1
+            na = stack[2 * top]
+            nb = stack[2 * top + 1]
+            if gaps[top] > wp.min(best, limit):  # a nearer pair was found since this one was pushed
+                continue
+            if m.node_left[na] < 0 and m.node_left[nb] < 0:
+                best = wp.min(best, leaf_distance(m, na, nb, r, t, overlap_only))
+                if best <= stop:
+                    return best
+                continue
+            if top + 2 > STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
+                return S(-1.0)
+            c = split(m, na, nb)
+            gs = child_gaps(m, c, r, t, True)
+            g1 = gs[0]
+            g2 = gs[1]
+            near = int(2)  # the nearer pair goes on top
+            if g1 < g2:
+                near = 0
+            far = 2 - near
+            cut = wp.min(best, limit)
+            for k in range(2):
+                j = far if k == 0 else near
+                g = g1 if j == 0 else g2
+                if g <= cut:
+                    stack[2 * top] = c[j]
+                    stack[2 * top + 1] = c[j + 1]
+                    gaps[top] = g
+                    top += 1
+        return best
+
+    @wp.func
+    def meshes_cross(m: Bodies, a: int, b: int, r: M33, t: V3) -> bool:
+        """Whether the surfaces of bodies a and b cross (x_A = r x_B + t). Depth first, the more
+        overlapping children first; the boxes of the roots are known to overlap."""
+        stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
+        stack[0] = m.root[a]
+        stack[1] = m.root[b]
+        top = int(1)
+        while top > 0:
+            top -= 1
+            na = stack[2 * top]
+            nb = stack[2 * top + 1]
+            if m.node_left[na] < 0 and m.node_left[nb] < 0:
+                if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
+                    return True
+                continue
+            if top + 2 > STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
+                return True
+            c = split(m, na, nb)
+            gs = child_gaps(m, c, r, t, False)
+            first = int(0)  # the more overlapping pair goes on top
+            if gs[0] < gs[1]:
+                first = 1
+            for k in range(2):
+                j = first if k == 0 else 1 - first
+                if gs[j] <= S(0.0):
+                    stack[2 * top] = c[2 * j]
+                    stack[2 * top + 1] = c[2 * j + 1]
+                    top += 1
+        return False
+
+    return node_gap, mesh_distance, meshes_cross
+
+
+@lru_cache(maxsize=None)
+def sampling_functions(scalar=wp.float32):
+    """crossing_sample(m, a, b, r, t): WITNESSES crossing triangle pairs of bodies a and b spread
+    over all of them (``witness_vec``: A's, B's triangle, pair after pair; -1 where fewer cross)."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    triangles_cross, _ = triangle_functions(scalar)
+    _, node_gap, child_gaps, split = node_functions(scalar)
+    Bodies = bodies_struct(scalar)
+
+    @wp.func
+    def crossing_sample(m: Bodies, a: int, b: int, r: M33, t: V3) -> witness_vec:
+        """Walks every overlapping node pair (depth first, so neighbours in the walk are neighbours
+        on the surface) and keeps every stride-th crossing, doubling the stride when SAMPLE are
+        held: what is kept is spread evenly over the walk, whatever the number of crossings."""
+        kept = wp.zeros(shape=wp.static(2 * SAMPLE), dtype=wp.int32)
+        stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
+        held = int(0)
+        seen = int(0)
+        stride = int(1)
+        top = int(0)
+        if node_gap(m, m.root[a], m.root[b], r, t) <= S(0.0):
+            stack[0] = m.root[a]
+            stack[1] = m.root[b]
+            top = 1
+        while top > 0 and top + 2 <= STACK:
+            top -= 1
+            na = stack[2 * top]
+            nb = stack[2 * top + 1]
+            if m.node_left[na] >= 0 or m.node_left[nb] >= 0:
+                c = split(m, na, nb)
+                gs = child_gaps(m, c, r, t, False)
+                for j in range(2):
+                    if gs[j] <= S(0.0):
+                        stack[2 * top] = c[2 * j]
+                        stack[2 * top + 1] = c[2 * j + 1]
+                        top += 1
+                continue
+            fa = -1 - m.node_left[na]
+            fb = -1 - m.node_left[nb]
+            for ka in range(fa, fa + m.node_right[na]):
+                for kb in range(fb, fb + m.node_right[nb]):
+                    if triangles_cross(m.triangles[3 * ka], m.triangles[3 * ka + 1], m.triangles[3 * ka + 2],
+                                       r * m.triangles[3 * kb] + t, r * m.triangles[3 * kb + 1] + t,
+                                       r * m.triangles[3 * kb + 2] + t):
+                        if seen % stride == 0:
+                            if held == SAMPLE:  # keep every other one, and take half as many from now
+                                for k in range(SAMPLE // 2):
+                                    kept[2 * k] = kept[4 * k]
+                                    kept[2 * k + 1] = kept[4 * k + 1]
+                                held = SAMPLE // 2
+                                stride *= 2
+                            if seen % stride == 0:
+                                kept[2 * held] = ka
+                                kept[2 * held + 1] = kb
+                                held += 1
+                        seen += 1
+        out = witness_vec()
+        for k in range(WITNESSES):
+            out[2 * k] = -1
+            out[2 * k + 1] = -1
+            if k < held:
+                j = k * held // wp.min(held, WITNESSES)
+                out[2 * k] = kept[2 * j]
+                out[2 * k + 1] = kept[2 * j + 1]
+        return out
+
+    return crossing_sample

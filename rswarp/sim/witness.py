@@ -1,0 +1,82 @@
+"""Witness grids (``rswarp.kernels.witness``): for each pair whose relative pose depends on at
+most two joints, a grid over those joints' limits; each cell holds triangle pairs that cross at the
+cell's centre, found once per checker by a walk of every crossing. Verdicts stay exact (a witness
+is tested at the actual pose); the grid only lets a walk be skipped."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..kernels.types import WITNESSES, Chain
+from .bodies import Bodies
+
+CELLS = {0: (), 1: (256,), 2: (32, 32)}  # cells along each grid axis, by the number of joints
+
+
+@dataclass(frozen=True)
+class WitnessGrid:
+    """Every pair's grid as the flat arrays of the ``Bodies`` struct (two axis slots per pair)."""
+
+    start: np.ndarray  # (pairs,) int32: first cell, -1 for no grid
+    col: np.ndarray  # (2 * pairs,) int32: q column of each axis, -1 for none
+    lo: np.ndarray  # (2 * pairs,) lower limit of each axis
+    scale: np.ndarray  # (2 * pairs,) cells per unit of q
+    res: np.ndarray  # (2 * pairs,) int32 cells along each axis
+    witness: np.ndarray  # (cells * WITNESSES, 2) int32: (A's, B's) triangle, -1 for none
+
+    @property
+    def cells(self) -> int:
+        return len(self.witness) // WITNESSES
+
+
+def pair_columns(chain: Chain, bodies: Bodies) -> list[tuple[int, ...]]:
+    """Per pair, the q columns whose joints move one body relative to the other: the joints on the
+    path between their links (every joint above the link, for a body fixed in the world)."""
+
+    def above(link: int) -> list[int]:
+        out = []
+        while link >= 0:
+            out.append(link)
+            link = int(chain.parent[link])
+        return out
+
+    cols = []
+    for a, b in bodies.pairs:
+        pa, pb = above(bodies.bodies[a].link), above(bodies.bodies[b].link)
+        moving = set(pa) ^ set(pb)
+        cols.append(tuple(sorted({int(chain.qidx[k]) for k in moving if chain.qidx[k] >= 0})))
+    return cols
+
+
+def witness_grid(sample: Callable[[np.ndarray, np.ndarray], np.ndarray], chain: Chain, bodies: Bodies,
+                 lower: np.ndarray, upper: np.ndarray) -> WitnessGrid:
+    """The grids of every pair moved by at most two joints with finite limits. ``sample(q, pair)``
+    gives (N, 2 * WITNESSES) crossing triangle pairs of ``pair[i]`` at ``q[i]``."""
+    pairs = len(bodies.pairs)
+    start = np.full(pairs, -1, np.int32)
+    col, res = np.full(2 * pairs, -1, np.int32), np.ones(2 * pairs, np.int32)
+    lo, scale = np.zeros(2 * pairs), np.zeros(2 * pairs)
+    mid = np.where(np.isfinite(lower) & np.isfinite(upper), (lower + upper) / 2, 0.0)
+    qs, ps, cells = [], [], 0
+    for p, cols in enumerate(pair_columns(chain, bodies)):
+        if len(cols) not in CELLS or not all(np.isfinite(lower[c]) and np.isfinite(upper[c]) for c in cols):
+            continue
+        counts = CELLS[len(cols)]
+        for k, (c, n) in enumerate(zip(cols, counts)):
+            col[2 * p + k], res[2 * p + k], lo[2 * p + k] = c, n, lower[c]
+            scale[2 * p + k] = n / max(upper[c] - lower[c], 1e-12)
+        q = np.tile(mid, (int(np.prod(counts)), 1))
+        centres = [lower[c] + (np.arange(n) + 0.5) * (upper[c] - lower[c]) / n for c, n in zip(cols, counts)]
+        for c, axis in zip(cols, np.meshgrid(*centres, indexing="ij")):
+            q[:, c] = axis.ravel()  # row-major: the cell index the kernel computes
+        start[p] = cells
+        cells += len(q)
+        qs.append(q)
+        ps.append(np.full(len(q), p, np.int32))
+    witness = np.full((max(cells, 1) * WITNESSES, 2), -1, np.int32)
+    if cells:
+        witness[:cells * WITNESSES] = sample(np.concatenate(qs), np.concatenate(ps)).reshape(-1, 2)
+    return WitnessGrid(start, col, lo, scale, res, witness)
