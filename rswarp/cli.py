@@ -134,21 +134,20 @@ def cmd_demo(args) -> int:
 
 
 class _Progress:
-    """A progress bar on stderr (a line per tenth when stderr is not a terminal)."""
+    """A progress bar on stderr (tqdm), fed ``(done, total)`` by the library."""
 
     def __init__(self, label: str):
-        self.label, self.tty, self.shown = label, sys.stderr.isatty(), -1
+        self.label, self.bar = label, None
 
     def __call__(self, done: int, total: int) -> None:
-        frac = done / max(total, 1)
-        if self.tty:
-            bar = "#" * int(frac * 30)
-            print(f"\r{self.label} [{bar:<30}] {frac:4.0%} ({done}/{total})", end="", file=sys.stderr, flush=True)
-            if done >= total:
-                print(file=sys.stderr)
-        elif int(frac * 10) > self.shown:
-            self.shown = int(frac * 10)
-            print(f"{self.label}: {frac:.0%} ({done}/{total})", file=sys.stderr, flush=True)
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc=self.label, unit="sample", unit_scale=True, file=sys.stderr,
+                            mininterval=0.5)
+        self.bar.update(done - self.bar.n)
+        if done >= total:
+            self.bar.close()
 
 
 class _Parser(argparse.ArgumentParser):

@@ -369,3 +369,11 @@ def test_newton_finds_no_contact_between_filtered_pairs_at_home(tmp_path):
                 for a, b in zip(s0, s1) if a >= 0 and b >= 0 and body[a] >= 0 and body[b] >= 0}
     assert not (touching & filtered)
     assert frozenset(("Link4", "Link6")) in filtered
+
+
+def test_heat_map_never_rounds_a_collision_to_zero():
+    from rswarp.report.collisions import _percent
+
+    assert _percent(0.0) == "0.0%"
+    assert _percent(1e-6) == "<0.1%"
+    assert _percent(0.03018) == "3.0%"

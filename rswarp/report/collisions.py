@@ -95,7 +95,7 @@ def heatmap_png(c: Collisions) -> bytes:
     tags = ("", *(r.lower() for r in REASONS))
     for i in range(n):
         for j in range(i):
-            text = tags[code[i, j]] if np.isnan(rate[i, j]) else f"{rate[i, j]:.1%}\n{tags[code[i, j]]}".strip()
+            text = tags[code[i, j]] if np.isnan(rate[i, j]) else f"{_percent(rate[i, j])}\n{tags[code[i, j]]}".strip()
             ax.text(j, i, text, ha="center", va="center", fontsize=7,
                     color="white" if not np.isnan(rate[i, j]) and rate[i, j] > 0.5 else "black")
     ax.set_xticks(range(n), names, rotation=45, ha="right")
@@ -107,6 +107,11 @@ def heatmap_png(c: Collisions) -> bytes:
     fig.savefig(buf, format="png")
     plt.close(fig)
     return buf.getvalue()
+
+
+def _percent(rate: float) -> str:
+    """A heat-map cell's rate: one decimal, and never "0.0%" for a pair that did collide."""
+    return "<0.1%" if 0 < rate < 0.0005 else f"{rate:.1%}"
 
 
 def collisions_text(c: Collisions, mech: Mechanism, files: dict) -> str:
