@@ -136,10 +136,9 @@ def pair_functions(scalar=wp.float32):
         return wp.max(gap, m.padding + S(1.0e-9))
 
     @wp.func
-    def pair_distance(m: Bodies, a: int, b: int, pa: M34, pb: M34) -> S:
-        """The exact distance between bodies a and b at poses pa and pb (0 where surfaces cross,
-        -1 where one contains the other)."""
-        rel = relative(pa, pb)
+    def pair_distance(m: Bodies, a: int, b: int, rel: M34) -> S:
+        """The exact distance between bodies a and b, b's frame in a's being ``rel`` (0 where
+        surfaces cross, -1 where one contains the other)."""
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
         d = mesh_distance(m, a, b, r, t, S(FAR), S(0.0))
@@ -228,23 +227,22 @@ def _make_kernels(key: str, chain: Chain, links, scalar):
                 hit[i, p] = wp.uint8(0)
                 gap[i, p] = g
 
+    @wp.func
+    def posed_pair(m: Bodies, q: wp.array2d(dtype=S), i: int, p: int) -> M34:
+        """Pair p's second body in the frame of its first, at configuration q[i]."""
+        poses = wp.zeros(shape=n, dtype=M34)
+        fk(q, i, poses)
+        return relative(body_pose(m, poses, m.pair_a[p]), body_pose(m, poses, m.pair_b[p]))
+
     @wp.kernel(enable_backward=False, module=module)
     def distance(m: Bodies, q: wp.array2d(dtype=S), pair: wp.array(dtype=wp.int32), out: wp.array(dtype=S)):
         i = wp.tid()
-        poses = wp.zeros(shape=n, dtype=M34)
-        fk(q, i, poses)
-        a = m.pair_a[pair[i]]
-        b = m.pair_b[pair[i]]
-        out[i] = pair_distance(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b))
+        out[i] = pair_distance(m, m.pair_a[pair[i]], m.pair_b[pair[i]], posed_pair(m, q, i, pair[i]))
 
     @wp.kernel(enable_backward=False, module=module)
     def witness(m: Bodies, q: wp.array2d(dtype=S), pair: wp.array(dtype=wp.int32), out: wp.array(dtype=witness_vec)):
         i = wp.tid()
-        poses = wp.zeros(shape=n, dtype=M34)
-        fk(q, i, poses)
-        a = m.pair_a[pair[i]]
-        b = m.pair_b[pair[i]]
-        rel = relative(body_pose(m, poses, a), body_pose(m, poses, b))
-        out[i] = crossing_sample(m, a, b, rotation(rel), V3(rel[0, 3], rel[1, 3], rel[2, 3]))
+        rel = posed_pair(m, q, i, pair[i])
+        out[i] = crossing_sample(m, m.pair_a[pair[i]], m.pair_b[pair[i]], rotation(rel), V3(rel[0, 3], rel[1, 3], rel[2, 3]))
 
     return collide, distance, witness
