@@ -19,6 +19,8 @@ from .rsxml.write import save, to_rsxml
 _LAZY = {
     "Kinematics": ("sim.kinematics", "Kinematics"),
     "workspace": ("sim.workspace", "workspace"),
+    "collisions": ("sim.collisions", "collisions"),
+    "build_library": ("report.library", "build_library"),
     "to_usd": ("export.usd_layout", "to_usd"),
     "to_newton": ("export.newton", "to_newton"),
     "to_urdf": ("export.urdf", "to_urdf"),
@@ -40,5 +42,5 @@ __all__ = [
     "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal",
     "InputError", "Joint", "Limit", "LinkGraph", "Mechanism", "MeshError", "MeshNotFoundError", "Part", "Pose", "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
-    "Kinematics", "workspace", "to_usd", "to_newton", "to_urdf",
+    "Kinematics", "workspace", "collisions", "build_library", "to_usd", "to_newton", "to_urdf",
 ]

@@ -92,6 +92,15 @@ def cmd_collisions(args) -> int:
     return 0
 
 
+def cmd_build(args) -> int:
+    from .report.library import build_library, build_text
+
+    build = build_library(args.file, args.out, layout=args.layout, size=args.size, device=args.device,
+                          progress=None if args.json else _Progress("build", unit="asset"))
+    _emit_json(build.report()) if args.json else print(build_text(build))
+    return 0 if build.ok else 1
+
+
 def cmd_export(args) -> int:
     from .export import export
     from .export.physics import PhysicsOptions
@@ -136,15 +145,15 @@ def cmd_demo(args) -> int:
 class _Progress:
     """A progress bar on stderr (tqdm), fed ``(done, total)`` by the library."""
 
-    def __init__(self, label: str):
-        self.label, self.bar = label, None
+    def __init__(self, label: str, unit: str = "sample"):
+        self.label, self.unit, self.bar = label, unit, None
 
     def __call__(self, done: int, total: int) -> None:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=total, desc=self.label, unit="sample", unit_scale=True, file=sys.stderr,
-                            mininterval=0.5)
+            self.bar = tqdm(total=total, desc=self.label, unit=self.unit, unit_scale=self.unit == "sample",
+                            file=sys.stderr, mininterval=0.5)
         self.bar.update(done - self.bar.n)
         if done >= total:
             self.bar.close()
@@ -200,6 +209,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     _export_parser(sub, json_help)
 
+    _build_parser(sub, json_help, device_help)
+
     p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
     p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the exports go (default ./rswarp-demo)")
     p.add_argument("--json", action="store_true", help=json_help)
@@ -224,6 +235,20 @@ def _collisions_parser(sub, json_help: str, device_help: str) -> None:
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--device", default="cpu", help=device_help)
     p.set_defaults(func=cmd_collisions)
+
+
+def _build_parser(sub, json_help: str, device_help: str) -> None:
+    """``rswarp build``: a LibraryCompiler XML to packaged USD assets with previews."""
+    p = sub.add_parser("build", help="build the assets of a LibraryCompiler XML: USD with metadata and a preview")
+    p.add_argument("file", metavar="LIBRARY.xml")
+    p.add_argument("-o", "--out", metavar="DIR", help="where the assets go (default: beside the XML)")
+    p.add_argument("--layout", choices=["usdz", "component"], default="usdz",
+                   help="one .usdz per asset (default), or a folder per asset: an interface layer with payloaded "
+                        "geometry/materials/physics layers and the preview PNG")
+    p.add_argument("--size", type=_count(16), default=512, help="preview image width and height in pixels (default 512)")
+    p.add_argument("--json", action="store_true", help=json_help)
+    p.add_argument("--device", default="cpu", help=device_help)
+    p.set_defaults(func=cmd_build)
 
 
 def _export_parser(sub, json_help: str) -> None:

@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 from pxr import Gf, UsdGeom, UsdPhysics, Vt
 
+from ..geometry.meshes import GRAPHITE_WHITE, mesh_color
 from ..transforms import matrix_quat
 from .physics import BodyPhysics, RobotPhysics
 
-GRAPHITE_WHITE = (215 / 255, 215 / 255, 215 / 255)
 VISUALS, COLLISIONS = "visuals", "collisions"  # the scopes under each link
 
 
@@ -39,18 +39,6 @@ def _face_normals(pts: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = pts[np.asarray(faces)]
     n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     return np.ascontiguousarray(n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30), np.float32)
-
-
-def mesh_color(mesh) -> tuple[float, float, float]:
-    """The mesh's own uniform colour if it defines one, else Graphite White."""
-    visual = getattr(mesh, "visual", None)
-    try:
-        if visual is not None and visual.kind in ("face", "vertex") and visual.defined:
-            rgba = np.asarray(visual.main_color, float) / 255.0
-            return tuple(float(c) for c in rgba[:3])
-    except Exception:  # trimesh visuals of odd files raise many types; the default colour is fine
-        pass
-    return GRAPHITE_WHITE
 
 
 def author_links(stage, mech, root: str, physics: RobotPhysics, names) -> dict[str, str]:

@@ -7,9 +7,10 @@ from __future__ import annotations
 
 import os
 import tempfile
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from pxr import Sdf, Usd, UsdPhysics, UsdUtils
+from pxr import Sdf, Usd, UsdMedia, UsdPhysics, UsdUtils
 
 from ..errors import InputError
 from ..files import cleanup_on_terminate, merge_folder
@@ -22,14 +23,26 @@ LAYOUTS = ("flat", "component")
 PHYSICS_PREFIXES = ("physics:", "newton:", "state:", "drive:")  # properties the component layout puts in Physics
 
 
+@dataclass(frozen=True)
+class AssetInfo:
+    """What a library build adds to an exported asset: the default prim's ``assetInfo``, the root
+    layer's ``customLayerData``, and a preview ``thumbnail`` (PNG bytes), the prim's default
+    thumbnail (``UsdMediaAssetPreviewsAPI``) in a file beside the layer (inside a .usdz)."""
+
+    info: dict = field(default_factory=dict)
+    layer_data: dict = field(default_factory=dict)
+    thumbnail: bytes | None = None
+
+
 def to_usd(model, path: str | Path, *, layout: str = "flat", physics: PhysicsOptions | RobotPhysics | None = None,
-           **options) -> list[str]:
+           asset: AssetInfo | None = None, **options) -> list[str]:
     """Write ``model`` to ``path`` (.usda, .usdc, .usd or .usdz); returns warnings.
 
     ``layout="flat"`` writes one file; ``"component"`` writes an asset interface layer that
     payloads ``<stem>_Payload/Contents.usda``, built from geometry, materials and physics layers
     (as Newton's urdf-usd-converter lays assets out). ``physics`` (or its fields as keywords:
-    ``density``, ``mass``, ``collision``, ``drive_hz``, ...) says how the robot simulates. Files are
+    ``density``, ``mass``, ``collision``, ``drive_hz``, ...) says how the robot simulates; ``asset``
+    adds a library's metadata and preview. Files are
     written into a temporary folder beside the target and moved into place; in an existing payload
     folder only the export's own files are replaced.
     """
@@ -46,24 +59,72 @@ def to_usd(model, path: str | Path, *, layout: str = "flat", physics: PhysicsOpt
         if layout == "flat":
             stage = Usd.Stage.CreateInMemory()
             warnings = build_stage(stage, model, physics)
-            if ext == ".usdz":
-                stage.GetRootLayer().Export(str(tmp / f"{path.stem}.usdc"))
-                _usdz(tmp / f"{path.stem}.usdc", tmp / path.name)
-            else:
-                stage.GetRootLayer().Export(str(tmp / path.name))
+            root = tmp / (f"{path.stem}.usdc" if ext == ".usdz" else path.name)
+            stage.GetRootLayer().Export(str(root))
         else:
             warnings = _component(model, tmp, path, physics)
-            if ext == ".usdz":
-                _usdz(tmp / f"{path.stem}.usda", tmp / path.name)
-            else:
+            root = tmp / (f"{path.stem}.usda" if ext == ".usdz" else path.name)
+        thumbnail = _author_asset(root, asset, f"{path.stem}.thumbnail.png") if asset else None
+        if ext == ".usdz":
+            _usdz(root, tmp / path.name)
+        else:
+            if layout == "component":
                 merge_folder(tmp / f"{path.stem}_Payload", folder / f"{path.stem}_Payload")
+            if thumbnail:
+                os.replace(thumbnail, folder / thumbnail.name)
         os.replace(tmp / path.name, path)
         return warnings
+
+
+def _author_asset(root: Path, asset: AssetInfo, thumbnail_name: str) -> Path | None:
+    """Write ``asset`` into the root layer file ``root`` (and its thumbnail beside it); returns the
+    thumbnail's file, None without one."""
+    layer = Sdf.Layer.FindOrOpen(str(root))
+    stage = Usd.Stage.Open(layer)
+    prim = stage.GetDefaultPrim()
+    layer.customLayerData = {**layer.customLayerData, **asset.layer_data}
+    for key, value in asset.info.items():
+        prim.SetAssetInfoByKey(key, value)
+    thumbnail = None
+    if asset.thumbnail is not None:
+        thumbnail = root.parent / thumbnail_name
+        thumbnail.write_bytes(asset.thumbnail)
+        UsdMedia.AssetPreviewsAPI.Apply(prim).SetDefaultThumbnails(
+            UsdMedia.AssetPreviewsAPI.Thumbnails(Sdf.AssetPath(f"./{thumbnail_name}")))
+    layer.Save()
+    return thumbnail
+
+
+ZIP_EPOCH_DATE = (0 << 9) | (1 << 5) | 1  # 1980-01-01, the earliest date a zip can hold, at 00:00
 
 
 def _usdz(src: Path, dst: Path) -> None:
     if not UsdUtils.CreateNewUsdzPackage(str(src), str(dst)):
         raise OSError(f"could not package {dst}")
+    _fix_zip_times(dst)
+
+
+def _fix_zip_times(path: Path) -> None:
+    """Set every entry's time in a zip to the zip epoch, in place (the packager stamps the time of
+    packaging): the same asset gives the same bytes, and USDZ's 64-byte data alignment stays."""
+    import struct
+    import zipfile
+
+    with zipfile.ZipFile(path) as z:
+        infos, start = z.infolist(), z.start_dir
+    stamp = struct.pack("<HH", 0, ZIP_EPOCH_DATE)
+    with open(path, "r+b") as f:
+        for info in infos:
+            f.seek(info.header_offset + 10)  # local header: time, date
+            f.write(stamp)
+        offset = start
+        for _ in infos:
+            f.seek(offset)
+            header = f.read(46)
+            f.seek(offset + 12)  # central directory entry: time, date
+            f.write(stamp)
+            name, extra, comment = struct.unpack("<HHH", header[28:34])
+            offset += 46 + name + extra + comment
 
 
 def _component(model, tmp: Path, path: Path, physics) -> list[str]:

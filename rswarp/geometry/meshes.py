@@ -7,13 +7,14 @@ with a mesh of the same stem (case-insensitive).
 
 from __future__ import annotations
 
-from functools import lru_cache
+import hashlib
+from collections import OrderedDict
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import Diagnostic, MeshError, MeshNotFoundError, one_line
-from ..files import check_regular
+from ..files import read_regular
 from ..rsxml.model import Mechanism, Part
 
 MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".glb", ".gltf", ".off")
@@ -57,16 +58,35 @@ def part_mesh_path(mech: Mechanism, part: Part) -> Path | None:
     return find_mesh(part.source, _folder(mech)) if part.source else None
 
 
-@lru_cache(maxsize=64)
-def _load(path: str, mtime: float):
-    """The mesh in a file, or ``ValueError`` saying in one line why it cannot be used."""
-    import trimesh  # imported on first use: kinematics never needs it
+SIDECAR_FORMATS = (".gltf", ".obj")  # may name other files (buffers, materials) beside them
+_MESHES: OrderedDict = OrderedDict()  # (content hash, suffix, folder for sidecar formats) -> mesh
+CACHED_MESHES = 64
 
+
+def _load(path: str):
+    """The mesh in a file, or ``ValueError`` saying in one line why it cannot be used. Meshes are
+    kept by content hash: a file that several variants (or copies) share is parsed once."""
     try:
-        check_regular(path)
+        data = read_regular(path)
     except OSError as exc:
         raise ValueError(f"cannot read it: {exc.strerror or exc}") from None
-    kind = Path(path).suffix.lower().lstrip(".")
+    suffix = Path(path).suffix.lower()
+    key = (hashlib.sha256(data).hexdigest(), suffix, str(Path(path).resolve().parent) if suffix in SIDECAR_FORMATS else "")
+    if key in _MESHES:
+        _MESHES.move_to_end(key)
+        return _MESHES[key]
+    mesh = _parse(path, suffix)
+    _MESHES[key] = mesh
+    if len(_MESHES) > CACHED_MESHES:
+        _MESHES.popitem(last=False)
+    return mesh
+
+
+def _parse(path: str, suffix: str):
+    """The mesh in a file (already read once, so known to be a regular file within the limits)."""
+    import trimesh  # imported on first use: kinematics never needs it
+
+    kind = suffix.lstrip(".")
     try:
         mesh = trimesh.load(path, force="mesh")  # process=True merges STL vertices
     except Exception as exc:  # trimesh raises many types (even ImportError) for broken files
@@ -107,7 +127,7 @@ def file_mesh(mech: Mechanism, path: Path, transform: np.ndarray | None = None):
     ``transform``; ValueError or OSError saying in one line why it cannot be used."""
     import trimesh
 
-    loaded = _load(str(path), path.stat().st_mtime)
+    loaded = _load(str(path))
     scale = 1.0 if path.suffix.lower() in METRIC_EXTENSIONS else mech.length_factor
     m = (np.eye(4) if transform is None else transform) @ np.diag([scale, scale, scale, 1.0])
     # a new mesh on the moved vertices, sharing the faces: no copy of the loaded mesh's caches
@@ -122,3 +142,18 @@ def link_mesh(mech: Mechanism, link: str):
 
     meshes = [part_mesh(mech, p, m) for p, m in mech.parts(link) if p.source]
     return trimesh.util.concatenate(meshes) if meshes else None
+
+
+GRAPHITE_WHITE = (215 / 255, 215 / 255, 215 / 255)  # the authoring guide's colour for ABB robots
+
+
+def mesh_color(mesh) -> tuple[float, float, float]:
+    """The mesh's own uniform colour if it defines one, else Graphite White (RGB, 0 to 1)."""
+    visual = getattr(mesh, "visual", None)
+    try:
+        if visual is not None and visual.kind in ("face", "vertex") and visual.defined:
+            rgba = np.asarray(visual.main_color, float) / 255.0
+            return tuple(float(c) for c in rgba[:3])
+    except Exception:  # trimesh visuals of odd files raise many types; the default colour is fine
+        pass
+    return GRAPHITE_WHITE

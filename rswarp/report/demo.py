@@ -20,13 +20,15 @@ class Demo:
 
     reports: list[Report] = field(default_factory=list)
     robots: list[dict] = field(default_factory=list)
+    libraries: list[dict] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
         return all(r.ok for r in self.reports)
 
     def as_dict(self) -> dict:
-        return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots}
+        return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots,
+                "libraries": self.libraries}
 
 
 def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) -> Demo:
@@ -40,7 +42,22 @@ def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) ->
         say(_check_text(path.name, report))
         if report.ok and isinstance(report.model, Mechanism):
             demo.robots.append(demo_robot(report.model, Path(out), say))
+        elif report.ok and report.kind == "LibraryCompiler":
+            demo.libraries.append(demo_library(path, Path(out) / "library", say))
     return demo
+
+
+def demo_library(path: Path, out: Path, say: Callable[[str], None]) -> dict:
+    """Build a library file's assets (USD packages with metadata and previews) into ``out``."""
+    from .library import build_library
+
+    build = build_library(path, out)
+    assets = ", ".join(f"{Path(r.output).name} ({r.size / 1e6:.1f} MB)" for r in build.results if r.output)
+    failed = [r.message for r in build.results if r.status != "built"]
+    previews = sum(1 for r in build.results if r.output and not any("no preview" in w for w in r.warnings))
+    say("\n".join([f"== rswarp build {path.name}: {len(build.results) - len(failed)} of {len(build.results)} built "
+                   f"into {out}: {assets}; {previews} with a preview", *(f"   error: {m}" for m in failed), ""]))
+    return build.report()
 
 
 def _check_text(name: str, report: Report) -> str:

@@ -1,0 +1,301 @@
+"""``rswarp build``: a LibraryCompiler XML to packaged USD assets, as RobotStudio's Library Compiler
+builds .rslib files: one asset per ``Library`` (one per ``Variant`` where it has variants), named by
+``fileName`` or its source's name (``.rslib`` becomes ``.usdz``), holding the exported component
+with its meshes and convex collision pieces, its metadata and its preview image.
+
+Each asset is built on its own: a library that fails is reported (``file:line: message``) and the
+others still build; every file is written whole or not at all.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+from ..errors import InputError, MeshError, RsxmlError, one_line
+from ..files import atomic_folder, new_folders
+from ..rsxml.documents import Report, check
+from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource, resolve_relative
+
+LAYOUTS = ("usdz", "component")
+PREVIEW_SIZE = 512
+
+
+@dataclass(frozen=True)
+class Target:
+    """One asset to build: a Library, or one Variant of it."""
+
+    name: str  # the asset's file stem
+    entry: object  # rswarp.rsxml.library.LibraryEntry
+    properties: DocumentProperties
+    variant: object | None = None  # rswarp.rsxml.library.Variant
+
+
+@dataclass(frozen=True)
+class Built:
+    """What became of one target."""
+
+    library: str  # the Library's fileName, and the variant's name after a colon
+    title: str | None
+    output: str | None  # the file (usdz) or folder (component) written
+    size: int  # bytes written
+    seconds: float
+    status: str  # "built" or "failed"
+    message: str = ""  # why it failed (file:line: message)
+    warnings: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class LibraryBuild:
+    path: str
+    out: str
+    layout: str
+    results: tuple[Built, ...] = field(default_factory=tuple)
+
+    @property
+    def ok(self) -> bool:
+        return all(r.status == "built" for r in self.results)
+
+    def report(self) -> dict:
+        return {"library": self.path, "out": self.out, "layout": self.layout, "ok": self.ok,
+                "assets": [r.__dict__ | {"warnings": list(r.warnings)} for r in self.results]}
+
+
+def build_library(path: str | Path, out: str | Path | None = None, layout: str = "usdz", size: int = PREVIEW_SIZE,
+                  device: str = "cpu", progress: Callable[[int, int], None] | None = None) -> LibraryBuild:
+    """Build every asset of the LibraryCompiler file ``path`` into ``out`` (default: beside it)."""
+    if layout not in LAYOUTS:
+        raise InputError(f"layout must be {' or '.join(LAYOUTS)}, not {layout!r}")
+    report = check(path)
+    if report.kind != "LibraryCompiler" or not isinstance(report.model, LibraryCompiler):
+        raise RsxmlError(report.errors or [_not_library(report)])
+    lib = report.model
+    _raise_file_errors(report, lib)
+    out = Path(out) if out is not None else Path(lib.path).parent
+    targets = library_targets(lib)
+    results, existed = [], out.exists()
+    with new_folders(out / "asset"):
+        if progress:
+            progress(0, len(targets))
+        for k, target in enumerate(targets):
+            results.append(_build_one(report, target, out, layout, size, device))
+            if progress:
+                progress(k + 1, len(targets))
+    if not existed and not any(r.status == "built" for r in results):
+        out.rmdir()  # made for this build, and nothing was built into it
+    return LibraryBuild(path=str(path), out=str(out), layout=layout, results=tuple(results))
+
+
+def library_targets(lib: LibraryCompiler) -> list[Target]:
+    """The assets a library file builds, in its order: each Library, then each of its Variants
+    (named by the variant's ``fileName``, else the library's name and the variant's)."""
+    targets = []
+    for entry in lib.libraries:
+        stem = _stem(entry.file_name) or "component"
+        targets.append(Target(stem, entry, entry.properties))
+        for v in entry.variants:
+            name = _stem(dict(v.options).get("fileName", "")) or f"{stem}_{v.name or len(targets)}"
+            targets.append(Target(name, entry, v.properties, v))
+    return targets
+
+
+def _stem(file_name: str) -> str:
+    """``dir\\IRB1_1_1__01.rslib`` -> ``IRB1_1_1__01`` (the .rslib becomes a .usdz)."""
+    return Path(file_name.replace("\\", "/")).stem if file_name else ""
+
+
+def _not_library(report: Report):
+    from ..errors import Diagnostic
+
+    return Diagnostic(report.path, 1, f"this is a {report.kind} file, not a LibraryCompiler file")
+
+
+def _raise_file_errors(report: Report, lib: LibraryCompiler) -> None:
+    """Errors of the library file that no one Library owns (its XML, its defaults) stop the build."""
+    lines = {e.line for e in lib.libraries}
+    own = [d for d in report.diagnostics if d.severity == "error" and d.line not in lines]
+    if own:
+        raise RsxmlError(own)
+
+
+def _target_diagnostics(report: Report, target: Target) -> list:
+    """The diagnostics of one Library: those at its line, and those of its source file."""
+    entry = target.entry
+    source = str(Path(entry.source_path).resolve()) if entry.source_path else None
+    mine = [d for d in report.diagnostics if d.line in (entry.line, getattr(target.variant, "line", -1))]
+    for child in report.children:
+        if source and str(Path(child.path).resolve()) == source:
+            mine += child.all_diagnostics
+    return mine
+
+
+def _model(report: Report, target: Target):
+    entry = target.entry
+    if entry.source_path:
+        source = str(Path(entry.source_path).resolve())
+        for child in report.children:
+            if str(Path(child.path).resolve()) == source:
+                return child.model
+        return check(entry.source_path).model  # built twice: the report holds its first check only
+    return entry.component
+
+
+def _build_one(report: Report, target: Target, out: Path, layout: str, size: int, device: str) -> Built:
+    started = time.perf_counter()
+    label = target.entry.file_name + (f":{target.variant.name}" if target.variant else "")
+    title = target.properties.title
+    diags = _target_diagnostics(report, target)
+    errors = [d for d in diags if d.severity == "error"]
+    warnings = [str(d) for d in diags if d.severity == "warning"]
+    if errors:
+        return Built(label, title, None, 0, time.perf_counter() - started, "failed", str(errors[0]), tuple(warnings))
+    try:
+        output, written, more = _write_asset(report, target, out, layout, size, device)
+    except (RsxmlError, InputError, MeshError, ValueError) as exc:
+        where = f"{report.path}:{target.entry.line}: " if not str(exc).startswith(report.path) else ""
+        return Built(label, title, None, 0, time.perf_counter() - started, "failed", one_line(f"{where}{exc}"),
+                     tuple(warnings))
+    return Built(label, title, str(output), written, time.perf_counter() - started, "built", "",
+                 tuple(warnings + more))
+
+
+def _write_asset(report: Report, target: Target, out: Path, layout: str, size: int, device: str):
+    """Export the target's component with its metadata and preview; (output, bytes, warnings)."""
+    from ..export.frames import mechanism_of
+    from ..export.usd_layout import AssetInfo, to_usd
+
+    model = _model(report, target)
+    mech, _ = mechanism_of(model)
+    warnings: list[str] = []
+    thumbnail = _thumbnail(report, target, mech, size, device, warnings)
+    file = f"{target.name}.usdz" if layout == "usdz" else f"{target.name}.usda"
+    asset = AssetInfo(info=_asset_info(target, file), layer_data={"rswarp:library": _metadata(report, target, model)},
+                      thumbnail=thumbnail)
+    if layout == "usdz":
+        output = out / f"{target.name}.usdz"
+        warnings += to_usd(model, output, layout="flat", asset=asset)
+        return output, output.stat().st_size, warnings
+    output = out / target.name
+    owned = (f"{target.name}.usda", f"{target.name}_Payload", f"{target.name}.thumbnail.png")
+    with atomic_folder(output, owned) as tmp:
+        warnings += to_usd(model, tmp / f"{target.name}.usda", layout="component", asset=asset)
+    written = sum(p.stat().st_size for p in output.rglob("*") if p.is_file())
+    return output, written, warnings
+
+
+def _asset_info(target: Target, file: str) -> dict:
+    """The default prim's assetInfo: USD's own keys (name, version, identifier)."""
+    from pxr import Sdf
+
+    info = {"name": target.properties.title or target.name, "identifier": Sdf.AssetPath(f"./{file}")}
+    if target.properties.revision:
+        info["version"] = target.properties.revision
+    return info
+
+
+def _metadata(report: Report, target: Target, model) -> dict:
+    """The library's properties (DocumentProperties over DefaultProperties), its variant, and the
+    component's localized descriptions (``<Name>.<language>.xml`` beside its source)."""
+    p = target.properties
+    data = {"fileName": target.entry.file_name, "source": target.entry.source or "",
+            "title": p.title or "", "author": p.author or "", "revision": p.revision or "",
+            "properties": {k: v for k, v in p.extra}}
+    if target.variant is not None:
+        data["variant"] = {"name": target.variant.name or "", "options": dict(target.variant.options)}
+    folder = Path(target.entry.source_path).parent if target.entry.source_path else Path(report.path).parent
+    descriptions = _descriptions(folder, getattr(model, "name", ""))
+    if descriptions:
+        data["descriptions"] = descriptions
+    return data
+
+
+def _descriptions(folder: Path, name: str) -> dict[str, str]:
+    """The component's description in each language a LibraryResource file beside it gives."""
+    out = {}
+    try:
+        files = sorted(p for p in folder.iterdir() if p.name.startswith(f"{name}.") and p.suffix.lower() == ".xml"
+                       and len(p.suffixes) >= 2)
+    except OSError:
+        return out
+    for f in files:
+        res = check(f).model
+        if isinstance(res, LibraryResource) and res.language:
+            text = res.descriptions(name).get("")
+            if text:
+                out[res.language] = text
+    return out
+
+
+def _thumbnail(report: Report, target: Target, mech, size: int, device: str, warnings: list[str]) -> bytes | None:
+    """The preview: rendered at home (``generate``), the given picture (``source``), or none."""
+    image = target.properties.image
+    if image is None:
+        return None
+    if image.source:
+        return _given_picture(report, target, image.source)
+    if not image.generate:
+        return None
+    from ..sim.preview import View, home_scene, png, render
+
+    try:
+        view = View.of(image)
+    except ValueError as exc:
+        raise InputError(f"{report.path}:{target.entry.line}: {exc}") from None
+    scene = home_scene(mech, _home_poses(mech, warnings))
+    if len(scene.faces) == 0:
+        warnings.append(f"{mech.path or mech.name}: no preview: no part has a mesh "
+                        f"({', '.join(part for part, _ in scene.missing) or 'no part has a source'})")
+        return None
+    warnings += [f"preview without part {part}: {why}" for part, why in scene.missing]
+    return png(render(scene, view, size, device))
+
+
+def _home_poses(mech, warnings: list[str]):
+    """Every link's pose at home; the zero position where the kinematics cannot be solved."""
+    from ..sim.kinematics import Kinematics
+
+    try:
+        return Kinematics(mech).fk64(mech.home_position()[None])[0]
+    except RsxmlError as exc:
+        warnings.append(f"preview at the zero position: {exc}")
+        return None
+
+
+def _given_picture(report: Report, target: Target, source: str) -> bytes:
+    """``Image source``: the picture beside the library file, as PNG."""
+    import io
+
+    from PIL import Image, UnidentifiedImageError
+
+    path = resolve_relative(Path(report.path).parent, source)
+    if path is None:
+        raise InputError(f"{report.path}:{target.entry.line}: Image source '{source}' not found")
+    try:
+        with Image.open(path) as im:
+            buf = io.BytesIO()
+            im.convert("RGBA").save(buf, format="PNG")
+    except (OSError, UnidentifiedImageError) as exc:
+        raise InputError(f"{report.path}:{target.entry.line}: Image source '{source}': not a picture ({exc})") from None
+    return buf.getvalue()
+
+
+def build_text(build: LibraryBuild) -> str:
+    """The summary table, then each failure and warning on its own line."""
+    rows = [("library", "title", "output", "size", "time", "status")]
+    for r in build.results:
+        rows.append((r.library, (r.title or "")[:40], r.output or "-", _size(r.size) if r.output else "-",
+                     f"{r.seconds:.1f} s", r.status))
+    widths = [max(len(row[i]) for row in rows) for i in range(6)]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
+    for r in build.results:
+        lines += [f"error: {r.message}"] if r.message else []
+        lines += [w if ": warning: " in w else f"warning: {w}" for w in r.warnings]
+    built = sum(r.status == "built" for r in build.results)
+    lines.append(f"{built} of {len(build.results)} built into {build.out}")
+    return "\n".join(lines)
+
+
+def _size(n: int) -> str:
+    return f"{n / 1e6:.1f} MB" if n >= 1e5 else f"{n / 1e3:.1f} kB"
