@@ -41,8 +41,11 @@ def test_one_asset_per_library_and_variant_and_a_failure_reported(built):
     assert [(r.library, r.status) for r in build.results] == [
         ("IRB9_1_1__01.rslib", "built"), ("IRB9_1_1__01.rslib:Near", "built"),
         ("IRB9_1_1_FLIPPED__01.rslib", "built"), ("IRB9_missing.rslib", "failed")]
-    assert sorted(p.name for p in out.iterdir()) == [
-        "IRB9_1_1_FLIPPED__01.usdz", "IRB9_1_1_NEAR__01.usdz", "IRB9_1_1__01.usdz"]  # nothing of the failure
+    assert sorted(p.name for p in out.iterdir()) == [  # nothing of the failure
+        "IRB9_1_1_FLIPPED__01.png", "IRB9_1_1_FLIPPED__01.usdz", "IRB9_1_1_NEAR__01.png", "IRB9_1_1_NEAR__01.usdz",
+        "IRB9_1_1__01.png", "IRB9_1_1__01.usdz"]
+    assert zipfile.ZipFile(out / "IRB9_1_1__01.usdz").read("IRB9_1_1__01.thumbnail.png") == \
+        (out / "IRB9_1_1__01.png").read_bytes()
     failed = build.results[-1]
     assert failed.message.startswith(f"{CELL}:31: ") and "IRB9_missing.rsxml' not found" in failed.message
     assert not build.ok
@@ -102,6 +105,19 @@ def test_a_mesh_shared_by_libraries_is_read_once_per_build(monkeypatch, tmp_path
     monkeypatch.setattr(meshes, "_MESHES", type(meshes._MESHES)())
     build_library(CELL, tmp_path, size=16)
     assert sorted(p.split("/")[-1] for p in calls) == ["arm.stl", "post.stl", "slab.stl"]
+
+
+def test_image_source_is_the_given_picture(tmp_path):
+    from PIL import Image
+
+    Image.new("RGB", (40, 30), (200, 10, 10)).save(tmp_path / "pic.bmp")
+    lib = tmp_path / "Pic.xml"
+    lib.write_text(f'''<LibraryCompiler xmlns="urn:abb-robotics-robotstudio-librarycompiler">
+      <Library source="{ARM}"><DocumentProperties><Title>Given</Title><Image source="pic.bmp"/></DocumentProperties>
+      </Library></LibraryCompiler>''')
+    (r,) = build_library(lib, tmp_path / "out").results
+    with Image.open(tmp_path / "out" / "IRB9_1_1__01.png") as im:
+        assert r.status == "built" and im.size == (40, 30) and im.getpixel((5, 5)) == (200, 10, 10, 255)
 
 
 def test_component_layout_is_a_folder_per_asset(tmp_path):

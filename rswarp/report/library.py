@@ -1,7 +1,8 @@
 """``rswarp build``: a LibraryCompiler XML to packaged USD assets, as RobotStudio's Library Compiler
 builds .rslib files: one asset per ``Library`` (one per ``Variant`` where it has variants), named by
 ``fileName`` or its source's name (``.rslib`` becomes ``.usdz``), holding the exported component
-with its meshes and convex collision pieces, its metadata and its preview image.
+with its meshes and convex collision pieces, its metadata and its preview image (also written
+beside it as ``<name>.png``).
 
 Each asset is built on its own: a library that fails is reported (``file:line: message``) and the
 others still build; every file is written whole or not at all.
@@ -15,7 +16,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import InputError, MeshError, RsxmlError, one_line
-from ..files import atomic_folder, new_folders
+from ..files import atomic_folder, atomic_write, new_folders
 from ..rsxml.documents import Report, check
 from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource, resolve_relative
 
@@ -176,6 +177,8 @@ def _write_asset(report: Report, target: Target, out: Path, layout: str, size: i
     if layout == "usdz":
         output = out / f"{target.name}.usdz"
         warnings += to_usd(model, output, layout="flat", asset=asset)
+        if thumbnail is not None:  # the preview inside the package, and beside it to look at
+            atomic_write(out / f"{target.name}.png", thumbnail)
         return output, output.stat().st_size, warnings
     output = out / target.name
     owned = (f"{target.name}.usda", f"{target.name}_Payload", f"{target.name}.thumbnail.png")
