@@ -49,14 +49,16 @@ def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) ->
 
 def demo_library(path: Path, out: Path, say: Callable[[str], None]) -> dict:
     """Build a library file's assets (USD packages with metadata and previews) into ``out``."""
-    from .library import build_library
+    from .library import build_library, size_text
 
     build = build_library(path, out)
-    assets = ", ".join(f"{Path(r.output).name} ({r.size / 1e6:.1f} MB)" for r in build.results if r.output)
+    assets = ", ".join(f"{Path(r.output).name} ({size_text(r.size)})" for r in build.results if r.output)
     failed = [r.message for r in build.results if r.status != "built"]
-    previews = sum(1 for r in build.results if r.output and not any("no preview" in w for w in r.warnings))
+    no_preview = [w.split(": ", 1)[-1] for r in build.results for w in r.warnings if "no preview" in w]
+    previews = sum(1 for r in build.results if r.output) - len(no_preview)
     say("\n".join([f"== rswarp build {path.name}: {len(build.results) - len(failed)} of {len(build.results)} built "
-                   f"into {out}: {assets}; {previews} with a preview", *(f"   error: {m}" for m in failed), ""]))
+                   f"into {out}: {assets}; {previews} with a preview", *(f"   {w}" for w in no_preview[:1]),
+                   *(f"   error: {m}" for m in failed), ""]))
     return build.report()
 
 

@@ -288,7 +288,7 @@ def build_text(build: LibraryBuild) -> str:
     """The summary table, then each failure and warning on its own line."""
     rows = [("library", "title", "output", "size", "time", "status")]
     for r in build.results:
-        rows.append((r.library, (r.title or "")[:40], r.output or "-", _size(r.size) if r.output else "-",
+        rows.append((r.library, (r.title or "")[:40], r.output or "-", size_text(r.size) if r.output else "-",
                      f"{r.seconds:.1f} s", r.status))
     widths = [max(len(row[i]) for row in rows) for i in range(6)]
     lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
@@ -300,5 +300,5 @@ def build_text(build: LibraryBuild) -> str:
     return "\n".join(lines)
 
 
-def _size(n: int) -> str:
+def size_text(n: int) -> str:
     return f"{n / 1e6:.1f} MB" if n >= 1e5 else f"{n / 1e3:.1f} kB"
