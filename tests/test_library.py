@@ -18,8 +18,8 @@ from rswarp.sim.preview import View, camera, home_scene, render
 
 from conftest import DATA
 
-CELL = DATA / "library" / "build" / "Cell.xml"
-ARM = DATA / "library" / "build" / "parts" / "IRB9_1_1__01.rsxml"
+CELL = DATA / "library" / "cell" / "Cell.xml"
+ARM = DATA / "library" / "cell" / "parts" / "IRB9_1_1__01.rsxml"
 SIZE = 128  # preview size in these tests: small and quick
 
 
