@@ -9,9 +9,12 @@ from ..errors import one_line
 from ..geometry.meshes import part_mesh_path
 from ..rsxml.documents import Report
 from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource
+from ..rsxml.loops import loops
 from ..rsxml.model import Group, Mechanism, Part, Pose, SmartComponent, iter_parts
 from ..rsxml.units import format_number
 from ..transforms import matrix_euler_zyx
+
+SHOWN_LOOPS = 20  # loops info describes (each costs a walk of its length); the rest are counted
 
 
 def _pose(p: Pose | None) -> dict | None:
@@ -49,6 +52,8 @@ def mechanism_dict(mech: Mechanism) -> dict:
         "base_frame": _pose(mech.base_frame),
         "home_position": None if mech.home is None else list(mech.home),
         "joint_mask": None if mech.joint_mask is None else list(mech.joint_mask),
+        "loops": [loop.as_dict() for loop in loops(mech.graph, SHOWN_LOOPS)],
+        "loop_count": len(mech.graph.closing),
         "attributes": [{"key": a.key, "value": a.value, "definition": a.definition} for a in mech.attributes],
         "cables": [{
             "name": c.name, "radius": c.radius, "max_segment_length": c.max_segment_length,
@@ -167,6 +172,7 @@ def mechanism_text(mech: Mechanism) -> list[str]:
                      f"{format_number(lim.max, f)} {unit}" if lim else "-",
                      format_number(home[j.name], f) if j.name in home else "-"])
     out += _table(rows)
+    out += _loops_text(mech)
     if mech.flanges:
         out.append("Flanges:")
         for fl in mech.flanges:
@@ -194,6 +200,20 @@ def mechanism_text(mech: Mechanism) -> list[str]:
         out.append("Attributes:")
         out += _table([[a.key, a.value, "definition" if a.definition else "instance"] for a in mech.attributes])
     return out
+
+
+def _loops_text(mech: Mechanism) -> list[str]:
+    """Each kinematic loop: the joint that closes it, its kind, its corners and passive joints."""
+    if mech.graph.is_tree:
+        return []
+    out = ["Loops:"]
+    for loop in loops(mech.graph, SHOWN_LOOPS):
+        corners = ", ".join("+".join(c) for c in loop.corners)
+        out.append(f"  closed by {loop.closing.name}: {loop.kind}"
+                   + (f", corners {corners}" if corners else f", joints {', '.join(j.name for j in loop.joints)}")
+                   + f"; passive {', '.join(j.name for j in loop.passive) or 'none'}")
+    more = len(mech.graph.closing) - SHOWN_LOOPS
+    return out + ([f"  ... and {more} more loops"] if more > 0 else [])
 
 
 def smart_component_text(sc: SmartComponent) -> list[str]:

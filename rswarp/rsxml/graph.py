@@ -149,6 +149,13 @@ class LinkGraph:
                 b = self.parent[b]
         return tuple(up) + tuple(reversed(down)) + (closing,)
 
+    @cached_property
+    def loops(self):
+        """Every loop with its kind (``rswarp.rsxml.loops.Loop``), in the order of ``closing``."""
+        from .loops import loops
+
+        return loops(self)
+
     def closes_all_active_loop(self, closing: Joint) -> bool:
         """True when a loop has no passive joint: nothing in it can follow the others. The active
         joints alone reach both its links, so the tree path between them is active too."""

@@ -1,0 +1,59 @@
+"""Kinematic loops and their kinds (parallelogram, four-bar, slider, general), asked of the graph."""
+
+from __future__ import annotations
+
+import rswarp
+from rswarp.report.info import SHOWN_LOOPS, mechanism_text
+from rswarp.rsxml.loops import FOUR_BAR, GENERAL, PARALLELOGRAM, SLIDER, classify, loops
+from rswarp.rsxml.model import Joint, Mechanism, Part
+
+from conftest import DATA
+
+
+def test_parallel_rod_is_a_parallelogram_with_coaxial_active_joints():
+    (loop,) = rswarp.load(DATA / "parallel_rod.rsxml").graph.loops
+    assert loop.kind == PARALLELOGRAM and loop.closing.name == "Rod2"
+    assert loop.corners == (("Rod1",), ("J3", "J2"), ("Elbow",), ("Rod2",))  # J2 and J3 share one shaft
+    assert [j.name for j in loop.passive] == ["Rod1", "Elbow", "Rod2"]
+    assert [j.name for j in loop.active] == ["J3", "J2"]
+
+
+def test_four_bar_and_balance_cylinder():
+    (four,) = rswarp.load(DATA / "loops" / "four_bar.rsxml").graph.loops
+    assert four.kind == FOUR_BAR and len(four.corners) == 4
+    (cylinder,) = rswarp.load(DATA / "loops" / "balance.rsxml").graph.loops
+    assert cylinder.kind == SLIDER and [j.name for j in cylinder.passive] == ["Stroke", "Pivot", "Pin"]
+    assert cylinder.corners == (("Pivot",), ("J2",), ("Pin",))  # the prismatic joint is no corner
+
+
+def quad(points, axes=None):
+    axes = axes or [(0, 1, 0)] * len(points)
+    return tuple(Joint(f"J{i}", "A", "B", point1=p, point2=tuple(a + b for a, b in zip(p, ax)))
+                 for i, (p, ax) in enumerate(zip(points, axes)))
+
+
+def test_crossed_quadrilateral_and_spatial_loops_are_not_parallelograms():
+    square = [(0, 0, 0), (1, 0, 0), (1, 0, 2), (0, 0, 2)]
+    assert classify(quad(square))[0] == PARALLELOGRAM
+    crossed = [(0, 0, 0), (1, 0, 0), (0, 0, 2), (1, 0, 2)]  # opposite sides equal, but crossed
+    assert classify(quad(crossed))[0] == FOUR_BAR
+    spatial = quad(square, axes=[(0, 1, 0), (0, 1, 0), (1, 0, 0), (0, 1, 0)])
+    assert classify(spatial) == (GENERAL, ())
+
+
+def test_info_shows_each_loop():
+    text = "\n".join(mechanism_text(rswarp.load(DATA / "parallel_rod.rsxml")))
+    assert "Loops:\n  closed by Rod2: parallelogram, corners Rod1, J3+J2, Elbow, Rod2; passive Rod1, Elbow, Rod2" in text
+
+
+def test_info_on_many_long_loops_stays_linear():
+    """20 000 closing joints back to the base: info describes the first few and counts the rest
+    (describing each would walk 200 million joints)."""
+    n = 20_000
+    names = [f"L{i}" for i in range(n)]
+    joints = [Joint(f"T{i}", names[i - 1], names[i]) for i in range(1, n)]
+    joints += [Joint(f"C{i}", names[0], names[i], active=False) for i in range(1, n)]
+    mech = Mechanism("M", base_link="L0", links=tuple(Part(x) for x in names), joints=tuple(joints))
+    assert len(loops(mech.graph, SHOWN_LOOPS)) == SHOWN_LOOPS
+    text = mechanism_text(mech)
+    assert text[text.index("Loops:") + SHOWN_LOOPS + 1] == f"  ... and {n - 1 - SHOWN_LOOPS} more loops"
