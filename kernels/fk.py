@@ -91,7 +91,9 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
     kids = tuple(_link_visitor(chain, c, keep, needed, emit, T) for c in chain.children(k) if c in keep)
     col, jtype = int(chain.qidx[k]), int(chain.jtype[k])
     on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0  # parent pose is identity
-    moves = col >= 0 and jtype in (REVOLUTE, PRISMATIC)
+    follows = tuple((c, float(v)) for c, v in enumerate(chain.mimic[k]) if v != 0.0)  # a passive joint's sum
+    moves = (col >= 0 or bool(follows)) and jtype in (REVOLUTE, PRISMATIC)
+    value = _joint_value(col, follows, T)
     revolute = jtype == REVOLUTE
     rot, tra = _revolute(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
     axis = V3(*(float(v) for v in chain.axis[k]))
@@ -102,7 +104,7 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
         r = rp
         t = tp
         if wp.static(moves):
-            th = q[i, wp.static(col)]
+            th = wp.static(value)(q, i)
             if wp.static(revolute):
                 c = wp.cos(th)
                 s = wp.sin(th)
@@ -120,6 +122,24 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
             wp.static(kids[c])(q, i, r, t, out)
 
     return visit
+
+
+def _joint_value(col: int, follows: tuple, T):
+    """value(q, i): the joint's column of q, or for a passive joint its sum of active columns."""
+    S = T.scalar
+    cols = tuple(c for c, _ in follows)
+    coefs = tuple(v for _, v in follows)
+
+    @wp.func
+    def value(q: wp.array2d(dtype=S), i: int) -> S:
+        if wp.static(col >= 0):
+            return q[i, wp.static(max(col, 0))]
+        th = S(0.0)
+        for n in range(wp.static(len(cols))):
+            th += wp.static(S(coefs[n])) * q[i, wp.static(cols[n])]
+        return th
+
+    return value
 
 
 # -- what to do with a pose ---------------------------------------------------------------------------
@@ -240,6 +260,8 @@ def generic_walk(scalar=wp.float32):
         axis: wp.array(dtype=V3)
         point: wp.array(dtype=V3)
         order: wp.array(dtype=wp.int32)
+        follows: wp.array(dtype=wp.int32)  # 1: a passive joint moved by its row of mimic
+        mimic: wp.array2d(dtype=S)
 
     @wp.func
     def walk(tree: Tree, q: wp.array2d(dtype=S), i: int, poses: wp.array2d(dtype=M34)):
@@ -252,6 +274,9 @@ def generic_walk(scalar=wp.float32):
             th = S(0.0)
             if tree.qidx[k] >= 0:
                 th = q[i, tree.qidx[k]]
+            elif tree.follows[k] != 0:  # a passive joint of a solved loop
+                for c in range(q.shape[1]):
+                    th += tree.mimic[k, c] * q[i, c]
             a = tree.axis[k]
             r = wp.identity(n=3, dtype=S)
             t = th * a

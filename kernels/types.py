@@ -22,6 +22,7 @@ class Chain(NamedTuple):
     axis: np.ndarray  # float64 (n, 3): unit joint axis, world at the zero position
     point: np.ndarray  # float64 (n, 3): a point on the axis
     order: np.ndarray  # int32: the tree's links, parents before children, root first
+    mimic: np.ndarray  # float64 (n, dof): a passive joint of a solved loop moves by mimic[k] @ q; zeros else
 
     @property
     def root(self) -> int:

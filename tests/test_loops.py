@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import numpy as np
+import pytest
+
 import rswarp
 from rswarp.report.info import SHOWN_LOOPS, mechanism_text
 from rswarp.rsxml.loops import FOUR_BAR, GENERAL, PARALLELOGRAM, SLIDER, classify, loops
@@ -57,3 +60,53 @@ def test_info_on_many_long_loops_stays_linear():
     assert len(loops(mech.graph, SHOWN_LOOPS)) == SHOWN_LOOPS
     text = mechanism_text(mech)
     assert text[text.index("Loops:") + SHOWN_LOOPS + 1] == f"  ... and {n - 1 - SHOWN_LOOPS} more loops"
+
+
+# -- parallelograms solved in the kinematics kernels ---------------------------------------------------
+
+
+def parallel_rod():
+    mech = rswarp.load(DATA / "parallel_rod.rsxml")
+    lower, upper = mech.bounds()
+    q = lower + (upper - lower) * np.random.default_rng(5).random((500, len(lower)))
+    return mech, rswarp.Kinematics(mech), q
+
+
+def angle_about_y(poses: np.ndarray) -> np.ndarray:
+    return np.arctan2(poses[..., 0, 2], poses[..., 0, 0])
+
+
+def test_parallelogram_passive_joints_follow_the_closed_form():
+    mech, kin, q = parallel_rod()
+    assert kin.passive_joints == ("Rod1", "Elbow")
+    np.testing.assert_allclose(kin.passive(q), np.stack([q[:, 1] - q[:, 2], q[:, 2] - q[:, 1]], axis=1))
+    g = mech.graph
+    poses = kin.fk(q)  # float32, every link: the passive ones included
+    point = np.append(g.closing[0].point1, 1.0)  # Rod2, seen from both of its links
+    gap = (poses[:, g.link_index("Rod")] @ point)[:, :3] - (poses[:, g.link_index("Link3")] @ point)[:, :3]
+    assert np.abs(gap).max() < 1e-6  # the loop closes, in float32, in metres
+    # opposite sides stay parallel: the rod turns with the lower arm, the upper arm with the crank
+    base = np.swapaxes(poses[:, g.link_index("Link1"), :3, :3], 1, 2)  # J1 taken out
+    for link, column in (("Rod", 1), ("Link3", 2)):
+        np.testing.assert_allclose(angle_about_y(base @ poses[:, g.link_index(link), :3, :3]), q[:, column], atol=1e-5)
+
+
+def test_upper_arm_keeps_its_orientation_while_j2_moves():
+    mech, kin, q = parallel_rod()
+    k = mech.graph.link_index("Link3")
+    moved = q.copy()
+    moved[:, 1] = q[::-1, 1]  # other J2 values, J1 and J3 kept
+    np.testing.assert_allclose(kin.fk64(moved)[:, k, :3, :3], kin.fk64(q)[:, k, :3, :3], atol=1e-12)
+
+
+def test_generic_walk_agrees_with_the_unrolled_kernels():
+    mech, kin, q = parallel_rod()
+    k = mech.graph.link_index("Link3")
+    np.testing.assert_allclose(kin.fk(q, links=["Link3"])[:, 0], kin.fk(q)[:, k], atol=1e-5)
+
+
+def test_loops_that_cannot_be_solved_yet_are_refused_at_their_joint():
+    with pytest.raises(rswarp.RsxmlError, match=r"four_bar.rsxml:15: joint 'Closing' closes a kinematic loop .*four-bar"):
+        rswarp.Kinematics(rswarp.load(DATA / "loops" / "four_bar.rsxml"))
+    with pytest.raises(rswarp.RsxmlError, match=r"balance.rsxml:\d+: joint 'Pin' .*slider"):
+        rswarp.Kinematics(rswarp.load(DATA / "loops" / "balance.rsxml"))

@@ -47,12 +47,14 @@ class Loop:
 def loops(graph, first: int | None = None) -> tuple[Loop, ...]:
     """The loops of a link graph (the ``first`` ones only, when given), in the order of its closing
     joints. Each costs a walk of its own length: a file with many long loops is asked for a few."""
-    out = []
-    for closing in graph.closing[:first]:
-        joints = graph.loop(closing)
-        kind, corners = classify(joints)
-        out.append(Loop(closing, joints, kind, corners))
-    return tuple(out)
+    return tuple(make_loop(graph, closing) for closing in graph.closing[:first])
+
+
+def make_loop(graph, closing: Joint) -> Loop:
+    """The loop a closing joint closes, with its kind."""
+    joints = graph.loop(closing)
+    kind, corners = classify(joints)
+    return Loop(closing, joints, kind, corners)
 
 
 def classify(joints: tuple[Joint, ...]) -> tuple[str, tuple[tuple[str, ...], ...]]:
@@ -115,3 +117,104 @@ def _parallelogram(points: list[np.ndarray]) -> bool:
     equal = abs(sides[0] - sides[2]) <= TOLERANCE * scale and abs(sides[1] - sides[3]) <= TOLERANCE * scale
     diagonal_a, diagonal_b = points[2] - points[0], points[3] - points[1]
     return equal and np.allclose(points[0] + diagonal_a / 2, points[1] + diagonal_b / 2, atol=TOLERANCE * scale)
+
+
+class UnsolvedLoop(ValueError):
+    """A loop whose passive joints rswarp cannot yet follow from the active ones (with its joint)."""
+
+    def __init__(self, loop: Loop, why: str):
+        super().__init__(why)
+        self.loop = loop
+
+
+def passive_map(graph) -> np.ndarray:
+    """(links, dof) coefficients: the value of the tree joint of link k is ``M[k] @ q`` for every
+    passive joint of a parallelogram loop (a ± sum of active joints: opposite sides keep their
+    angle, as they are parallel at the zero position); zero rows elsewhere. ``UnsolvedLoop`` for a
+    loop of another kind, or parallelograms whose passive joints the active ones do not fix."""
+    dof = len(graph.active)
+    out = np.zeros((len(graph.links), dof))
+    rows, unknown, solved = [], {}, []
+    for closing in graph.closing:  # one loop at a time: the first that cannot be solved stops the walk
+        loop = make_loop(graph, closing)
+        solved.append(loop)
+        if loop.kind != PARALLELOGRAM:
+            raise UnsolvedLoop(loop, f"its loop is a {loop.kind}: rswarp solves parallelogram loops only so far")
+        rows += _opposite_sides(graph, loop)
+        for j in loop.joints[:-1]:
+            if not j.active:
+                unknown.setdefault(graph.link_index(j.child), len(unknown))
+    if not unknown:
+        return out
+    a_p, a_q = np.zeros((len(rows), len(unknown))), np.zeros((len(rows), dof))
+    for r, terms in enumerate(rows):
+        for k, coef in terms.items():
+            col = graph.column(graph.tree_joint[k].name)
+            if col >= 0:
+                a_q[r, col] += coef
+            elif k in unknown:
+                a_p[r, unknown[k]] += coef
+    solution, *_ = np.linalg.lstsq(a_p, -a_q, rcond=None)
+    if np.linalg.matrix_rank(a_p) < len(unknown) or not np.allclose(a_p @ solution, -a_q, atol=1e-9):
+        raise UnsolvedLoop(solved[0], "the active joints do not fix its passive joints")
+    for k, i in unknown.items():
+        out[k] = np.where(np.abs(solution[i]) < 1e-12, 0.0, solution[i])
+    return out
+
+
+def _opposite_sides(graph, loop: Loop) -> list[dict[int, float]]:
+    """Two equations of a parallelogram: each pair of opposite sides turns by the same angle about
+    the loop's normal. A side's angle is the signed sum of the tree joints from the loop's common
+    ancestor down to it: {link index of a tree joint: its sign}."""
+    normal = _plane_normal(loop.joints)
+    ancestor = _common_ancestor(graph, loop.closing)
+    sides = _sides(graph, loop)
+
+    def angle(link: int) -> dict[int, float]:
+        terms = {}
+        while link != ancestor:
+            terms[link] = float(np.sign(np.dot(graph.tree_joint[link].axis, normal)))
+            link = graph.parent[link]
+        return terms
+
+    eqs = []
+    for a, b in ((sides[0], sides[2]), (sides[1], sides[3])):
+        eq = angle(a)
+        for k, s in angle(b).items():
+            eq[k] = eq.get(k, 0.0) - s
+        eqs.append(eq)
+    return eqs
+
+
+def _common_ancestor(graph, closing: Joint) -> int:
+    a, b = graph.index[closing.parent], graph.index[closing.child]
+    while a != b:
+        if graph.depth[a] >= graph.depth[b]:
+            a = graph.parent[a]
+        else:
+            b = graph.parent[b]
+    return a
+
+
+def _sides(graph, loop: Loop) -> list[int]:
+    """The links between consecutive corners of a four-corner loop, in loop order: walking the
+    loop's joints, each joint's far link, kept where the next joint starts a new corner."""
+    corner_of = {name: c for c, names in enumerate(loop.corners) for name in names}
+    links = _walk(graph, loop)
+    sides = []
+    for i, (joint, link) in enumerate(links):
+        nxt = links[(i + 1) % len(links)][0]
+        if corner_of[joint.name] != corner_of[nxt.name]:
+            sides.append(link)
+    return sides
+
+
+def _walk(graph, loop: Loop) -> list[tuple[Joint, int]]:
+    """(joint, the link after it) around the loop, in the order of ``loop.joints``: from the closing
+    joint's parent up to the common ancestor, down to its child, then across the closing joint."""
+    out, link = [], graph.index[loop.closing.parent]
+    for j in loop.joints:
+        nxt = graph.index[j.parent] if graph.index[j.child] == link else graph.index[j.child]
+        out.append((j, nxt))
+        link = nxt
+    return out

@@ -7,11 +7,15 @@ import numpy as np
 
 from ..kernels.types import FIXED, PRISMATIC, REVOLUTE, Chain
 from ..rsxml.graph import LinkGraph
+from ..rsxml.loops import UnsolvedLoop, passive_map
+from ..rsxml.model import Mechanism
 
 
 def chain_of(graph: LinkGraph) -> Chain:
     """The tree joints of the graph as arrays, links in the file's order (closing joints are not in
-    the tree; a link off the tree keeps the root's identity pose)."""
+    the tree; a link off the tree keeps the root's identity pose). The passive joints of loops
+    follow the active ones (``rswarp.rsxml.loops.passive_map``); ``UnsolvedLoop`` for a loop that
+    cannot be solved yet."""
     n = len(graph.links)
     jtype = np.full(n, FIXED, np.int32)
     qidx = np.full(n, -1, np.int32)
@@ -23,4 +27,17 @@ def chain_of(graph: LinkGraph) -> Chain:
         axis[k] = j.axis
         point[k] = j.point1
     return Chain(parent=np.asarray(graph.parent, np.int32), jtype=jtype, qidx=qidx, axis=axis, point=point,
-                 order=np.asarray(graph.order, np.int32))
+                 order=np.asarray(graph.order, np.int32), mimic=passive_map(graph))
+
+
+def mechanism_chain(mech: Mechanism) -> Chain:
+    """``chain_of`` the mechanism's graph; a loop it cannot solve is the file's error, at the joint
+    that closes the loop."""
+    from ..errors import model_error
+
+    try:
+        return chain_of(mech.graph)
+    except UnsolvedLoop as exc:
+        j = exc.loop.closing
+        raise model_error(mech, f"joint '{j.name}' closes a kinematic loop that kinematics, sweeps and collision "
+                                f"checks cannot follow yet: {exc}", j.line) from None

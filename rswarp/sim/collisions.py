@@ -23,7 +23,7 @@ from ..errors import InputError, model_error
 from ..kernels.types import WITNESSES
 from ..rsxml.model import Mechanism
 from .bodies import Bodies, DeviceBodies, Environment, collision_bodies
-from .chain import chain_of
+from .chain import mechanism_chain
 from .launch import Launcher, init_warp
 from .witness import witness_grid
 from .workspace import sample_chunks
@@ -109,7 +109,7 @@ class Checker:
         from ..kernels.collide import collision_kernels
 
         self.bodies = bodies
-        chain = chain_of(mech.graph)
+        chain = mechanism_chain(mech)
         # each launch carries the whole struct from Python: chunks of 1024 states cost 15% more
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)

@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import model_error
 from ..kernels import fk as fk_kernels
 from ..rsxml.model import Mechanism
-from .chain import chain_of
+from .chain import mechanism_chain
 from .launch import DEFAULT_CHUNK, Launcher, init_warp
 
 
@@ -25,11 +25,7 @@ class Kinematics:
     def __init__(self, mech: Mechanism, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
         self.mech = mech
         self.graph = mech.graph
-        if self.graph.closing:
-            j = self.graph.closing[0]
-            raise model_error(mech, f"joint '{j.name}' closes a kinematic loop: kinematics, sweeps and URDF need "
-                                    "a link tree (parallel rods are not solved yet)", j.line)
-        self.chain = chain_of(self.graph)
+        self.chain = mechanism_chain(mech)
         self.launcher = Launcher(device, chunk, threads)
         self.device = self.launcher.device
         self.unrolled = len(self.chain.parent) <= fk_kernels.MAX_UNROLLED_LINKS
@@ -56,6 +52,22 @@ class Kinematics:
         if links is not None:
             return self.frames(q, [(self.graph.link_index(n), np.eye(4)) for n in links], out)
         return self._all_links(q, out, np.float32)
+
+    @property
+    def passive_joints(self) -> tuple[str, ...]:
+        """The passive joints that follow the active ones (those of solved loops), in file order."""
+        return tuple(j.name for _, j in self._passive_rows())
+
+    def passive(self, q) -> np.ndarray:
+        """``(N, len(passive_joints))`` values of the passive joints at ``q`` (rad / m): the sums of
+        active joints the FK kernels use (``rswarp.rsxml.loops.passive_map``)."""
+        rows = [k for k, _ in self._passive_rows()]
+        return np.atleast_2d(np.asarray(q, np.float64)) @ self.chain.mimic[rows].T
+
+    def _passive_rows(self) -> list:
+        """(link, its tree joint) for each passive joint that follows the active ones, file order."""
+        moved = {j.name: k for k, j in self.graph.tree_order if np.any(self.chain.mimic[k] != 0)}
+        return [(moved[j.name], j) for j in self.mech.joints if j.name in moved]
 
     def fk64(self, q) -> np.ndarray:
         """``(N, n_links, 4, 4)`` float64 link poses: for checks and for refining extremes."""
@@ -132,6 +144,8 @@ class Kinematics:
             for name in ("axis", "point"):
                 setattr(tree, name, wp.array(getattr(c, name).astype(dtype), dtype=wp.types.vector(3, scalar),
                                              device=self.device))
+            tree.follows = wp.array(np.any(c.mimic != 0, axis=1).astype(np.int32), dtype=wp.int32, device=self.device)
+            tree.mimic = wp.array(np.ascontiguousarray(c.mimic, dtype), dtype=scalar, device=self.device)
             self.launcher.load(frames)
             self._kernels[key] = (tree, frames, wrist)
         return self._kernels[key]

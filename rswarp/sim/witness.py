@@ -34,7 +34,8 @@ class WitnessGrid:
 
 def pair_columns(chain: Chain, bodies: Bodies) -> list[tuple[int, ...]]:
     """Per pair, the q columns whose joints move one body relative to the other: the joints on the
-    path between their links (every joint above the link, for a body fixed in the world)."""
+    path between their links (every joint above the link, for a body fixed in the world), and the
+    active joints a passive one on that path follows."""
 
     def above(link: int) -> list[int]:
         out = []
@@ -47,7 +48,8 @@ def pair_columns(chain: Chain, bodies: Bodies) -> list[tuple[int, ...]]:
     for a, b in bodies.pairs:
         pa, pb = above(bodies.bodies[a].link), above(bodies.bodies[b].link)
         moving = set(pa) ^ set(pb)
-        cols.append(tuple(sorted({int(chain.qidx[k]) for k in moving if chain.qidx[k] >= 0})))
+        cols.append(tuple(sorted({int(chain.qidx[k]) for k in moving if chain.qidx[k] >= 0}
+                                 | {int(c) for k in moving for c in np.nonzero(chain.mimic[k])[0]})))
     return cols
 
 
