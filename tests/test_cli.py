@@ -99,7 +99,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
     assert "reach 1999.9 mm" in out and "reach 1.6533 m" in out
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["meshes", "library", "IRB2600_12_165__01-collisions"] + [
         f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01")
-        for e in ("urdf", "srdf", "usdc")])
+        for e in ("urdf", "srdf", "usdc")] + ["IRB9460_110_240__01.usdc"])
     assert "matrix disables 6 adjacent, 1 default, 0 always" in out
     assert (tmp_path / "IRB2600_12_165__01-collisions" / "collision_matrix.srdf").is_file()
     assert (tmp_path / "meshes" / "IRB2600_12_165__01" / "Link6.stl").is_file()  # each robot its own meshes
@@ -108,7 +108,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
     assert "== rswarp build IRB2600_12_165.xml: 1 of 1 built" in out and "1 with a preview" in out
     assert main(["demo", "--json", "--out", str(tmp_path)]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert doc["ok"] is True and [round(r["reach"], 4) for r in doc["robots"]] == [0.9019, 1.9999, 1.6533]
+    assert doc["ok"] is True and [round(r["reach"], 4) for r in doc["robots"]] == [0.9019, 1.9999, 1.6533, 2.3962]
 
 
 def test_console_script_gives_no_traceback():

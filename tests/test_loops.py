@@ -10,6 +10,8 @@ from rswarp.report.info import SHOWN_LOOPS, mechanism_text
 from rswarp.rsxml.loops import FOUR_BAR, GENERAL, PARALLELOGRAM, SLIDER, classify, loops
 from rswarp.rsxml.model import Joint, Mechanism, Part
 
+from rswarp import examples
+
 from conftest import DATA
 
 
@@ -110,3 +112,23 @@ def test_loops_that_cannot_be_solved_yet_are_refused_at_their_joint():
         rswarp.Kinematics(rswarp.load(DATA / "loops" / "four_bar.rsxml"))
     with pytest.raises(rswarp.RsxmlError, match=r"balance.rsxml:\d+: joint 'Pin' .*slider"):
         rswarp.Kinematics(rswarp.load(DATA / "loops" / "balance.rsxml"))
+
+
+def test_palletizer_flange_stays_horizontal():
+    """The example palletizer's double parallelogram: over the joint limits the flange points
+    straight down and turns only with J1 and J6; its three loops close."""
+    mech = rswarp.load(examples.PALLETIZER)
+    kin = rswarp.Kinematics(mech)
+    assert [loop.kind for loop in mech.graph.loops] == [PARALLELOGRAM] * 3
+    lower, upper = mech.bounds()
+    q = lower + (upper - lower) * np.random.default_rng(7).random((2000, len(lower)))
+    flange = kin.flange(q)
+    np.testing.assert_allclose(flange[:, :3, 2], np.tile([0.0, 0.0, -1.0], (len(q), 1)), atol=1e-6)
+    heading = np.arctan2(flange[:, 1, 0], flange[:, 0, 0])  # the flange's x axis, seen from above
+    turn = np.angle(np.exp(1j * (np.pi + q[:, 0] - q[:, 3])))  # x = -world x at zero; J6 turns it about -z
+    np.testing.assert_allclose(np.angle(np.exp(1j * (heading - turn))), 0.0, atol=1e-5)
+    poses = kin.fk(q)
+    for closing in mech.graph.closing:
+        point = np.append(closing.point1, 1.0)
+        a, b = mech.graph.link_index(closing.parent), mech.graph.link_index(closing.child)
+        assert np.abs((poses[:, a] @ point)[:, :3] - (poses[:, b] @ point)[:, :3]).max() < 1e-6

@@ -82,7 +82,9 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     matrix, collision_line = _collisions(mech, out)
     usd, urdf = out / f"{mech.name}.usdc", out / f"{mech.name}.urdf"
-    done = [export(mech, usd, disabled=matrix), export(mech, urdf, disabled=matrix)]
+    done = [export(mech, usd, disabled=matrix)]
+    if mech.graph.is_tree:
+        done.append(export(mech, urdf, disabled=matrix))
     warnings = [w for d in done for w in d.warnings]
     lf, unit = mech.length_factor, mech.length_unit or "m"
     pos = ", ".join(rounded(float(v), lf, 1e-4) for v in flange[:3, 3])
@@ -91,10 +93,11 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     lines = [f"== {mech.name}: flange at home ({pos}) {unit}; reach {rounded(reach.value, lf, 1e-4)} {unit} "
              f"({what}, {DEMO_SAMPLES} samples refined)", *(f"   {w}" for w in warnings[:1]),
              f"   {collision_line}",
-             f"   exported {usd} and {urdf}: {_physics_line(done[0].physics)}", ""]
+             f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else " (no URDF: its loops need mimic joints, "
+                                    "not written yet)") + f": {_physics_line(done[0].physics)}", ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
-            "usd": str(usd), "urdf": str(urdf)}
+            "usd": str(usd), "urdf": str(urdf) if len(done) > 1 else None}
 
 
 def _collisions(mech: Mechanism, out: Path) -> tuple[tuple, str]:
