@@ -132,3 +132,38 @@ def test_palletizer_flange_stays_horizontal():
         point = np.append(closing.point1, 1.0)
         a, b = mech.graph.link_index(closing.parent), mech.graph.link_index(closing.child)
         assert np.abs((poses[:, a] @ point)[:, :3] - (poses[:, b] @ point)[:, :3]).max() < 1e-6
+
+
+def test_newton_with_our_passive_values_agrees_on_the_palletizer(tmp_path):
+    """The palletizer's USD loaded by Newton's add_usd (closing joints left out of the articulation):
+    with rswarp's passive joint values, Newton's eval_fk puts every body where rswarp does."""
+    newton = pytest.importorskip("newton")
+    import warp as wp
+    from scipy.spatial.transform import Rotation
+
+    from rswarp.export.frames import link_origins
+
+    mech = rswarp.load(examples.PALLETIZER)
+    rswarp.to_usd(mech, tmp_path / "pal.usda")
+    builder = newton.ModelBuilder()
+    builder.add_usd(str(tmp_path / "pal.usda"))
+    model = builder.finalize(device="cpu")
+    kin = rswarp.Kinematics(mech)
+    names = [label.rsplit("/", 1)[-1] for label in model.joint_label]
+    starts = model.joint_q_start.numpy()
+    bodies = [label.rsplit("/", 1)[-1] for label in model.body_label]
+    origins, state = link_origins(mech), model.state()
+    q = np.random.default_rng(8).uniform(*mech.bounds(), (50, mech.dof))
+    values = np.concatenate([q, kin.passive(q)], axis=1)
+    joints = [j.name for j in mech.active_joints] + list(kin.passive_joints)
+    poses = kin.fk64(q)
+    for i in range(len(q)):
+        jq = model.joint_q.numpy().copy()
+        for name, v in zip(joints, values[i]):
+            jq[starts[names.index(name)]] = v
+        newton.eval_fk(model, wp.array(jq, dtype=wp.float32, device="cpu"), model.joint_qd, state)
+        body_q = state.body_q.numpy()
+        for b, link in enumerate(bodies):
+            want = poses[i, kin.links.index(link)]
+            assert np.abs(body_q[b, :3] - (want[:3, :3] @ origins[link] + want[:3, 3])).max() <= 1e-5
+            assert np.abs(Rotation.from_quat(body_q[b, 3:]).as_matrix() - want[:3, :3]).max() <= 1e-5
