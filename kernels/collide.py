@@ -17,7 +17,7 @@ import warp as wp
 
 from .fk import emit_local, pose_functions, tree_fk
 from .geometry import FAR
-from .tree import sampling_functions, traversal_functions
+from .tree import crossing_walk, sampling_functions, traversal_functions
 from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
 from .witness import witness_functions
 
@@ -102,7 +102,8 @@ def pose_helpers(scalar=wp.float32):
 def pair_functions(scalar=wp.float32):
     """(pair_verdict, pair_distance) over a ``Bodies`` struct."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    node_gap, mesh_distance, meshes_cross = traversal_functions(scalar)
+    node_gap, mesh_distance = traversal_functions(scalar)
+    meshes_cross = crossing_walk(scalar)
     rotation, relative = pose_helpers(scalar)
     enclosed = containment_functions(scalar)
     _, witness_hit = witness_functions(scalar)

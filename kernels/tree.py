@@ -92,8 +92,8 @@ def node_functions(scalar=wp.float32):
 
 @lru_cache(maxsize=None)
 def traversal_functions(scalar=wp.float32):
-    """(node_gap, mesh_distance, meshes_cross): the box gap of two tree nodes, and the dual walks of
-    two bodies' box trees down to their nearest triangles, or to a crossing pair."""
+    """(node_gap, mesh_distance): the box gap of two tree nodes, and the dual walk of two bodies'
+    box trees down to their nearest triangles."""
     S, V3, M33, M34, M44 = types_of(scalar)
     leaf_distance, node_gap, child_gaps, split = node_functions(scalar)
     Bodies = bodies_struct(scalar)
@@ -148,6 +148,17 @@ def traversal_functions(scalar=wp.float32):
                     top += 1
         return best
 
+    return node_gap, mesh_distance
+
+
+@lru_cache(maxsize=None)
+def crossing_walk(scalar=wp.float32):
+    """meshes_cross(m, a, b, r, t): the dual walk that only looks for two crossing triangles (the
+    verdict at padding 0: no distances, no square roots)."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    leaf_distance, _, child_gaps, split = node_functions(scalar)
+    Bodies = bodies_struct(scalar)
+
     @wp.func
     def meshes_cross(m: Bodies, a: int, b: int, r: M33, t: V3) -> bool:
         """Whether the surfaces of bodies a and b cross (x_A = r x_B + t). Depth first, the more
@@ -179,7 +190,7 @@ def traversal_functions(scalar=wp.float32):
                     top += 1
         return False
 
-    return node_gap, mesh_distance, meshes_cross
+    return meshes_cross
 
 
 @lru_cache(maxsize=None)
