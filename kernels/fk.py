@@ -91,9 +91,9 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
     kids = tuple(_link_visitor(chain, c, keep, needed, emit, T) for c in chain.children(k) if c in keep)
     col, jtype = int(chain.qidx[k]), int(chain.jtype[k])
     on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0  # parent pose is identity
-    follows = tuple((c, float(v)) for c, v in enumerate(chain.mimic[k]) if v != 0.0)  # a passive joint's sum
-    moves = (col >= 0 or bool(follows)) and jtype in (REVOLUTE, PRISMATIC)
-    value = _joint_value(col, follows, T)
+    follows = bool(np.any(chain.mimic[k] != 0.0) or chain.slider[k][0] != 0.0)  # a passive joint of a loop
+    moves = (col >= 0 or follows) and jtype in (REVOLUTE, PRISMATIC)
+    value = _joint_value(chain, k, T)
     revolute = jtype == REVOLUTE
     rot, tra = _revolute(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
     axis = V3(*(float(v) for v in chain.axis[k]))
@@ -124,11 +124,43 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
     return visit
 
 
-def _joint_value(col: int, follows: tuple, T):
-    """value(q, i): the joint's column of q, or for a passive joint its sum of active columns."""
+@lru_cache(maxsize=None)
+def slider_function(scalar=wp.float32):
+    """slider_value(spec, theta): a balance cylinder's pivot angle (kind 1) or piston stroke (kind
+    2) for the arm angle ``theta`` (``rswarp.rsxml.slider``: the pin turns about the arm joint O
+    from A0; the cylinder runs from the pivot P to the pin)."""
+    S = scalar
+    V8 = wp.types.vector(8, scalar)
+
+    @wp.func
+    def slider_value(spec: V8, theta: S) -> S:
+        c = wp.cos(theta)
+        s = wp.sin(theta)
+        rx = spec[4] - spec[2]
+        ry = spec[5] - spec[3]
+        dx = spec[2] + c * rx - s * ry - spec[6]
+        dy = spec[3] + s * rx + c * ry - spec[7]
+        ex = spec[4] - spec[6]
+        ey = spec[5] - spec[7]
+        if spec[0] == S(1.0):
+            return spec[1] * wp.atan2(ex * dy - ey * dx, ex * dx + ey * dy)
+        return spec[1] * (wp.sqrt(dx * dx + dy * dy) - wp.sqrt(ex * ex + ey * ey))
+
+    return slider_value
+
+
+def _joint_value(chain: Chain, k: int, T):
+    """value(q, i): link k's joint value: its column of q; for a passive joint of a solved loop, its
+    sum of active columns (a parallelogram) or its balance cylinder's closed form."""
     S = T.scalar
-    cols = tuple(c for c, _ in follows)
-    coefs = tuple(v for _, v in follows)
+    col = int(chain.qidx[k])
+    follows = tuple((c, float(v)) for c, v in enumerate(chain.mimic[k]) if v != 0.0)
+    arm = tuple((c, float(v)) for c, v in enumerate(chain.slider_coef[k]) if v != 0.0)
+    slider = bool(chain.slider[k][0] != 0.0)
+    terms = arm if slider else follows
+    cols, coefs = tuple(c for c, _ in terms), tuple(v for _, v in terms)
+    spec = wp.types.vector(8, S)(*(float(v) for v in chain.slider[k]))
+    slider_value = slider_function(S)
 
     @wp.func
     def value(q: wp.array2d(dtype=S), i: int) -> S:
@@ -137,6 +169,8 @@ def _joint_value(col: int, follows: tuple, T):
         th = S(0.0)
         for n in range(wp.static(len(cols))):
             th += wp.static(S(coefs[n])) * q[i, wp.static(cols[n])]
+        if wp.static(slider):
+            th = slider_value(wp.static(spec), th)
         return th
 
     return value
@@ -251,6 +285,7 @@ def generic_walk(scalar=wp.float32):
     _, V3, M33, M34, M44 = T
     S = scalar
     _, to_mat34, apply, _ = pose_functions(scalar)
+    slider_value = slider_function(scalar)
 
     @wp.struct
     class Tree:
@@ -260,8 +295,10 @@ def generic_walk(scalar=wp.float32):
         axis: wp.array(dtype=V3)
         point: wp.array(dtype=V3)
         order: wp.array(dtype=wp.int32)
-        follows: wp.array(dtype=wp.int32)  # 1: a passive joint moved by its row of mimic
+        follows: wp.array(dtype=wp.int32)  # 1: a passive joint of a solved loop (mimic or slider rows)
         mimic: wp.array2d(dtype=S)
+        slider: wp.array(dtype=wp.types.vector(8, S))
+        slider_coef: wp.array2d(dtype=S)
 
     @wp.func
     def walk(tree: Tree, q: wp.array2d(dtype=S), i: int, poses: wp.array2d(dtype=M34)):
@@ -275,8 +312,12 @@ def generic_walk(scalar=wp.float32):
             if tree.qidx[k] >= 0:
                 th = q[i, tree.qidx[k]]
             elif tree.follows[k] != 0:  # a passive joint of a solved loop
+                arm = S(0.0)
                 for c in range(q.shape[1]):
                     th += tree.mimic[k, c] * q[i, c]
+                    arm += tree.slider_coef[k, c] * q[i, c]
+                if tree.slider[k][0] != S(0.0):
+                    th = slider_value(tree.slider[k], arm)
             a = tree.axis[k]
             r = wp.identity(n=3, dtype=S)
             t = th * a

@@ -110,8 +110,6 @@ def test_generic_walk_agrees_with_the_unrolled_kernels():
 def test_loops_that_cannot_be_solved_yet_are_refused_at_their_joint():
     with pytest.raises(rswarp.RsxmlError, match=r"four_bar.rsxml:15: joint 'Closing' closes a kinematic loop .*four-bar"):
         rswarp.Kinematics(rswarp.load(DATA / "loops" / "four_bar.rsxml"))
-    with pytest.raises(rswarp.RsxmlError, match=r"balance.rsxml:\d+: joint 'Pin' .*slider"):
-        rswarp.Kinematics(rswarp.load(DATA / "loops" / "balance.rsxml"))
 
 
 def test_palletizer_flange_stays_horizontal():
@@ -167,3 +165,25 @@ def test_newton_with_our_passive_values_agrees_on_the_palletizer(tmp_path):
             want = poses[i, kin.links.index(link)]
             assert np.abs(body_q[b, :3] - (want[:3, :3] @ origins[link] + want[:3, 3])).max() <= 1e-5
             assert np.abs(Rotation.from_quat(body_q[b, 3:]).as_matrix() - want[:3, :3]).max() <= 1e-5
+
+
+def test_balance_cylinder_length_follows_the_law_of_cosines():
+    """The cylinder pivots at P below the arm joint O; the arm's pin A turns with J2 about O. The
+    stroke is |A - P| by the law of cosines (minus its length at zero), and the loop closes."""
+    mech = rswarp.load(DATA / "loops" / "balance.rsxml")
+    kin = rswarp.Kinematics(mech)
+    q = np.random.default_rng(9).uniform(*mech.bounds(), (300, 1))
+    o, a0, p = np.array([0.0, 0.5]), np.array([-0.2, 0.8]), np.array([-0.2, 0.3])  # (x, z), metres
+    op, oa = np.linalg.norm(p - o), np.linalg.norm(a0 - o)
+    gamma0 = np.arccos(np.dot(p - o, a0 - o) / (op * oa))
+    # J2 turns about +y: x, z -> (x cos q + z sin q, -x sin q + z cos q), which turns OA away from
+    # OP (P lies at -135 degrees, A0 at 124 degrees from +x in the x-z plane): the angle POA grows by q
+    gamma = gamma0 + q[:, 0]
+    length = np.sqrt(op ** 2 + oa ** 2 - 2 * op * oa * np.cos(gamma))
+    assert kin.passive_joints == ("Pivot", "Stroke")
+    np.testing.assert_allclose(kin.passive(q)[:, 1], length - np.linalg.norm(a0 - p), atol=1e-12)
+    g, pin = mech.graph, mech.graph.closing[0]
+    poses = kin.fk(q)
+    point = np.append(pin.point1, 1.0)
+    gap = (poses[:, g.link_index("Piston")] @ point)[:, :3] - (poses[:, g.link_index("Arm")] @ point)[:, :3]
+    assert np.abs(gap).max() < 1e-6

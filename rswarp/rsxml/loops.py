@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import Joint
+from .slider import SPEC, slider_specs
 
 PARALLELOGRAM, FOUR_BAR, SLIDER, GENERAL = "parallelogram", "four-bar", "slider", "general"
 TOLERANCE = 1e-6  # relative: parallel axes, coincident corners, equal sides
@@ -127,26 +128,57 @@ class UnsolvedLoop(ValueError):
         self.loop = loop
 
 
-def passive_map(graph) -> np.ndarray:
-    """(links, dof) coefficients: the value of the tree joint of link k is ``M[k] @ q`` for every
-    passive joint of a parallelogram loop (a ± sum of active joints: opposite sides keep their
-    angle, as they are parallel at the zero position); zero rows elsewhere. ``UnsolvedLoop`` for a
-    loop of another kind, or parallelograms whose passive joints the active ones do not fix."""
-    dof = len(graph.active)
-    out = np.zeros((len(graph.links), dof))
+@dataclass(frozen=True)
+class PassiveMap:
+    """How each link's passive tree joint follows the active joints (rows by link index):
+    ``mimic[k] @ q`` (parallelograms), or for a balance cylinder ``slider[k]`` (a
+    ``rswarp.rsxml.slider`` spec, kind 0 for none) of the arm angle ``slider_coef[k] @ q``."""
+
+    mimic: np.ndarray
+    slider: np.ndarray
+    slider_coef: np.ndarray
+
+
+def passive_map(graph) -> PassiveMap:
+    """Every passive joint of the loops, as the active joints fix it: in parallelograms a signed sum
+    of active joints (opposite sides keep their angle, as they are parallel at the zero position),
+    in balance cylinders the triangle's closed form. ``UnsolvedLoop`` for a loop of another kind or
+    arrangement, or parallelograms whose passive joints the active ones do not fix."""
+    dof, n = len(graph.active), len(graph.links)
+    out = PassiveMap(np.zeros((n, dof)), np.zeros((n, SPEC)), np.zeros((n, dof)))
     rows, unknown, solved = [], {}, []
     for closing in graph.closing:  # one loop at a time: the first that cannot be solved stops the walk
         loop = make_loop(graph, closing)
         solved.append(loop)
+        if loop.kind == SLIDER:
+            _add_slider(graph, loop, out)
+            continue
         if loop.kind != PARALLELOGRAM:
-            raise UnsolvedLoop(loop, f"its loop is a {loop.kind}: rswarp solves parallelogram loops only so far")
+            raise UnsolvedLoop(loop, f"its loop is a {loop.kind}: rswarp solves parallelograms and balance "
+                                     "cylinders so far")
         rows += _opposite_sides(graph, loop)
         for j in loop.joints[:-1]:
             if not j.active:
                 unknown.setdefault(graph.link_index(j.child), len(unknown))
-    if not unknown:
-        return out
-    a_p, a_q = np.zeros((len(rows), len(unknown))), np.zeros((len(rows), dof))
+    if unknown:
+        _solve_parallelograms(graph, rows, unknown, solved, out.mimic)
+    return out
+
+
+def _add_slider(graph, loop: Loop, out: PassiveMap) -> None:
+    specs = slider_specs(graph, loop, _common_ancestor(graph, loop.closing), _plane_normal(loop.joints))
+    if specs is None:
+        raise UnsolvedLoop(loop, "its slider is not a cylinder pivoting on the loop's base and pinned to an arm "
+                                 "that one active joint turns")
+    for k, (spec, coef) in specs.items():
+        out.slider[k] = spec
+        for col, c in coef.items():
+            out.slider_coef[k, col] = c
+
+
+def _solve_parallelograms(graph, rows, unknown: dict, solved: list, mimic: np.ndarray) -> None:
+    """The passive joints of the parallelograms from their opposite-side equations (linear)."""
+    a_p, a_q = np.zeros((len(rows), len(unknown))), np.zeros((len(rows), mimic.shape[1]))
     for r, terms in enumerate(rows):
         for k, coef in terms.items():
             col = graph.column(graph.tree_joint[k].name)
@@ -158,8 +190,7 @@ def passive_map(graph) -> np.ndarray:
     if np.linalg.matrix_rank(a_p) < len(unknown) or not np.allclose(a_p @ solution, -a_q, atol=1e-9):
         raise UnsolvedLoop(solved[0], "the active joints do not fix its passive joints")
     for k, i in unknown.items():
-        out[k] = np.where(np.abs(solution[i]) < 1e-12, 0.0, solution[i])
-    return out
+        mimic[k] = np.where(np.abs(solution[i]) < 1e-12, 0.0, solution[i])
 
 
 def _opposite_sides(graph, loop: Loop) -> list[dict[int, float]]:

@@ -27,7 +27,7 @@ def chain_of(graph: LinkGraph) -> Chain:
         axis[k] = j.axis
         point[k] = j.point1
     return Chain(parent=np.asarray(graph.parent, np.int32), jtype=jtype, qidx=qidx, axis=axis, point=point,
-                 order=np.asarray(graph.order, np.int32), mimic=passive_map(graph))
+                 order=np.asarray(graph.order, np.int32), **vars(passive_map(graph)))
 
 
 def mechanism_chain(mech: Mechanism) -> Chain:

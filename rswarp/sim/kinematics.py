@@ -59,14 +59,20 @@ class Kinematics:
         return tuple(j.name for _, j in self._passive_rows())
 
     def passive(self, q) -> np.ndarray:
-        """``(N, len(passive_joints))`` values of the passive joints at ``q`` (rad / m): the sums of
-        active joints the FK kernels use (``rswarp.rsxml.loops.passive_map``)."""
-        rows = [k for k, _ in self._passive_rows()]
-        return np.atleast_2d(np.asarray(q, np.float64)) @ self.chain.mimic[rows].T
+        """``(N, len(passive_joints))`` values of the passive joints at ``q`` (rad / m), as the FK
+        kernels solve them (``rswarp.rsxml.loops.passive_map``), computed here in float64."""
+        from ..rsxml.slider import slider_values
+
+        q = np.atleast_2d(np.asarray(q, np.float64))
+        c = self.chain
+        cols = [slider_values(c.slider[k], q @ c.slider_coef[k]) if c.slider[k, 0] else q @ c.mimic[k]
+                for k, _ in self._passive_rows()]
+        return np.stack(cols, axis=1) if cols else np.zeros((len(q), 0))
 
     def _passive_rows(self) -> list:
         """(link, its tree joint) for each passive joint that follows the active ones, file order."""
-        moved = {j.name: k for k, j in self.graph.tree_order if np.any(self.chain.mimic[k] != 0)}
+        c = self.chain
+        moved = {j.name: k for k, j in self.graph.tree_order if np.any(c.mimic[k] != 0) or c.slider[k, 0] != 0}
         return [(moved[j.name], j) for j in self.mech.joints if j.name in moved]
 
     def fk64(self, q) -> np.ndarray:
@@ -144,8 +150,12 @@ class Kinematics:
             for name in ("axis", "point"):
                 setattr(tree, name, wp.array(getattr(c, name).astype(dtype), dtype=wp.types.vector(3, scalar),
                                              device=self.device))
-            tree.follows = wp.array(np.any(c.mimic != 0, axis=1).astype(np.int32), dtype=wp.int32, device=self.device)
+            follows = np.any(c.mimic != 0, axis=1) | (c.slider[:, 0] != 0)
+            tree.follows = wp.array(follows.astype(np.int32), dtype=wp.int32, device=self.device)
             tree.mimic = wp.array(np.ascontiguousarray(c.mimic, dtype), dtype=scalar, device=self.device)
+            tree.slider = wp.array(np.ascontiguousarray(c.slider, dtype), dtype=wp.types.vector(8, scalar),
+                                   device=self.device)
+            tree.slider_coef = wp.array(np.ascontiguousarray(c.slider_coef, dtype), dtype=scalar, device=self.device)
             self.launcher.load(frames)
             self._kernels[key] = (tree, frames, wrist)
         return self._kernels[key]
