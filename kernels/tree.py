@@ -3,6 +3,7 @@ test, the split, the leaves' triangles, and the walks built on them (nearest or 
 a spread sample of all crossing triangle pairs)."""
 
 from functools import lru_cache
+from typing import Any
 
 import warp as wp
 
@@ -14,12 +15,10 @@ SAMPLE = 32  # crossing triangle pairs a sampling walk holds at once
 
 
 @lru_cache(maxsize=None)
-def node_functions(scalar=wp.float32):
-    """(leaf_distance, node_gap, child_gaps, split): what the tree walk does with one pair of nodes."""
+def leaf_function(scalar=wp.float32):
+    """leaf_distance(m, na, nb, r, t, overlap_only): what the tree walk does with two leaves."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    V2 = wp.types.vector(2, scalar)
     triangles_cross, triangle_distance = triangle_functions(scalar)
-    abs_rotation, box_gap = box_functions(scalar)
     Bodies = bodies_struct(scalar)
 
     @wp.func
@@ -43,6 +42,17 @@ def node_functions(scalar=wp.float32):
                 else:
                     best = wp.min(best, triangle_distance(a0, a1, a2, b0, b1, b2))
         return best
+
+    return leaf_distance
+
+
+@lru_cache(maxsize=None)
+def node_functions(scalar=wp.float32):
+    """(node_gap, child_gaps, split): what the tree walk does with one pair of boxes."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    V2 = wp.types.vector(2, scalar)
+    abs_rotation, box_gap = box_functions(scalar)
+    Bodies = bodies_struct(scalar)
 
     @wp.func
     def node_gap(m: Bodies, na: int, nb: int, r: M33, t: V3) -> S:
@@ -87,7 +97,7 @@ def node_functions(scalar=wp.float32):
             return wp.vec4i(m.node_left[na], nb, m.node_right[na], nb)
         return wp.vec4i(na, m.node_left[nb], na, m.node_right[nb])
 
-    return leaf_distance, node_gap, child_gaps, split
+    return node_gap, child_gaps, split
 
 
 @lru_cache(maxsize=None)
@@ -95,7 +105,8 @@ def traversal_functions(scalar=wp.float32):
     """(node_gap, mesh_distance): the box gap of two tree nodes, and the dual walk of two bodies'
     box trees down to their nearest triangles."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    leaf_distance, node_gap, child_gaps, split = node_functions(scalar)
+    leaf_distance = leaf_function(scalar)
+    node_gap, child_gaps, split = node_functions(scalar)
     Bodies = bodies_struct(scalar)
 
     @wp.func
@@ -156,7 +167,8 @@ def crossing_walk(scalar=wp.float32):
     """meshes_cross(m, a, b, r, t): the dual walk that only looks for two crossing triangles (the
     verdict at padding 0: no distances, no square roots)."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    leaf_distance, _, child_gaps, split = node_functions(scalar)
+    leaf_distance = leaf_function(scalar)
+    _, child_gaps, split = node_functions(scalar)
     Bodies = bodies_struct(scalar)
 
     @wp.func
@@ -194,12 +206,53 @@ def crossing_walk(scalar=wp.float32):
 
 
 @lru_cache(maxsize=None)
+def keeping_functions():
+    """(keep, spread): the bookkeeping of a sample spread evenly over a stream of crossings, in a
+    kernel-local array of SAMPLE (A's, B's) triangle pairs."""
+
+    @wp.func
+    def keep(kept: Any, held: int, seen: int, stride: int, ka: int, kb: int) -> wp.vec2i:
+        """Keep the ``seen``-th crossing (ka, kb) if it falls on the stride; when SAMPLE are held,
+        keep every other one and double the stride first. Returns (held, stride)."""
+        h = held
+        st = stride
+        if seen % st == 0:
+            if h == SAMPLE:
+                for k in range(SAMPLE // 2):
+                    kept[2 * k] = kept[4 * k]
+                    kept[2 * k + 1] = kept[4 * k + 1]
+                h = SAMPLE // 2
+                st *= 2
+            if seen % st == 0:
+                kept[2 * h] = ka
+                kept[2 * h + 1] = kb
+                h += 1
+        return wp.vec2i(h, st)
+
+    @wp.func
+    def spread(kept: Any, held: int) -> witness_vec:
+        """WITNESSES of the ``held`` kept pairs, evenly spaced; -1 where fewer are held."""
+        out = witness_vec()
+        for k in range(WITNESSES):
+            out[2 * k] = -1
+            out[2 * k + 1] = -1
+            if k < held:
+                j = k * held // wp.min(held, WITNESSES)
+                out[2 * k] = kept[2 * j]
+                out[2 * k + 1] = kept[2 * j + 1]
+        return out
+
+    return keep, spread
+
+
+@lru_cache(maxsize=None)
 def sampling_functions(scalar=wp.float32):
     """crossing_sample(m, a, b, r, t): WITNESSES crossing triangle pairs of bodies a and b spread
     over all of them (``witness_vec``: A's, B's triangle, pair after pair; -1 where fewer cross)."""
     S, V3, M33, M34, M44 = types_of(scalar)
     triangles_cross, _ = triangle_functions(scalar)
-    _, node_gap, child_gaps, split = node_functions(scalar)
+    node_gap, child_gaps, split = node_functions(scalar)
+    keep, spread = keeping_functions()
     Bodies = bodies_struct(scalar)
 
     @wp.func
@@ -237,26 +290,10 @@ def sampling_functions(scalar=wp.float32):
                     if triangles_cross(m.triangles[3 * ka], m.triangles[3 * ka + 1], m.triangles[3 * ka + 2],
                                        r * m.triangles[3 * kb] + t, r * m.triangles[3 * kb + 1] + t,
                                        r * m.triangles[3 * kb + 2] + t):
-                        if seen % stride == 0:
-                            if held == SAMPLE:  # keep every other one, and take half as many from now
-                                for k in range(SAMPLE // 2):
-                                    kept[2 * k] = kept[4 * k]
-                                    kept[2 * k + 1] = kept[4 * k + 1]
-                                held = SAMPLE // 2
-                                stride *= 2
-                            if seen % stride == 0:
-                                kept[2 * held] = ka
-                                kept[2 * held + 1] = kb
-                                held += 1
+                        hs = keep(kept, held, seen, stride, ka, kb)
+                        held = hs[0]
+                        stride = hs[1]
                         seen += 1
-        out = witness_vec()
-        for k in range(WITNESSES):
-            out[2 * k] = -1
-            out[2 * k + 1] = -1
-            if k < held:
-                j = k * held // wp.min(held, WITNESSES)
-                out[2 * k] = kept[2 * j]
-                out[2 * k + 1] = kept[2 * j + 1]
-        return out
+        return spread(kept, held)
 
     return crossing_sample

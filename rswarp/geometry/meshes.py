@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 from collections import OrderedDict
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -67,11 +68,12 @@ def _load(path: str):
     """The mesh in a file, or ``ValueError`` saying in one line why it cannot be used. Meshes are
     kept by content hash: a file that several variants (or copies) share is parsed once."""
     try:
-        data = read_regular(path)
+        stat = Path(path).stat()
+        digest = _digest(str(Path(path).resolve()), stat.st_mtime_ns, stat.st_size)
     except OSError as exc:
         raise ValueError(f"cannot read it: {exc.strerror or exc}") from None
     suffix = Path(path).suffix.lower()
-    key = (hashlib.sha256(data).hexdigest(), suffix, str(Path(path).resolve().parent) if suffix in SIDECAR_FORMATS else "")
+    key = (digest, suffix, str(Path(path).resolve().parent) if suffix in SIDECAR_FORMATS else "")
     if key in _MESHES:
         _MESHES.move_to_end(key)
         return _MESHES[key]
@@ -80,6 +82,13 @@ def _load(path: str):
     if len(_MESHES) > CACHED_MESHES:
         _MESHES.popitem(last=False)
     return mesh
+
+
+@lru_cache(maxsize=256)
+def _digest(path: str, mtime_ns: int, size: int) -> str:
+    """The content hash of a file, read once while it is unchanged (bounded read: a regular file
+    within the size limit)."""
+    return hashlib.sha256(read_regular(path)).hexdigest()
 
 
 def _parse(path: str, suffix: str):

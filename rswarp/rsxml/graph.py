@@ -138,16 +138,24 @@ class LinkGraph:
     def loop(self, closing: Joint) -> tuple[Joint, ...]:
         """The joints of the loop a closing joint closes: the tree path from its parent's side up to
         the common ancestor, down to its child, then the closing joint."""
-        a, b = self.index[closing.parent], self.index[closing.child]
+        up, down, _ = self._meet(self.index[closing.parent], self.index[closing.child])
+        return tuple(self.tree_joint[k] for k in up) + tuple(self.tree_joint[k] for k in reversed(down)) + (closing,)
+
+    def common_ancestor(self, closing: Joint) -> int:
+        """The link where the two tree paths of a closing joint's links meet (its loop's base)."""
+        return self._meet(self.index[closing.parent], self.index[closing.child])[2]
+
+    def _meet(self, a: int, b: int) -> tuple[list[int], list[int], int]:
+        """The links passed going up from a and from b until the paths meet, and where they meet."""
         up, down = [], []
         while a != b:
             if self.depth[a] >= self.depth[b]:
-                up.append(self.tree_joint[a])
+                up.append(a)
                 a = self.parent[a]
             else:
-                down.append(self.tree_joint[b])
+                down.append(b)
                 b = self.parent[b]
-        return tuple(up) + tuple(reversed(down)) + (closing,)
+        return up, down, a
 
     @cached_property
     def loops(self):

@@ -86,12 +86,18 @@ def _plane_normal(joints: tuple[Joint, ...]) -> np.ndarray | None:
     return n
 
 
+def plane_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors u, v in a loop's plane, (u, v, normal) right-handed: a turn about the
+    normal turns plane coordinates counter-clockwise."""
+    u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    return u, np.cross(normal, u)
+
+
 def _corners(joints: tuple[Joint, ...], normal: np.ndarray) -> tuple[tuple[tuple[str, ...], ...], list[np.ndarray]]:
     """Revolute joints projected on the loop's plane, coaxial neighbours merged (also across the
     loop's ends); prismatic joints are no corner."""
-    u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    v = np.cross(normal, u)
+    u, v = plane_basis(normal)
     flat = [(j.name, np.array([np.dot(j.point1, u), np.dot(j.point1, v)])) for j in joints if j.revolute]
     scale = max((np.linalg.norm(p) for _, p in flat), default=1.0) or 1.0
     names: list[list[str]] = []
@@ -166,7 +172,8 @@ def passive_map(graph) -> PassiveMap:
 
 
 def _add_slider(graph, loop: Loop, out: PassiveMap) -> None:
-    specs = slider_specs(graph, loop, _common_ancestor(graph, loop.closing), _plane_normal(loop.joints))
+    normal = _plane_normal(loop.joints)
+    specs = slider_specs(graph, loop, graph.common_ancestor(loop.closing), normal, plane_basis(normal))
     if specs is None:
         raise UnsolvedLoop(loop, "its slider is not a cylinder pivoting on the loop's base and pinned to an arm "
                                  "that one active joint turns")
@@ -198,7 +205,7 @@ def _opposite_sides(graph, loop: Loop) -> list[dict[int, float]]:
     the loop's normal. A side's angle is the signed sum of the tree joints from the loop's common
     ancestor down to it: {link index of a tree joint: its sign}."""
     normal = _plane_normal(loop.joints)
-    ancestor = _common_ancestor(graph, loop.closing)
+    ancestor = graph.common_ancestor(loop.closing)
     sides = _sides(graph, loop)
 
     def angle(link: int) -> dict[int, float]:
@@ -215,16 +222,6 @@ def _opposite_sides(graph, loop: Loop) -> list[dict[int, float]]:
             eq[k] = eq.get(k, 0.0) - s
         eqs.append(eq)
     return eqs
-
-
-def _common_ancestor(graph, closing: Joint) -> int:
-    a, b = graph.index[closing.parent], graph.index[closing.child]
-    while a != b:
-        if graph.depth[a] >= graph.depth[b]:
-            a = graph.parent[a]
-        else:
-            b = graph.parent[b]
-    return a
 
 
 def _sides(graph, loop: Loop) -> list[int]:

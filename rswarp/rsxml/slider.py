@@ -14,9 +14,11 @@ ANGLE, STROKE = 1, 2  # what a slider spec gives: the pivot's angle, or the pist
 SPEC = 8  # [kind, sign, O (2), A0 (2), P (2)]: plane coordinates of arm joint, pin at zero, pivot
 
 
-def slider_specs(graph, loop, ancestor: int, normal: np.ndarray) -> dict[int, tuple[np.ndarray, dict[int, float]]] | None:
+def slider_specs(graph, loop, ancestor: int, normal: np.ndarray,
+                 basis: tuple[np.ndarray, np.ndarray]) -> dict[int, tuple[np.ndarray, dict[int, float]]] | None:
     """For the pivot's and the piston's links: (spec, the arm angle's coefficients by q column);
-    None when the loop is not arranged as a cylinder pinned to an arm turned by one active joint."""
+    None when the loop is not arranged as a cylinder pinned to an arm turned by one active joint.
+    ``basis``: the plane's (u, v) (``rswarp.rsxml.loops.plane_basis``)."""
     pivot, stroke, closing = _parts(graph, loop, ancestor)
     if pivot is None:
         return None
@@ -25,9 +27,7 @@ def slider_specs(graph, loop, ancestor: int, normal: np.ndarray) -> dict[int, tu
     if graph.parent[arm] != ancestor or not graph.tree_joint[arm].active or not graph.tree_joint[arm].revolute:
         return None
     joint = graph.tree_joint[arm]
-    u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    v = np.cross(normal, u)
+    u, v = basis
     flat = lambda p: [float(np.dot(p, u)), float(np.dot(p, v))]  # noqa: E731
     d0 = np.subtract(closing.point1, pivot.point1)
     if np.linalg.norm(np.cross(d0, stroke.axis)) > 1e-6 * np.linalg.norm(d0):
@@ -42,8 +42,7 @@ def _parts(graph, loop, ancestor: int) -> tuple[Joint | None, Joint | None, Join
     """(pivot, stroke, closing): a passive revolute on the ancestor, the passive prismatic after it,
     and the closing joint at the pin; (None, None, closing) for any other arrangement."""
     closing = loop.closing
-    tree = [j for j in loop.joints[:-1]]
-    stroke = [j for j in tree if not j.revolute]
+    stroke = [j for j in loop.joints[:-1] if not j.revolute]
     if len(stroke) != 1 or stroke[0].active or not closing.revolute:
         return None, None, closing
     pivot = graph.tree_joint[graph.index[stroke[0].parent]]

@@ -110,7 +110,7 @@ class Checker:
 
         self.bodies = bodies
         chain = mechanism_chain(mech)
-        # each launch carries the whole struct from Python: chunks of 1024 states cost 15% more
+        # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
         self._collide, _, self._witness = collision_kernels(chain, bodies.links, wp.float32)
