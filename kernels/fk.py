@@ -17,6 +17,8 @@ from typing import Any
 import numpy as np
 import warp as wp
 
+from ..rsxml.closed import ANGLE, FOUR_BAR, SPEC
+from ..rsxml.fourbar import DEAD_TOLERANCE
 from .types import PRISMATIC, REVOLUTE, Chain, types_of
 
 # Longer chains compile slowly when unrolled (code grows with the chain): they take the generic walk.
@@ -91,7 +93,7 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
     kids = tuple(_link_visitor(chain, c, keep, needed, emit, T) for c in chain.children(k) if c in keep)
     col, jtype = int(chain.qidx[k]), int(chain.jtype[k])
     on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0  # parent pose is identity
-    follows = bool(np.any(chain.mimic[k] != 0.0) or chain.slider[k][0] != 0.0)  # a passive joint of a loop
+    follows = bool(np.any(chain.mimic[k] != 0.0) or chain.closed[k][0] != 0.0)  # a passive joint of a loop
     moves = (col >= 0 or follows) and jtype in (REVOLUTE, PRISMATIC)
     value = _joint_value(chain, k, T)
     revolute = jtype == REVOLUTE
@@ -126,14 +128,14 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
 
 @lru_cache(maxsize=None)
 def slider_function(scalar=wp.float32):
-    """slider_value(spec, theta): a balance cylinder's pivot angle (kind 1) or piston stroke (kind
-    2) for the arm angle ``theta`` (``rswarp.rsxml.slider``: the pin turns about the arm joint O
-    from A0; the cylinder runs from the pivot P to the pin)."""
+    """slider_value(spec, theta): a balance cylinder's pivot angle (kind ANGLE) or piston stroke
+    (kind STROKE) for the arm angle ``theta`` (``rswarp.rsxml.slider``: the pin turns about the arm
+    joint O from A0; the cylinder runs from the pivot P to the pin)."""
     S = scalar
-    V8 = wp.types.vector(8, scalar)
+    V = wp.types.vector(SPEC, scalar)
 
     @wp.func
-    def slider_value(spec: V8, theta: S) -> S:
+    def slider_value(spec: V, theta: S) -> S:
         c = wp.cos(theta)
         s = wp.sin(theta)
         rx = spec[4] - spec[2]
@@ -142,25 +144,83 @@ def slider_function(scalar=wp.float32):
         dy = spec[3] + s * rx + c * ry - spec[7]
         ex = spec[4] - spec[6]
         ey = spec[5] - spec[7]
-        if spec[0] == S(1.0):
+        if spec[0] == S(float(ANGLE)):
             return spec[1] * wp.atan2(ex * dy - ey * dx, ex * dx + ey * dy)
         return spec[1] * (wp.sqrt(dx * dx + dy * dy) - wp.sqrt(ex * ex + ey * ey))
 
     return slider_value
 
 
+@lru_cache(maxsize=None)
+def four_bar_function(scalar=wp.float32):
+    """four_bar_value(spec, theta): a four-bar's passive joint for the driven angle ``theta``
+    (``rswarp.rsxml.fourbar``, whose ``four_bar_values`` is the host twin): the corner V2 where the
+    circles about V1 and V3 meet, on its side at zero; NaN past a dead point."""
+    S = scalar
+    V = wp.types.vector(SPEC, scalar)
+    V2 = wp.types.vector(2, scalar)
+
+    @wp.func
+    def turn(a: V2, b: V2) -> S:
+        return wp.atan2(a[0] * b[1] - a[1] * b[0], wp.dot(a, b))
+
+    @wp.func
+    def four_bar_value(spec: V, theta: S) -> S:
+        v0 = V2(spec[1], spec[2])
+        v1_0 = V2(spec[3], spec[4])
+        v2_0 = V2(spec[5], spec[6])
+        v3 = V2(spec[7], spec[8])
+        r = v1_0 - v0
+        c = wp.cos(theta)
+        s = wp.sin(theta)
+        v1 = v0 + V2(c * r[0] - s * r[1], s * r[0] + c * r[1])
+        e1 = v2_0 - v1_0
+        e2 = v3 - v2_0
+        l1 = wp.dot(e1, e1)
+        d = v3 - v1
+        dd = wp.dot(d, d)
+        a = (l1 - wp.dot(e2, e2) + dd) / (S(2.0) * dd)  # the foot of V2 on V1-V3, as a share of it
+        h2 = l1 / dd - a * a  # V2's offset across V1-V3, squared, as a share of it
+        if h2 < -S(DEAD_TOLERANCE) * l1 / dd:
+            return S(wp.nan)
+        cross0 = (v3[0] - v1_0[0]) * e1[1] - (v3[1] - v1_0[1]) * e1[0]
+        h = wp.sign(cross0) * wp.sqrt(wp.max(h2, S(0.0)))
+        v2 = v1 + a * d + h * V2(-d[1], d[0])
+        return spec[9] * theta + spec[10] * turn(e1, v2 - v1) + spec[11] * turn(e2, v3 - v2)
+
+    return four_bar_value
+
+
+@lru_cache(maxsize=None)
+def closed_function(scalar=wp.float32):
+    """closed_value(spec, theta): a loop's passive joint by its closed form's kind (the generic
+    walk, which reads specs from arrays; unrolled kernels choose the form at code generation)."""
+    S = scalar
+    V = wp.types.vector(SPEC, scalar)
+    slider_value = slider_function(scalar)
+    four_bar_value = four_bar_function(scalar)
+
+    @wp.func
+    def closed_value(spec: V, theta: S) -> S:
+        if spec[0] == S(float(FOUR_BAR)):
+            return four_bar_value(spec, theta)
+        return slider_value(spec, theta)
+
+    return closed_value
+
+
 def _joint_value(chain: Chain, k: int, T):
     """value(q, i): link k's joint value: its column of q; for a passive joint of a solved loop, its
-    sum of active columns (a parallelogram) or its balance cylinder's closed form."""
+    sum of active columns (a parallelogram) or its closed form (balance cylinder, four-bar)."""
     S = T.scalar
     col = int(chain.qidx[k])
     follows = tuple((c, float(v)) for c, v in enumerate(chain.mimic[k]) if v != 0.0)
-    arm = tuple((c, float(v)) for c, v in enumerate(chain.slider_coef[k]) if v != 0.0)
-    slider = bool(chain.slider[k][0] != 0.0)
-    terms = arm if slider else follows
+    arm = tuple((c, float(v)) for c, v in enumerate(chain.closed_coef[k]) if v != 0.0)
+    kind = int(chain.closed[k][0])
+    terms = arm if kind else follows
     cols, coefs = tuple(c for c, _ in terms), tuple(v for _, v in terms)
-    spec = wp.types.vector(8, S)(*(float(v) for v in chain.slider[k]))
-    slider_value = slider_function(S)
+    spec = wp.types.vector(SPEC, S)(*(float(v) for v in chain.closed[k]))
+    form = four_bar_function(S) if kind == FOUR_BAR else slider_function(S)
 
     @wp.func
     def value(q: wp.array2d(dtype=S), i: int) -> S:
@@ -169,8 +229,8 @@ def _joint_value(chain: Chain, k: int, T):
         th = S(0.0)
         for n in range(wp.static(len(cols))):
             th += wp.static(S(coefs[n])) * q[i, wp.static(cols[n])]
-        if wp.static(slider):
-            th = slider_value(wp.static(spec), th)
+        if wp.static(kind != 0):
+            th = wp.static(form)(wp.static(spec), th)
         return th
 
     return value
@@ -285,7 +345,7 @@ def generic_walk(scalar=wp.float32):
     _, V3, M33, M34, M44 = T
     S = scalar
     _, to_mat34, apply, _ = pose_functions(scalar)
-    slider_value = slider_function(scalar)
+    closed_value = closed_function(scalar)
 
     @wp.struct
     class Tree:
@@ -295,10 +355,10 @@ def generic_walk(scalar=wp.float32):
         axis: wp.array(dtype=V3)
         point: wp.array(dtype=V3)
         order: wp.array(dtype=wp.int32)
-        follows: wp.array(dtype=wp.int32)  # 1: a passive joint of a solved loop (mimic or slider rows)
+        follows: wp.array(dtype=wp.int32)  # 1: a passive joint of a solved loop (mimic or closed rows)
         mimic: wp.array2d(dtype=S)
-        slider: wp.array(dtype=wp.types.vector(8, S))
-        slider_coef: wp.array2d(dtype=S)
+        closed: wp.array(dtype=wp.types.vector(SPEC, S))
+        closed_coef: wp.array2d(dtype=S)
 
     @wp.func
     def walk(tree: Tree, q: wp.array2d(dtype=S), i: int, poses: wp.array2d(dtype=M34)):
@@ -315,9 +375,9 @@ def generic_walk(scalar=wp.float32):
                 arm = S(0.0)
                 for c in range(q.shape[1]):
                     th += tree.mimic[k, c] * q[i, c]
-                    arm += tree.slider_coef[k, c] * q[i, c]
-                if tree.slider[k][0] != S(0.0):
-                    th = slider_value(tree.slider[k], arm)
+                    arm += tree.closed_coef[k, c] * q[i, c]
+                if tree.closed[k][0] != S(0.0):
+                    th = closed_value(tree.closed[k], arm)
             a = tree.axis[k]
             r = wp.identity(n=3, dtype=S)
             t = th * a

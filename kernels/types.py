@@ -23,8 +23,8 @@ class Chain(NamedTuple):
     point: np.ndarray  # float64 (n, 3): a point on the axis
     order: np.ndarray  # int32: the tree's links, parents before children, root first
     mimic: np.ndarray  # float64 (n, dof): a passive joint of a solved loop moves by mimic[k] @ q; zeros else
-    slider: np.ndarray  # float64 (n, 8): a balance cylinder's closed form (rswarp.rsxml.slider); kind 0: none
-    slider_coef: np.ndarray  # float64 (n, dof): the arm angle slider[k] reads, slider_coef[k] @ q
+    closed: np.ndarray  # float64 (n, SPEC): a closed form (rswarp.rsxml.closed: balance cylinder, four-bar); kind 0: none
+    closed_coef: np.ndarray  # float64 (n, dof): the input angle closed[k] reads, closed_coef[k] @ q
 
     @property
     def root(self) -> int:

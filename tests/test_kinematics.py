@@ -159,8 +159,8 @@ def test_bad_inputs(kins):
         kin.fk(np.zeros((1, 6)), links=["Link9"])
     with pytest.raises(KeyError, match="no flange 'tool9'"):
         kin.flange(np.zeros((1, 6)), "tool9")
-    with pytest.raises(rswarp.RsxmlError, match=r"four_bar.rsxml:\d+: joint 'Closing' closes a kinematic loop"):
-        Kinematics(rswarp.load(DATA / "loops" / "four_bar.rsxml"))
+    with pytest.raises(rswarp.RsxmlError, match=r"spatial.rsxml:\d+: joint 'Closing' closes a kinematic loop"):
+        Kinematics(rswarp.load(DATA / "loops" / "spatial.rsxml"))
 
 
 @pytest.mark.parametrize("name", ["irb2600", "branching"])

@@ -108,8 +108,102 @@ def test_generic_walk_agrees_with_the_unrolled_kernels():
 
 
 def test_loops_that_cannot_be_solved_yet_are_refused_at_their_joint():
-    with pytest.raises(rswarp.RsxmlError, match=r"four_bar.rsxml:15: joint 'Closing' closes a kinematic loop .*four-bar"):
-        rswarp.Kinematics(rswarp.load(DATA / "loops" / "four_bar.rsxml"))
+    with pytest.raises(rswarp.RsxmlError, match=r"spatial.rsxml:14: joint 'Closing' closes a kinematic loop .*general"):
+        rswarp.Kinematics(rswarp.load(DATA / "loops" / "spatial.rsxml"))
+
+
+# -- four-bars: closed form, branch, dead points ------------------------------------------------------
+
+
+def turn_y(a: float, p: np.ndarray) -> np.ndarray:
+    """(x, z) turned about +y by a: x -> x cos a + z sin a, z -> -x sin a + z cos a."""
+    c, s = np.cos(a), np.sin(a)
+    return np.array([c * p[0] + s * p[1], -s * p[0] + c * p[1]])
+
+
+def continuation(file: str, thetas: np.ndarray) -> np.ndarray:
+    """(Pin, Ground) by a Newton solve of the loop's closure, stepped in 0.1 degree steps from the
+    assembled zero position (each step starts from the last): the branch by continuation."""
+    from scipy.optimize import fsolve
+
+    mech = rswarp.load(DATA / "loops" / file)
+    j = {x.name: x for x in mech.joints}
+    b0, o2, c0 = (np.asarray(j[n].point1)[[0, 2]] for n in ("Pin", "Ground", "Closing"))
+
+    def gap(x, th):
+        via_coupler = turn_y(th, b0 + turn_y(x[0], c0 - b0))
+        return via_coupler - (o2 + turn_y(x[1], c0 - o2))
+
+    out = np.zeros((len(thetas), 2))
+    for i, target in enumerate(thetas):
+        x = np.zeros(2)
+        for th in np.linspace(0.0, target, max(2, int(abs(np.degrees(target)) / 0.1) + 1)):
+            x = fsolve(gap, x, args=(th,), xtol=1e-13)
+        assert np.abs(gap(x, target)).max() < 1e-12
+        out[i] = x
+    return out
+
+
+def loop_gap(mech, poses: np.ndarray) -> np.ndarray:
+    """How far the closing joint's point is from itself, seen from its two links."""
+    g = mech.graph
+    c = g.closing[0]
+    point = np.append(c.point1, 1.0)
+    return np.linalg.norm((poses[:, g.link_index(c.parent)] @ point)[:, :3] - (poses[:, g.link_index(c.child)] @ point)[:, :3], axis=1)
+
+
+@pytest.mark.parametrize("file, lo, hi", [("four_bar.rsxml", -30, 30), ("four_bar_dead.rsxml", -39, 60)])
+def test_four_bar_follows_its_assembly_branch_and_closes(file, lo, hi):
+    """Against a continuation solve from zero (scipy), over the reachable limits: the closed form
+    never jumps to the other branch; the loop closes in float32 within 1e-6 m."""
+    mech = rswarp.load(DATA / "loops" / file)
+    kin = rswarp.Kinematics(mech)
+    assert kin.passive_joints == ("Pin", "Ground")
+    q = np.radians(np.linspace(lo, hi, 41))[:, None]
+    np.testing.assert_allclose(kin.passive(q), continuation(file, q[:, 0]), atol=1e-9)
+    assert loop_gap(mech, kin.fk(q)).max() < 1e-6
+    assert loop_gap(mech, kin.fk64(q)).max() < 1e-12
+    k = mech.graph.link_index("Rocker")
+    np.testing.assert_allclose(kin.fk(q, links=["Rocker"])[:, 0], kin.fk(q)[:, k], atol=1e-6)  # generic walk
+
+
+def dead_point_flags(q: np.ndarray) -> np.ndarray:
+    """True where the dead-point four-bar closes: the crank's pin B within reach of both the coupler
+    and the rocker about O2 (|B - O2| between their difference and their sum), in mm."""
+    b = np.stack([200 * np.sin(q[:, 0]), 200 * np.cos(q[:, 0])], axis=1)
+    d = np.linalg.norm(b - [300, 0], axis=1)
+    coupler, rocker = np.hypot(300, 50), 150
+    return (d <= coupler + rocker) & (d >= coupler - rocker)
+
+
+def test_configurations_past_a_dead_point_are_flagged_and_nan():
+    mech = rswarp.load(DATA / "loops" / "four_bar_dead.rsxml")
+    kin = rswarp.Kinematics(mech)
+    q = np.random.default_rng(11).uniform(*mech.bounds(), (2000, 1))
+    want = dead_point_flags(q)
+    assert 0.1 < (~want).mean() < 0.3  # the dead point lies inside the limits
+    np.testing.assert_array_equal(kin.closes(q), want)
+    assert np.isnan(kin.passive(q)[~want]).all() and np.isfinite(kin.passive(q)[want]).all()
+    poses = kin.fk(q)
+    moved = [mech.graph.link_index(n) for n in ("Coupler", "Rocker")]
+    assert np.isnan(poses[~want][:, moved]).any(axis=(2, 3)).all()  # the links the loop moves: NaN
+    assert np.isfinite(poses[want]).all() and np.isfinite(poses[:, :2]).all()  # base and crank: posed
+    assert np.isnan(kin.flange(q)[~want]).any(axis=(1, 2)).all()
+
+
+def test_sweeps_skip_and_count_unreachable_configurations():
+    from rswarp.sim.workspace import sample_chunks
+
+    mech = rswarp.load(DATA / "loops" / "four_bar_dead.rsxml")
+    ws = rswarp.workspace(mech, samples=3000, seed=4)
+    q = np.concatenate(list(sample_chunks(*mech.bounds(), 3000, "random", 4)))
+    assert ws.unreachable == int((~dead_point_flags(q)).sum()) > 0 and ws.samples == 3000
+    assert ws.report()["unreachable_samples"] == ws.unreachable
+    assert ws.flange_reach.value == pytest.approx(0.45, abs=1e-6)  # O2 at 300 mm, the rocker 150 mm long
+    assert np.isfinite([ws.flange_low.value, ws.flange_high.value]).all()
+    balls = rswarp.load(DATA / "collisions" / "four_bar_dead.rsxml")
+    c = rswarp.collisions(balls, samples=3000, seed=4)
+    assert c.unreachable == ws.unreachable and c.samples == 3000 - c.unreachable
 
 
 def test_palletizer_flange_stays_horizontal():

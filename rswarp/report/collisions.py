@@ -123,6 +123,8 @@ def collisions_text(c: Collisions, mech: Mechanism, files: dict) -> str:
 
     lines = [f"{c.mechanism}: {c.samples} samples (seed {c.seed}), padding {length(c.padding)}",
              f"collision-free: {c.free_fraction:.2%} of samples (pairs the matrix keeps checking)",
+             *([f"skipped {c.unreachable} samples where a loop cannot close (past a dead point)"] if c.unreachable
+               else []),
              f"{'pair':<28} {'collide':>9}  matrix    clearance (never colliding)"]
     for p in c.pairs:
         name = f"{p.body1} / {p.body2}"

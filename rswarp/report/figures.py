@@ -1,5 +1,6 @@
-"""Datasheet work-range figures: the wrist-centre envelope seen from the side (plane of J1 = 0)
-and from above, in the file's length unit, with the reach annotated. PNG via matplotlib (Agg)."""
+"""Datasheet work-range figures: the wrist-centre envelope (the flange's, for robots of four axes
+or fewer, such as palletizers, whose datasheets measure to the flange) seen from the side (plane of
+J1 = 0) and from above, in the file's length unit, with the reach annotated. PNG via matplotlib (Agg)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,6 @@ import io
 
 import numpy as np
 
-from ..errors import InputError
 from ..files import atomic_write
 from ..rsxml.model import Mechanism
 from ..sim.workspace import Workspace
@@ -20,19 +20,21 @@ def _png(fig) -> bytes:
 
 
 def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> None:
-    """Write the side and top views (each atomically). Needs a wrist centre (five axes or more)."""
+    """Write the side and top views (each atomically): of the wrist centre, or of the flange where
+    there is none (below five axes)."""
     import matplotlib
 
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle
 
-    if ws.side is None or ws.reach is None:
-        raise InputError(f"'{mech.name}' has no wrist centre: work-range figures need five axes or more")
     f = mech.length_factor
     unit = mech.length_unit or "m"
     r, bx, by, bz = ws.view_extent
-    reach = ws.reach.value
+    wrist = ws.reach is not None
+    reach_e, low, high = (ws.reach, ws.wrist_low, ws.wrist_high) if wrist else \
+        (ws.flange_reach, ws.flange_low, ws.flange_high)
+    reach, point = reach_e.value, "wrist centre" if wrist else "flange"
 
     def axes(title, xlabel, ylabel):
         fig = Figure(figsize=(6.4, 6.4))
@@ -45,13 +47,13 @@ def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> N
         return fig, ax
 
     # side view: x (radial in the plane J1 = 0) against z
-    fig, ax = axes(f"{mech.name}: work range, side view (J1 = 0)", f"x [{unit}]", f"z [{unit}]")
+    fig, ax = axes(f"{mech.name}: work range of the {point}, side view (J1 = 0)", f"x [{unit}]", f"z [{unit}]")
     ax.imshow((ws.side > 0).T, origin="lower", extent=[(bx - r) / f, (bx + r) / f, (bz - r) / f, (bz + r) / f],
               cmap="Blues", vmin=0, vmax=1.6, interpolation="nearest")
     ax.axvline((bx + reach) / f, color="tab:red", ls="--", lw=1)
-    ax.annotate(f"reach {reach / f:.1f} {unit}", xy=((bx + reach) / f, (bz + ws.wrist_high.value) / 2 / f),
+    ax.annotate(f"reach {reach / f:.1f} {unit}", xy=((bx + reach) / f, (bz + high.value) / 2 / f),
                 xytext=(-8, 0), textcoords="offset points", ha="right", color="tab:red")
-    for e, label in ((ws.wrist_high, "highest"), (ws.wrist_low, "lowest")):
+    for e, label in ((high, "highest"), (low, "lowest")):
         ax.axhline(e.value / f, color="tab:gray", ls=":", lw=1)
         ax.annotate(f"{label} {e.value / f:.1f} {unit}", xy=((bx - r) / f, e.value / f), xytext=(4, 3),
                     textcoords="offset points", fontsize=8, color="tab:gray")
@@ -59,7 +61,7 @@ def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> N
     atomic_write(side_path, _png(fig))
 
     # top view: x against y, the reach as a circle about the J1 axis
-    fig, ax = axes(f"{mech.name}: work range, top view", f"x [{unit}]", f"y [{unit}]")
+    fig, ax = axes(f"{mech.name}: work range of the {point}, top view", f"x [{unit}]", f"y [{unit}]")
     ax.imshow((ws.top > 0).T, origin="lower", extent=[(bx - r) / f, (bx + r) / f, (by - r) / f, (by + r) / f],
               cmap="Blues", vmin=0, vmax=1.6, interpolation="nearest")
     ax.add_patch(Circle((bx / f, by / f), reach / f, fill=False, color="tab:red", ls="--", lw=1))

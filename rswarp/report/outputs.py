@@ -41,16 +41,14 @@ def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path) -> dict:
     replaces ``out`` (a folder holding an earlier sweep's files only, or none), so an interrupted
     run never leaves new voxels beside an old report. The report as a dict, its files under ``files``."""
     out = Path(out)
-    files = {"voxels": out / "workspace.npz", "report": out / "report.json"}
-    if ws.reach is not None:
-        files["side_view"], files["top_view"] = out / "side.png", out / "top.png"
+    files = {"voxels": out / "workspace.npz", "report": out / "report.json", "side_view": out / "side.png",
+             "top_view": out / "top.png"}
     doc = json_safe(ws.report()) | {"files": {k: str(v) for k, v in files.items()}}
     with atomic_folder(out, SWEEP_FILES) as tmp:
-        save_voxels(ws, tmp / files["voxels"].name)
-        if ws.reach is not None:
-            from .figures import work_range_figures
+        from .figures import work_range_figures
 
-            work_range_figures(ws, mech, tmp / "side.png", tmp / "top.png")
+        save_voxels(ws, tmp / files["voxels"].name)
+        work_range_figures(ws, mech, tmp / "side.png", tmp / "top.png")
         atomic_write(tmp / files["report"].name, (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
     return doc
 
@@ -87,7 +85,11 @@ def sweep_text(ws: Workspace, mech: Mechanism, files: dict) -> str:
     if ws.reach is not None:
         lines.append(f"  reach (J1 axis to wrist centre): {length(ws.reach.value)}  (best sample {length(ws.reach.sampled)})")
         lines.append(f"  wrist centre height: {length(ws.wrist_low.value)} to {length(ws.wrist_high.value)}")
-    lines.append(f"  flange reach: {length(ws.flange_reach.value)}")
+    flange = "  flange reach" if ws.reach is not None else "  reach (J1 axis to flange centre; no wrist centre below five axes)"
+    lines.append(f"{flange}: {length(ws.flange_reach.value)}")
     lines.append(f"  flange height: {length(ws.flange_low.value)} to {length(ws.flange_high.value)}")
+    if ws.unreachable:
+        lines.append(f"  skipped {ws.unreachable} samples ({ws.unreachable / ws.samples:.1%}) where a loop cannot close "
+                     "(past a dead point)")
     lines.append("  wrote " + ", ".join(str(p) for p in files.values()))
     return "\n".join(lines)

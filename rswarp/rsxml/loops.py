@@ -16,7 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import Joint
-from .slider import SPEC, slider_specs
+from .closed import FOUR_BAR as FOUR_BAR_SPEC
+from .closed import SPEC
+from .fourbar import four_bar_specs, four_bar_values
+from .slider import slider_specs, slider_values
 
 PARALLELOGRAM, FOUR_BAR, SLIDER, GENERAL = "parallelogram", "four-bar", "slider", "general"
 TOLERANCE = 1e-6  # relative: parallel axes, coincident corners, equal sides
@@ -137,18 +140,18 @@ class UnsolvedLoop(ValueError):
 @dataclass(frozen=True)
 class PassiveMap:
     """How each link's passive tree joint follows the active joints (rows by link index):
-    ``mimic[k] @ q`` (parallelograms), or for a balance cylinder ``slider[k]`` (a
-    ``rswarp.rsxml.slider`` spec, kind 0 for none) of the arm angle ``slider_coef[k] @ q``."""
+    ``mimic[k] @ q`` (parallelograms), or a closed form ``closed[k]`` (a ``rswarp.rsxml.closed``
+    spec, kind 0 for none: balance cylinders, four-bars) of the input angle ``closed_coef[k] @ q``."""
 
     mimic: np.ndarray
-    slider: np.ndarray
-    slider_coef: np.ndarray
+    closed: np.ndarray
+    closed_coef: np.ndarray
 
 
 def passive_map(graph) -> PassiveMap:
     """Every passive joint of the loops, as the active joints fix it: in parallelograms a signed sum
     of active joints (opposite sides keep their angle, as they are parallel at the zero position),
-    in balance cylinders the triangle's closed form. ``UnsolvedLoop`` for a loop of another kind or
+    in balance cylinders and four-bars a closed form. ``UnsolvedLoop`` for a loop of another kind or
     arrangement, or parallelograms whose passive joints the active ones do not fix."""
     dof, n = len(graph.active), len(graph.links)
     out = PassiveMap(np.zeros((n, dof)), np.zeros((n, SPEC)), np.zeros((n, dof)))
@@ -156,12 +159,12 @@ def passive_map(graph) -> PassiveMap:
     for closing in graph.closing:  # one loop at a time: the first that cannot be solved stops the walk
         loop = make_loop(graph, closing)
         solved.append(loop)
-        if loop.kind == SLIDER:
-            _add_slider(graph, loop, out)
+        if loop.kind in (SLIDER, FOUR_BAR):
+            _add_closed(graph, loop, out)
             continue
         if loop.kind != PARALLELOGRAM:
-            raise UnsolvedLoop(loop, f"its loop is a {loop.kind}: rswarp solves parallelograms and balance "
-                                     "cylinders so far")
+            raise UnsolvedLoop(loop, f"its loop is {loop.kind}: rswarp solves parallelograms, planar four-bars and "
+                                     "balance cylinders so far")
         rows += _opposite_sides(graph, loop)
         for j in loop.joints[:-1]:
             if not j.active:
@@ -171,16 +174,23 @@ def passive_map(graph) -> PassiveMap:
     return out
 
 
-def _add_slider(graph, loop: Loop, out: PassiveMap) -> None:
+def _add_closed(graph, loop: Loop, out: PassiveMap) -> None:
+    """A balance cylinder's or a four-bar's specs into ``out``."""
     normal = _plane_normal(loop.joints)
-    specs = slider_specs(graph, loop, graph.common_ancestor(loop.closing), normal, plane_basis(normal))
-    if specs is None:
-        raise UnsolvedLoop(loop, "its slider is not a cylinder pivoting on the loop's base and pinned to an arm "
-                                 "that one active joint turns")
+    if loop.kind == FOUR_BAR:
+        _, points = _corners(loop.joints, normal)
+        specs, why = four_bar_specs(graph, loop, points, _sides(graph, loop), normal)
+        if why:
+            raise UnsolvedLoop(loop, f"its loop is a four-bar, but {why}")
+    else:
+        specs = slider_specs(graph, loop, graph.common_ancestor(loop.closing), normal, plane_basis(normal))
+        if specs is None:
+            raise UnsolvedLoop(loop, "its slider is not a cylinder pivoting on the loop's base and pinned to an "
+                                     "arm that one active joint turns")
     for k, (spec, coef) in specs.items():
-        out.slider[k] = spec
+        out.closed[k] = spec
         for col, c in coef.items():
-            out.slider_coef[k, col] = c
+            out.closed_coef[k, col] = c
 
 
 def _solve_parallelograms(graph, rows, unknown: dict, solved: list, mimic: np.ndarray) -> None:
@@ -246,3 +256,8 @@ def _walk(graph, loop: Loop) -> list[tuple[Joint, int]]:
         out.append((j, nxt))
         link = nxt
     return out
+
+
+def closed_values(spec: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """A passive joint's closed form (``PassiveMap.closed``) at input angles ``theta``, float64."""
+    return four_bar_values(spec, theta) if spec[0] == FOUR_BAR_SPEC else slider_values(spec, theta)

@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .closed import ANGLE, SPEC, STROKE
 from .model import Joint
 
-ANGLE, STROKE = 1, 2  # what a slider spec gives: the pivot's angle, or the piston's stroke
-SPEC = 8  # [kind, sign, O (2), A0 (2), P (2)]: plane coordinates of arm joint, pin at zero, pivot
+# a spec: [kind (ANGLE or STROKE), sign, O (2), A0 (2), P (2)], the plane coordinates of the arm
+# joint, the pin at zero and the pivot; zeros to SPEC
 
 
 def slider_specs(graph, loop, ancestor: int, normal: np.ndarray,
@@ -34,8 +35,9 @@ def slider_specs(graph, loop, ancestor: int, normal: np.ndarray,
         return None  # the piston must slide along the line from pivot to pin
     geometry = flat(joint.point1) + flat(closing.point1) + flat(pivot.point1)
     coef = {graph.column(joint.name): float(np.sign(np.dot(joint.axis, normal)))}
-    return {graph.index[pivot.child]: (np.array([ANGLE, np.sign(np.dot(pivot.axis, normal)), *geometry]), coef),
-            graph.index[stroke.child]: (np.array([STROKE, np.sign(np.dot(stroke.axis, d0)), *geometry]), coef)}
+    spec = lambda kind, sign: np.pad([kind, sign, *geometry], (0, SPEC - 8))  # noqa: E731
+    return {graph.index[pivot.child]: (spec(ANGLE, np.sign(np.dot(pivot.axis, normal))), coef),
+            graph.index[stroke.child]: (spec(STROKE, np.sign(np.dot(stroke.axis, d0))), coef)}
 
 
 def _parts(graph, loop, ancestor: int) -> tuple[Joint | None, Joint | None, Joint]:

@@ -41,3 +41,16 @@ def mechanism_chain(mech: Mechanism) -> Chain:
         j = exc.loop.closing
         raise model_error(mech, f"joint '{j.name}' closes a kinematic loop that kinematics, sweeps and collision "
                                 f"checks cannot follow yet: {exc}", j.line) from None
+
+
+def closes(chain: Chain, q: np.ndarray) -> np.ndarray:
+    """``(N,)`` True where every loop of the chain closes at ``q`` (float64): False past a four-bar's
+    dead point, where the kernels' poses are NaN. The other closed forms close everywhere."""
+    from ..rsxml.closed import FOUR_BAR
+    from ..rsxml.loops import closed_values
+
+    q = np.atleast_2d(np.asarray(q, np.float64))
+    ok = np.ones(len(q), bool)
+    for k in np.nonzero(chain.closed[:, 0] == FOUR_BAR)[0]:
+        ok &= np.isfinite(closed_values(chain.closed[k], q @ chain.closed_coef[k]))
+    return ok

@@ -23,7 +23,7 @@ from ..errors import InputError, model_error
 from ..kernels.types import WITNESSES
 from ..rsxml.model import Mechanism
 from .bodies import Bodies, DeviceBodies, Environment, collision_bodies
-from .chain import mechanism_chain
+from .chain import closes, mechanism_chain
 from .launch import Launcher, init_warp
 from .witness import witness_grid
 from .workspace import sample_chunks
@@ -66,6 +66,7 @@ class Collisions:
     always_rounds: int
     free_samples: int  # samples where no pair the matrix keeps checking collides
     warnings: tuple[str, ...]
+    unreachable: int = 0  # samples skipped (not in ``samples``): a loop cannot close there
 
     @property
     def free_fraction(self) -> float:
@@ -87,7 +88,7 @@ class Collisions:
         return {
             "mechanism": self.mechanism, "samples": self.samples, "seed": self.seed, "padding": self.padding,
             "links": list(self.links), "default_q": list(self.default_q), "always_rounds": self.always_rounds,
-            "collision_free_fraction": self.free_fraction,
+            "collision_free_fraction": self.free_fraction, "unreachable_samples": self.unreachable,
             "pairs": [{"body1": p.body1, "body2": p.body2, "environment": p.environment,
                        "collisions": p.collisions, "rate": p.collisions / max(self.samples, 1),
                        "examples": [list(q) for q in p.examples], "clearance": p.clearance,
@@ -109,7 +110,7 @@ class Checker:
         from ..kernels.collide import collision_kernels
 
         self.bodies = bodies
-        chain = mechanism_chain(mech)
+        self.chain = chain = mechanism_chain(mech)
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
@@ -168,10 +169,15 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     checked = ~(default | always)
     sweep = _Sweep.empty(checker.pair_count, len(lower))
     for q in sample_chunks(lower, upper, samples, "random", seed, chunk=CHUNK):
-        hit, gap = checker.verdicts(q)
-        sweep.add(q, hit, gap, checked)
+        ok = closes(checker.chain, q)  # past a dead point there is no pose to check: skipped, counted
+        sweep.skipped += int((~ok).sum())
+        if ok.any():
+            sweep.add(q[ok], *checker.verdicts(q[ok]), checked)
         if progress:
-            progress(sweep.done, samples)
+            progress(sweep.done + sweep.skipped, samples)
+    if not sweep.done:
+        raise model_error(mech, f"none of the {samples} samples closes the loops of '{mech.name}': every one lies "
+                                "past a dead point")
     clear = _clearances(checker, sweep, seen)
     return _result(mech, bodies, sweep, clear, default, always, seen, rounds, home, padding, seed)
 
@@ -195,10 +201,11 @@ def _always(checker: Checker, lower, upper, seed: int, default: np.ndarray):
     while True:
         rng = np.random.default_rng([seed, 0x5EED, rounds])  # apart from the sweep's chunk streams
         q = lower + (upper - lower) * rng.random((ROUND, len(lower)))
+        q = q[closes(checker.chain, q)]
         hit = checker.verdicts(q)[0] & ~(default | always)  # disabled pairs are not checked (MoveIt's ACM)
         seen |= hit.any(axis=0)
         rounds += 1
-        found = hit.sum(axis=0) > limit
+        found = hit.sum(axis=0) > limit * len(q) / ROUND
         if not found.any():
             return always, rounds, seen
         always |= found
@@ -209,6 +216,7 @@ class _Sweep:
     """Counts, examples and the nearest samples of free pairs, gathered chunk by chunk."""
 
     done: int
+    skipped: int
     counts: np.ndarray
     free: int
     examples: list[list[np.ndarray]]
@@ -217,7 +225,7 @@ class _Sweep:
 
     @classmethod
     def empty(cls, pairs: int, dof: int) -> "_Sweep":
-        return cls(0, np.zeros(pairs, np.int64), 0, [[] for _ in range(pairs)],
+        return cls(0, 0, np.zeros(pairs, np.int64), 0, [[] for _ in range(pairs)],
                    np.full((pairs, CANDIDATES + 1), np.inf), np.zeros((pairs, CANDIDATES + 1, dof)))
 
     def add(self, q: np.ndarray, hit: np.ndarray, gap: np.ndarray, checked: np.ndarray) -> None:
@@ -271,4 +279,5 @@ def _result(mech, bodies: Bodies, sweep: _Sweep, clear: dict, default, always, s
                       key=lambda ab: (links.index(ab[0]), links.index(ab[1])))
     return Collisions(mechanism=mech.name, samples=sweep.done, seed=seed, padding=padding, links=links,
                       pairs=tuple(pairs), adjacent=tuple(adjacent), default_q=tuple(float(v) for v in home),
-                      always_rounds=rounds, free_samples=sweep.free, warnings=bodies.warnings)
+                      always_rounds=rounds, free_samples=sweep.free, warnings=bodies.warnings,
+                      unreachable=sweep.skipped)

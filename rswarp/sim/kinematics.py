@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import model_error
 from ..kernels import fk as fk_kernels
 from ..rsxml.model import Mechanism
-from .chain import mechanism_chain
+from .chain import closes, mechanism_chain
 from .launch import DEFAULT_CHUNK, Launcher, init_warp
 
 
@@ -45,7 +45,8 @@ class Kinematics:
         return len(self.graph.active)
 
     def fk(self, q, links: list[str] | None = None, out: np.ndarray | None = None) -> np.ndarray:
-        """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given).
+        """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given); NaN for
+        the links a loop moves where it cannot close (``closes(q)`` is False).
 
         ``out`` (C-contiguous float32 of that shape) is filled in place: reusing one buffer in a loop
         saves the page faults of a fresh array."""
@@ -60,19 +61,25 @@ class Kinematics:
 
     def passive(self, q) -> np.ndarray:
         """``(N, len(passive_joints))`` values of the passive joints at ``q`` (rad / m), as the FK
-        kernels solve them (``rswarp.rsxml.loops.passive_map``), computed here in float64."""
-        from ..rsxml.slider import slider_values
+        kernels solve them (``rswarp.rsxml.loops.passive_map``), computed here in float64; NaN where a
+        loop cannot close (``closes``)."""
+        from ..rsxml.loops import closed_values
 
         q = np.atleast_2d(np.asarray(q, np.float64))
         c = self.chain
-        cols = [slider_values(c.slider[k], q @ c.slider_coef[k]) if c.slider[k, 0] else q @ c.mimic[k]
+        cols = [closed_values(c.closed[k], q @ c.closed_coef[k]) if c.closed[k, 0] else q @ c.mimic[k]
                 for k, _ in self._passive_rows()]
         return np.stack(cols, axis=1) if cols else np.zeros((len(q), 0))
+
+    def closes(self, q) -> np.ndarray:
+        """``(N,)`` the per-configuration flag of closed loops: False where a loop cannot close at
+        ``q`` (past a four-bar's dead point); there ``fk`` and the sweeps' poses are NaN."""
+        return closes(self.chain, q)
 
     def _passive_rows(self) -> list:
         """(link, its tree joint) for each passive joint that follows the active ones, file order."""
         c = self.chain
-        moved = {j.name: k for k, j in self.graph.tree_order if np.any(c.mimic[k] != 0) or c.slider[k, 0] != 0}
+        moved = {j.name: k for k, j in self.graph.tree_order if np.any(c.mimic[k] != 0) or c.closed[k, 0] != 0}
         return [(moved[j.name], j) for j in self.mech.joints if j.name in moved]
 
     def fk64(self, q) -> np.ndarray:
@@ -150,12 +157,12 @@ class Kinematics:
             for name in ("axis", "point"):
                 setattr(tree, name, wp.array(getattr(c, name).astype(dtype), dtype=wp.types.vector(3, scalar),
                                              device=self.device))
-            follows = np.any(c.mimic != 0, axis=1) | (c.slider[:, 0] != 0)
+            follows = np.any(c.mimic != 0, axis=1) | (c.closed[:, 0] != 0)
             tree.follows = wp.array(follows.astype(np.int32), dtype=wp.int32, device=self.device)
             tree.mimic = wp.array(np.ascontiguousarray(c.mimic, dtype), dtype=scalar, device=self.device)
-            tree.slider = wp.array(np.ascontiguousarray(c.slider, dtype), dtype=wp.types.vector(8, scalar),
+            tree.closed = wp.array(np.ascontiguousarray(c.closed, dtype), dtype=wp.types.vector(c.closed.shape[1], scalar),
                                    device=self.device)
-            tree.slider_coef = wp.array(np.ascontiguousarray(c.slider_coef, dtype), dtype=scalar, device=self.device)
+            tree.closed_coef = wp.array(np.ascontiguousarray(c.closed_coef, dtype), dtype=scalar, device=self.device)
             self.launcher.load(frames)
             self._kernels[key] = (tree, frames, wrist)
         return self._kernels[key]

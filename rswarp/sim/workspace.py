@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -23,6 +23,7 @@ from .kinematics import Kinematics
 
 SAMPLE_CHUNK = 1 << 18
 TOP_K = 4  # best samples refined per extreme
+UNREACHABLE = 1e9  # metres: the penalty the optimizer sees past a dead point
 VIEW_BINS = 400  # pixels across a side or top view
 MAX_VOXELS = 1 << 26  # cells per occupancy grid (64 MiB each as booleans): memory is bounded by this
 
@@ -54,9 +55,10 @@ class Workspace:
     origin: tuple[float, float, float]
     wrist_voxels: np.ndarray | None = field(repr=False, compare=False)
     flange_voxels: np.ndarray = field(repr=False, compare=False)
-    side: np.ndarray | None = field(repr=False, compare=False)  # (x, z) counts at J1 = 0, wrist centre
-    top: np.ndarray | None = field(repr=False, compare=False)  # (x, y) counts, wrist centre
+    side: np.ndarray = field(repr=False, compare=False)  # (x, z) counts at J1 = 0: wrist centre, else flange
+    top: np.ndarray = field(repr=False, compare=False)  # (x, y) counts: wrist centre, else flange
     view_extent: tuple[float, float, float, float] = (0, 0, 0, 0)  # half-width, z0, z1 of the views
+    unreachable: int = 0  # samples skipped: a loop cannot close there (past a four-bar's dead point)
 
     def report(self) -> dict:
         """A JSON-ready summary (metres, radians, snake_case)."""
@@ -70,7 +72,7 @@ class Workspace:
             "flange_lowest": ext(self.flange_low), "flange_highest": ext(self.flange_high),
             "voxel_resolution": self.resolution, "voxel_origin": list(self.origin),
             "wrist_voxels_occupied": None if self.wrist_voxels is None else int(self.wrist_voxels.sum()),
-            "flange_voxels_occupied": int(self.flange_voxels.sum()),
+            "flange_voxels_occupied": int(self.flange_voxels.sum()), "unreachable_samples": self.unreachable,
         }
 
 
@@ -142,10 +144,15 @@ def _refine(fun: Callable[[np.ndarray], float], starts: np.ndarray, lower, upper
 
     best_v, best_q = -np.inf, None
     bounds = list(zip(lower, upper))
+
+    def value(q):  # past a dead point fun is NaN: far worse than any reachable value
+        v = fun(q)
+        return v if np.isfinite(v) else -UNREACHABLE
+
     for q0 in starts:
-        res = minimize(lambda q: -fun(q), q0, method="L-BFGS-B", bounds=bounds,
+        res = minimize(lambda q: -value(q), q0, method="L-BFGS-B", bounds=bounds,
                        options={"ftol": 1e-15, "gtol": 1e-12, "maxiter": 500})
-        for v, q in ((-res.fun, res.x), (fun(q0), q0)):
+        for v, q in ((-res.fun, res.x), (value(q0), q0)):
             if v > best_v:
                 best_v, best_q = float(v), np.asarray(q, float)
     return best_v, best_q
@@ -204,23 +211,25 @@ class _Grids:
     base: np.ndarray
     wrist: np.ndarray | None
     flange: np.ndarray
-    side: np.ndarray | None
-    top: np.ndarray | None
+    side: np.ndarray
+    top: np.ndarray
 
     @classmethod
     def empty(cls, base: np.ndarray, radius: float, resolution: float, has_wrist: bool) -> "_Grids":
         dims = (voxels_per_side(radius, resolution),) * 3
-        views = (np.zeros((VIEW_BINS, VIEW_BINS), np.int64) for _ in range(2)) if has_wrist else (None, None)
+        views = (np.zeros((VIEW_BINS, VIEW_BINS), np.int64) for _ in range(2))
         return cls(base - radius, resolution, radius, base, np.zeros(dims, bool) if has_wrist else None,
                    np.zeros(dims, bool), *views)
 
-    def add(self, wrist: np.ndarray | None, flange: np.ndarray, side_wrist: np.ndarray | None) -> None:
+    def add(self, wrist: np.ndarray | None, flange: np.ndarray, side: np.ndarray) -> None:
+        """One chunk's points; the views show the wrist centre, or the flange where there is none
+        (``side``: the same point with J1 at 0)."""
         _mark(self.flange, flange, self.origin, self.resolution)
-        if wrist is None:
-            return
-        _mark(self.wrist, wrist, self.origin, self.resolution)
-        self.top += self._histogram(wrist[:, 0], wrist[:, 1], 0, 1)
-        self.side += self._histogram(side_wrist[:, 0], side_wrist[:, 2], 0, 2)
+        if wrist is not None:
+            _mark(self.wrist, wrist, self.origin, self.resolution)
+        shown = flange if wrist is None else wrist
+        self.top += self._histogram(shown[:, 0], shown[:, 1], 0, 1)
+        self.side += self._histogram(side[:, 0], side[:, 2], 0, 2)
 
     def _histogram(self, a: np.ndarray, b: np.ndarray, ia: int, ib: int) -> np.ndarray:
         r, c = self.radius, self.base
@@ -262,20 +271,27 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
     grids = _Grids.empty(exact.j1_point, radius, resolution, exact.has_wrist)
     best = _Best.empty(kin.dof)
     total = samples if method != "grid" else grid_points(samples, kin.dof) ** kin.dof
-    done = 0
+    done = skipped = 0
     for q in sample_chunks(lower, upper, samples, method, seed):
         wrist, flange = kin.wrist_flange(q, wrist=exact.has_wrist)
-        best.add(exact, q, wrist, flange)
-        side = None
-        if wrist is not None:
-            q0 = q.copy()
-            q0[:, 0] = 0.0  # the side view: the plane of J1 = 0
-            side = kin.wrist_flange(q0)[0]
-        grids.add(wrist, flange, side)
         done += len(q)
+        ok = np.isfinite(flange).all(axis=1)  # NaN: a loop cannot close there; skipped and counted
+        if not ok.all():
+            skipped += int((~ok).sum())
+            q, flange, wrist = q[ok], flange[ok], None if wrist is None else wrist[ok]
         if progress:
             progress(done, total)
-    return _result(mech, exact, best, grids, done, method, seed, lower, upper)
+        if not len(q):
+            continue
+        best.add(exact, q, wrist, flange)
+        q0 = q.copy()
+        q0[:, 0] = 0.0  # the side view: the plane of J1 = 0
+        w0, f0 = kin.wrist_flange(q0, wrist=exact.has_wrist)
+        grids.add(wrist, flange, f0 if w0 is None else w0)
+    if skipped == done:
+        raise model_error(mech, f"none of the {done} samples closes the loops of '{mech.name}': every one lies past "
+                                "a dead point")
+    return replace(_result(mech, exact, best, grids, done, method, seed, lower, upper), unreachable=skipped)
 
 
 def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, method: str, seed: int,
@@ -313,7 +329,7 @@ def _radius(exact: _Exact, lower: np.ndarray, upper: np.ndarray, seed: int) -> f
     for which, pts in ((0, wrist), (1, flange)):
         if pts is None:
             continue
-        d = np.linalg.norm(pts - exact.j1_point, axis=1)
+        d = np.nan_to_num(np.linalg.norm(pts - exact.j1_point, axis=1), nan=-np.inf)
         starts = q[np.argsort(d)[-4:]]
         value, _ = _refine(lambda x: float(np.linalg.norm(exact.points(x)[which][0] - exact.j1_point)),
                            starts, lower, upper)
