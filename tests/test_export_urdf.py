@@ -72,7 +72,9 @@ def test_meshes_are_written_beside_in_metres(tmp_path):
     assert masses[1].mass == pytest.approx(143.004, rel=1e-3)  # link_1.stl volume x 2700 kg/m^3
 
 
-def test_loops_are_refused(tmp_path):
-    with pytest.raises(rswarp.RsxmlError, match="closes a kinematic loop"):
-        to_urdf(rswarp.load(DATA / "parallel_rod.rsxml"), tmp_path / "x.urdf")
+def test_loops_urdf_cannot_express_are_refused(tmp_path):
+    """A four-bar is not linear in its active joint: refused, nothing written (parallelograms become
+    mimic joints: tests/test_loops.py)."""
+    with pytest.raises(rswarp.RsxmlError, match="closes a four-bar loop"):
+        to_urdf(rswarp.load(DATA / "loops" / "four_bar.rsxml"), tmp_path / "x.urdf")
     assert list(tmp_path.iterdir()) == []

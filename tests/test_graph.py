@@ -46,14 +46,16 @@ def test_parallel_rod_closing_joint_is_the_same_everywhere(tmp_path):
     # USD: the closing joint, and only it, leaves the articulation; every graph joint is written
     joints, excluded = _exported_joints(mech, tmp_path)
     assert joints == {j.name for j in graph.joints} and excluded == {"Rod2"}
-    # kinematics solves the parallelogram (tests/test_loops.py); URDF and Newton still refuse the
-    # loop naming the same joint, at its line
+    # kinematics solves the parallelogram (tests/test_loops.py); URDF leaves the closing joint out,
+    # Newton adds it outside the articulation
     from rswarp.export.newton import to_newton
     from rswarp.export.urdf import to_urdf
 
-    for make in (lambda: to_urdf(mech, tmp_path / "m.urdf"), lambda: to_newton(mech)):
-        with pytest.raises(rswarp.RsxmlError, match=r"parallel_rod.rsxml:20: joint 'Rod2' closes a kinematic loop"):
-            make()
+    to_urdf(mech, tmp_path / "m.urdf")
+    assert 'name="Rod2"' not in (tmp_path / "m.urdf").read_text() and "<mimic" in (tmp_path / "m.urdf").read_text()
+    model = to_newton(mech, shapes=False).finalize(device="cpu")
+    labels = [label.rsplit("/", 1)[-1] for label in model.joint_label]
+    assert labels[-1] == "Rod2" and model.joint_articulation.numpy()[-1] == -1
 
 
 def test_branching_tree_is_the_same_everywhere(tmp_path):
@@ -68,8 +70,9 @@ def test_branching_tree_is_the_same_everywhere(tmp_path):
     from rswarp.export.urdf import to_urdf_text
 
     model = to_newton(mech, shapes=False).finalize(device="cpu")
-    assert [label.rsplit("/", 1)[-1] for label in model.joint_label[1:]] == tree_joints  # parents first
-    assert list(newton_q_columns(mech)) == [graph.column(n) for n in tree_joints] == [0, 1, 3, 2]
+    depth_first = ["Lift", "Twist", "Shoulder", "Elbow"]  # parents first, each subtree whole (MuJoCo's order)
+    assert [label.rsplit("/", 1)[-1] for label in model.joint_label[1:]] == depth_first
+    assert list(newton_q_columns(mech)) == [graph.column(n) for n in depth_first] == [0, 3, 1, 2]
     urdf, _ = to_urdf_text(mech, tmp_path / "m.urdf")
     assert re.findall(r'<joint name="(\w+)" type="(?:revolute|prismatic)"', urdf) == tree_joints
 

@@ -281,3 +281,136 @@ def test_balance_cylinder_length_follows_the_law_of_cosines():
     point = np.append(pin.point1, 1.0)
     gap = (poses[:, g.link_index("Piston")] @ point)[:, :3] - (poses[:, g.link_index("Arm")] @ point)[:, :3]
     assert np.abs(gap).max() < 1e-6
+
+
+def test_palletizer_reach_and_work_range_figures_of_the_flange(tmp_path, capsys):
+    """A palletizer has no wrist centre: its reach is the flange's, 200 + 1000 sin 85 + 1200 mm
+    (J2 pivot, lower arm at its limit, upper arm kept level by the parallelogram at J3 = 0), and
+    the side and top views show the flange."""
+    from PIL import Image
+
+    from rswarp.cli import main
+
+    assert main(["sweep", str(examples.PALLETIZER), "--samples", "20000", "--out", str(tmp_path)]) == 0
+    text = capsys.readouterr().out
+    want = 200 + 1000 * np.sin(np.radians(85)) + 1200
+    assert f"reach (J1 axis to flange centre; no wrist centre below five axes): {want:.1f} mm" in text
+    for view in ("side.png", "top.png"):
+        assert Image.open(tmp_path / view).size[0] > 400
+
+
+# -- URDF: parallelograms as mimic joints -------------------------------------------------------------
+
+
+def palletizer_urdf(tmp_path):
+    mech = rswarp.load(examples.PALLETIZER)
+    rswarp.to_urdf(mech, tmp_path / "pal.urdf")
+    return mech, tmp_path / "pal.urdf"
+
+
+def test_palletizer_urdf_mimics_its_active_joints(tmp_path):
+    """yourdfpy, given only the four active joints, follows the mimic joints and puts every link
+    where rswarp does; the closing joints are left out, so the URDF is a tree."""
+    import xml.etree.ElementTree as ET
+
+    yourdfpy = pytest.importorskip("yourdfpy")
+    from rswarp.export.frames import link_origins
+
+    mech, path = palletizer_urdf(tmp_path)
+    joints = {j.get("name"): j for j in ET.parse(path).getroot().iter("joint")}
+    assert not {c.name for c in mech.graph.closing} & set(joints)
+    assert joints["Elbow"].find("mimic").get("joint") == "J3"  # Elbow = J3 - J2: two coaxial mimics
+    assert joints["Elbow_by_J2"].find("mimic").get("multiplier") == "-1"
+    urdf = yourdfpy.URDF.load(str(path), load_meshes=False)
+    assert urdf.actuated_joint_names == ["J1", "J2", "J3", "J6"]
+    kin = rswarp.Kinematics(mech)
+    q = np.random.default_rng(12).uniform(*mech.bounds(), (30, mech.dof))
+    poses, origins = kin.fk64(q), link_origins(mech)
+    for i in range(len(q)):
+        urdf.update_cfg(dict(zip(urdf.actuated_joint_names, q[i])))
+        for k, link in enumerate(kin.links):
+            got = np.array(urdf.get_transform(link, "Base"))
+            got[:3, 3] += origins["Base"]
+            want = poses[i, k][:3, :3] @ origins[link] + poses[i, k][:3, 3]
+            np.testing.assert_allclose(got[:3, 3], want, atol=1e-9)
+            np.testing.assert_allclose(got[:3, :3], poses[i, k][:3, :3], atol=1e-9)
+
+
+def test_newton_reads_the_palletizer_urdf_mimics(tmp_path):
+    """Newton's add_urdf keeps each passive joint's mimic; the joint values its mimic metadata gives
+    put every body, through eval_fk, where rswarp's kinematics do."""
+    newton = pytest.importorskip("newton")
+    import warp as wp
+
+    from rswarp.export.frames import link_origins
+
+    mech, path = palletizer_urdf(tmp_path)
+    builder = newton.ModelBuilder()
+    builder.add_urdf(str(path), floating=False)
+    model = builder.finalize(device="cpu")
+    names = [label.rsplit("/", 1)[-1] for label in model.joint_label]
+    leader, coeffs, start = model.joint_mimic_joint.numpy(), model.joint_mimic_coeffs.numpy(), model.joint_q_start.numpy()
+    followers = [j for j in range(len(names)) if leader[j] >= 0]
+    assert {names[j] for j in followers} >= set(rswarp.Kinematics(mech).passive_joints)
+    kin, origins, state = rswarp.Kinematics(mech), link_origins(mech), model.state()
+    bodies = [label.rsplit("/", 1)[-1] for label in model.body_label]
+    q = np.random.default_rng(13).uniform(*mech.bounds(), (10, mech.dof))
+    poses = kin.fk64(q)
+    for i in range(len(q)):
+        jq = np.zeros(model.joint_coord_count)
+        for j, v in zip(mech.active_joints, q[i]):
+            jq[start[names.index(j.name)]] = v
+        for j in followers:
+            jq[start[j]] = coeffs[j, 0] + coeffs[j, 1] * jq[start[leader[j]]]
+        newton.eval_fk(model, wp.array(jq, dtype=wp.float32, device="cpu"), model.joint_qd, state)
+        body_q = state.body_q.numpy()
+        for link in kin.links:
+            want = poses[i, kin.links.index(link)]
+            got = body_q[bodies.index(link), :3] + origins["Base"]
+            assert np.abs(got - (want[:3, :3] @ origins[link] + want[:3, 3])).max() <= 1e-5
+
+
+def test_urdf_refuses_loops_that_are_not_linear():
+    with pytest.raises(rswarp.RsxmlError, match=r"four_bar.rsxml:15: joint 'Closing' closes a four-bar loop whose "
+                                                r"passive joints are not linear .*<mimic>"):
+        rswarp.export.urdf.to_urdf_text(rswarp.load(DATA / "loops" / "four_bar.rsxml"), "x.urdf")
+    with pytest.raises(rswarp.RsxmlError, match=r"spatial.rsxml:14: joint 'Closing' closes a kinematic loop that "
+                                                r"URDF cannot express"):
+        rswarp.export.urdf.to_urdf_text(rswarp.load(DATA / "loops" / "spatial.rsxml"), "x.urdf")
+
+
+def test_newton_model_of_the_palletizer_keeps_its_loops_closed_while_it_moves():
+    """to_newton puts the closing joints outside the articulation; MuJoCo (through Newton) keeps
+    them closed as the arm sags under gravity (the kinematics-only model has tiny drives), and its
+    passive joints stay within 0.01 rad of where rswarp's closed form puts them for its active ones."""
+    newton = pytest.importorskip("newton")
+    import warp as wp
+    from scipy.spatial.transform import Rotation
+
+    from rswarp.export.frames import link_origins
+    from rswarp.export.newton import newton_q_columns, to_newton
+
+    mech = rswarp.load(examples.PALLETIZER)
+    builder = to_newton(mech)
+    cfg = newton.ModelBuilder.ShapeConfig(density=1000.0, has_shape_collision=False, has_particle_collision=False)
+    for k, link in enumerate(mech.link_names):  # the model has no meshes: a ball of mass on each link
+        builder.add_shape_sphere(k, xform=wp.transform(wp.vec3(*link_origins(mech)[link]), wp.quat_identity()),
+                                 radius=0.08, cfg=cfg)
+    model = builder.finalize(device="cpu")
+    solver = newton.solvers.SolverMuJoCo(model)
+    state, after, control = model.state(), model.state(), model.control()
+    for _ in range(500):
+        state.clear_forces()
+        solver.step(state, after, control, None, 1 / 500)
+        state, after = after, state
+    g, body_q = mech.graph, state.body_q.numpy()
+    for j in g.closing:
+        ends = [Rotation.from_quat(body_q[g.link_index(n), 3:]).apply(j.point1) + body_q[g.link_index(n), :3]
+                for n in (j.parent, j.child)]
+        assert np.linalg.norm(ends[0] - ends[1]) < 5e-4  # MuJoCo's equality constraints are soft
+    jq, cols = state.joint_q.numpy(), newton_q_columns(mech)
+    q = np.array([jq[list(cols).index(c)] for c in range(mech.dof)])
+    assert abs(q[1]) > 0.1  # it moved
+    kin = rswarp.Kinematics(mech)
+    names = [j.name for _, j in g.depth_first]
+    np.testing.assert_allclose([jq[names.index(n)] for n in kin.passive_joints], kin.passive(q[None])[0], atol=1e-2)

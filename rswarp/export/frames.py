@@ -41,15 +41,6 @@ def mechanism_of(model):
     return model, None
 
 
-def tree_error(mech: Mechanism, what: str):
-    """The error for a mechanism with a loop, where ``what`` needs a link tree."""
-    from ..errors import model_error
-
-    j = mech.graph.closing[0]
-    return model_error(mech, f"joint '{j.name}' closes a kinematic loop: {what} needs a link tree "
-                             "(parallel rods are not solved yet)", j.line)
-
-
 def link_poses(mech: Mechanism, q: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """World pose (4x4) of each reached link at joint values ``q`` (SI, default home); passive
     joints stay at zero. Link frames are the world frame at the zero position, so each tree joint

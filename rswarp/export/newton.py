@@ -11,7 +11,6 @@ import numpy as np
 
 from ..rsxml.model import Mechanism
 from ..transforms import matrix_quat
-from .frames import tree_error
 from .physics import BodyPhysics, JointPhysics, PhysicsOptions, RobotPhysics, robot_physics
 
 
@@ -24,12 +23,12 @@ def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = N
     joints get rswarp's drive gains (position mode, target home), limit spring, armature and
     effort/velocity limits (``physics``, or its fields as keywords). With ``shapes``, each part's
     convex collision pieces become shapes of its body and the bodies get the links' masses; link
-    pairs joined by a joint or touching at home do not collide. Flanges become sites.
+    pairs joined by a joint or touching at home do not collide. Flanges become sites. A loop's
+    closing joint joins its bodies outside the articulation (Newton's solvers keep it closed as a
+    constraint); its passive joints start where the loop closes at home.
     """
     import newton
 
-    if mech.graph.closing:
-        raise tree_error(mech, "a Newton model")
     if not isinstance(physics, RobotPhysics):
         physics = robot_physics(mech, physics or PhysicsOptions(**options), geometry=shapes)
     if builder is None:
@@ -40,9 +39,14 @@ def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = N
     root = graph.index[graph.base]
     joints = [builder.add_joint_fixed(-1, body[root], parent_xform=base, label=f"{graph.base}_fixed")]
     home = mech.home_position()
-    for k, j in graph.tree_order:  # joints parent before child, as eval_fk needs
+    passive = home_passive(mech)
+    for k, j in graph.depth_first:  # parents before children, as eval_fk needs; depth first, as MuJoCo
         joints.append(_add_joint(builder, graph, body, k, j, home, mech.limit(j.name), physics.joints.get(j.name)))
+        if k in passive:  # a loop's passive joint starts where the loop closes at home
+            builder.joint_q[builder.joint_q_start[joints[-1]]] = passive[k]
     builder.add_articulation(joints, label=mech.name)
+    for j in graph.closing:  # a loop closes outside the articulation (the USD export's excludeFromArticulation)
+        _add_closing(builder, graph, body, j)
     for fl in mech.flanges:  # flanges as sites: frames on their bodies (bodies are world-aligned at zero)
         builder.add_site(body[graph.index[fl.link]], label=fl.name, xform=_transform(fl.pose.matrix()))
     if shapes:
@@ -91,6 +95,39 @@ def _add_joint(builder, graph, body: dict[int, int], k: int, j, home: np.ndarray
     return index
 
 
+def home_passive(mech: Mechanism) -> dict[int, float]:
+    """The passive joints of the loops at the home position, by link index; a loop that cannot be
+    solved (unless home is the zero position), or cannot close at home, is the file's error at its
+    closing joint."""
+    from ..errors import model_error
+    from ..rsxml.loops import UnsolvedLoop, passive_map, passive_values
+
+    if not mech.graph.closing:
+        return {}
+    home = mech.home_position()
+    try:
+        values = passive_values(passive_map(mech.graph), home[None])
+    except UnsolvedLoop as exc:
+        if not home.any():
+            return {}  # the zero position is assembled (the spec): every passive joint at zero
+        raise model_error(mech, f"joint '{exc.loop.closing.name}' closes a kinematic loop that a Newton model "
+                                f"cannot start from: {exc}", exc.loop.closing.line) from None
+    if not all(np.isfinite(v[0]) for v in values.values()):
+        j = mech.graph.closing[0]
+        raise model_error(mech, "the home position lies past a dead point: a loop cannot close there", j.line)
+    return {k: float(v[0]) for k, v in values.items()}
+
+
+def _add_closing(builder, graph, body: dict[int, int], j) -> int:
+    """A loop's closing joint between its two bodies, anchored on its axis (frames are world at zero)."""
+    import warp as wp
+
+    anchor = wp.transform(wp.vec3(*j.point1), wp.quat_identity())
+    add = builder.add_joint_revolute if j.revolute else builder.add_joint_prismatic
+    return add(body[graph.index[j.parent]], body[graph.index[j.child]], parent_xform=anchor, child_xform=anchor,
+               axis=wp.vec3(*j.axis), label=j.name)
+
+
 def _add_shapes(mech: Mechanism, builder, body: dict[int, int], physics: RobotPhysics) -> None:
     """Each part's convex pieces (world at zero position = its body's frame) as convex-hull shapes
     of no density (the body has its mass), then the filtered pairs."""
@@ -113,6 +150,7 @@ def _add_shapes(mech: Mechanism, builder, body: dict[int, int], physics: RobotPh
 
 
 def newton_q_columns(mech: Mechanism) -> np.ndarray:
-    """For each of Newton's joint coordinates of one world, the column of rswarp's q (-1: none)."""
+    """For each of Newton's joint coordinates of one world, the column of rswarp's q (-1: none;
+    closing joints come last)."""
     graph = mech.graph
-    return np.array([graph.column(j.name) for _, j in graph.tree_order], np.int64)
+    return np.array([graph.column(j.name) for _, j in graph.depth_first] + [-1] * len(graph.closing), np.int64)

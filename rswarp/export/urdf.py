@@ -9,7 +9,12 @@ path by default, so pinocchio (which resolves a relative mesh path only against 
 folders), yourdfpy and Newton find them with no extra arguments; ``mesh_paths="relative"`` writes
 ``meshes/<stem>/...`` paths for a folder that can be moved (Newton and yourdfpy resolve them against the
 URDF's folder; pinocchio then needs ``package_dirs=[folder]``). Flanges become fixed
-child links. URDF has no closed chains: a mechanism with a loop is refused with a clear error.
+child links. URDF has no closed chains: a loop's closing joint is left out and its passive joints
+become ``<mimic>`` joints of the active ones (as ROS-Industrial's parallel-rod robots do). A passive
+joint that is a sum of several active ones (a palletizer's rod turns with J2 - J3) is a chain of
+coaxial mimic joints, one per active joint, through massless links ``<joint>_by_<active>``. A loop
+that is not linear in the active joints (a four-bar, a balance cylinder) is refused with a clear
+error: URDF cannot say it.
 
 Every joint limit carries an effort and a velocity (``physics.JointPhysics``: given, or the
 defaults scaled to the robot; never 0, which MuJoCo reads as a joint that cannot move). URDF has
@@ -30,7 +35,7 @@ from ..errors import InputError
 from ..files import cleanup_on_terminate, merge_folder, new_folders
 from ..rsxml.model import Mechanism
 from ..transforms import matrix_euler_zyx
-from .frames import link_origins, tree_error
+from .frames import link_origins
 from .physics import BodyPhysics, PhysicsOptions, RobotPhysics, robot_physics
 from .srdf import EXPORT_REASONS, srdf_text
 
@@ -80,8 +85,7 @@ def to_urdf_text(mech: Mechanism, path: str | Path, physics: PhysicsOptions | Ro
     """The URDF document for a file at ``path``, and warnings; the meshes it names are added to
     ``files`` (written by ``to_urdf``)."""
     graph = mech.graph
-    if graph.closing:
-        raise tree_error(mech, "URDF")
+    mimics = loop_mimics(mech)
     robot = physics if isinstance(physics, RobotPhysics) else robot_physics(mech, physics)
     files = _Files(Path(path).stem) if files is None else files
     origins = link_origins(mech)
@@ -89,8 +93,10 @@ def to_urdf_text(mech: Mechanism, path: str | Path, physics: PhysicsOptions | Ro
              '  <material name="graphite_white"><color rgba="0.843 0.843 0.843 1"/></material>']
     for k in graph.order:
         lines += _link(robot.bodies[graph.links[k]], files)
+    taken = set(mech.link_names) | {fl.name for fl in mech.flanges}
     for k, j in graph.tree_order:
-        lines += _joint(mech, j, origins, robot)
+        lines += _mimic_chain(mech, j, origins, robot, mimics[j.name], taken) if j.name in mimics else \
+            _joint(mech, j, origins, robot)
     lines += _flanges(mech, origins)
     lines.append("</robot>")
     return "\n".join(lines) + "\n", list(robot.warnings)
@@ -115,6 +121,64 @@ def _link(body: BodyPhysics, files: _Files) -> list[str]:
                      f'<inertia ixx="{_f(i[0, 0])}" ixy="{_f(i[0, 1])}" ixz="{_f(i[0, 2])}" iyy="{_f(i[1, 1])}" '
                      f'iyz="{_f(i[1, 2])}" izz="{_f(i[2, 2])}"/></inertial>')
     return lines + ["  </link>"]
+
+
+def loop_mimics(mech: Mechanism) -> dict[str, list[tuple[str, float]]]:
+    """Each passive tree joint of the loops as (active joint, multiplier) terms of its value; a
+    loop whose passive joints are not such sums is the file's error at its closing joint."""
+    from ..errors import model_error
+    from ..rsxml.loops import UnsolvedLoop, passive_map
+
+    graph = mech.graph
+    if not graph.closing:
+        return {}
+    try:
+        passive = passive_map(graph)
+    except UnsolvedLoop as exc:
+        raise model_error(mech, f"joint '{exc.loop.closing.name}' closes a kinematic loop that URDF cannot "
+                                f"express: {exc}", exc.loop.closing.line) from None
+    for k in map(int, (passive.closed[:, 0] != 0).nonzero()[0]):
+        loop = next(loop for loop in graph.loops if graph.tree_joint[k] in loop.joints)
+        raise model_error(mech, f"joint '{loop.closing.name}' closes a {loop.kind} loop whose passive joints are not "
+                                "linear in the active ones: URDF's <mimic> cannot express it (the USD export keeps "
+                                "the loop)", loop.closing.line)
+    active = [j.name for j in graph.active]
+    return {graph.tree_joint[k].name: [(active[c], float(v)) for c, v in enumerate(row) if v != 0.0]
+            for k, row in enumerate(passive.mimic) if row.any()}
+
+
+def _mimic_chain(mech: Mechanism, j, origins: dict, robot: RobotPhysics, terms: list[tuple[str, float]],
+                 taken: set) -> list[str]:
+    """A passive joint of a loop as coaxial revolute (or prismatic) joints, one per active joint it
+    follows, each a <mimic> of that joint; massless links between them (their rotations about one
+    axis add up, so the chain turns by the sum)."""
+    lines, parent = [], j.parent
+    for i, (leader, multiplier) in enumerate(terms):
+        last = i == len(terms) - 1
+        name, child = (j.name, j.child) if last else (f"{j.name}_by_{leader}", _free(f"{j.name}_by_{leader}", taken))
+        if not last:
+            lines.append(f"  <link name={quoteattr(child)}/>")
+        offset = np.eye(4)
+        if i == 0:
+            offset[:3, 3] = origins[j.child] - origins[j.parent]
+        lim, jp = mech.limit(leader), robot.joints.get(leader)
+        lower, upper = sorted((multiplier * lim.min, multiplier * lim.max))
+        lines += [f"  <joint name={quoteattr(name)} type={quoteattr('revolute' if j.revolute else 'prismatic')}>",
+                  f"    <parent link={quoteattr(parent)}/><child link={quoteattr(child)}/>{_origin(offset)}",
+                  f'    <axis xyz="{" ".join(_f(v) for v in j.axis)}"/>',
+                  f'    <limit lower="{_f(lower)}" upper="{_f(upper)}" effort="{_f(jp.effort)}" velocity="{_f(jp.velocity)}"/>',
+                  f'    <mimic joint={quoteattr(leader)} multiplier="{_f(multiplier)}" offset="0"/>', "  </joint>"]
+        parent = child
+    return lines
+
+
+def _free(name: str, taken: set) -> str:
+    """``name``, or with a number appended where a link already has it."""
+    out, i = name, 1
+    while out in taken:
+        out, i = f"{name}_{i}", i + 1
+    taken.add(out)
+    return out
 
 
 def _joint(mech: Mechanism, j, origins: dict, robot: RobotPhysics) -> list[str]:

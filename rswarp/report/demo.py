@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
+from ..errors import RsxmlError
 from ..rsxml.documents import Report, check
 from ..rsxml.model import Mechanism
 from .info import report_dict, report_text
@@ -82,9 +83,11 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     matrix, collision_line = _collisions(mech, out)
     usd, urdf = out / f"{mech.name}.usdc", out / f"{mech.name}.urdf"
-    done = [export(mech, usd, disabled=matrix)]
-    if mech.graph.is_tree:
+    done, no_urdf = [export(mech, usd, disabled=matrix)], ""
+    try:
         done.append(export(mech, urdf, disabled=matrix))
+    except RsxmlError as exc:  # a loop URDF cannot express (not linear in the active joints)
+        no_urdf = f" (no URDF: {exc})"
     warnings = [w for d in done for w in d.warnings]
     lf, unit = mech.length_factor, mech.length_unit or "m"
     pos = ", ".join(rounded(float(v), lf, 1e-4) for v in flange[:3, 3])
@@ -93,8 +96,8 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     lines = [f"== {mech.name}: flange at home ({pos}) {unit}; reach {rounded(reach.value, lf, 1e-4)} {unit} "
              f"({what}, {DEMO_SAMPLES} samples refined)", *(f"   {w}" for w in warnings[:1]),
              f"   {collision_line}",
-             f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else " (no URDF: its loops need mimic joints, "
-                                    "not written yet)") + f": {_physics_line(done[0].physics)}", ""]
+             f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else no_urdf) + f": {_physics_line(done[0].physics)}",
+             ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
             "usd": str(usd), "urdf": str(urdf) if len(done) > 1 else None}

@@ -108,6 +108,20 @@ class LinkGraph:
         """(link index, joint that moves it) for every reached link but the base, parents first."""
         return tuple((k, self.tree_joint[k]) for k in self.order if self.tree_joint[k] is not None)
 
+    @cached_property
+    def depth_first(self) -> tuple[tuple[int, Joint], ...]:
+        """``tree_order`` depth first: each subtree whole before its sibling's (the joint order
+        MuJoCo keeps, so a Newton model built in it converts without reordering)."""
+        children: dict[int, list[tuple[int, Joint]]] = {}
+        for k, j in self.tree_order:
+            children.setdefault(self.parent[k], []).append((k, j))
+        out, stack = [], list(reversed(children.get(self.index[self.base], [])))
+        while stack:
+            k, j = stack.pop()
+            out.append((k, j))
+            stack.extend(reversed(children.get(k, [])))
+        return tuple(out)
+
     def column(self, joint: str) -> int:
         """The joint's column in joint values q, or -1 for a passive joint."""
         return self._columns.get(joint, -1)

@@ -258,6 +258,17 @@ def _walk(graph, loop: Loop) -> list[tuple[Joint, int]]:
     return out
 
 
+def passive_values(passive, q) -> dict[int, np.ndarray]:
+    """Each solved passive joint's values at ``q`` (N, dof), by its link's index, float64; NaN where
+    its loop cannot close. ``passive``: a ``PassiveMap``, or a ``Chain`` (the same rows)."""
+    q = np.atleast_2d(np.asarray(q, np.float64))
+    out = {}
+    for k in np.nonzero(np.any(passive.mimic != 0, axis=1) | (passive.closed[:, 0] != 0))[0]:
+        spec = passive.closed[k]
+        out[int(k)] = closed_values(spec, q @ passive.closed_coef[k]) if spec[0] else q @ passive.mimic[k]
+    return out
+
+
 def closed_values(spec: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """A passive joint's closed form (``PassiveMap.closed``) at input angles ``theta``, float64."""
     return four_bar_values(spec, theta) if spec[0] == FOUR_BAR_SPEC else slider_values(spec, theta)

@@ -63,13 +63,11 @@ class Kinematics:
         """``(N, len(passive_joints))`` values of the passive joints at ``q`` (rad / m), as the FK
         kernels solve them (``rswarp.rsxml.loops.passive_map``), computed here in float64; NaN where a
         loop cannot close (``closes``)."""
-        from ..rsxml.loops import closed_values
+        from ..rsxml.loops import passive_values
 
-        q = np.atleast_2d(np.asarray(q, np.float64))
-        c = self.chain
-        cols = [closed_values(c.closed[k], q @ c.closed_coef[k]) if c.closed[k, 0] else q @ c.mimic[k]
-                for k, _ in self._passive_rows()]
-        return np.stack(cols, axis=1) if cols else np.zeros((len(q), 0))
+        values = passive_values(self.chain, q)
+        cols = [values[k] for k, _ in self._passive_rows()]
+        return np.stack(cols, axis=1) if cols else np.zeros((len(np.atleast_2d(q)), 0))
 
     def closes(self, q) -> np.ndarray:
         """``(N,)`` the per-configuration flag of closed loops: False where a loop cannot close at
