@@ -19,6 +19,7 @@ import warp as wp
 
 from ..rsxml.closed import ANGLE, FOUR_BAR, SPEC
 from ..rsxml.fourbar import DEAD_TOLERANCE
+from .loops import loop_solver, unknowns
 from .types import PRISMATIC, REVOLUTE, Chain, types_of
 
 # Longer chains compile slowly when unrolled (code grows with the chain): they take the generic walk.
@@ -77,23 +78,29 @@ def tree_fk(chain: Chain, needed, emit, scalar=wp.float32):
     _, V3, M33, M34, M44 = T
     needed = frozenset(int(k) for k in needed)
     keep = chain.ancestors(needed)
-    root = _link_visitor(chain, chain.root, keep, needed, emit, T)
+    VX = wp.types.vector(unknowns(chain), scalar)
+    root = _link_visitor(chain, chain.root, keep, needed, emit, T, VX)
+    # loops with no closed form are solved once per configuration, before any link is posed
+    solve = loop_solver(chain, scalar) if any(chain.unknown[k] >= 0 for k in keep) else None
 
     @wp.func
     def fk(q: wp.array2d(dtype=scalar), i: int, out: Any):
-        wp.static(root)(q, i, wp.identity(n=3, dtype=scalar), V3(), out)
+        x = VX()
+        if wp.static(solve is not None):
+            x = wp.static(solve)(q, i)
+        wp.static(root)(q, i, wp.identity(n=3, dtype=scalar), V3(), out, x)
 
     return fk
 
 
-def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
+def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T, VX):
     """The wp.func that poses link ``k`` from its parent's pose, emits it if needed, and visits the
-    children on the way to a needed link."""
+    children on the way to a needed link (``x``: the Newton-solved passive joints)."""
     S, V3, M33, _, _ = T
-    kids = tuple(_link_visitor(chain, c, keep, needed, emit, T) for c in chain.children(k) if c in keep)
+    kids = tuple(_link_visitor(chain, c, keep, needed, emit, T, VX) for c in chain.children(k) if c in keep)
     col, jtype = int(chain.qidx[k]), int(chain.jtype[k])
     on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0  # parent pose is identity
-    follows = bool(np.any(chain.mimic[k] != 0.0) or chain.closed[k][0] != 0.0)  # a passive joint of a loop
+    follows = bool(np.any(chain.mimic[k] != 0.0) or chain.closed[k][0] != 0.0 or chain.unknown[k] >= 0)
     moves = (col >= 0 or follows) and jtype in (REVOLUTE, PRISMATIC)
     value = _joint_value(chain, k, T)
     revolute = jtype == REVOLUTE
@@ -102,11 +109,11 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
     emits = k in needed
 
     @wp.func
-    def visit(q: wp.array2d(dtype=S), i: int, rp: M33, tp: V3, out: Any):
+    def visit(q: wp.array2d(dtype=S), i: int, rp: M33, tp: V3, out: Any, x: VX):
         r = rp
         t = tp
         if wp.static(moves):
-            th = wp.static(value)(q, i)
+            th = wp.static(value)(q, i, x)
             if wp.static(revolute):
                 c = wp.cos(th)
                 s = wp.sin(th)
@@ -121,7 +128,7 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T):
         if wp.static(emits):
             wp.static(emit)(out, i, wp.static(k), r, t)
         for c in range(wp.static(len(kids))):
-            wp.static(kids[c])(q, i, r, t, out)
+            wp.static(kids[c])(q, i, r, t, out, x)
 
     return visit
 
@@ -210,8 +217,9 @@ def closed_function(scalar=wp.float32):
 
 
 def _joint_value(chain: Chain, k: int, T):
-    """value(q, i): link k's joint value: its column of q; for a passive joint of a solved loop, its
-    sum of active columns (a parallelogram) or its closed form (balance cylinder, four-bar)."""
+    """value(q, i, x): link k's joint value: its column of q; for a passive joint of a solved loop,
+    its sum of active columns (a parallelogram), its closed form (balance cylinder, four-bar), or
+    its unknown in the loops' Newton solve ``x``."""
     S = T.scalar
     col = int(chain.qidx[k])
     follows = tuple((c, float(v)) for c, v in enumerate(chain.mimic[k]) if v != 0.0)
@@ -221,11 +229,14 @@ def _joint_value(chain: Chain, k: int, T):
     cols, coefs = tuple(c for c, _ in terms), tuple(v for _, v in terms)
     spec = wp.types.vector(SPEC, S)(*(float(v) for v in chain.closed[k]))
     form = four_bar_function(S) if kind == FOUR_BAR else slider_function(S)
+    u = int(chain.unknown[k])
 
     @wp.func
-    def value(q: wp.array2d(dtype=S), i: int) -> S:
+    def value(q: wp.array2d(dtype=S), i: int, x: Any) -> S:
         if wp.static(col >= 0):
             return q[i, wp.static(max(col, 0))]
+        if wp.static(u >= 0):
+            return x[wp.static(max(u, 0))]
         th = S(0.0)
         for n in range(wp.static(len(cols))):
             th += wp.static(S(coefs[n])) * q[i, wp.static(cols[n])]

@@ -25,6 +25,8 @@ class Chain(NamedTuple):
     mimic: np.ndarray  # float64 (n, dof): a passive joint of a solved loop moves by mimic[k] @ q; zeros else
     closed: np.ndarray  # float64 (n, SPEC): a closed form (rswarp.rsxml.closed: balance cylinder, four-bar); kind 0: none
     closed_coef: np.ndarray  # float64 (n, dof): the input angle closed[k] reads, closed_coef[k] @ q
+    unknown: np.ndarray  # int32 (n,): the link's joint as an unknown of the loops' Newton solve; -1: none
+    general: np.ndarray  # float64 (rows, 11): those loops (rswarp.rsxml.general)
 
     @property
     def root(self) -> int:

@@ -374,6 +374,8 @@ def test_urdf_refuses_loops_that_are_not_linear():
     with pytest.raises(rswarp.RsxmlError, match=r"four_bar.rsxml:15: joint 'Closing' closes a four-bar loop whose "
                                                 r"passive joints are not linear .*<mimic>"):
         rswarp.export.urdf.to_urdf_text(rswarp.load(DATA / "loops" / "four_bar.rsxml"), "x.urdf")
+    with pytest.raises(rswarp.RsxmlError, match=r"five_bar.rsxml:\d+: joint .Tip. closes a general loop whose passive"):
+        rswarp.export.urdf.to_urdf_text(rswarp.load(DATA / "loops" / "five_bar.rsxml"), "x.urdf")
     with pytest.raises(rswarp.RsxmlError, match=r"spatial.rsxml:14: joint 'Closing' closes a kinematic loop that "
                                                 r"URDF cannot express"):
         rswarp.export.urdf.to_urdf_text(rswarp.load(DATA / "loops" / "spatial.rsxml"), "x.urdf")
@@ -414,3 +416,60 @@ def test_newton_model_of_the_palletizer_keeps_its_loops_closed_while_it_moves():
     kin = rswarp.Kinematics(mech)
     names = [j.name for _, j in g.depth_first]
     np.testing.assert_allclose([jq[names.index(n)] for n in kin.passive_joints], kin.passive(q[None])[0], atol=1e-2)
+
+
+# -- loops with no closed form: damped Newton steps with continuation ----------------------------------
+
+
+def five_bar_tip(q: np.ndarray) -> np.ndarray:
+    """The five-bar's tip (x, z in mm) where the forearms (180.28 mm) from the elbows A and B meet,
+    on the side of A-B it lies at zero (above): circle intersection. NaN where they cannot meet."""
+    a = np.stack([150 * np.sin(q[:, 0]), 150 * np.cos(q[:, 0])], axis=1)
+    b = np.stack([200 + 150 * np.sin(q[:, 1]), 150 * np.cos(q[:, 1])], axis=1)
+    d = b - a
+    dd = np.linalg.norm(d, axis=1)
+    h = np.sqrt(np.hypot(100, 150) ** 2 - (dd / 2) ** 2)  # NaN where dd > 2 x 180.28
+    up = np.stack([-d[:, 1], d[:, 0]], axis=1) / dd[:, None]  # left of A->B: above
+    return (a + b) / 2 + h[:, None] * up
+
+
+def test_five_bar_is_solved_by_newton_steps_on_its_branch():
+    """No closed form takes five corners: the damped Newton solve puts the tip where the forearms'
+    circles meet, above the elbows as at zero, closes the loop within 1e-6 m in float32, and flags
+    the configurations where the arms are spread too wide for the forearms to meet."""
+    mech = rswarp.load(DATA / "loops" / "five_bar.rsxml")
+    assert mech.graph.loops[0].kind == GENERAL
+    kin = rswarp.Kinematics(mech)
+    q = np.random.default_rng(14).uniform(*mech.bounds(), (3000, 2))
+    want = five_bar_tip(q)
+    reachable = np.isfinite(want).all(axis=1)
+    assert 0.02 < (~reachable).mean() < 0.5
+    np.testing.assert_array_equal(kin.closes(q), reachable)
+    tip = kin.flange(q)[:, [0, 2], 3] * 1000
+    np.testing.assert_allclose(tip[reachable], want[reachable], atol=1e-3)  # mm: 1 micron in float32
+    assert np.isnan(tip[~reachable]).all()
+    np.testing.assert_allclose(kin.flange(q[reachable][:200], )[:, [0, 2], 3] * 1000, want[reachable][:200], atol=1e-3)
+    assert loop_gap(mech, kin.fk(q[reachable])).max() < 1e-6
+    np.testing.assert_allclose(kin.fk64(q[reachable])[:, :, :3, 3], kin.fk(q[reachable])[:, :, :3, 3], atol=2e-6)
+    ws = rswarp.workspace(mech, samples=2000, seed=1)
+    from rswarp.sim.workspace import sample_chunks
+
+    sampled = np.concatenate(list(sample_chunks(*mech.bounds(), 2000, "random", 1)))
+    assert ws.unreachable == int((~np.isfinite(five_bar_tip(sampled)).all(axis=1)).sum()) > 0
+
+
+def test_cylinder_hung_from_the_arm_is_solved_by_newton_steps():
+    """The balance cylinder arranged the other way (no closed form): the stroke still equals the
+    law-of-cosines value, on the base that J1 turns, and the loop closes."""
+    mech = rswarp.load(DATA / "loops" / "balance_hung.rsxml")
+    (loop,) = mech.graph.loops
+    assert loop.kind == SLIDER
+    kin = rswarp.Kinematics(mech)
+    q = np.random.default_rng(15).uniform(*mech.bounds(), (500, 2))
+    o, a0, p = np.array([0.0, 0.5]), np.array([-0.2, 0.8]), np.array([-0.2, 0.3])  # (x, z), metres
+    c, s = np.cos(q[:, 1]), np.sin(q[:, 1])
+    r = a0 - o
+    pin = np.stack([o[0] + c * r[0] + s * r[1], o[1] - s * r[0] + c * r[1]], axis=1)  # J2 about +y
+    stroke = dict(zip(kin.passive_joints, kin.passive(q).T))["Stroke"]
+    np.testing.assert_allclose(stroke, np.linalg.norm(pin - p, axis=1) - 0.5, atol=1e-9)
+    assert kin.closes(q).all() and loop_gap(mech, kin.fk(q)).max() < 1e-6

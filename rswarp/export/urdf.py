@@ -137,7 +137,7 @@ def loop_mimics(mech: Mechanism) -> dict[str, list[tuple[str, float]]]:
     except UnsolvedLoop as exc:
         raise model_error(mech, f"joint '{exc.loop.closing.name}' closes a kinematic loop that URDF cannot "
                                 f"express: {exc}", exc.loop.closing.line) from None
-    for k in map(int, (passive.closed[:, 0] != 0).nonzero()[0]):
+    for k in map(int, ((passive.closed[:, 0] != 0) | (passive.unknown >= 0)).nonzero()[0]):
         loop = next(loop for loop in graph.loops if graph.tree_joint[k] in loop.joints)
         raise model_error(mech, f"joint '{loop.closing.name}' closes a {loop.kind} loop whose passive joints are not "
                                 "linear in the active ones: URDF's <mimic> cannot express it (the USD export keeps "

@@ -19,6 +19,7 @@ from .model import Joint
 from .closed import FOUR_BAR as FOUR_BAR_SPEC
 from .closed import SPEC
 from .fourbar import four_bar_specs, four_bar_values
+from .general import ROW, general_rows, general_values
 from .slider import slider_specs, slider_values
 
 PARALLELOGRAM, FOUR_BAR, SLIDER, GENERAL = "parallelogram", "four-bar", "slider", "general"
@@ -141,56 +142,87 @@ class UnsolvedLoop(ValueError):
 class PassiveMap:
     """How each link's passive tree joint follows the active joints (rows by link index):
     ``mimic[k] @ q`` (parallelograms), or a closed form ``closed[k]`` (a ``rswarp.rsxml.closed``
-    spec, kind 0 for none: balance cylinders, four-bars) of the input angle ``closed_coef[k] @ q``."""
+    spec, kind 0 for none: balance cylinders, four-bars) of the input angle ``closed_coef[k] @ q``,
+    or unknown ``unknown[k]`` of the damped Newton solve of the loops in ``general``."""
 
     mimic: np.ndarray
     closed: np.ndarray
     closed_coef: np.ndarray
+    unknown: np.ndarray  # int32 (n,): the link's joint in a Newton solve's unknowns, -1 for none
+    general: np.ndarray  # (rows, ROW): the loops of the Newton solve (rswarp.rsxml.general)
 
 
 def passive_map(graph) -> PassiveMap:
     """Every passive joint of the loops, as the active joints fix it: in parallelograms a signed sum
     of active joints (opposite sides keep their angle, as they are parallel at the zero position),
-    in balance cylinders and four-bars a closed form. ``UnsolvedLoop`` for a loop of another kind or
-    arrangement, or parallelograms whose passive joints the active ones do not fix."""
+    in balance cylinders and four-bars a closed form, in any other loop a damped Newton solve with
+    continuation (``rswarp.rsxml.general``). ``UnsolvedLoop`` for a loop none of them takes, a
+    passive joint two loops would set, or parallelograms whose passive joints the active ones do
+    not fix."""
     dof, n = len(graph.active), len(graph.links)
-    out = PassiveMap(np.zeros((n, dof)), np.zeros((n, SPEC)), np.zeros((n, dof)))
-    rows, unknown, solved = [], {}, []
+    out = PassiveMap(np.zeros((n, dof)), np.zeros((n, SPEC)), np.zeros((n, dof)), np.full(n, -1, np.int32),
+                     np.zeros((0, ROW)))
+    rows, unknown, solved, claimed = [], {}, [], {}
     for closing in graph.closing:  # one loop at a time: the first that cannot be solved stops the walk
         loop = make_loop(graph, closing)
         solved.append(loop)
-        if loop.kind in (SLIDER, FOUR_BAR):
-            _add_closed(graph, loop, out)
+        if loop.kind == PARALLELOGRAM:
+            rows += _opposite_sides(graph, loop)
+            for j in loop.joints[:-1]:
+                if not j.active:
+                    unknown.setdefault(graph.link_index(j.child), len(unknown))
             continue
-        if loop.kind != PARALLELOGRAM:
-            raise UnsolvedLoop(loop, f"its loop is {loop.kind}: rswarp solves parallelograms, planar four-bars and "
-                                     "balance cylinders so far")
-        rows += _opposite_sides(graph, loop)
-        for j in loop.joints[:-1]:
-            if not j.active:
-                unknown.setdefault(graph.link_index(j.child), len(unknown))
+        why = _add_closed(graph, loop, out) if loop.kind in (SLIDER, FOUR_BAR) else f"its loop is {loop.kind}"
+        out = _add_general(graph, loop, out, why) if why else out
+        for k in _set_by(out, loop, graph):
+            if claimed.setdefault(k, loop) is not loop:
+                raise UnsolvedLoop(loop, f"its passive joint '{graph.tree_joint[k].name}' is in another loop too")
     if unknown:
+        if set(unknown) & set(claimed):
+            loop = claimed[min(set(unknown) & set(claimed))]
+            raise UnsolvedLoop(loop, "its passive joints are in a parallelogram too")
         _solve_parallelograms(graph, rows, unknown, solved, out.mimic)
     return out
 
 
-def _add_closed(graph, loop: Loop, out: PassiveMap) -> None:
-    """A balance cylinder's or a four-bar's specs into ``out``."""
+def _set_by(out: PassiveMap, loop: Loop, graph) -> list[int]:
+    """The links whose passive joints ``loop`` sets (closed forms and Newton solves)."""
+    links = [graph.index[j.child] for j in loop.joints[:-1] if not j.active]
+    return [k for k in links if out.closed[k, 0] != 0 or out.unknown[k] >= 0]
+
+
+def _add_general(graph, loop: Loop, out: PassiveMap, why: str) -> PassiveMap:
+    """The loop as rows of a Newton solve (``rswarp.rsxml.general``); ``UnsolvedLoop`` saying why
+    neither a closed form (``why``) nor the solve takes it."""
+    first = int(out.unknown.max()) + 1
+    rows, unknowns, refused = general_rows(graph, loop, first)
+    if refused:
+        raise UnsolvedLoop(loop, f"{why}, and a Newton solve cannot take it: {refused}")
+    rows[:, 0] = len(np.unique(out.general[:, 0]))
+    unknown = out.unknown.copy()
+    for k, u in unknowns.items():
+        unknown[k] = u
+    return PassiveMap(out.mimic, out.closed, out.closed_coef, unknown, np.concatenate([out.general, rows]))
+
+
+def _add_closed(graph, loop: Loop, out: PassiveMap) -> str | None:
+    """A balance cylinder's or a four-bar's specs into ``out``; why not, where the closed form does
+    not take the loop."""
     normal = _plane_normal(loop.joints)
     if loop.kind == FOUR_BAR:
         _, points = _corners(loop.joints, normal)
         specs, why = four_bar_specs(graph, loop, points, _sides(graph, loop), normal)
         if why:
-            raise UnsolvedLoop(loop, f"its loop is a four-bar, but {why}")
+            return f"its loop is a four-bar, but {why}"
     else:
         specs = slider_specs(graph, loop, graph.common_ancestor(loop.closing), normal, plane_basis(normal))
         if specs is None:
-            raise UnsolvedLoop(loop, "its slider is not a cylinder pivoting on the loop's base and pinned to an "
-                                     "arm that one active joint turns")
+            return "its slider is not a cylinder pivoting on the loop's base and pinned to an arm one active joint turns"
     for k, (spec, coef) in specs.items():
         out.closed[k] = spec
         for col, c in coef.items():
             out.closed_coef[k, col] = c
+    return None
 
 
 def _solve_parallelograms(graph, rows, unknown: dict, solved: list, mimic: np.ndarray) -> None:
@@ -266,6 +298,9 @@ def passive_values(passive, q) -> dict[int, np.ndarray]:
     for k in np.nonzero(np.any(passive.mimic != 0, axis=1) | (passive.closed[:, 0] != 0))[0]:
         spec = passive.closed[k]
         out[int(k)] = closed_values(spec, q @ passive.closed_coef[k]) if spec[0] else q @ passive.mimic[k]
+    if len(passive.general):
+        x = general_values(passive.general, q, int(passive.unknown.max()) + 1)
+        out.update({int(k): x[:, u] for k, u in enumerate(passive.unknown) if u >= 0})
     return out
 
 

@@ -44,13 +44,17 @@ def mechanism_chain(mech: Mechanism) -> Chain:
 
 
 def closes(chain: Chain, q: np.ndarray) -> np.ndarray:
-    """``(N,)`` True where every loop of the chain closes at ``q`` (float64): False past a four-bar's
-    dead point, where the kernels' poses are NaN. The other closed forms close everywhere."""
+    """``(N,)`` True where every loop of the chain closes at ``q`` (float64): False past a dead point
+    of a four-bar or of a loop the Newton solve takes, where the kernels' poses are NaN. The other
+    closed forms close everywhere."""
     from ..rsxml.closed import FOUR_BAR
+    from ..rsxml.general import general_values
     from ..rsxml.loops import closed_values
 
     q = np.atleast_2d(np.asarray(q, np.float64))
     ok = np.ones(len(q), bool)
     for k in np.nonzero(chain.closed[:, 0] == FOUR_BAR)[0]:
         ok &= np.isfinite(closed_values(chain.closed[k], q @ chain.closed_coef[k]))
+    if len(chain.general):
+        ok &= np.isfinite(general_values(chain.general, q, int(chain.unknown.max()) + 1)).all(axis=1)
     return ok

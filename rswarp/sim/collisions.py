@@ -15,6 +15,7 @@ the chunk's index, so a sweep gives the same numbers on one core or many, and me
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from typing import Callable
 
 import numpy as np
@@ -24,6 +25,7 @@ from ..kernels.types import WITNESSES
 from ..rsxml.model import Mechanism
 from .bodies import Bodies, DeviceBodies, Environment, collision_bodies
 from .chain import closes, mechanism_chain
+from .kinematics import Kinematics
 from .launch import Launcher, init_warp
 from .witness import witness_grid
 from .workspace import sample_chunks
@@ -111,6 +113,8 @@ class Checker:
 
         self.bodies = bodies
         self.chain = chain = mechanism_chain(mech)
+        # the per-configuration flag of closed loops: on the host, or the device for Newton-solved ones
+        self.closes = Kinematics(mech, device).closes if len(chain.general) else partial(closes, chain)
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
@@ -169,7 +173,7 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     checked = ~(default | always)
     sweep = _Sweep.empty(checker.pair_count, len(lower))
     for q in sample_chunks(lower, upper, samples, "random", seed, chunk=CHUNK):
-        ok = closes(checker.chain, q)  # past a dead point there is no pose to check: skipped, counted
+        ok = checker.closes(q)  # past a dead point there is no pose to check: skipped, counted
         sweep.skipped += int((~ok).sum())
         if ok.any():
             sweep.add(q[ok], *checker.verdicts(q[ok]), checked)
@@ -201,7 +205,7 @@ def _always(checker: Checker, lower, upper, seed: int, default: np.ndarray):
     while True:
         rng = np.random.default_rng([seed, 0x5EED, rounds])  # apart from the sweep's chunk streams
         q = lower + (upper - lower) * rng.random((ROUND, len(lower)))
-        q = q[closes(checker.chain, q)]
+        q = q[checker.closes(q)]
         hit = checker.verdicts(q)[0] & ~(default | always)  # disabled pairs are not checked (MoveIt's ACM)
         seen |= hit.any(axis=0)
         rounds += 1

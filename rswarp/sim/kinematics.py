@@ -15,6 +15,9 @@ from .chain import closes, mechanism_chain
 from .launch import DEFAULT_CHUNK, Launcher, init_warp
 
 
+CLOSES_CHUNK = 1 << 14  # configurations whose poses ``closes`` holds at once
+
+
 class Kinematics:
     """Forward kinematics of one mechanism on a Warp device.
 
@@ -29,6 +32,11 @@ class Kinematics:
         self.launcher = Launcher(device, chunk, threads)
         self.device = self.launcher.device
         self.unrolled = len(self.chain.parent) <= fk_kernels.MAX_UNROLLED_LINKS
+        self.newton_loops = len(self.chain.general) > 0  # loops the kernels solve by damped Newton steps
+        if self.newton_loops and not self.unrolled:
+            j = self.graph.closing[0]
+            raise model_error(mech, f"loops with no closed form are solved in chains of at most "
+                                    f"{fk_kernels.MAX_UNROLLED_LINKS} links; this one has {len(self.links)}", j.line)
         self._flanges = tuple((self.graph.link_index(f.link), f.pose.matrix()) for f in mech.flanges)
         self._wrist = self._wrist_constants()
         self._kernels: dict = {}
@@ -71,13 +79,21 @@ class Kinematics:
 
     def closes(self, q) -> np.ndarray:
         """``(N,)`` the per-configuration flag of closed loops: False where a loop cannot close at
-        ``q`` (past a four-bar's dead point); there ``fk`` and the sweeps' poses are NaN."""
-        return closes(self.chain, q)
+        ``q`` (past a dead point); there ``fk`` and the sweeps' poses are NaN. Loops solved by
+        Newton steps are asked of the device kernels (the host twin is slow), the rest on the host."""
+        if not self.newton_loops:
+            return closes(self.chain, q)
+        q = self._q(q, np.float64)
+        out = np.ones(len(q), bool)
+        for lo in range(0, len(q), CLOSES_CHUNK):  # memory: one chunk of poses at a time
+            out[lo:lo + CLOSES_CHUNK] = np.isfinite(self.fk64(q[lo:lo + CLOSES_CHUNK])).all(axis=(1, 2, 3))
+        return out
 
     def _passive_rows(self) -> list:
         """(link, its tree joint) for each passive joint that follows the active ones, file order."""
         c = self.chain
-        moved = {j.name: k for k, j in self.graph.tree_order if np.any(c.mimic[k] != 0) or c.closed[k, 0] != 0}
+        moved = {j.name: k for k, j in self.graph.tree_order
+                 if np.any(c.mimic[k] != 0) or c.closed[k, 0] != 0 or c.unknown[k] >= 0}
         return [(moved[j.name], j) for j in self.mech.joints if j.name in moved]
 
     def fk64(self, q) -> np.ndarray:
@@ -174,10 +190,15 @@ class Kinematics:
         return out
 
     def _frames(self, q, outputs: list[tuple[int, np.ndarray]], out, dtype) -> np.ndarray:
-        """The generic walk's frames kernel in one precision."""
+        """The generic walk's frames kernel in one precision (the unrolled kernel's links times the
+        offsets, where a loop needs the Newton solve, which only unrolled kernels carry)."""
         wp = init_warp()
         q = self._q(q, dtype)
         out = self._out(out, (q.shape[0], len(outputs), 4, 4), dtype)
+        if self.newton_loops:
+            poses = self._all_links(q, None, dtype)
+            out[:] = poses[:, [k for k, _ in outputs]] @ np.array([m for _, m in outputs], dtype)
+            return out
         tree, frames, _ = self._generic(dtype)
         links = wp.array(np.array([k for k, _ in outputs], np.int32), dtype=wp.int32, device=self.device)
         offsets = wp.array(np.array([m for _, m in outputs], dtype), dtype=frames.adj.args[2].type.dtype,
