@@ -473,3 +473,20 @@ def test_cylinder_hung_from_the_arm_is_solved_by_newton_steps():
     stroke = dict(zip(kin.passive_joints, kin.passive(q).T))["Stroke"]
     np.testing.assert_allclose(stroke, np.linalg.norm(pin - p, axis=1) - 0.5, atol=1e-9)
     assert kin.closes(q).all() and loop_gap(mech, kin.fk(q)).max() < 1e-6
+
+
+def test_fk_says_a_configuration_past_a_dead_point_is_unreachable(capsys):
+    from rswarp.cli import main
+
+    path = DATA / "loops" / "four_bar_dead.rsxml"
+    assert main(["fk", str(path), "--q", "-50"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[-1].startswith("unreachable: a loop cannot close at these joint values")
+    assert out[-2].split()[2:] == ["nan"] * 6  # the flange: no pose at all
+    assert main(["fk", str(path), "--q", "-50", "--json"]) == 0
+    import json
+
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["closes"] is False and doc["flanges"]["Tip"]["position"] == [None] * 3
+    assert main(["fk", str(path), "--q", "-30", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["closes"] is True

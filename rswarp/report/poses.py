@@ -33,7 +33,7 @@ def pose_text(mech: Mechanism, links: list[tuple[str, np.ndarray]], flanges: lis
     rows = [["frame", f"x [{lu}]", f"y [{lu}]", f"z [{lu}]", f"rx [{au}]", f"ry [{au}]", f"rz [{au}]"]]
     for kind, items in (("link", links), ("flange", flanges)):
         for name, m in items:
-            e = matrix_euler_zyx(m[:3, :3].astype(np.float64))
+            e = matrix_euler_zyx(m[:3, :3].astype(np.float64)) if np.isfinite(m).all() else np.full(3, np.nan)
             rows.append([f"{kind} {name}", *(rounded(float(v), lf, 1e-6) for v in m[:3, 3]),
                          *(rounded(a, af, 1e-5) for a in e)])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
@@ -71,12 +71,22 @@ def joint_values(mech: Mechanism, text: str) -> np.ndarray:
 
 
 def fk_report(mech: Mechanism, q: np.ndarray, device: str = "cpu") -> tuple[dict, str]:
-    """Every link's and flange's pose for one set of joint values (SI): a JSON-ready dict and text."""
+    """Every link's and flange's pose for one set of joint values (SI): a JSON-ready dict and text.
+    Where a loop cannot close (past a dead point) the links it moves are NaN, ``closes`` is False
+    and the text says so on its last line."""
     from ..sim.kinematics import Kinematics
 
     kin = Kinematics(mech, device=device)
     links = kin.fk(q[None])[0]
     flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
-    doc = {"q": q.tolist(), "links": {n: pose_dict(m) for n, m in zip(kin.links, links)},
+    closes = bool(kin.closes(q[None])[0])
+    doc = {"q": q.tolist(), "closes": closes, "links": {n: pose_dict(m) for n, m in zip(kin.links, links)},
            "flanges": {n: pose_dict(m) for n, m in flanges.items()}}
-    return doc, pose_text(mech, list(zip(kin.links, links)), list(flanges.items()))
+    text = pose_text(mech, list(zip(kin.links, links)), list(flanges.items()))
+    if not closes:
+        from .outputs import json_safe
+
+        doc = json_safe(doc)  # JSON has no NaN: the poses a loop cannot give are null
+        text += ("\nunreachable: a loop cannot close at these joint values (past a dead point); the links it "
+                 "moves have no pose (nan)")
+    return doc, text
