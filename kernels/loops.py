@@ -12,7 +12,8 @@ from typing import Any
 import numpy as np
 import warp as wp
 
-from ..rsxml.general import CLOSED, CLOSING, ITERATIONS, MAX_STEP, PATH_A, PATH_B, POLISH, STEPS
+from ..rsxml.general import (CLOSED, CLOSING, FINE_ITERATIONS, FINE_STEPS, ITERATIONS, MAX_STEP, NEAR, PATH_A,
+                             PATH_B, POLISH, SINGULAR, STEPS, square_rows)
 from .types import Chain, types_of
 
 
@@ -42,28 +43,43 @@ def loop_solver(chain: Chain, scalar=wp.float32):
 
 def _loop_solve(rows: np.ndarray, VM, scalar):
     """One loop's solve: continuation from zero in STEPS steps of ITERATIONS Newton steps, POLISH
-    more at the target; NaN for its unknowns where the closure's residual stays above CLOSED."""
+    more at the target; a path that comes near a singular pose (the square part's determinant
+    under NEAR of zero's) is taken again in FINE_STEPS steps. NaN for its unknowns where the
+    closure's residual stays above CLOSED or the path meets a singular pose (under SINGULAR)."""
     S = scalar
     V3 = types_of(scalar).vec3
     u = rows[:, 4][rows[:, 4] >= 0].astype(int)
     first, m = int(u.min()), int(u.max() - u.min() + 1)
     ends = _ends(rows, first, m, VM, scalar)
     newton = _newton_step(rows, first, m, ends, VM, scalar)
-    steps = STEPS
+
+    @wp.func
+    def passage(q: wp.array2d(dtype=S), i: int, x0: VM, steps: int, iterations: int):
+        x = x0
+        for a in range(wp.static(m)):
+            x[wp.static(first) + a] = S(0.0)
+        ratio = S(wp.inf)
+        for k in range(steps + 1):
+            s = S(1.0)
+            n = POLISH
+            if k < steps:
+                s = S(k + 1) / S(steps)
+                n = iterations
+            for it in range(n):
+                x, r = newton(q, i, x, s)
+                if wp.isnan(r) or r < ratio:
+                    ratio = r
+        return x, ratio
 
     @wp.func
     def loop_solve(q: wp.array2d(dtype=S), i: int, x0: VM) -> VM:
-        x = x0
-        for k in range(steps):
-            s = S(k + 1) / S(steps)
-            for it in range(ITERATIONS):
-                x = newton(q, i, x, s)
-        for it in range(POLISH):
-            x = newton(q, i, x, S(1.0))
+        x, ratio = passage(q, i, x0, STEPS, ITERATIONS)
+        if wp.isnan(ratio) or ratio < S(NEAR):
+            x, ratio = passage(q, i, x0, FINE_STEPS, FINE_ITERATIONS)
         e = ends(q, i, x, S(1.0), wp.zeros(shape=wp.static(m), dtype=V3), wp.zeros(shape=wp.static(m), dtype=V3))
         gap = wp.length(V3(e[0, 0] - e[2, 0], e[0, 1] - e[2, 1], e[0, 2] - e[2, 2]))
         gap += wp.length(V3(e[1, 0] - e[3, 0], e[1, 1] - e[3, 1], e[1, 2] - e[3, 2]))
-        if wp.isnan(gap) or gap > S(CLOSED):
+        if wp.isnan(gap) or gap > S(CLOSED) or wp.isnan(ratio) or ratio < S(SINGULAR):
             for a in range(wp.static(m)):
                 x[wp.static(first) + a] = S(wp.nan)
         return x
@@ -138,8 +154,9 @@ def _joint(jtype: int, col: int, local: int, u: int, axis, point, rot, tra, T):
 
 
 def _newton_step(rows: np.ndarray, first: int, m: int, ends, VM, scalar):
-    """``newton(q, i, x, s) -> x``: one Gauss-Newton step on the closure (normal equations solved by
-    elimination, unrolled), damped to MAX_STEP."""
+    """``newton(q, i, x, s) -> (x, ratio)``: one Gauss-Newton step on the closure (normal equations
+    solved by elimination, unrolled), damped to MAX_STEP; and the determinant of the closure's square
+    part before the step, relative to zero's (``rswarp.rsxml.general.square_rows``)."""
     T = types_of(scalar)
     S, V3 = T.scalar, T.vec3
     kinds, sides = np.zeros(m, int), np.zeros(m)
@@ -148,9 +165,10 @@ def _newton_step(rows: np.ndarray, first: int, m: int, ends, VM, scalar):
         sides[int(row[4]) - first] = 1.0 if row[1] == PATH_A else -1.0
     kinds, sides = tuple(int(k) for k in kinds), tuple(float(v) for v in sides)
     solve = _normal_solve(m, scalar)
+    square = _square_det(tuple(square_rows(rows)), float(rows[rows[:, 1] == CLOSING][0, 12]), scalar)
 
     @wp.func
-    def newton(q: wp.array2d(dtype=S), i: int, x: VM, s: S) -> VM:
+    def newton(q: wp.array2d(dtype=S), i: int, x: VM, s: S):
         W = wp.zeros(shape=wp.static(m), dtype=V3)
         O = wp.zeros(shape=wp.static(m), dtype=V3)
         e = ends(q, i, x, s, W, O)
@@ -185,9 +203,37 @@ def _newton_step(rows: np.ndarray, first: int, m: int, ends, VM, scalar):
         out = x
         for a in range(wp.static(m)):
             out[wp.static(first) + a] = x[wp.static(first) + a] - scale * dx[a]
-        return out
+        return out, square(JP, JA)
 
     return newton
+
+
+def _square_det(square: tuple, det0: float, scalar):
+    """``ratio(JP, JA)``: the determinant of the Jacobian's rows ``square`` (0-2 position, 3-5
+    axis), by elimination, relative to ``det0`` (its value at zero); NaN where a pivot vanishes."""
+    S = scalar
+    m = len(square)
+    Mm = wp.types.matrix((m, m), S)
+
+    @wp.func
+    def ratio(JP: Any, JA: Any) -> S:
+        a = Mm()
+        for r in range(wp.static(m)):
+            for c in range(wp.static(m)):
+                if wp.static(square[r] < 3):
+                    a[r, c] = JP[c][wp.static(square[r] % 3)]
+                else:
+                    a[r, c] = JA[c][wp.static(square[r] % 3)]
+        det = S(1.0)
+        for k in range(wp.static(m)):
+            det = det * a[k, k]
+            for r in range(k + 1, wp.static(m)):
+                f = a[r, k] / a[k, k]
+                for c in range(wp.static(m)):
+                    a[r, c] = a[r, c] - f * a[k, c]
+        return det / S(det0)
+
+    return ratio
 
 
 @lru_cache(maxsize=None)

@@ -3,6 +3,10 @@ damped Newton method on the loop-closure equations, with continuation: the activ
 zero (the assembled pose the spec defines) to their values in ``STEPS`` steps, each starting from
 the last solution, so the solve stays on the branch of the zero position. Where the closing joint
 cannot be reached (past a dead point) the residual stays large: the passive joints are NaN.
+Near a singular pose two branches meet, and a path through one may come out on either: the sign of
+the determinant of the closure's best-conditioned square part (chosen at zero) is tracked along
+the path, and a configuration whose path makes it change sign or nearly vanish is NaN too, never a
+pose on a branch rswarp cannot vouch for.
 
 A loop is described by rows (``Chain.general``): the joints of path A (loop ancestor down to the
 closing joint's parent link), of path B (down to its child link), and the closing joint. The
@@ -14,11 +18,16 @@ from __future__ import annotations
 
 import numpy as np
 
-ROW = 11  # [loop, role, jtype (0 revolute, 1 prismatic), q column, unknown, axis (3), point (3)]
+# [loop, role, jtype (0 revolute, 1 prismatic), q column, unknown, axis (3), point (3), then for the
+# closing joint: the residual rows of the square part as a bit mask, and its determinant at zero]
+ROW = 13
 PATH_A, PATH_B, CLOSING = 1, 2, 3
 STEPS, ITERATIONS, POLISH = 8, 3, 4  # continuation steps, Newton iterations per step, and at the end
+FINE_STEPS, FINE_ITERATIONS = 128, 2  # the second pass, for paths that come near a singular pose
 MAX_STEP = 0.5  # rad (or m): a Newton step is damped to this length
 CLOSED = 1e-5  # residual (m, and unitless for the axis) under which the loop counts as closed
+NEAR, SINGULAR = 0.3, 0.05  # the square part's determinant relative to zero's: near a singular pose (a path
+# taken again in fine steps), and at one (the configuration is NaN)
 MAX_UNKNOWNS = 6  # passive joints one general loop may solve for
 
 
@@ -43,7 +52,10 @@ def general_rows(graph, loop, first_unknown: int) -> tuple[np.ndarray, dict[int,
     rows.append(_row(CLOSING, closing, -1, -1))
     rows = np.array(rows)
     why = _mobility(rows, first_unknown, len(unknowns))
-    return (np.zeros((0, ROW)), {}, why) if why else (rows, unknowns, None)
+    if why:
+        return np.zeros((0, ROW)), {}, why
+    rows[-1, 11:] = _square_part(rows, first_unknown, len(unknowns))
+    return rows, unknowns, None
 
 
 def _path(graph, link: int, ancestor: int) -> list[int]:
@@ -56,7 +68,24 @@ def _path(graph, link: int, ancestor: int) -> list[int]:
 
 
 def _row(role: int, joint, column: int, unknown: int) -> list[float]:
-    return [0, role, 0 if joint.revolute else 1, column, unknown, *joint.axis, *joint.point1]
+    return [0, role, 0 if joint.revolute else 1, column, unknown, *joint.axis, *joint.point1, 0, 0]
+
+
+def _square_part(rows: np.ndarray, first: int, m: int) -> tuple[int, float]:
+    """(bit mask of the m residual rows whose square Jacobian is best conditioned at zero, its
+    determinant there)."""
+    from itertools import combinations
+
+    dof = int(rows[:, 3].max()) + 1
+    jac = _closure(rows, np.zeros((1, max(dof, 1))), np.zeros((1, first + m)), first, m)[1][0]
+    pick = max(combinations(range(6), m), key=lambda r: abs(np.linalg.det(jac[list(r)])))
+    return sum(1 << r for r in pick), float(np.linalg.det(jac[list(pick)]))
+
+
+def square_rows(rows: np.ndarray) -> list[int]:
+    """The residual rows of a loop's square part (its closing row's mask)."""
+    mask = int(rows[rows[:, 1] == CLOSING][0, 11])
+    return [r for r in range(6) if mask >> r & 1]
 
 
 def _mobility(rows: np.ndarray, first: int, m: int) -> str | None:
@@ -131,18 +160,33 @@ def general_values(rows: np.ndarray, q: np.ndarray, unknowns: int) -> np.ndarray
 
 
 def _solve(rows: np.ndarray, q: np.ndarray, x: np.ndarray, first: int, m: int) -> np.ndarray:
-    """One loop's unknowns by continuation from zero and damped Newton steps."""
+    """One loop's unknowns by continuation from zero and damped Newton steps; paths that come near
+    a singular pose are taken again in fine steps, and NaN where they meet one."""
+    out, ratio = _continue(rows, q, x, first, m, STEPS, ITERATIONS)
+    near = ~(ratio >= NEAR)  # NaN too: a determinant the elimination could not take
+    if near.any():
+        out[near], ratio[near] = _continue(rows, q[near], x[near], first, m, FINE_STEPS, FINE_ITERATIONS)
+    x = x.copy()
+    x[:, first:first + m] = out
+    e = _closure(rows, q, x, first, m)[0]
+    out[(np.linalg.norm(e, axis=1) > CLOSED) | ~(ratio >= SINGULAR)] = np.nan
+    return out
+
+
+def _continue(rows: np.ndarray, q: np.ndarray, x: np.ndarray, first: int, m: int, steps: int,
+              iterations: int) -> tuple[np.ndarray, np.ndarray]:
+    """(unknowns, the smallest determinant ratio of the square part along the path)."""
     x = x.copy()
     x[:, first:first + m] = 0.0
-    plan = [(k + 1) / STEPS for k in range(STEPS) for _ in range(ITERATIONS)] + [1.0] * POLISH
+    square, det0 = square_rows(rows), rows[rows[:, 1] == CLOSING][0, 12]
+    ratio = np.full(len(q), np.inf)
+    plan = [(k + 1) / steps for k in range(steps) for _ in range(iterations)] + [1.0] * POLISH
     for s in plan:
         e, jac, _ = _closure(rows, s * q, x, first, m)
+        ratio = np.minimum(ratio, np.linalg.det(jac[:, square]) / det0)
         jt = np.swapaxes(jac, 1, 2)
         normal = jt @ jac + 1e-12 * np.eye(m)
         step = -np.linalg.solve(normal, (jt @ e[..., None]))[..., 0]
         length = np.linalg.norm(step, axis=1, keepdims=True)
         x[:, first:first + m] += step * np.minimum(1.0, MAX_STEP / np.maximum(length, 1e-300))
-    e = _closure(rows, q, x, first, m)[0]
-    out = x[:, first:first + m]
-    out[np.linalg.norm(e, axis=1) > CLOSED] = np.nan
-    return out
+    return x[:, first:first + m], ratio
