@@ -105,6 +105,8 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T, V
     value = _joint_value(chain, k, T)
     revolute = jtype == REVOLUTE
     rot, tra = _revolute(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
+    # a four-bar's or a Newton-solved joint is NaN where its loop cannot close: the pose then NaN whole
+    can_fail = bool(chain.closed[k][0] == FOUR_BAR or chain.unknown[k] >= 0)
     axis = V3(*(float(v) for v in chain.axis[k]))
     emits = k in needed
 
@@ -125,6 +127,10 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T, V
                     t = rp * wp.static(tra)(c, s) + tp
             else:
                 t = rp * (th * wp.static(axis)) + tp
+            if wp.static(can_fail):
+                if wp.isnan(th):
+                    r = r * S(wp.nan)
+                    t = t * S(wp.nan)
         if wp.static(emits):
             wp.static(emit)(out, i, wp.static(k), r, t)
         for c in range(wp.static(len(kids))):
@@ -395,6 +401,9 @@ def generic_walk(scalar=wp.float32):
             if tree.jtype[k] == REVOLUTE:
                 r = wp.quat_to_matrix(wp.quat_from_axis_angle(a, th))
                 t = tree.point[k] - r * tree.point[k]
+            if wp.isnan(th):  # past a dead point: no pose at all
+                r = r * S(wp.nan)
+                t = t * S(wp.nan)
             m = poses[i, p]
             rp = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
             poses[i, k] = to_mat34(rp * r, apply(m, t))

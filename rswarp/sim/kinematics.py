@@ -10,7 +10,6 @@ import numpy as np
 
 from ..errors import model_error
 from ..kernels import fk as fk_kernels
-from ..rsxml.closed import FOUR_BAR
 from ..rsxml.model import Mechanism
 from .chain import closes, mechanism_chain
 from .launch import DEFAULT_CHUNK, Launcher, init_warp
@@ -34,7 +33,6 @@ class Kinematics:
         self.device = self.launcher.device
         self.unrolled = len(self.chain.parent) <= fk_kernels.MAX_UNROLLED_LINKS
         self.newton_loops = len(self.chain.general) > 0  # loops the kernels solve by damped Newton steps
-        self.may_fail = self.newton_loops or bool(np.any(self.chain.closed[:, 0] == FOUR_BAR))  # dead points
         if self.newton_loops and not self.unrolled:
             j = self.graph.closing[0]
             raise model_error(mech, f"loops with no closed form are solved in chains of at most "
@@ -62,7 +60,7 @@ class Kinematics:
         saves the page faults of a fresh array."""
         if links is not None:
             return self.frames(q, [(self.graph.link_index(n), np.eye(4)) for n in links], out)
-        return self._whole(self._all_links(q, out, np.float32))
+        return self._all_links(q, out, np.float32)
 
     @property
     def passive_joints(self) -> tuple[str, ...]:
@@ -100,7 +98,7 @@ class Kinematics:
 
     def fk64(self, q) -> np.ndarray:
         """``(N, n_links, 4, 4)`` float64 link poses: for checks and for refining extremes."""
-        return self._whole(self._all_links(q, None, np.float64))
+        return self._all_links(q, None, np.float64)
 
     def flange(self, q, name: str | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """``(N, 4, 4)`` float32 flange poses (the first flange, or the one named)."""
@@ -108,16 +106,16 @@ class Kinematics:
         if not self.unrolled:
             link, m = self._flanges[f]
             res = self.frames(q, [(link, m)], None if out is None else out[:, None])
-            return self._whole(res[:, 0])
+            return res[:, 0]
         q = self._q(q, np.float32)
         out = self._out(out, (q.shape[0], 4, 4), np.float32)
         self.launcher.launch(self._kernels_for(np.float32)[1][f], q.shape[0], inputs=[q], outputs=[out])
-        return self._whole(out)
+        return out
 
     def frames(self, q, outputs: list[tuple[int, np.ndarray]], out: np.ndarray | None = None) -> np.ndarray:
         """``(N, len(outputs), 4, 4)``: pose of link index ``k`` times a 4x4 ``offset``, per output
         (the generic tree walk)."""
-        return self._whole(self._frames(q, outputs, out, np.float32))
+        return self._frames(q, outputs, out, np.float32)
 
     def wrist_flange(self, q, flange: str | None = None, wrist: bool = True) -> tuple[np.ndarray | None, np.ndarray]:
         """``(N, 3)`` wrist-centre positions (the point of the J5 axis nearest the J4 axis) and
@@ -139,13 +137,6 @@ class Kinematics:
         self.launcher.close()
 
     # -- plumbing ----------------------------------------------------------------------------------
-    def _whole(self, poses: np.ndarray) -> np.ndarray:
-        """Poses a loop could not give made NaN whole (the kernels leave a joint's fixed rows and
-        columns as they are), for chains with loops that can fail to close."""
-        if self.may_fail:
-            poses[~np.isfinite(poses).all(axis=(-2, -1))] = np.nan
-        return poses
-
     def _wrist_constants(self):
         joints = self.graph.wrist_joints
         if joints is None:
