@@ -428,7 +428,8 @@ def five_bar_tip(q: np.ndarray) -> np.ndarray:
     b = np.stack([200 + 150 * np.sin(q[:, 1]), 150 * np.cos(q[:, 1])], axis=1)
     d = b - a
     dd = np.linalg.norm(d, axis=1)
-    h = np.sqrt(np.hypot(100, 150) ** 2 - (dd / 2) ** 2)  # NaN where dd > 2 x 180.28
+    with np.errstate(invalid="ignore"):
+        h = np.sqrt(np.hypot(100, 150) ** 2 - (dd / 2) ** 2)  # NaN where dd > 2 x 180.28
     up = np.stack([-d[:, 1], d[:, 0]], axis=1) / dd[:, None]  # left of A->B: above
     return (a + b) / 2 + h[:, None] * up
 
