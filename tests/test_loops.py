@@ -528,3 +528,33 @@ def test_newton_continuation_never_leaves_the_parallelogram_branch():
     poses, want = newton.fk64(q), kin.fk64(q)
     np.testing.assert_array_equal(np.isnan(poses).any(axis=(1, 2, 3)), flagged)
     np.testing.assert_allclose(poses[~flagged], want[~flagged], atol=1e-9)
+
+
+def test_loops_start_closed_at_a_home_away_from_zero(tmp_path):
+    """With home at J1..J6 = 30, 20, 40, 0 degrees, the USD stage (read by Newton's add_usd) and
+    to_newton start every passive joint where the loops close: eval_fk of their initial joint
+    state closes each closing joint within 1e-5 m."""
+    newton = pytest.importorskip("newton")
+    import warp as wp
+    from scipy.spatial.transform import Rotation
+
+    from rswarp.export.newton import to_newton
+
+    text = examples.PALLETIZER.read_text().replace('<HomePosition value="0, 0, 0, 0"/>',
+                                                   '<HomePosition value="30, 20, 40, 0"/>')
+    (tmp_path / "pal.rsxml").write_text(text)
+    mech = rswarp.load(tmp_path / "pal.rsxml")
+    rswarp.to_usd(mech, tmp_path / "pal.usda")
+    from_usd = newton.ModelBuilder()
+    from_usd.add_usd(str(tmp_path / "pal.usda"))
+    g = mech.graph
+    usd_origins = rswarp.export.frames.link_origins(mech)  # USD bodies sit on their links' origins
+    for builder, origins in ((from_usd, usd_origins), (to_newton(mech), dict.fromkeys(usd_origins, np.zeros(3)))):
+        model = builder.finalize(device="cpu")
+        state = model.state()
+        newton.eval_fk(model, model.joint_q, model.joint_qd, state)
+        body_q, bodies = state.body_q.numpy(), [label.rsplit("/", 1)[-1] for label in model.body_label]
+        for j in g.closing:
+            ends = [Rotation.from_quat(body_q[bodies.index(n), 3:]).apply(np.asarray(j.point1) - origins[n])
+                    + body_q[bodies.index(n), :3] for n in (j.parent, j.child)]
+            assert np.linalg.norm(ends[0] - ends[1]) < 1e-5, j.name

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..rsxml.model import Mechanism
 from ..transforms import matrix_quat
+from .frames import home_passive
 from .physics import BodyPhysics, JointPhysics, PhysicsOptions, RobotPhysics, robot_physics
 
 
@@ -93,29 +94,6 @@ def _add_joint(builder, graph, body: dict[int, int], k: int, j, home: np.ndarray
     if col >= 0:
         builder.joint_q[builder.joint_q_start[index]] = float(home[col])
     return index
-
-
-def home_passive(mech: Mechanism) -> dict[int, float]:
-    """The passive joints of the loops at the home position, by link index; a loop that cannot be
-    solved (unless home is the zero position), or cannot close at home, is the file's error at its
-    closing joint."""
-    from ..errors import model_error
-    from ..rsxml.loops import UnsolvedLoop, passive_map, passive_values
-
-    if not mech.graph.closing:
-        return {}
-    home = mech.home_position()
-    try:
-        values = passive_values(passive_map(mech.graph), home[None])
-    except UnsolvedLoop as exc:
-        if not home.any():
-            return {}  # the zero position is assembled (the spec): every passive joint at zero
-        raise model_error(mech, f"joint '{exc.loop.closing.name}' closes a kinematic loop that a Newton model "
-                                f"cannot start from: {exc}", exc.loop.closing.line) from None
-    if not all(np.isfinite(v[0]) for v in values.values()):
-        j = mech.graph.closing[0]
-        raise model_error(mech, "the home position lies past a dead point: a loop cannot close there", j.line)
-    return {k: float(v[0]) for k, v in values.items()}
 
 
 def _add_closing(builder, graph, body: dict[int, int], j) -> int:

@@ -25,6 +25,7 @@ def author_joints(stage, mech: Mechanism, root: str, link_path: dict, physics: R
     fixed.CreateLocalPos0Attr(Gf.Vec3f(*origin[graph.base]))
     fixed.CreateLocalPos1Attr(Gf.Vec3f(0, 0, 0))
     home = mech.home_position()
+    passive = _passive_at_home(mech)
     closing = {id(j) for j in graph.closing}
     for j in graph.joints:
         if j.parent not in link_path or j.child not in link_path:
@@ -34,6 +35,8 @@ def author_joints(stage, mech: Mechanism, root: str, link_path: dict, physics: R
         prim = _author_joint(stage, f"{joints}/{names(j.name, what='joint')}", j, link_path, origin, anchor,
                              mech.limit(j.name), id(j) in closing)
         col = graph.column(j.name)
+        if j.name in passive:  # a loop's passive joint starts where the loop closes at home
+            _author_state(prim, j.revolute, passive[j.name])
         if col >= 0:
             _author_state(prim, j.revolute, float(home[col]))
             if j.name in physics.joints:
@@ -66,6 +69,18 @@ def _author_joint(stage, path: str, j, link_path: dict, origin: dict, anchor: np
 def _per_unit(revolute: bool) -> float:
     """USD units per SI unit of a joint coordinate: degrees per radian, or 1 for metres."""
     return 180.0 / math.pi if revolute else 1.0
+
+
+def _passive_at_home(mech: Mechanism) -> dict[str, float]:
+    """The loops' passive joints at home, by name; none where rswarp cannot solve a loop (the
+    stage then holds the loop as the file gives it, its passive joints at zero)."""
+    from ..errors import RsxmlError
+    from .frames import home_passive
+
+    try:
+        return {mech.graph.tree_joint[k].name: v for k, v in home_passive(mech).items()}
+    except RsxmlError:
+        return {}
 
 
 def _author_state(prim, revolute: bool, home: float) -> None:
