@@ -19,6 +19,7 @@ from ..errors import InputError, MeshNotFoundError
 from ..geometry import DEFAULT_DENSITY, mass_properties, part_mesh
 from ..geometry.collision import METHODS, Convex, convex_pieces, halfspaces, overlap
 from ..rsxml.model import Mechanism
+from ..rsxml.units import JOINT_VELOCITY
 from .frames import link_origins, link_poses
 
 DRIVE_HZ = 10.0  # drive bandwidth: stiff enough to hold a pose within a fraction of a degree
@@ -26,7 +27,7 @@ LIMIT_HZ = 100.0  # limit spring bandwidth: holds the limit under gravity, stabl
 ARMATURE_SCALE = 1e-3  # default armature: 1e-3 x total mass x reach^2 (kg m^2), or x total mass (kg)
 EFFORT_MARGIN = 2.0  # default effort: twice the largest gravity load the joint can ever carry,
 ACCELERATION = 10.0  # plus what accelerates its inertia at 10 rad/s^2 (10 m/s^2)
-VELOCITY = {True: math.radians(90.0), False: 0.5}  # default velocity limit: 90 deg/s, 0.5 m/s
+VELOCITY = JOINT_VELOCITY  # default velocity limit: 90 deg/s, 0.5 m/s
 CONTACT_MARGIN = 0.005  # pieces closer than this at home count as touching (m)
 GRAVITY = 9.81
 

@@ -15,6 +15,8 @@ DEFAULT_ANGLE_UNIT = "rad"
 # joint turns at most about 16,000 revolutions (ABB's "endless" axis 6 option), in SI units.
 MAX_LENGTH = 1000.0  # m
 MAX_ANGLE = 1e5  # rad
+JOINT_VELOCITY = {True: math.radians(90.0), False: 0.5}  # a joint's default speed limit: 90 deg/s, 0.5 m/s
+
 BOUNDS = {  # kind of value -> (largest magnitude in SI, what it means, for messages)
     "length": (MAX_LENGTH, "1 km, the most a model may span"),
     "angle": (MAX_ANGLE, f"{MAX_ANGLE:g} rad (about {MAX_ANGLE / (2 * math.pi):,.0f} turns), the most a joint may turn"),

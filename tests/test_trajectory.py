@@ -1,0 +1,60 @@
+"""Joint trajectories for cable runs: the CSV of DESIGN.md read with file:line errors, and smooth
+random trajectories within the limits (issue "Cable dynamics in parallel environments")."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rswarp
+from rswarp import examples
+from rswarp.sim.trajectory import assign, random_trajectory, read_trajectory
+
+from conftest import DATA
+
+TRAJ = DATA / "trajectories"
+
+
+@pytest.fixture(scope="module")
+def irb1300():
+    return rswarp.load(examples.IRB1300)
+
+
+def test_csv_in_file_units_interpolates_linearly(irb1300):
+    t = read_trajectory(TRAJ / "irb1300_wave.csv", irb1300)
+    assert t.duration == 2.5 and t.q.shape == (3, 6)
+    np.testing.assert_allclose(t.q[1], np.radians([30, 10, -20, 45, 30, 90]))  # degrees in the file
+    np.testing.assert_allclose(t.at([0.5])[0], np.radians([15, 5, -10, 22.5, 15, 45]))
+    np.testing.assert_allclose(t.at([1.75])[0], np.radians([0, 15, -5, 0, 0, 0]))
+    np.testing.assert_allclose(t.at([-1.0, 9.0]), t.q[[0, -1]])  # held at both ends
+    assert read_trajectory(TRAJ / "bom.csv", irb1300).q.shape == (1, 6)  # a UTF-8 BOM is fine
+
+
+@pytest.mark.parametrize("name, message", [
+    ("beyond_limits.csv", r"beyond_limits.csv:3: J5 = 300 is outside its limits \[-130, 130\]"),
+    ("bad_header.csv", r"bad_header.csv:1: the header must be 'time,J1,J2,J3,J4,J5,J6'"),
+    ("time_backwards.csv", r"time_backwards.csv:3: time 0 s does not come after 0 s"),
+    ("nan_cell.csv", r"nan_cell.csv:3: a non-finite number 'nan'"),
+])
+def test_bad_trajectories_name_their_line(irb1300, name, message):
+    with pytest.raises(rswarp.RsxmlError, match=message):
+        read_trajectory(TRAJ / name, irb1300)
+
+
+def test_random_trajectories_are_smooth_within_limits_and_speeds(irb1300):
+    t = random_trajectory(irb1300, seconds=20.0, seed=3)
+    lower, upper = irb1300.bounds()
+    assert t.times[-1] == 20.0 and (t.q >= lower - 1e-12).all() and (t.q <= upper + 1e-12).all()
+    speed = np.abs(np.diff(t.q, axis=0)) / np.diff(t.times)[:, None]
+    assert speed.max() <= np.radians(90) * 1.001  # the default joint speed limit
+    assert speed.max() > np.radians(30)  # and it moves
+    accel = np.abs(np.diff(speed, axis=0)).max() / np.diff(t.times).max()
+    assert accel < 50  # rad/s^2: no jumps in speed
+    np.testing.assert_array_equal(random_trajectory(irb1300, 20.0, seed=3).q, t.q)  # reproducible
+    assert not np.allclose(random_trajectory(irb1300, 20.0, seed=4).q, t.q)
+
+
+def test_environments_take_trajectories_round_robin():
+    assert assign([object(), object(), object()], 7) == [0, 1, 2, 0, 1, 2, 0]
+    with pytest.raises(rswarp.InputError, match="at least one trajectory"):
+        assign([], 3)
