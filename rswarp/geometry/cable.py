@@ -1,0 +1,108 @@
+"""A cable's rest shape and its discretization: a curve through the control points with the
+cable's desired length; each span between two control points cut into equal segments no longer
+than ``maxSegmentLength``, so every control point is a point of the discretization.
+
+Where the desired length exceeds the polyline through the control points, each span between two
+points sags: it bows by a half sine wave across its chord, downwards where it can (a hose hangs),
+by as much as gives the span its share of the extra length (shares by chord length). The
+simulation then lets it settle; this shape only has to be a plausible, exact-length start.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import model_error
+from ..rsxml.model import Cable, Mechanism
+
+SAMPLES = 256  # points per span to measure a bowed span's length
+LENGTH_TOLERANCE = 1e-9  # relative: a desired length this close to the polyline's is taut
+
+
+@dataclass(frozen=True)
+class CableRest:
+    """A discretized cable at the zero position (SI): ``points`` (n + 1, 3); ``rest`` (n,) each
+    segment's length along the curve (they add up to ``length``, the desired length; the chords
+    between the points are a hair shorter on a bowed span); ``anchors`` the point index of each
+    control point."""
+
+    name: str
+    points: np.ndarray
+    rest: np.ndarray
+    anchors: tuple[int, ...]
+    length: float
+
+    @property
+    def segments(self) -> int:
+        return len(self.points) - 1
+
+
+def cable_rest(mech: Mechanism, cable: Cable) -> CableRest:
+    """The rest shape of ``cable``; ``RsxmlError`` at the cable's line where it has fewer than two
+    control points or a desired length shorter than the polyline through them."""
+    pts = np.array([cp.position for cp in cable.control_points], float)
+    if len(pts) < 2:
+        raise model_error(mech, f"cable '{cable.name}' needs two control points or more", cable.line)
+    chords = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    if (chords <= 0).any():
+        raise model_error(mech, f"cable '{cable.name}' has two control points at one place", cable.line)
+    polyline = float(chords.sum())
+    length = polyline if cable.desired_length is None else float(cable.desired_length)
+    if length < polyline * (1 - LENGTH_TOLERANCE):
+        f = mech.length_factor
+        raise model_error(mech, f"cable '{cable.name}': desiredLength {length / f:g} is shorter than the path "
+                                f"through its control points ({polyline / f:.6g})", cable.line)
+    span_lengths = chords + chords / polyline * (length - polyline)
+    spans = [_bowed(a, b, want) for a, b, want in zip(pts[:-1], pts[1:], span_lengths)]
+    return _cut(cable.name, spans, span_lengths, cable.max_segment_length)
+
+
+def _bowed(a: np.ndarray, b: np.ndarray, length: float) -> np.ndarray:
+    """``SAMPLES + 1`` points from a to b along a half sine bow of arc length ``length``."""
+    chord = b - a
+    side = _sag_direction(chord)
+    if length <= np.linalg.norm(chord) * (1 + LENGTH_TOLERANCE):
+        return a + np.linspace(0.0, 1.0, SAMPLES + 1)[:, None] * chord  # taut: the chord itself
+    s = np.linspace(0.0, 1.0, SAMPLES + 1)[:, None]
+
+    def curve(h: float) -> np.ndarray:
+        return a + s * chord + h * np.sin(np.pi * s) * side
+
+    lo, hi = 0.0, length  # a bow as deep as the length is always long enough
+    for _ in range(100):  # bisection on the depth: arc length grows with it
+        h = 0.5 * (lo + hi)
+        if _arc(curve(h)) < length:
+            lo = h
+        else:
+            hi = h
+    return curve(0.5 * (lo + hi))
+
+
+def _sag_direction(chord: np.ndarray) -> np.ndarray:
+    """Down (-z) across the chord, or sideways (+x, then +y) where the chord is vertical."""
+    unit = chord / np.linalg.norm(chord)
+    for d in ((0.0, 0.0, -1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)):
+        side = np.array(d) - np.dot(d, unit) * unit
+        if np.linalg.norm(side) > 1e-3:
+            return side / np.linalg.norm(side)
+    raise AssertionError("no direction across a chord")  # unreachable: three axes span space
+
+
+def _arc(points: np.ndarray) -> float:
+    return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+
+
+def _cut(name: str, spans: list[np.ndarray], lengths: np.ndarray, max_segment: float) -> CableRest:
+    """Each span (sampled points, its exact length) in equal segments no longer than
+    ``max_segment``; the control points are kept as points of the discretization."""
+    out, rest, anchors = [spans[0][:1]], [], [0]
+    for pts, span_length in zip(spans, lengths):
+        n = max(1, int(np.ceil(span_length / max_segment - 1e-9)))
+        along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+        at = np.linspace(0.0, along[-1], n + 1)[1:]
+        out.append(np.stack([np.interp(at, along, pts[:, c]) for c in range(3)], axis=1))
+        rest += [span_length / n] * n
+        anchors.append(anchors[-1] + n)
+    return CableRest(name, np.concatenate(out), np.array(rest), tuple(anchors), float(lengths.sum()))
