@@ -118,11 +118,9 @@ class Launcher:
         return wp.array(host, dtype=dtype, device=self.device, copy=not self.device.is_cpu)
 
     def _target(self, host: np.ndarray, dtype):
-        if self.device.is_cpu:
-            return self._view(host, dtype)
-        wp = init_warp()
-        trailing = len(getattr(dtype, "_shape_", ()))
-        return wp.empty(host.shape[: host.ndim - trailing], dtype=dtype, device=self.device)
+        """An output: the host array itself on the CPU; on a GPU a copy of it, so a kernel may also
+        read what it updates (cable states), copied back after the launch."""
+        return self._view(host, dtype)
 
     def _scratch(self, n: int, width: int, dtype):
         """A per-thread (n, width) work array, grown as needed and reused."""
