@@ -68,18 +68,17 @@ def home_passive(mech: Mechanism) -> dict[int, float]:
     solved (unless home is the zero position), or cannot close at home, is the file's error at its
     closing joint."""
     from ..errors import model_error
-    from ..rsxml.loops import UnsolvedLoop, passive_map, passive_values
+    from ..rsxml.loops import UnsolvedLoop, passive_values
 
     if not mech.graph.closing:
         return {}
     home = mech.home_position()
     try:
-        values = passive_values(passive_map(mech.graph), home[None])
+        values = passive_values(mech.graph.passive, home[None])
     except UnsolvedLoop as exc:
         if not home.any():
             return {}  # the zero position is assembled (the spec): every passive joint at zero
-        raise model_error(mech, f"joint '{exc.loop.closing.name}' closes a kinematic loop that a Newton model "
-                                f"cannot start from: {exc}", exc.loop.closing.line) from None
+        raise exc.error(mech, "an export cannot start closed at home") from None
     if not all(np.isfinite(v[0]) for v in values.values()):
         j = mech.graph.closing[0]
         raise model_error(mech, "the home position lies past a dead point: a loop cannot close there", j.line)

@@ -127,16 +127,15 @@ def loop_mimics(mech: Mechanism) -> dict[str, list[tuple[str, float]]]:
     """Each passive tree joint of the loops as (active joint, multiplier) terms of its value; a
     loop whose passive joints are not such sums is the file's error at its closing joint."""
     from ..errors import model_error
-    from ..rsxml.loops import UnsolvedLoop, passive_map
+    from ..rsxml.loops import UnsolvedLoop
 
     graph = mech.graph
     if not graph.closing:
         return {}
     try:
-        passive = passive_map(graph)
+        passive = graph.passive
     except UnsolvedLoop as exc:
-        raise model_error(mech, f"joint '{exc.loop.closing.name}' closes a kinematic loop that URDF cannot "
-                                f"express: {exc}", exc.loop.closing.line) from None
+        raise exc.error(mech, "URDF cannot express") from None
     for k in map(int, ((passive.closed[:, 0] != 0) | (passive.unknown >= 0)).nonzero()[0]):
         loop = next(loop for loop in graph.loops if graph.tree_joint[k] in loop.joints)
         raise model_error(mech, f"joint '{loop.closing.name}' closes a {loop.kind} loop whose passive joints are not "

@@ -79,7 +79,8 @@ def fk_report(mech: Mechanism, q: np.ndarray, device: str = "cpu") -> tuple[dict
     kin = Kinematics(mech, device=device)
     links = kin.fk(q[None])[0]
     flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
-    closes = bool(kin.closes(q[None])[0])
+    # poses past a dead point are NaN whole, and only there: the flag without a second solve
+    closes = bool(np.isfinite(links).all() and all(np.isfinite(m).all() for m in flanges.values()))
     doc = {"q": q.tolist(), "closes": closes, "links": {n: pose_dict(m) for n, m in zip(kin.links, links)},
            "flanges": {n: pose_dict(m) for n, m in flanges.items()}}
     text = pose_text(mech, list(zip(kin.links, links)), list(flanges.items()))

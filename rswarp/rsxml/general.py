@@ -51,11 +51,21 @@ def general_rows(graph, loop, first_unknown: int) -> tuple[np.ndarray, dict[int,
             rows.append(_row(role, j, graph.column(j.name), u))
     rows.append(_row(CLOSING, closing, -1, -1))
     rows = np.array(rows)
-    why = _mobility(rows, first_unknown, len(unknowns))
+    m = len(unknowns)
+    jac_u, jac_q = _zero_jacobians(rows, first_unknown, m) if m else (None, None)
+    why = _mobility(jac_u, jac_q, m)
     if why:
         return np.zeros((0, ROW)), {}, why
-    rows[-1, 11:] = _square_part(rows, first_unknown, len(unknowns))
+    rows[-1, 11:] = _square_part(jac_u, m)
     return rows, unknowns, None
+
+
+def _zero_jacobians(rows: np.ndarray, first: int, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """The closure's Jacobians at the zero position: in the loop's unknowns (6, m) and in the
+    active joints (6, dof)."""
+    dof = max(int(rows[:, 3].max()) + 1, 1)
+    _, jac_u, jac_q = _closure(rows, np.zeros((1, dof)), np.zeros((1, first + m)), first, m)
+    return jac_u[0], jac_q[0]
 
 
 def _path(graph, link: int, ancestor: int) -> list[int]:
@@ -71,15 +81,13 @@ def _row(role: int, joint, column: int, unknown: int) -> list[float]:
     return [0, role, 0 if joint.revolute else 1, column, unknown, *joint.axis, *joint.point1, 0, 0]
 
 
-def _square_part(rows: np.ndarray, first: int, m: int) -> tuple[int, float]:
+def _square_part(jac_u: np.ndarray, m: int) -> tuple[int, float]:
     """(bit mask of the m residual rows whose square Jacobian is best conditioned at zero, its
     determinant there)."""
     from itertools import combinations
 
-    dof = int(rows[:, 3].max()) + 1
-    jac = _closure(rows, np.zeros((1, max(dof, 1))), np.zeros((1, first + m)), first, m)[1][0]
-    pick = max(combinations(range(6), m), key=lambda r: abs(np.linalg.det(jac[list(r)])))
-    return sum(1 << r for r in pick), float(np.linalg.det(jac[list(pick)]))
+    pick = max(combinations(range(6), m), key=lambda r: abs(np.linalg.det(jac_u[list(r)])))
+    return sum(1 << r for r in pick), float(np.linalg.det(jac_u[list(pick)]))
 
 
 def square_rows(rows: np.ndarray) -> list[int]:
@@ -88,19 +96,17 @@ def square_rows(rows: np.ndarray) -> list[int]:
     return [r for r in range(6) if mask >> r & 1]
 
 
-def _mobility(rows: np.ndarray, first: int, m: int) -> str | None:
+def _mobility(jac_u: np.ndarray | None, jac_q: np.ndarray | None, m: int) -> str | None:
     """Why the loop cannot be solved at the zero position, or None: its passive joints must be
     fixed by the closure (full column rank) and the active ones must be able to move it."""
     if m == 0:
         return "it has no passive joint to solve for"
     if m > MAX_UNKNOWNS:
         return f"it has {m} passive joints; the solver takes {MAX_UNKNOWNS} per loop"
-    dof = int(rows[:, 3].max()) + 1
-    _, jac_u, jac_q = _closure(rows, np.zeros((1, max(dof, 1))), np.zeros((1, first + m)), first, m)
-    rank = np.linalg.matrix_rank(jac_u[0], tol=1e-9)
+    rank = np.linalg.matrix_rank(jac_u, tol=1e-9)
     if rank < m:
         return "the active joints do not fix its passive joints"
-    if np.linalg.matrix_rank(np.concatenate([jac_u[0], jac_q[0]], axis=1), tol=1e-9) > rank:
+    if np.linalg.matrix_rank(np.concatenate([jac_u, jac_q], axis=1), tol=1e-9) > rank:
         return "its joints lock it: the active joints cannot move it"
     return None
 

@@ -184,6 +184,15 @@ class LinkGraph:
         return closing.active and not self._late[self.index[closing.parent]] and not self._late[self.index[closing.child]]
 
     @cached_property
+    def passive(self):
+        """How every passive joint of the loops follows the active ones
+        (``rswarp.rsxml.loops.passive_map``), found once; ``UnsolvedLoop`` for a loop rswarp cannot
+        solve (raised again on every ask)."""
+        from .loops import passive_map
+
+        return passive_map(self)
+
+    @cached_property
     def joints_in_loops(self) -> frozenset[str]:
         """Names of every joint on some loop, marked in near-linear time: each tree edge is marked
         once, and a union-find skips edges already marked."""

@@ -137,6 +137,14 @@ class UnsolvedLoop(ValueError):
         super().__init__(why)
         self.loop = loop
 
+    def error(self, mech, what: str):
+        """The file's error at the closing joint: "joint 'X' closes a kinematic loop that ``what``:
+        why"."""
+        from ..errors import model_error
+
+        j = self.loop.closing
+        return model_error(mech, f"joint '{j.name}' closes a kinematic loop that {what}: {self}", j.line)
+
 
 @dataclass(frozen=True)
 class PassiveMap:
@@ -182,6 +190,8 @@ def passive_map(graph) -> PassiveMap:
             loop = claimed[min(set(unknown) & set(claimed))]
             raise UnsolvedLoop(loop, "its passive joints are in a parallelogram too")
         _solve_parallelograms(graph, rows, unknown, solved, out.mimic)
+    for a in vars(out).values():  # found once and shared (LinkGraph.passive): nobody writes to it
+        a.setflags(write=False)
     return out
 
 

@@ -7,7 +7,7 @@ import numpy as np
 
 from ..kernels.types import FIXED, PRISMATIC, REVOLUTE, Chain
 from ..rsxml.graph import LinkGraph
-from ..rsxml.loops import UnsolvedLoop, passive_map
+from ..rsxml.loops import UnsolvedLoop
 from ..rsxml.model import Mechanism
 
 
@@ -27,34 +27,27 @@ def chain_of(graph: LinkGraph) -> Chain:
         axis[k] = j.axis
         point[k] = j.point1
     return Chain(parent=np.asarray(graph.parent, np.int32), jtype=jtype, qidx=qidx, axis=axis, point=point,
-                 order=np.asarray(graph.order, np.int32), **vars(passive_map(graph)))
+                 order=np.asarray(graph.order, np.int32), **vars(graph.passive))
 
 
 def mechanism_chain(mech: Mechanism) -> Chain:
     """``chain_of`` the mechanism's graph; a loop it cannot solve is the file's error, at the joint
     that closes the loop."""
-    from ..errors import model_error
-
     try:
         return chain_of(mech.graph)
     except UnsolvedLoop as exc:
-        j = exc.loop.closing
-        raise model_error(mech, f"joint '{j.name}' closes a kinematic loop that kinematics, sweeps and collision "
-                                f"checks cannot follow yet: {exc}", j.line) from None
+        raise exc.error(mech, "kinematics, sweeps and collision checks cannot follow yet") from None
 
 
 def closes(chain: Chain, q: np.ndarray) -> np.ndarray:
-    """``(N,)`` True where every loop of the chain closes at ``q`` (float64): False past a dead point
-    of a four-bar or of a loop the Newton solve takes, where the kernels' poses are NaN. The other
-    closed forms close everywhere."""
+    """``(N,)`` True where every closed-form loop of the chain closes at ``q`` (float64): False past
+    a four-bar's dead point, where the kernels' poses are NaN (the other closed forms close
+    everywhere). Loops the Newton solve takes are asked of the kernels: ``Kinematics.closes``."""
     from ..rsxml.closed import FOUR_BAR
-    from ..rsxml.general import general_values
     from ..rsxml.loops import closed_values
 
     q = np.atleast_2d(np.asarray(q, np.float64))
     ok = np.ones(len(q), bool)
     for k in np.nonzero(chain.closed[:, 0] == FOUR_BAR)[0]:
         ok &= np.isfinite(closed_values(chain.closed[k], q @ chain.closed_coef[k]))
-    if len(chain.general):
-        ok &= np.isfinite(general_values(chain.general, q, int(chain.unknown.max()) + 1)).all(axis=1)
     return ok

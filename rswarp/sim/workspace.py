@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -291,10 +291,10 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
     if skipped == done:
         raise model_error(mech, f"none of the {done} samples closes the loops of '{mech.name}': every one lies past "
                                 "a dead point")
-    return replace(_result(mech, exact, best, grids, done, method, seed, lower, upper), unreachable=skipped)
+    return _result(mech, exact, best, grids, done, skipped, method, seed, lower, upper)
 
 
-def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, method: str, seed: int,
+def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, skipped: int, method: str, seed: int,
             lower, upper) -> Workspace:
     """The refined extremes and the grids as a Workspace."""
 
@@ -307,7 +307,7 @@ def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, method: 
 
     w = exact.has_wrist
     return Workspace(
-        mechanism=mech.name, samples=done, method=method, seed=seed,
+        mechanism=mech.name, samples=done, method=method, seed=seed, unreachable=skipped,
         reach=refined(best.reach, 0, radial) if w else None,
         flange_reach=refined(best.flange_reach, 1, radial),
         wrist_low=refined(best.wrist_low, 0, lambda p: p[2], -1.0) if w else None,
