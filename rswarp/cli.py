@@ -92,6 +92,27 @@ def cmd_collisions(args) -> int:
     return 0
 
 
+def cmd_cable(args) -> int:
+    from .report.cables import cable_trajectories, cables_text, check_cable_folder, write_cables
+    from .sim.cables import CableOptions, simulate_cables
+
+    mech, _ = load_mechanism(args.file)
+    check_cable_folder(args.out)
+    trajectories = cable_trajectories(mech, args.trajectory, args.random, args.envs, args.seconds, args.seed)
+    f = mech.length_factor
+    options = CableOptions(frame_rate=args.frame_rate, substeps=args.substeps, density=args.density,
+                           min_bend_radius=None if args.min_bend_radius is None else args.min_bend_radius * f,
+                           floor=None if args.no_floor else args.floor * f, record=0 if args.usd else -1,
+                           device=args.device)
+    run = simulate_cables(mech, trajectories, args.envs, args.seconds, options,
+                          progress=None if args.json else _Progress("cable", unit="frame"))
+    for w in run.warnings:
+        print(w, file=sys.stderr)
+    doc = write_cables(run, mech, args.out, usd=args.usd)
+    _emit_json(doc) if args.json else print(cables_text(run, doc["files"]))
+    return 0
+
+
 def cmd_build(args) -> int:
     from .report.library import build_library, build_text
 
@@ -211,6 +232,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     _build_parser(sub, json_help, device_help)
 
+    _cable_parser(sub, json_help, device_help)
+
     p = sub.add_parser("demo", help="run rswarp on the bundled example robots")
     p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the exports go (default ./rswarp-demo)")
     p.add_argument("--json", action="store_true", help=json_help)
@@ -235,6 +258,42 @@ def _collisions_parser(sub, json_help: str, device_help: str) -> None:
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--device", default="cpu", help=device_help)
     p.set_defaults(func=cmd_collisions)
+
+
+def _cable_parser(sub, json_help: str, device_help: str) -> None:
+    """``rswarp cable``: the environments, their trajectories, and how the cables are judged."""
+    from .sim.cable import DENSITY
+    from .sim.cables import FRAME_RATE, SUBSTEPS
+
+    p = sub.add_parser("cable", help="cable (dress-pack) dynamics in many environments, each robot on its own "
+                                     "trajectory: tension, bend radius, clearance, slack, twist")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--envs", type=_count(1), default=16, help="parallel environments (default 16)")
+    how = p.add_mutually_exclusive_group(required=True)
+    how.add_argument("--trajectory", action="append", metavar="CSV",
+                     help="joint trajectory, time,<joint>,... in the file's units; repeat for more (assigned "
+                          "round-robin)")
+    how.add_argument("--random", action="store_true", help="smooth random trajectories within the limits, one "
+                                                         "per environment")
+    p.add_argument("--seconds", type=_positive, help="simulated time (default: the longest trajectory; 10 with "
+                                                     "--random)")
+    p.add_argument("--seed", type=_count(0), default=0, help="seed of the random trajectories (default 0)")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="folder for report.json, tension.png, bend_radius.png, clearance.png (and playback.usdc)")
+    p.add_argument("--usd", action="store_true", help="also write playback.usdc: environment 0's robot and cables "
+                                                      "over time, for usdview")
+    p.add_argument("--min-bend-radius", type=_positive, metavar="R",
+                   help="allowed bend radius in the file's length unit (default ten times the diameter)")
+    p.add_argument("--floor", type=_finite, default=0.0, help="height of the floor in the file's length unit "
+                                                            "(default 0)")
+    p.add_argument("--no-floor", action="store_true", help="no floor")
+    p.add_argument("--density", type=_positive, default=DENSITY, help=f"kg/m^3 (default {DENSITY:g}, a hose)")
+    p.add_argument("--frame-rate", type=_positive, default=FRAME_RATE,
+                   help=f"results per simulated second (default {FRAME_RATE:g})")
+    p.add_argument("--substeps", type=_count(1), default=SUBSTEPS, help=f"steps per frame (default {SUBSTEPS})")
+    p.add_argument("--json", action="store_true", help=json_help)
+    p.add_argument("--device", default="cpu", help=device_help)
+    p.set_defaults(func=cmd_cable)
 
 
 def _build_parser(sub, json_help: str, device_help: str) -> None:
@@ -297,6 +356,10 @@ def _number(text: str, *, zero: bool) -> float:
     if not (math.isfinite(value) and (value >= 0 if zero else value > 0)):
         raise argparse.ArgumentTypeError(f"must be a finite number {'>=' if zero else '>'} 0, not '{text}'")
     return value
+
+
+def _finite(text: str) -> float:
+    return _number(text, zero=True)
 
 
 def _positive(text: str) -> float:

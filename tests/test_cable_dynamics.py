@@ -19,11 +19,11 @@ FRAME = 1 / 60
 def settle(mech, cable, seconds: float, envs: int = 1, damping: float = 3.0, qs=None):
     model = cable_model(mech, cable)
     stepper = CableStepper(mech, model, substeps=20, iterations=2, damping=damping)
-    x, v = stepper.state(envs)
+    state = stepper.state(envs)
     zero = np.zeros((envs, stepper.substeps, mech.dof), np.float32)
     for f in range(int(round(seconds / FRAME))):
-        stepper.step(x, v, zero if qs is None else qs(f), FRAME)
-    return model, x, v
+        stepper.step(state, zero if qs is None else qs(f), FRAME)
+    return model, state.x, state.v
 
 
 def test_hanging_hose_sags_like_the_inextensible_catenary():
@@ -66,12 +66,13 @@ def test_attached_points_follow_a_turning_link():
     carried = mech.cables[1]
     model = cable_model(mech, carried)
     stepper = CableStepper(mech, model, substeps=10, iterations=2)
-    x, v = stepper.state(2)
+    state = stepper.state(2)
+    x = state.x
     rate = np.radians(90.0)
     for f in range(60):
         t = (f * 10 + np.arange(1, 11)) * FRAME / 10
         qs = np.stack([rate * t, -rate * t])[:, :, None]  # two environments turning opposite ways
-        stepper.step(x, v, qs, FRAME)
+        stepper.step(state, qs, FRAME)
         for e, sign in enumerate((1, -1)):
             a = sign * rate * (f + 1) * FRAME
             want = np.array([0.4 * np.cos(a), 0.4 * np.sin(a), 0.5])
@@ -85,12 +86,13 @@ def test_with_nothing_driven_energy_never_increases():
     mech = rswarp.load(DATA / "cables" / "catenary.rsxml")
     model = cable_model(mech, mech.cables[0])
     stepper = CableStepper(mech, model, substeps=20, iterations=2, damping=0.0)
-    x, v = stepper.state(1)
+    state = stepper.state(1)
+    x, v = state.x, state.v
     mass = np.where(model.inv_mass > 0, 1 / np.where(model.inv_mass > 0, model.inv_mass, 1), 0.0)
     zero = np.zeros((1, stepper.substeps, mech.dof), np.float32)
     energy = []
     for _ in range(120):
-        stepper.step(x, v, zero, FRAME)
+        stepper.step(state, zero, FRAME)
         energy.append(float(np.sum(mass * (0.5 * np.sum(v[0] ** 2, axis=1) + 9.81 * x[0, :, 2]))))
     assert np.diff(energy).max() <= 1e-6 * abs(energy[0])
     assert energy[-1] < energy[0]  # it moved, and lost energy to the projections

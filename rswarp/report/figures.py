@@ -19,6 +19,26 @@ def _png(fig) -> bytes:
     return buf.getvalue()
 
 
+def figure_png(draw, title: str, xlabel: str, ylabel: str) -> bytes:
+    """A plot as PNG bytes: ``draw(ax)`` fills one set of axes, which gets the title, labels, a grid
+    and a legend."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 4.5))
+    ax = fig.add_subplot()
+    draw(ax)
+    ax.set_title(title)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, alpha=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
+    return _png(fig)
+
+
 def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> None:
     """Write the side and top views (each atomically): of the wrist centre, or of the flange where
     there is none (below five axes)."""

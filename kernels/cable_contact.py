@@ -1,0 +1,140 @@
+"""What a cable meets and how it is measured, as device functions for ``rswarp.kernels.cable``:
+contact with the link meshes (Warp ``wp.Mesh`` BVH queries in each link's zero-position frame,
+with the cable's radius) and the floor, the bend radius along the chain, and the twist between
+two clamped ends (a reference normal parallel-transported along the chain)."""
+
+from typing import Any
+
+import warp as wp
+
+from .fk import pose_functions
+
+BIG = 1.0e30
+TINY = 1.0e-12
+
+
+@wp.struct
+class CableParams:
+    """One cable on one mechanism (SI). Per particle: rest length of segment k (particles k, k + 1),
+    inverse mass, carrying link (-1: free) and its zero-position point, bending compliance of the
+    curvature at k; ``touch[k, j]``: particle k may touch link j (it is not beside its own
+    attachment to j). Per link: its mesh in its zero-position frame (id 0: none) and a bounding
+    sphere (centre, radius) that spares the query of far links. ``ends``: the links clamping the
+    first and the last segment (-1: that end turns freely); ``start_normal``, ``end_normal``: their
+    reference normals at the zero position, parallel-transported into each other along the rest
+    shape, so the rest shape has no twist."""
+
+    rest: wp.array(dtype=wp.float32)
+    w: wp.array(dtype=wp.float32)
+    link: wp.array(dtype=wp.int32)
+    local: wp.array(dtype=wp.vec3)
+    compliance: wp.array(dtype=wp.float32)
+    touch: wp.array2d(dtype=wp.int32)
+    mesh: wp.array(dtype=wp.uint64)
+    sphere: wp.array(dtype=wp.vec4)
+    ends: wp.vec2i
+    start_normal: wp.vec3
+    end_normal: wp.vec3
+    gravity: wp.vec3
+    radius: wp.float32
+    damping: wp.float32
+    floor: wp.float32
+    margin: wp.float32  # contact query distance beyond the radius, per substep
+    reach: wp.float32  # clearance query distance beyond the radius, per frame
+    max_speed: wp.float32  # a particle faster than this has blown up
+
+
+def contact_functions(n_links: int):
+    """``(near, sharpest, twist)`` for a chain on a tree of ``n_links`` links (the floor's
+    clearance goes to slot ``n_links``)."""
+    _, _, apply, rotate = pose_functions(wp.float32)
+
+    @wp.func
+    def to_link(m: Any, p: wp.vec3) -> wp.vec3:
+        """``p`` in the link's zero-position frame: the pose's inverse applied."""
+        d = p - wp.vec3(m[0, 3], m[1, 3], m[2, 3])
+        return wp.vec3(m[0, 0] * d[0] + m[1, 0] * d[1] + m[2, 0] * d[2],
+                       m[0, 1] * d[0] + m[1, 1] * d[1] + m[2, 1] * d[2],
+                       m[0, 2] * d[0] + m[1, 2] * d[1] + m[2, 2] * d[2])
+
+    @wp.func
+    def surface(mesh: wp.uint64, pz: wp.vec3, max_dist: float):
+        """Signed distance from ``pz`` to the mesh (negative inside) and the outward normal there;
+        BIG when no face is within ``max_dist``."""
+        q = wp.mesh_query_point_sign_normal(mesh, pz, max_dist)
+        if not q.result:
+            return float(BIG), wp.vec3(0.0, 0.0, 1.0)
+        d = pz - wp.mesh_eval_position(mesh, q.face, q.u, q.v)
+        dist = wp.length(d)
+        n = wp.mesh_eval_face_normal(mesh, q.face)
+        if dist > TINY:
+            n = d / dist
+        if q.sign < 0.0:
+            return -dist, -n
+        return dist, n
+
+    @wp.func
+    def near(p: Any, prm: CableParams, poses: Any, query: float, push: int, clear: Any, at: Any):
+        """Each free particle against every link it may touch and the floor: the least clearance
+        (surface to surface) per link and which particle, where within ``query``; with ``push``,
+        particles inside are moved out to the surface along its normal (frictionless contact). A
+        particle deeper than the cable's radius plus ``query`` cannot have got there in one substep:
+        the robot carried it (a trajectory through the floor); it is counted, not pushed."""
+        for k in range(prm.w.shape[0]):
+            if prm.w[k] > 0.0:
+                for j in range(n_links):
+                    if prm.mesh[j] != wp.uint64(0) and prm.touch[k, j] != 0:
+                        m = poses[j]
+                        pz = to_link(m, p[k])
+                        s = prm.sphere[j]
+                        if wp.length(pz - wp.vec3(s[0], s[1], s[2])) < s[3] + prm.radius + query:
+                            signed, n = surface(prm.mesh[j], pz, prm.radius + query)
+                            gap = signed - prm.radius
+                            if gap < clear[j]:
+                                clear[j] = gap
+                                at[j] = k
+                            if push != 0 and gap < 0.0:
+                                p[k] = apply(m, pz - gap * n)
+                gap = p[k][2] - prm.radius - prm.floor
+                if gap < clear[n_links]:
+                    clear[n_links] = gap
+                    at[n_links] = k
+                if push != 0 and gap < 0.0 and gap > -prm.radius - query:  # deeper: carried there by the robot
+                    p[k] = wp.vec3(p[k][0], p[k][1], prm.floor + prm.radius)
+
+    @wp.func
+    def sharpest(p: Any, prm: CableParams):
+        """The least bend radius along the chain and where: at particle k, l / (2 tan(angle / 2))
+        with l the mean of its two segments' rest lengths (the discrete curvature of elastic rods)."""
+        best = float(BIG)
+        where = int(-1)
+        for k in range(1, prm.w.shape[0] - 1):
+            a = p[k] - p[k - 1]
+            b = p[k + 1] - p[k]
+            s = wp.length(wp.cross(a, b))
+            if s > TINY:
+                r = 0.5 * (prm.rest[k - 1] + prm.rest[k]) * (wp.length(a) * wp.length(b) + wp.dot(a, b)) / (2.0 * s)
+                if r < best:
+                    best = r
+                    where = k
+        return best, where
+
+    @wp.func
+    def twist(p: Any, prm: CableParams, poses: Any) -> float:
+        """The turn (rad) of the last clamp's normal about the cable from the first clamp's normal
+        carried along the chain by parallel transport; 0 unless both ends are clamped."""
+        if prm.ends[0] < 0 or prm.ends[1] < 0:
+            return 0.0
+        n = rotate(poses[prm.ends[0]], prm.start_normal)
+        t0 = wp.normalize(p[1] - p[0])
+        for k in range(1, prm.w.shape[0] - 1):
+            t1 = wp.normalize(p[k + 1] - p[k])
+            b = wp.cross(t0, t1)
+            c = wp.dot(t0, t1)
+            if c > -0.999:
+                n = c * n + wp.cross(b, n) + b * (wp.dot(b, n) / (1.0 + c))
+            t0 = t1
+        e = rotate(poses[prm.ends[1]], prm.end_normal)
+        return wp.atan2(wp.dot(t0, wp.cross(n, e)), wp.dot(n, e))
+
+    return near, sharpest, twist

@@ -1,0 +1,207 @@
+"""What ``rswarp cable`` leaves in its output folder and prints: ``report.json`` (per environment
+and cable: tension, bend radius, clearance and contact per link, whether the cable is long enough,
+twist, final points), plots over time (``tension.png``, ``bend_radius.png``, ``clearance.png``)
+and, when asked, ``playback.usdc``: robot and cables over time for usdview."""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..files import atomic_folder, atomic_write, check_replaceable
+from ..rsxml.model import Mechanism
+from ..sim.cable_results import CableResult
+from ..sim.cables import CableRun
+from ..sim.trajectory import Trajectory, random_trajectory, read_trajectory
+from .outputs import json_safe
+
+CABLE_FILES = ("report.json", "tension.png", "bend_radius.png", "clearance.png", "playback.usdc")
+TAUT = 0.999  # attachments this share of the cable length apart: pulled straight, no slack left
+
+
+def check_cable_folder(out: str | Path) -> None:
+    """Refuse an output folder the run could not replace, before anything is simulated."""
+    check_replaceable(Path(out), CABLE_FILES)
+
+
+RANDOM_SECONDS = 10.0  # a --random run's length unless given
+
+
+def cable_trajectories(mech: Mechanism, files: list[str] | None, random: bool, envs: int, seconds: float | None,
+                       seed: int) -> list[Trajectory]:
+    """The trajectories of a run: the CSV files read (checked against the limits), or one smooth
+    random trajectory per environment, from seeds ``seed``, ``seed + 1``, ..."""
+    if random:
+        span = seconds or RANDOM_SECONDS
+        return [random_trajectory(mech, span, seed + e) for e in range(envs)]
+    return [read_trajectory(f, mech) for f in files or []]
+
+
+def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = False) -> dict:
+    """Write the run's files into ``out`` as one set (an interrupted run leaves the old set). The
+    report as a dict, its files under ``files``."""
+    out = Path(out)
+    names = {"report": "report.json", "tension_plot": "tension.png", "bend_plot": "bend_radius.png",
+             "clearance_plot": "clearance.png"} | ({"playback": "playback.usdc"} if usd else {})
+    doc = cable_report(run) | {"files": {k: str(out / v) for k, v in names.items()}}
+    with atomic_folder(out, CABLE_FILES) as tmp:
+        for key, png in zip(("tension_plot", "bend_plot", "clearance_plot"), _plots(run)):
+            atomic_write(tmp / names[key], png)
+        if usd:
+            _playback(run, mech, tmp / names["playback"])
+        atomic_write(tmp / names["report"], (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
+    return doc
+
+
+def cable_report(run: CableRun) -> dict:
+    """The run as JSON-ready data (SI units; null where a quantity never occurred)."""
+    o = run.options
+    return json_safe({
+        "mechanism": run.mechanism, "environments": run.envs, "seconds": float(run.times[-1]),
+        "frame_rate": o.frame_rate, "substeps": o.substeps, "trajectories": list(run.trajectories),
+        "floor_z_m": o.floor, "warnings": list(run.warnings),
+        "cables": [_cable_dict(c, run) for c in run.cables]})
+
+
+def _cable_dict(c: CableResult, run: CableRun) -> dict:
+    return {"name": c.name, "length_m": c.length, "radius_m": c.radius, "allowed_bend_radius_m": c.allowed_bend_radius,
+            "torsion_stiffness_Nm2": c.torsion_stiffness, "summary": _summary(c),
+            "environments": [_env_dict(c, e, run) for e in range(c.envs)]}
+
+
+def _summary(c: CableResult) -> dict:
+    ok = c.status == "ok"
+    return {"stopped": int((~ok).sum()), "too_tight": int(c.too_tight.sum()), "taut": int((c.stretch >= TAUT).sum()),
+            "touching": int(c.touching.sum()), "least_bend_radius_m": _least(c.min_bend_radius),
+            "peak_tension_N": float(np.max(c.peak_tension)), "greatest_twist_rad": float(np.max(c.max_twist))}
+
+
+def _env_dict(c: CableResult, e: int, run: CableRun) -> dict:
+    links = {}
+    for j, name in enumerate(c.links):
+        if np.isfinite(c.clearance[e, j]):
+            links[name] = {"min_clearance_m": c.clearance[e, j], "time_s": c.clearance_time[e, j],
+                           "at_m": c.clearance_at[e, j], "contact_time_s": c.contact_time[e, j],
+                           "contact_at_m": c.contact_at[e, j]}
+    return {"environment": e, "trajectory": run.trajectories[run.assignment[e]], "status": str(c.status[e]),
+            "peak_tension_N": c.peak_tension[e], "peak_tension_time_s": c.peak_tension_time[e],
+            "taut": bool(c.stretch[e] >= TAUT), "max_attachment_distance_ratio": c.stretch[e],
+            "max_attachment_distance_time_s": c.stretch_time[e],
+            "min_bend_radius_m": c.min_bend_radius[e], "min_bend_time_s": c.min_bend_time[e],
+            "min_bend_at_m": c.min_bend_at[e], "bend_ok": bool(not c.too_tight[e]),
+            "max_twist_rad": c.max_twist[e], "max_torque_Nm": c.torsion_stiffness * c.max_twist[e] / c.length,
+            "clearance": links, "final_points": np.round(c.final_points[e], 6).tolist()}
+
+
+def _least(values: np.ndarray) -> float | None:
+    finite = values[np.isfinite(values)]
+    return float(finite.min()) if len(finite) else None
+
+
+def cables_text(run: CableRun, files: dict) -> str:
+    """The summary a user reads: per cable, the worst environment for each question."""
+    lines = [f"{run.mechanism}: {len(run.cables)} cable(s), {run.envs} environment(s), "
+             f"{run.times[-1]:g} s at {run.options.frame_rate:g} frames/s"]
+    for c in run.cables:
+        lines += _cable_lines(c)
+    lines += [f"{k}: {v}" for k, v in files.items()]
+    return "\n".join(lines)
+
+
+def _cable_lines(c: CableResult) -> list[str]:
+    n = c.envs
+    lines = [f"{c.name}: {c.length:.3f} m, radius {c.radius * 1000:g} mm"]
+    taut = np.nonzero(c.stretch >= TAUT)[0]
+    lines.append(f"  long enough: {n - len(taut)} of {n}" + (
+        f"; pulled straight in {_envs(taut)} (attachments {c.stretch.max():.1%} of the length apart)" if len(taut) else
+        f" (attachments at most {c.stretch.max():.1%} of the length apart)"))
+    e = int(np.nanargmin(np.where(np.isfinite(c.min_bend_radius), c.min_bend_radius, np.inf)))
+    tight = np.nonzero(c.too_tight)[0]
+    lines.append(f"  bend radius: least {c.min_bend_radius[e]:.3f} m (environment {e}, t = {c.min_bend_time[e]:.2f} s, "
+                 f"{c.min_bend_at[e]:.3f} m along); allowed {c.allowed_bend_radius:.3f} m: too tight in "
+                 f"{len(tight)} of {n}")
+    e = int(np.argmax(c.peak_tension))
+    lines.append(f"  peak tension: {c.peak_tension[e]:.3g} N (environment {e}, t = {c.peak_tension_time[e]:.2f} s)"
+                 + ("; taut runs: the tension is the solver's, an inextensible cable has no stiffness to bound it"
+                    if len(taut) else ""))
+    lines += _contact_lines(c)
+    e = int(np.argmax(c.max_twist))
+    lines.append(f"  twist: greatest {np.degrees(c.max_twist[e]):.1f} deg between the clamps (environment {e}; "
+                 f"torque {c.torsion_stiffness * c.max_twist[e] / c.length:.3g} N m)")
+    stopped = np.nonzero(c.status != "ok")[0]
+    for e in stopped[:5]:
+        lines.append(f"  environment {e} {c.status[e]}")
+    if len(stopped) > 5:
+        lines.append(f"  ... and {len(stopped) - 5} more stopped")
+    return lines
+
+
+def _contact_lines(c: CableResult) -> list[str]:
+    out = []
+    for j, name in enumerate(c.links):
+        col = c.clearance[:, j]
+        if not np.isfinite(col).any():
+            continue
+        e = int(np.nanargmin(np.where(np.isfinite(col), col, np.inf)))
+        touching = np.nonzero(np.isfinite(c.contact_time[:, j]))[0]
+        text = f"  {name}: least clearance {col[e] * 1000:.1f} mm (environment {e}, t = {c.clearance_time[e, j]:.2f} s, " \
+               f"{c.clearance_at[e, j]:.3f} m along)"
+        if len(touching):
+            first = touching[np.argmin(c.contact_time[touching, j])]
+            text += f"; touches in {len(touching)} of {c.envs}, first environment {first} at t = " \
+                    f"{c.contact_time[first, j]:.2f} s"
+        out.append(text)
+    return out or ["  clearance: nothing within reach of the cable"]
+
+
+def _envs(idx: np.ndarray) -> str:
+    shown = ", ".join(str(i) for i in idx[:8])
+    return f"environment(s) {shown}" + (f" and {len(idx) - 8} more" if len(idx) > 8 else "")
+
+
+def _plots(run: CableRun) -> list[bytes]:
+    """Tension, bend radius and clearance over time: per cable, the median across environments and
+    the band from least to greatest."""
+    from .figures import figure_png
+
+    t = run.times
+    out = []
+    for key, title, unit, scale in (("tension", "Tension", "N", 1.0), ("bend", "Least bend radius", "mm", 1000.0),
+                                    ("gap", "Least clearance", "mm", 1000.0)):
+        def draw(ax, key=key, scale=scale):
+            for c in run.cables:
+                s = getattr(c, key)
+                line, = ax.plot(t, s.median * scale, label=f"{c.name} (median)")
+                ax.fill_between(t, s.low * scale, s.high * scale, color=line.get_color(), alpha=0.25, lw=0,
+                                label=f"{c.name} (least to greatest)")
+                if key == "bend":
+                    ax.set_yscale("log")
+                    ax.axhline(c.allowed_bend_radius * scale, color=line.get_color(), ls="--",
+                               label=f"{c.name} allowed")
+            if key == "gap":
+                ax.axhline(0.0, color="k", lw=0.8)
+        out.append(figure_png(draw, f"{title} over {run.envs} environment(s)", "time (s)", f"{title.lower()} ({unit})"))
+    return out
+
+
+def _playback(run: CableRun, mech: Mechanism, path: Path) -> None:
+    """The recorded environment's robot and cables, sampled per frame (every stride-th when long)."""
+    from ..export.playback import PlaybackCable, PlaybackLink, write_playback
+    from ..sim.cable import link_meshes
+    from ..sim.kinematics import Kinematics
+
+    stride = run.cables[0].stride
+    q = run.q[::stride]
+    poses = Kinematics(mech).fk(q)
+    links = [PlaybackLink(name, m[0], m[1], (0.85, 0.85, 0.85), poses[:, j])
+             for j, (name, m) in enumerate(zip(mech.graph.links, link_meshes(mech).meshes)) if m is not None]
+    cables = [PlaybackCable(c.name, c.recorded, c.radius, _color(mech, c.name)) for c in run.cables]
+    write_playback(path, mech.name, links, cables, run.options.frame_rate / stride)
+
+
+def _color(mech: Mechanism, name: str) -> tuple[float, float, float]:
+    cable = next(c for c in mech.cables if c.name == name)
+    return tuple(v / 255 for v in cable.color) if cable.color else (0.1, 0.1, 0.1)
