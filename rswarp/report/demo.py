@@ -1,5 +1,5 @@
 """``rswarp demo``: check and info on every bundled example, and for each robot its flange at home,
-its reach from a short sweep, and its USD and URDF exports."""
+its reach from a short sweep, its USD and URDF exports, and a cable run where it has cables."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from ..rsxml.model import Mechanism
 from .info import report_dict, report_text
 
 DEMO_SAMPLES = 20_000
+DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS = 16, 4.0
 
 
 @dataclass
@@ -97,7 +98,7 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
              f"({what}, {DEMO_SAMPLES} samples refined)", *(f"   {w}" for w in warnings[:1]),
              f"   {collision_line}",
              f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else no_urdf) + f": {_physics_line(done[0].physics)}",
-             ""]
+             *_cables(mech, out), ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
             "usd": str(usd), "urdf": str(urdf) if len(done) > 1 else None}
@@ -118,6 +119,22 @@ def _collisions(mech: Mechanism, out: Path) -> tuple[tuple, str]:
     counts = ", ".join(f"{v} {k.lower()}" for k, v in c.reason_counts().items())
     return tuple(c.disabled()), (f"collisions: {c.free_fraction:.1%} of {c.samples} samples free; matrix disables "
                                  f"{counts} pairs -> {folder}")
+
+
+def _cables(mech: Mechanism, out: Path) -> list[str]:
+    """A cable run on random trajectories (``rswarp cable --random``), written to ``out/<name>-cables``."""
+    if not mech.cables:
+        return []
+    from ..sim.cables import simulate_cables
+    from .cables import cable_trajectories, cables_text, write_cables
+
+    trajectories = cable_trajectories(mech, None, True, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS, 0)
+    run = simulate_cables(mech, trajectories, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS)
+    folder = out / f"{mech.name}-cables"
+    doc = write_cables(run, mech, folder)
+    text = cables_text(run, {"report": doc["files"]["report"]}).splitlines()
+    return [f"   cables ({DEMO_CABLE_ENVS} random trajectories, {DEMO_CABLE_SECONDS:g} s) -> {folder}",
+            *(f"   {line}" for line in text[1:-1])]
 
 
 def _physics_line(robot) -> str:
