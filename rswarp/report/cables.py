@@ -153,6 +153,8 @@ def _contact_lines(c: CableResult) -> list[str]:
             first = touching[np.argmin(c.contact_time[touching, j])]
             text += f"; touches in {len(touching)} of {c.envs}, first environment {first} at t = " \
                     f"{c.contact_time[first, j]:.2f} s"
+        if col[e] < -2 * c.radius - c.length / 4:  # deeper than any contact push leaves it
+            text += " (carried inside by the robot: the trajectory goes through it)"
         out.append(text)
     return out or ["  clearance: nothing within reach of the cable"]
 
