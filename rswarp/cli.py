@@ -359,7 +359,14 @@ def _number(text: str, *, zero: bool) -> float:
 
 
 def _finite(text: str) -> float:
-    return _number(text, zero=True)
+    """Any finite number (a floor may lie below the base)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, not '{text}'")
+    return value
 
 
 def _positive(text: str) -> float:

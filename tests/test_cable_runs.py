@@ -152,3 +152,5 @@ def test_cable_command_refuses_bad_input(tmp_path, capsys):
     assert len(err) == 1 and err[0].startswith(f"{csv}:3:") and not out.exists()
     assert main(["cable", str(DATA / "cables" / "../transforms.rsxml"), "--random", "--out", str(out)]) == 1
     assert "no Cable" in capsys.readouterr().err and not out.exists()
+    assert main(["cable", str(ID), "--random", "--floor", "nan", "--out", str(out)]) == 1
+    assert "--floor: must be a finite number" in capsys.readouterr().err and not out.exists()
