@@ -17,7 +17,10 @@ its end segments kinematic; MuJoCo at 0.5 ms (it is reported to go NaN at 1 ms),
 MjData per environment (its cost is per environment; 64 and 256 are timed as 4 environments and
 scaled, said in the table). Ours: 60 frames per second of 10 substeps, the run's defaults.
 
-Usage: python benchmarks/bench_cable.py [--quick]. Ends with a JSON line: the ratio is the best
+Last, the issue's target: the bundled IRB 2600ID's hose, 256 environments x 10 s of random motion,
+through ``simulate_cables`` (``--whole-run`` measures only this).
+
+Usage: python benchmarks/bench_cable.py [--quick] [--whole-run]. Ends with a JSON line: the ratio is the best
 peer's CPU cost over ours at 20 segments and 256 environments.
 """
 
@@ -217,10 +220,32 @@ def mujoco_cable(segments: int, envs: int, settle: float, timed: float, ref) -> 
     return out
 
 
+def whole_run(envs: int = 256, seconds: float = 10.0) -> None:
+    """The issue's target on the bundled IRB 2600ID: ``simulate_cables`` for ``envs`` random
+    trajectories of ``seconds`` (its kernel compiled first, by a one-frame run), wall and CPU time."""
+    import rswarp
+    from rswarp.examples import IRB2600ID
+    from rswarp.sim.cables import simulate_cables
+    from rswarp.sim.trajectory import random_trajectory
+
+    mech = rswarp.load(IRB2600ID)
+    trajectories = [random_trajectory(mech, seconds, seed) for seed in range(envs)]
+    simulate_cables(mech, trajectories[:1], 1, seconds=1 / 60)
+    wall, cpu = time.perf_counter(), time.process_time()
+    simulate_cables(mech, trajectories, envs, seconds)
+    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    print(f"\nwhole run, IRB 2600ID hose, {envs} environments x {seconds:g} s of random motion "
+          f"(settling included): {wall:.1f} s wall, {cpu:.1f} CPU-s")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="shorter runs (a check that the script works)")
+    ap.add_argument("--whole-run", action="store_true", help="only the whole-run timing on the IRB 2600ID")
     args = ap.parse_args()
+    if args.whole_run:
+        whole_run()
+        return
     settle, timed = (1.0, 0.5) if args.quick else (6.0, 2.0)
     ref = elastica()
     print(f"hanging hose: catenary sag {catenary_sag() * 1000:.1f} mm, elastica (reference) sag "
@@ -241,6 +266,7 @@ def main() -> None:
     for s, e, n, r in rows:
         if n == "rswarp":
             print(f"  {s} segments, {e} envs: {best[(s, e)] / r['cpu']:.1f}x")
+    whole_run(envs=16 if args.quick else 256, seconds=2.0 if args.quick else 10.0)
     ours_256 = next(r["cpu"] for s, e, n, r in rows if (s, e, n) == (20, 256, "rswarp"))
     print(json.dumps({"metric": "cable CPU-s per simulated s per env (20 segments, 256 envs)",
                       "ours": ours_256, "peer": best[(20, 256)], "ratio": best[(20, 256)] / ours_256}))

@@ -1,28 +1,30 @@
 """Cable dynamics as device code: one environment per thread, its cable a chain of particles.
 
-Each substep: forward kinematics poses the links the cable is attached to (``tree_fk``, inside
-the kernel); attached particles (and, where a control point clamps the tangent, their neighbour)
-move rigidly with their links; free particles fall under gravity. Then the chain is made
-inextensible exactly: a few Newton steps on all its distance constraints at once, a tridiagonal
-system solved in linear time (a direct solve, not Gauss-Seidel sweeps, so long cables do not
-stretch under their weight). Bending follows by XPBD on the discrete curvature x[i-1] - 2 x[i] +
-x[i+1] with compliance l^3 / EI, then the lengths are restored. Velocities are the positions'
-change, damped.
+Each substep: forward kinematics poses the links the cable is attached to or may touch
+(``tree_fk``, inside the kernel); attached particles (and, where a control point clamps the
+tangent, their ghost neighbour) move rigidly with their links; free particles fall under gravity.
+Contact (``cable_contact``) keeps them out of the link meshes and the floor. Then the chain is
+made inextensible exactly: a few Newton steps on all its distance constraints at once, a
+tridiagonal system solved in linear time (a direct solve, not Gauss-Seidel sweeps, so long cables
+do not stretch under their weight). Bending follows by XPBD on the discrete curvature x[i-1] -
+2 x[i] + x[i+1] with compliance l^3 / EI, then the lengths are restored and contact again.
+Velocities are the positions' change, damped. Each frame reports the peak tension, the tightest
+bend, the twist, and the least clearance per link and to the floor.
 """
 
 from typing import Any
 
 import warp as wp
 
-from .cable_contact import BIG, CableParams, contact_functions
+from .cable_contact import BIG, CableParams, near_function, sharpest_function, twist_function
 from .fk import emit_local, pose_functions, tree_fk
 from .types import Chain, types_of
 
 NEWTON_STEPS = 3  # exact-length projections per substep (quadratic convergence)
 
 # columns of a frame's statistics, per environment
-TENSION, BEND, BEND_AT, ENERGY, TWIST = range(5)
-STATS = 5
+TENSION, BEND, BEND_AT, TWIST = range(4)
+STATS = 4
 # an environment's state
 RUNNING, NOT_FINITE, RUNAWAY = 0, 1, 2
 MAX_PARTICLES = 4096  # per cable (its particle arrays live in each thread's local memory)
@@ -38,37 +40,23 @@ def capacity(particles: int) -> int:
 
 def cable_kernel(chain: Chain, links: set, particles: int, bending_iterations: int):
     """``step(prm, dt, qs, x, v, status, stats, clear, at)``: one frame for each environment, in as
-    many substeps as ``qs`` has rows. ``qs`` (envs, substeps, dof): the joints at the end of each substep; ``x``,
-    ``v`` (envs, particles) positions and velocities and ``status`` (envs,), updated in place;
-    ``stats`` (envs, STATS) the frame's peak tension, least bend radius and where, kinetic energy
-    and twist; ``clear``, ``at`` (envs, links + 1): the least clearance to each link (the floor
-    last) over the frame and the particle where. An environment that blows up stops, frozen, with
-    its status set."""
+    many substeps as ``qs`` has rows. ``qs`` (envs, substeps, dof): the joints at the end of each
+    substep; ``x``, ``v`` (envs, particles) positions and velocities and ``status`` (envs,), updated
+    in place; ``stats`` (envs, STATS) the frame's peak tension, least bend radius and where, and
+    twist; ``clear``, ``at`` (envs, links + 1): the least clearance to each link (the floor last)
+    over the frame and the particle where. An environment that blows up stops, frozen, with its
+    status set."""
     S = wp.float32
     M34 = types_of(S).mat34
     n_links = max(len(chain.parent), 1)
     slots = n_links + 1  # each link, then the floor
-    fk = tree_fk(chain, links or {chain.root}, emit_local(S), S)
-    apply = pose_functions(S)[2]
     P = capacity(particles)
-    project = _length_projection(P, S)
-    bend = _bending_solve(P, S)
-    near, sharpest, twist = contact_functions(n_links)
+    advance = _advance_function(chain, links)
+    near = near_function(n_links)
+    substep = _substep_function(P, bending_iterations, near)
+    sharpest, twist, commit = sharpest_function(), twist_function(), _commit_function()
     carried = "-".join(str(k) for k in sorted(links))
     module = f"rswarp_cable_{chain.digest()}_{carried}_{P}_{bending_iterations}"
-
-    @wp.func
-    def advance(prm: CableParams, poses: Any, q: wp.array2d(dtype=S), s: int, h: S,
-                x: Any, v: Any, e: int, p: Any):
-        """Predicted positions: carried particles where their links are, free ones by their
-        velocity and gravity."""
-        fk(q, s, poses)
-        for k in range(prm.w.shape[0]):
-            if prm.link[k] >= 0:
-                p[k] = apply(poses[prm.link[k]], prm.local[k])
-            else:
-                v[e, k] = v[e, k] + prm.gravity * h
-                p[k] = x[e, k] + v[e, k] * h
 
     @wp.kernel(enable_backward=False, module=module)
     def step(prm: CableParams, dt: S, qs: wp.array3d(dtype=S), x: wp.array2d(dtype=wp.vec3),
@@ -81,57 +69,104 @@ def cable_kernel(chain: Chain, links: set, particles: int, bending_iterations: i
         p = wp.zeros(shape=P, dtype=wp.vec3)
         gap = wp.zeros(shape=slots, dtype=S)
         where = wp.zeros(shape=slots, dtype=wp.int32)
-        for j in range(n_links + 1):
+        for j in range(slots):
             gap[j] = S(BIG)
             where[j] = -1
-        substeps = qs.shape[1]
-        h = dt / S(substeps)
-        keep = wp.exp(-prm.damping * h)
+        h = dt / S(qs.shape[1])
         peak = S(0.0)
         tightest = S(BIG)
         tightest_at = int(-1)
-        count = prm.w.shape[0]
-        for s in range(substeps):
+        for s in range(qs.shape[1]):
             advance(prm, poses, qs[e], s, h, x, v, e, p)
-            near(p, prm, poses, prm.margin, 1, gap, where)
-            impulse = wp.zeros(shape=P, dtype=S)  # each segment's constraint impulse this substep
-            project(p, prm.rest, prm.w, impulse)
-            lam = wp.zeros(shape=P, dtype=wp.vec3)  # XPBD multipliers of the curvature constraints
-            for it in range(bending_iterations):
-                bend(p, lam, prm.w, prm.compliance, h)
-                project(p, prm.rest, prm.w, impulse)
-            near(p, prm, poses, prm.margin, 1, gap, where)
-            for k in range(count - 1):
-                peak = wp.max(peak, -impulse[k] / (h * h))
+            peak = wp.max(peak, substep(p, prm, poses, h, gap, where))
             r, k_r = sharpest(p, prm)
             if r < tightest:
                 tightest = r
                 tightest_at = k_r
-            energy = S(0.0)
-            for k in range(count):
-                u = (p[k] - x[e, k]) / h * keep
-                speed = wp.length(u)
-                if not wp.isfinite(speed):
-                    status[e] = NOT_FINITE
-                    return
-                if speed > prm.max_speed:
-                    status[e] = RUNAWAY
-                    return
-                if prm.w[k] > 0.0:
-                    energy = energy + S(0.5) * speed * speed / prm.w[k]
-                v[e, k] = u
-                x[e, k] = p[k]
-            stats[e, ENERGY] = energy
+            failed = commit(p, prm, h, x, v, e)
+            if failed != RUNNING:
+                status[e] = failed
+                return
         near(p, prm, poses, prm.reach, 0, gap, where)
         stats[e, TENSION] = peak
         stats[e, BEND] = tightest
         stats[e, BEND_AT] = S(tightest_at)
         stats[e, TWIST] = twist(p, prm, poses)
-        for j in range(n_links + 1):
+        for j in range(slots):
             clear[e, j] = gap[j]
             at[e, j] = where[j]
 
     return step
+
+
+def _advance_function(chain: Chain, links: set):
+    """``advance(prm, poses, q, s, h, x, v, e, p)``: forward kinematics for substep ``s``, then the
+    predicted positions: carried particles where their links are, free ones by their velocity
+    and gravity (the velocity updated)."""
+    S = wp.float32
+    fk = tree_fk(chain, links or {chain.root}, emit_local(S), S)
+    apply = pose_functions(S)[2]
+
+    @wp.func
+    def advance(prm: CableParams, poses: Any, q: wp.array2d(dtype=S), s: int, h: S,
+                x: Any, v: Any, e: int, p: Any):
+        fk(q, s, poses)
+        for k in range(prm.w.shape[0]):
+            if prm.link[k] >= 0:
+                p[k] = apply(poses[prm.link[k]], prm.local[k])
+            else:
+                v[e, k] = v[e, k] + prm.gravity * h
+                p[k] = x[e, k] + v[e, k] * h
+
+    return advance
+
+
+def _substep_function(P: int, bending_iterations: int, near):
+    """``substep(p, prm, poses, h, gap, where) -> tension``: contact, exact lengths, bending,
+    lengths and contact again on the predicted positions; the greatest segment tension (N)."""
+    S = wp.float32
+    project = _length_projection(P, S)
+    bend = _bending_solve(P, S)
+
+    @wp.func
+    def substep(p: Any, prm: CableParams, poses: Any, h: S, gap: Any, where: Any) -> S:
+        near(p, prm, poses, prm.margin, 1, gap, where)
+        impulse = wp.zeros(shape=P, dtype=S)  # each segment's constraint impulse this substep
+        project(p, prm.rest, prm.w, impulse)
+        lam = wp.zeros(shape=P, dtype=wp.vec3)  # XPBD multipliers of the curvature constraints
+        for it in range(bending_iterations):
+            bend(p, lam, prm.w, prm.compliance, h)
+            project(p, prm.rest, prm.w, impulse)
+        near(p, prm, poses, prm.margin, 1, gap, where)
+        peak = S(0.0)
+        for k in range(prm.rest.shape[0]):
+            peak = wp.max(peak, -impulse[k] / (h * h))
+        return peak
+
+    return substep
+
+
+def _commit_function():
+    """``commit(p, prm, h, x, v, e) -> status``: the substep's positions and damped velocities
+    into the state, unless a particle is not finite or faster than ``max_speed``: then the state
+    stays as it was and the failure is returned."""
+
+    @wp.func
+    def commit(p: Any, prm: CableParams, h: float, x: wp.array2d(dtype=wp.vec3), v: wp.array2d(dtype=wp.vec3),
+               e: int) -> int:
+        keep = wp.exp(-prm.damping * h)
+        for k in range(prm.w.shape[0]):
+            speed = wp.length(p[k] - x[e, k]) / h * keep
+            if not wp.isfinite(speed):
+                return NOT_FINITE
+            if speed > prm.max_speed:
+                return RUNAWAY
+        for k in range(prm.w.shape[0]):
+            v[e, k] = (p[k] - x[e, k]) / h * keep
+            x[e, k] = p[k]
+        return RUNNING
+
+    return commit
 
 
 def _length_projection(P: int, scalar):

@@ -8,6 +8,7 @@ from typing import Any
 import warp as wp
 
 from .fk import pose_functions
+from .types import types_of
 
 BIG = 1.0e30
 TINY = 1.0e-12
@@ -44,68 +45,91 @@ class CableParams:
     max_speed: wp.float32  # a particle faster than this has blown up
 
 
-def contact_functions(n_links: int):
-    """``(near, sharpest, twist)`` for a chain on a tree of ``n_links`` links (the floor's
-    clearance goes to slot ``n_links``)."""
-    _, _, apply, rotate = pose_functions(wp.float32)
+_, _, _apply, _rotate = pose_functions(wp.float32)
+M34 = types_of(wp.float32).mat34
+
+# Functions taking a kernel-local array (typed Any) are made per kernel by a factory: Warp
+# specializes them by the array's size, which differs between kernels.
+
+
+@wp.func
+def to_link(m: M34, p: wp.vec3) -> wp.vec3:
+    """``p`` in the link's zero-position frame: the 3x4 pose's inverse applied."""
+    d = p - wp.vec3(m[0, 3], m[1, 3], m[2, 3])
+    return wp.vec3(m[0, 0] * d[0] + m[1, 0] * d[1] + m[2, 0] * d[2],
+                   m[0, 1] * d[0] + m[1, 1] * d[1] + m[2, 1] * d[2],
+                   m[0, 2] * d[0] + m[1, 2] * d[1] + m[2, 2] * d[2])
+
+
+@wp.func
+def surface(mesh: wp.uint64, pz: wp.vec3, max_dist: float):
+    """Signed distance from ``pz`` to the mesh (negative inside) and the outward normal there;
+    BIG when no face is within ``max_dist``."""
+    q = wp.mesh_query_point_sign_normal(mesh, pz, max_dist)
+    if not q.result:
+        return float(BIG), wp.vec3(0.0, 0.0, 1.0)
+    d = pz - wp.mesh_eval_position(mesh, q.face, q.u, q.v)
+    dist = wp.length(d)
+    n = wp.mesh_eval_face_normal(mesh, q.face)
+    if dist > TINY:
+        n = d / dist
+    if q.sign < 0.0:
+        return -dist, -n
+    return dist, n
+
+
+@wp.func
+def _link_gap(p: wp.vec3, m: M34, mesh: wp.uint64, sphere: wp.vec4, radius: float, query: float):
+    """The clearance from a particle to one link's mesh (BIG beyond ``query``, or beyond its
+    bounding sphere), and where the particle goes to touch it from outside."""
+    pz = to_link(m, p)
+    if wp.length(pz - wp.vec3(sphere[0], sphere[1], sphere[2])) >= sphere[3] + radius + query:
+        return float(BIG), p
+    signed, n = surface(mesh, pz, radius + query)
+    gap = signed - radius
+    return gap, _apply(m, pz - gap * n)
+
+
+def near_function(n_links: int):
+    """``near(p, prm, poses, query, push, clear, at)`` for a tree of ``n_links`` links: each free
+    particle against every link it may touch and the floor (slot ``n_links``). It lowers the least
+    clearance per slot (surface to surface, where within ``query``) and notes which particle; with
+    ``push``, particles inside are moved out along the normal (frictionless contact). A particle
+    deeper than the radius plus ``query`` cannot have got there in one substep: the robot carried
+    it (a trajectory through the floor); it is counted, not pushed."""
 
     @wp.func
-    def to_link(m: Any, p: wp.vec3) -> wp.vec3:
-        """``p`` in the link's zero-position frame: the pose's inverse applied."""
-        d = p - wp.vec3(m[0, 3], m[1, 3], m[2, 3])
-        return wp.vec3(m[0, 0] * d[0] + m[1, 0] * d[1] + m[2, 0] * d[2],
-                       m[0, 1] * d[0] + m[1, 1] * d[1] + m[2, 1] * d[2],
-                       m[0, 2] * d[0] + m[1, 2] * d[1] + m[2, 2] * d[2])
-
-    @wp.func
-    def surface(mesh: wp.uint64, pz: wp.vec3, max_dist: float):
-        """Signed distance from ``pz`` to the mesh (negative inside) and the outward normal there;
-        BIG when no face is within ``max_dist``."""
-        q = wp.mesh_query_point_sign_normal(mesh, pz, max_dist)
-        if not q.result:
-            return float(BIG), wp.vec3(0.0, 0.0, 1.0)
-        d = pz - wp.mesh_eval_position(mesh, q.face, q.u, q.v)
-        dist = wp.length(d)
-        n = wp.mesh_eval_face_normal(mesh, q.face)
-        if dist > TINY:
-            n = d / dist
-        if q.sign < 0.0:
-            return -dist, -n
-        return dist, n
+    def note(clear: Any, at: Any, j: int, gap: float, k: int):
+        if gap < clear[j]:
+            clear[j] = gap
+            at[j] = k
 
     @wp.func
     def near(p: Any, prm: CableParams, poses: Any, query: float, push: int, clear: Any, at: Any):
-        """Each free particle against every link it may touch and the floor: the least clearance
-        (surface to surface) per link and which particle, where within ``query``; with ``push``,
-        particles inside are moved out to the surface along its normal (frictionless contact). A
-        particle deeper than the cable's radius plus ``query`` cannot have got there in one substep:
-        the robot carried it (a trajectory through the floor); it is counted, not pushed."""
         for k in range(prm.w.shape[0]):
-            if prm.w[k] > 0.0:
-                for j in range(n_links):
-                    if prm.mesh[j] != wp.uint64(0) and prm.touch[k, j] != 0:
-                        m = poses[j]
-                        pz = to_link(m, p[k])
-                        s = prm.sphere[j]
-                        if wp.length(pz - wp.vec3(s[0], s[1], s[2])) < s[3] + prm.radius + query:
-                            signed, n = surface(prm.mesh[j], pz, prm.radius + query)
-                            gap = signed - prm.radius
-                            if gap < clear[j]:
-                                clear[j] = gap
-                                at[j] = k
-                            if push != 0 and gap < 0.0:
-                                p[k] = apply(m, pz - gap * n)
-                gap = p[k][2] - prm.radius - prm.floor
-                if gap < clear[n_links]:
-                    clear[n_links] = gap
-                    at[n_links] = k
-                if push != 0 and gap < 0.0 and gap > -prm.radius - query:  # deeper: carried there by the robot
-                    p[k] = wp.vec3(p[k][0], p[k][1], prm.floor + prm.radius)
+            if prm.w[k] <= 0.0:
+                continue
+            for j in range(n_links):
+                if prm.mesh[j] != wp.uint64(0) and prm.touch[k, j] != 0:
+                    gap, out = _link_gap(p[k], poses[j], prm.mesh[j], prm.sphere[j], prm.radius, query)
+                    note(clear, at, j, gap, k)
+                    if push != 0 and gap < 0.0:
+                        p[k] = out
+            gap = p[k][2] - prm.radius - prm.floor
+            note(clear, at, n_links, gap, k)
+            if push != 0 and gap < 0.0 and gap > -prm.radius - query:
+                p[k] = wp.vec3(p[k][0], p[k][1], prm.floor + prm.radius)
+
+    return near
+
+
+def sharpest_function():
+    """``sharpest(p, prm) -> (radius, k)``: the least bend radius along the chain and where: at
+    particle k, l / (2 tan(angle / 2)) with l the mean of its two segments' rest lengths (the
+    discrete curvature of elastic rods)."""
 
     @wp.func
     def sharpest(p: Any, prm: CableParams):
-        """The least bend radius along the chain and where: at particle k, l / (2 tan(angle / 2))
-        with l the mean of its two segments' rest lengths (the discrete curvature of elastic rods)."""
         best = float(BIG)
         where = int(-1)
         for k in range(1, prm.w.shape[0] - 1):
@@ -119,13 +143,19 @@ def contact_functions(n_links: int):
                     where = k
         return best, where
 
+    return sharpest
+
+
+def twist_function():
+    """``twist(p, prm, poses)``: the turn (rad) of the last clamp's normal about the cable from the
+    first clamp's normal carried along the chain by parallel transport; 0 unless both ends are
+    clamped."""
+
     @wp.func
     def twist(p: Any, prm: CableParams, poses: Any) -> float:
-        """The turn (rad) of the last clamp's normal about the cable from the first clamp's normal
-        carried along the chain by parallel transport; 0 unless both ends are clamped."""
         if prm.ends[0] < 0 or prm.ends[1] < 0:
             return 0.0
-        n = rotate(poses[prm.ends[0]], prm.start_normal)
+        n = _rotate(poses[prm.ends[0]], prm.start_normal)
         t0 = wp.normalize(p[1] - p[0])
         for k in range(1, prm.w.shape[0] - 1):
             t1 = wp.normalize(p[k + 1] - p[k])
@@ -134,7 +164,7 @@ def contact_functions(n_links: int):
             if c > -0.999:
                 n = c * n + wp.cross(b, n) + b * (wp.dot(b, n) / (1.0 + c))
             t0 = t1
-        e = rotate(poses[prm.ends[1]], prm.end_normal)
+        e = _rotate(poses[prm.ends[1]], prm.end_normal)
         return wp.atan2(wp.dot(t0, wp.cross(n, e)), wp.dot(n, e))
 
-    return near, sharpest, twist
+    return twist

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from pxr import Gf, Sdf, Usd, UsdGeom, Vt
+from pxr import Gf, Sdf, Tf, Usd, UsdGeom, Vt
 
 from .usd_bodies import author_mesh
 
@@ -79,6 +79,4 @@ def _cable(stage, path: Sdf.Path, cable: PlaybackCable) -> None:
 
 
 def _ident(name: str) -> str:
-    from pxr import Tf
-
     return Tf.MakeValidIdentifier(name or "unnamed")

@@ -51,6 +51,17 @@ class CableModel:
     def particles(self) -> int:
         return len(self.x0)
 
+    @property
+    def arc(self) -> np.ndarray:
+        """(P,) arc length of each particle from the cable's first own particle (m; ghosts outside)."""
+        arc = np.concatenate([[0.0], np.cumsum(self.rest)])
+        return arc - arc[self.cable.start]
+
+    @property
+    def length(self) -> float:
+        """The cable's own length (ghost segments excluded)."""
+        return float(self.arc[self.cable.stop - 1])
+
 
 def cable_model(mech: Mechanism, cable: Cable, density: float = DENSITY, poisson: float = POISSON) -> CableModel:
     """The particle arrays of ``cable`` (its rest shape: ``rswarp.geometry.cable.cable_rest``)."""
@@ -70,14 +81,14 @@ def cable_model(mech: Mechanism, cable: Cable, density: float = DENSITY, poisson
     own = slice(first, first + len(rest.points))
     ends = (int(link[0]) if first else -1, int(link[-1]) if own.stop < len(x0) else -1)
     return CableModel(cable.name, x0, seg, inv, link, lk ** 3 / ei, own, cable.radius,
-                      _touch(x0, seg, link, len(mech.graph.links), cable.radius), ends, _normals(x0), gj)
+                      _touch(seg, link, len(mech.graph.links), cable.radius), ends, _normals(x0), gj)
 
 
-def _touch(x0: np.ndarray, seg: np.ndarray, link: np.ndarray, n_links: int, radius: float) -> np.ndarray:
+def _touch(seg: np.ndarray, link: np.ndarray, n_links: int, radius: float) -> np.ndarray:
     """1 where particle k may touch link j: not within ATTACHED_FREE of a particle held by j, where
     the cable leaves the link's surface on purpose."""
     arc = np.concatenate([[0.0], np.cumsum(seg)])
-    out = np.ones((len(x0), max(n_links, 1)), np.int32)
+    out = np.ones((len(link), max(n_links, 1)), np.int32)
     free = ATTACHED_FREE * radius + seg.max()
     for k in np.nonzero(link >= 0)[0]:
         out[np.abs(arc - arc[k]) <= free, link[k]] = 0

@@ -90,12 +90,11 @@ class Tally:
     """Running extremes of one cable's environments, fed each frame's ``CableState``."""
 
     def __init__(self, model: CableModel, envs: int, slots: int, frames: int, record: int):
-        arc = np.concatenate([[0.0], np.cumsum(model.rest)])
-        self.arc = np.append(arc - arc[model.cable.start], np.nan)  # index -1 (none) reads NaN
-        own = range(model.cable.start, model.cable.stop)
-        anchors = [k for k in own if model.link[k] >= 0]
+        self.model = model
+        self.arc = np.append(model.arc, np.nan)  # index -1 (none) reads NaN
+        anchors = [k for k in range(model.cable.start, model.cable.stop) if model.link[k] >= 0]
         self.pairs = np.array(list(zip(anchors[:-1], anchors[1:])), np.int64).reshape(-1, 2)
-        self.pair_length = arc[self.pairs[:, 1]] - arc[self.pairs[:, 0]]
+        self.pair_length = model.arc[self.pairs[:, 1]] - model.arc[self.pairs[:, 0]]
         nan = lambda *shape: np.full(shape, np.nan)  # noqa: E731
         self.peak, self.peak_t = np.zeros(envs), nan(envs)
         self.bend, self.bend_t, self.bend_at = np.full(envs, np.inf), nan(envs), nan(envs)
@@ -107,7 +106,7 @@ class Tally:
         self.series: dict[str, list] = {"tension": [], "bend": [], "gap": []}
         self.record, self.stride = record, max(1, -(-frames // MAX_RECORDED))
         self.recorded: list[np.ndarray] = []
-        self.own, self.frame = model.cable, 0
+        self.frame = 0
 
     def start(self, state: CableState) -> None:
         """The twist at the end of settling: its turns are counted from here on."""
@@ -131,7 +130,7 @@ class Tally:
         for key, values in (("tension", tension), ("bend", bend), ("gap", gap)):
             self.series[key].append(spread(values))
         if self.record >= 0 and self.frame % self.stride == 0:
-            self.recorded.append(state.x[min(self.record, len(state.x) - 1), self.own].copy())
+            self.recorded.append(state.x[min(self.record, len(state.x) - 1), self.model.cable].copy())
         self.frame += 1
 
     def _clearances(self, state: CableState, live: np.ndarray, t: float) -> np.ndarray:
@@ -160,15 +159,16 @@ class Tally:
         self.twist_prev = np.where(live, raw, self.twist_prev)
         self.max_twist = np.maximum(self.max_twist, np.abs(self.twist))
 
-    def result(self, model: CableModel, allowed: float, links: tuple[str, ...], state: CableState) -> CableResult:
+    def result(self, allowed: float, links: tuple[str, ...], state: CableState) -> CableResult:
         why = {NOT_FINITE: "positions became NaN or infinite",
                RUNAWAY: f"a particle passed {MAX_SPEED:g} m/s (runaway energy)"}
         status = np.array(["ok" if np.isnan(t) else f"stopped at t = {t:.3f} s: {why.get(int(k), 'failed')}"
                            for t, k in zip(self.failed_t, self.failed_why)], dtype=object)
+        model = self.model
         own = state.x[:, model.cable].astype(np.float64)
         recorded = np.asarray(self.recorded, np.float64).reshape(-1, own.shape[1], 3)
         return CableResult(
-            model.name, float(model.rest[model.cable.start:model.cable.stop - 1].sum()), model.radius, float(allowed),
+            model.name, model.length, model.radius, float(allowed),
             model.torsion, links, self.peak, self.peak_t, self.bend, self.bend_t, self.bend_at, self.clear,
             self.clear_t, self.clear_at, self.contact_t, self.contact_at, self.stretch, self.stretch_t,
             self.max_twist, status, self.failed_t, own, Series.of(self.series["tension"]),
@@ -178,15 +178,16 @@ class Tally:
 def _lower(best: np.ndarray, value: np.ndarray, t: float, when: np.ndarray, where: np.ndarray | None = None,
            at: np.ndarray | None = None) -> None:
     """Where ``value`` is below ``best`` (NaN never is): take it, and note the time and place."""
-    better = value < best
-    best[better] = value[better]
-    when[better] = t
-    if where is not None:
-        where[better] = at[better]
+    _take(value < best, best, value, t, when, where, at)
 
 
 def _higher(best: np.ndarray, value: np.ndarray, t: float, when: np.ndarray) -> None:
     """Where ``value`` is above ``best`` (NaN never is): take it, and note the time."""
-    better = value > best
+    _take(value > best, best, value, t, when)
+
+
+def _take(better, best, value, t, when, where=None, at=None) -> None:
     best[better] = value[better]
     when[better] = t
+    if where is not None:
+        where[better] = at[better]

@@ -19,7 +19,7 @@ from ..errors import InputError
 from ..rsxml.model import Mechanism
 from .cable import DENSITY, CableModel, CableState, CableStepper, cable_model, link_meshes
 from .cable_results import CableResult, Tally
-from .trajectory import Trajectory, assign
+from .trajectory import Trajectory, assign, minimum_jerk
 
 FRAME_RATE = 60.0  # frames per second: results are sampled per frame, substeps between
 SUBSTEPS = 10  # per frame: 1.7 ms steps
@@ -56,7 +56,7 @@ class CableRun:
     times: np.ndarray
     trajectories: tuple[str, ...]
     assignment: tuple[int, ...]
-    q: np.ndarray = field(repr=False)  # (frames, dof) the recorded environment's joints
+    q: np.ndarray = field(repr=False)  # (frames, dof) the recorded environment's joints; empty without record
     options: CableOptions = CableOptions()
     warnings: tuple[str, ...] = ()
 
@@ -92,7 +92,8 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
         qs = schedule.frame(t0)
         for r in runs:
             r.step(qs, t0 + 1 / options.frame_rate)
-        recorded_q.append(qs[min(max(options.record, 0), envs - 1), -1])
+        if options.record >= 0:  # the played-back environment's joints, thinned like its cables
+            recorded_q.append(qs[min(options.record, envs - 1), -1])
         if progress is not None:
             progress(f + 1, frames)
     times = np.arange(1, frames + 1) / options.frame_rate
@@ -109,10 +110,15 @@ class _Schedule:
         self.dof = mech.dof
         self.start = np.stack([trajectories[k].at(np.zeros(1))[0] for k in who])
 
+    def _times(self, t0: float) -> np.ndarray:
+        """The ends of the substeps of the frame that starts at ``t0``."""
+        o = self.options
+        return t0 + np.arange(1, o.substeps + 1) / (o.substeps * o.frame_rate)
+
     def frame(self, t0: float) -> np.ndarray:
         """(envs, substeps, dof) float32 over the frame starting at ``t0`` (trajectory time)."""
         o = self.options
-        t = t0 + np.arange(1, o.substeps + 1) / (o.substeps * o.frame_rate)
+        t = self._times(t0)
         out = np.empty((len(self.who), o.substeps, self.dof), np.float32)
         for k, traj in enumerate(self.trajectories):
             rows = self.who == k
@@ -122,10 +128,7 @@ class _Schedule:
 
     def settling(self, t0: float) -> np.ndarray:
         """The same over the settling phase, ``t0`` from its start."""
-        o = self.options
-        t = t0 + np.arange(1, o.substeps + 1) / (o.substeps * o.frame_rate)
-        s = np.clip(t / SETTLE_MOVE, 0.0, 1.0)
-        blend = s ** 3 * (10 - 15 * s + 6 * s ** 2)  # minimum jerk
+        blend = minimum_jerk(self._times(t0) / SETTLE_MOVE)
         return (self.start[:, None, :] * blend[None, :, None]).astype(np.float32)
 
 
@@ -151,7 +154,7 @@ class _CableRun:
                                     damping=options.damping, meshes=meshes, floor=options.floor,
                                     device=options.device, threads=options.threads)
         self.state: CableState = self.stepper.state(envs)
-        self.options, self.cable = options, cable
+        self.options = options
         self.links = (*mech.graph.links, "floor")
         self.tally = Tally(self.model, envs, len(self.links), frames, options.record)
 
@@ -163,7 +166,7 @@ class _CableRun:
         self.tally.add(self.state, t)
 
     def result(self) -> CableResult:
-        m, o = self.model, self.options
-        allowed = o.min_bend_radius if o.min_bend_radius is not None else o.bend_factor * 2 * m.radius
-        return self.tally.result(m, allowed, self.links, self.state)
+        o = self.options
+        allowed = o.min_bend_radius if o.min_bend_radius is not None else o.bend_factor * 2 * self.model.radius
+        return self.tally.result(allowed, self.links, self.state)
 

@@ -121,7 +121,7 @@ def random_trajectory(mech: Mechanism, seconds: float, seed: int, velocity: np.n
         knots_t.append(knots_t[-1] + duration)
         knots_q.append(nxt)
     times = np.linspace(0.0, seconds, max(2, int(round(seconds * samples_per_second)) + 1))
-    return Trajectory(f"random (seed {seed})", times, _minimum_jerk(np.array(knots_t), np.array(knots_q), times))
+    return Trajectory(f"random (seed {seed})", times, _moves(np.array(knots_t), np.array(knots_q), times))
 
 
 def _velocities(mech: Mechanism) -> np.ndarray:
@@ -129,12 +129,17 @@ def _velocities(mech: Mechanism) -> np.ndarray:
     return np.array([JOINT_VELOCITY[j.revolute] for j in mech.active_joints])
 
 
-def _minimum_jerk(knots_t: np.ndarray, knots_q: np.ndarray, t: np.ndarray) -> np.ndarray:
+def _moves(knots_t: np.ndarray, knots_q: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Values at ``t`` of minimum-jerk moves between consecutive knots (rest at every knot)."""
     k = np.clip(np.searchsorted(knots_t, t, side="right") - 1, 0, len(knots_t) - 2)
-    s = np.clip((t - knots_t[k]) / (knots_t[k + 1] - knots_t[k]), 0.0, 1.0)
-    blend = s ** 3 * (10 - 15 * s + 6 * s * s)
-    return knots_q[k] + blend[:, None] * (knots_q[k + 1] - knots_q[k])
+    s = (t - knots_t[k]) / (knots_t[k + 1] - knots_t[k])
+    return knots_q[k] + minimum_jerk(s)[:, None] * (knots_q[k + 1] - knots_q[k])
+
+
+def minimum_jerk(s: np.ndarray) -> np.ndarray:
+    """The share of a minimum-jerk move done at ``s`` (its time share, clipped to [0, 1])."""
+    s = np.clip(s, 0.0, 1.0)
+    return s ** 3 * (10 - 15 * s + 6 * s * s)
 
 
 def assign(trajectories: list[Trajectory], envs: int) -> list[int]:
