@@ -68,9 +68,11 @@ def cmd_sweep(args) -> int:
 
     mech, _ = load_mechanism(args.file)
     check_sweep_folder(args.out)
+    cluster = _cluster(args)
     ws = workspace(mech, samples=args.samples, seed=args.seed, method=args.method,
                    resolution=sweep_resolution(mech, args.resolution),
-                   kinematics=Kinematics(mech, device=args.device), progress=_Progress("sweep"))
+                   kinematics=Kinematics(mech, device="cpu" if cluster else args.device), progress=_Progress("sweep"),
+                   cluster=cluster)
     doc = write_sweep(ws, mech, args.out)
     _emit_json(doc) if args.json else print(sweep_text(ws, mech, doc["files"]))
     return 0
@@ -82,9 +84,10 @@ def cmd_collisions(args) -> int:
 
     mech, _ = load_mechanism(args.file)
     check_collisions_folder(args.out)
+    cluster = _cluster(args)
     result = collisions(mech, samples=args.samples, seed=args.seed, padding=args.padding * mech.length_factor,
-                        environment=environment_meshes(mech, args.env), device=args.device,
-                        progress=None if args.json else _Progress("collisions"))
+                        environment=environment_meshes(mech, args.env), device="cpu" if cluster else args.device,
+                        progress=None if args.json else _Progress("collisions"), cluster=cluster)
     for w in result.warnings:
         print(w, file=sys.stderr)
     doc = write_collisions(result, args.out)
@@ -104,13 +107,25 @@ def cmd_cable(args) -> int:
                            min_bend_radius=None if args.min_bend_radius is None else args.min_bend_radius * f,
                            floor=None if args.no_floor else args.floor * f, record=0 if args.usd else -1,
                            device=args.device)
+    cluster = _cluster(args)
+    progress = _Progress("cable", unit="environment" if cluster else "frame")
     run = simulate_cables(mech, trajectories, args.envs, args.seconds, options,
-                          progress=None if args.json else _Progress("cable", unit="frame"))
+                          progress=None if args.json else progress, cluster=cluster)
     for w in run.warnings:
         print(w, file=sys.stderr)
     doc = write_cables(run, mech, args.out, usd=args.usd)
     _emit_json(doc) if args.json else print(cables_text(run, doc["files"]))
     return 0
+
+
+def _cluster(args):
+    """``--ray [ADDRESS]`` as a Cluster (None without it); Ray missing is said here, first."""
+    if args.ray is None:
+        return None
+    from .sim.cluster import Cluster, ray_module
+
+    ray_module()
+    return Cluster(address=None if args.ray == "local" else args.ray, device=args.device)
 
 
 def cmd_build(args) -> int:
@@ -161,6 +176,10 @@ def cmd_demo(args) -> int:
     if args.json:
         _emit_json(demo.as_dict())
     return 0 if demo.ok else 1
+
+
+RAY_HELP = ("run the batch as tasks on Ray: a local Ray instance on this machine, or the cluster at ADDRESS "
+            "('auto', 'ray://host:10001'); workers use --device; needs pip install 'rswarp[ray]'")
 
 
 class _Progress:
@@ -224,6 +243,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--resolution", type=_positive, help="voxel size in the file's length unit (default 25 mm)")
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--device", default="cpu", help=device_help)
+    p.add_argument("--ray", nargs="?", const="local", metavar="ADDRESS", help=RAY_HELP)
     p.set_defaults(func=cmd_sweep)
 
     _collisions_parser(sub, json_help, device_help)
@@ -257,6 +277,7 @@ def _collisions_parser(sub, json_help: str, device_help: str) -> None:
                         "link; repeat for more")
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--device", default="cpu", help=device_help)
+    p.add_argument("--ray", nargs="?", const="local", metavar="ADDRESS", help=RAY_HELP)
     p.set_defaults(func=cmd_collisions)
 
 
@@ -293,6 +314,7 @@ def _cable_parser(sub, json_help: str, device_help: str) -> None:
     p.add_argument("--substeps", type=_count(1), default=SUBSTEPS, help=f"steps per frame (default {SUBSTEPS})")
     p.add_argument("--json", action="store_true", help=json_help)
     p.add_argument("--device", default="cpu", help=device_help)
+    p.add_argument("--ray", nargs="?", const="local", metavar="ADDRESS", help=RAY_HELP)
     p.set_defaults(func=cmd_cable)
 
 

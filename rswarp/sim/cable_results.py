@@ -86,10 +86,16 @@ class CableResult:
         return np.isfinite(self.contact_time).any(axis=1)
 
 
-class Tally:
-    """Running extremes of one cable's environments, fed each frame's ``CableState``."""
+SERIES = ("tension", "bend", "gap")
 
-    def __init__(self, model: CableModel, envs: int, slots: int, frames: int, record: int):
+
+class Tally:
+    """Running extremes of one cable's environments, fed each frame's ``CableState``; per frame the
+    spread of each of SERIES across them, or with ``values`` every environment's value (frames, 3,
+    envs) float32, which holds the kernel's float32 results exactly: a task of a cluster run keeps
+    these, and the driver takes the spread of all environments."""
+
+    def __init__(self, model: CableModel, envs: int, slots: int, frames: int, record: int, values: bool = False):
         self.model = model
         self.arc = np.append(model.arc, np.nan)  # index -1 (none) reads NaN
         anchors = [k for k in range(model.cable.start, model.cable.stop) if model.link[k] >= 0]
@@ -103,7 +109,8 @@ class Tally:
         self.stretch, self.stretch_t = np.zeros(envs), nan(envs)
         self.twist_prev, self.twist, self.max_twist = np.zeros(envs), np.zeros(envs), np.zeros(envs)
         self.failed_t, self.failed_why = nan(envs), np.zeros(envs, np.int32)
-        self.series: dict[str, list] = {"tension": [], "bend": [], "gap": []}
+        self.series: dict[str, list] = {key: [] for key in SERIES}
+        self.values = np.empty((frames, len(SERIES), envs), np.float32) if values else None
         self.record, self.stride = record, max(1, -(-frames // MAX_RECORDED))
         self.recorded: list[np.ndarray] = []
         self.frame = 0
@@ -127,8 +134,11 @@ class Tally:
         gap = self._clearances(state, live, t)
         self._stretch(state, live, t)
         self._twist(stats[:, TWIST], live)
-        for key, values in (("tension", tension), ("bend", bend), ("gap", gap)):
-            self.series[key].append(spread(values))
+        if self.values is not None:
+            self.values[self.frame] = (tension, bend, gap)
+        else:
+            for key, values in zip(SERIES, (tension, bend, gap)):
+                self.series[key].append(spread(values))
         if self.record >= 0 and self.frame % self.stride == 0:
             self.recorded.append(state.x[min(self.record, len(state.x) - 1), self.model.cable].copy())
         self.frame += 1

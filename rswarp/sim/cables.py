@@ -67,9 +67,11 @@ class CableRun:
 
 def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, seconds: float | None = None,
                     options: CableOptions = CableOptions(),
-                    progress: Callable[[int, int], None] | None = None) -> CableRun:
+                    progress: Callable[[int, int], None] | None = None, cluster=None) -> CableRun:
     """Every cable of ``mech`` in ``envs`` environments, environment e following
-    ``trajectories[assign(...)[e]]`` for ``seconds`` (default: the longest trajectory)."""
+    ``trajectories[assign(...)[e]]`` for ``seconds`` (default: the longest trajectory). ``cluster``
+    (a ``rswarp.Cluster`` or a Ray address) runs the environments as tasks on Ray; ``progress``
+    then counts environments, not frames."""
     if not mech.cables:
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if not trajectories:
@@ -83,7 +85,28 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
                          f"a run takes 1 to {MAX_FRAMES}")
     meshes = link_meshes(mech) if options.contact else None
     who = assign(trajectories, envs)
-    runs = [_CableRun(mech, c, envs, frames, options, meshes) for c in mech.cables]
+    if cluster is not None:
+        from .cable_tasks import on_cluster
+
+        for c in mech.cables:  # a cable rswarp cannot model fails here, before anything is scheduled
+            cable_model(mech, c, density=options.density)
+        cables, recorded_q = on_cluster(mech, trajectories, who, frames, options, progress, cluster)
+    else:
+        runs, recorded_q = simulate(mech, trajectories, who, frames, options, meshes, progress)
+        cables = tuple(r.result() for r in runs)
+    times = np.arange(1, frames + 1) / options.frame_rate
+    return CableRun(mech.name, cables, times, tuple(t.source for t in trajectories), tuple(who),
+                    recorded_q, options, meshes.warnings if meshes else ())
+
+
+def simulate(mech: Mechanism, trajectories: list[Trajectory], who: list[int], frames: int, options: CableOptions,
+             meshes, progress: Callable[[int, int], None] | None = None, values: bool = False,
+             stepper: Callable | None = None) -> tuple[list["_CableRun"], np.ndarray]:
+    """The run of environments ``who`` (each its trajectory's index): its cables, settled and
+    stepped ``frames`` frames, and the recorded environment's joints. ``values``: keep every
+    environment's per-frame values (a task of a cluster run) instead of their spread."""
+    make = stepper or (lambda model: _stepper(mech, model, options, meshes))
+    runs = [_CableRun(mech, c, len(who), frames, options, make, values) for c in mech.cables]
     schedule = _Schedule(mech, trajectories, who, options)
     _settle(runs, schedule, options)
     recorded_q = []
@@ -93,12 +116,16 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
         for r in runs:
             r.step(qs, t0 + 1 / options.frame_rate)
         if options.record >= 0:  # the played-back environment's joints, thinned like its cables
-            recorded_q.append(qs[min(options.record, envs - 1), -1])
+            recorded_q.append(qs[min(options.record, len(who) - 1), -1])
         if progress is not None:
             progress(f + 1, frames)
-    times = np.arange(1, frames + 1) / options.frame_rate
-    return CableRun(mech.name, tuple(r.result() for r in runs), times, tuple(t.source for t in trajectories),
-                    tuple(who), np.asarray(recorded_q), options, meshes.warnings if meshes else ())
+    return runs, np.asarray(recorded_q)
+
+
+def _stepper(mech: Mechanism, model: CableModel, options: CableOptions, meshes) -> CableStepper:
+    return CableStepper(mech, model, substeps=options.substeps, iterations=options.iterations,
+                        damping=options.damping, meshes=meshes, floor=options.floor, device=options.device,
+                        threads=options.threads)
 
 
 class _Schedule:
@@ -148,15 +175,15 @@ def _settle(runs: list["_CableRun"], schedule: _Schedule, options: CableOptions)
 class _CableRun:
     """One cable's environments and what is gathered from them frame by frame."""
 
-    def __init__(self, mech: Mechanism, cable, envs: int, frames: int, options: CableOptions, meshes):
+    def __init__(self, mech: Mechanism, cable, envs: int, frames: int, options: CableOptions,
+                 stepper: Callable[[CableModel], CableStepper], values: bool = False):
         self.model: CableModel = cable_model(mech, cable, density=options.density)
-        self.stepper = CableStepper(mech, self.model, substeps=options.substeps, iterations=options.iterations,
-                                    damping=options.damping, meshes=meshes, floor=options.floor,
-                                    device=options.device, threads=options.threads)
+        self.stepper = stepper(self.model)
+        self.stepper.set_damping(options.damping)
         self.state: CableState = self.stepper.state(envs)
         self.options = options
         self.links = (*mech.graph.links, "floor")
-        self.tally = Tally(self.model, envs, len(self.links), frames, options.record)
+        self.tally = Tally(self.model, envs, len(self.links), frames, options.record, values)
 
     def started(self) -> None:
         self.tally.start(self.state)
@@ -169,4 +196,3 @@ class _CableRun:
         o = self.options
         allowed = o.min_bend_radius if o.min_bend_radius is not None else o.bend_factor * 2 * self.model.radius
         return self.tally.result(allowed, self.links, self.state)
-

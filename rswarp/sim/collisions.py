@@ -35,6 +35,7 @@ ALWAYS_FRACTION = 0.95  # MoveIt's min_collision_fraction: more than int(200 * 0
 EXAMPLES = 3  # colliding configurations kept per pair
 CANDIDATES = 32  # nearest samples (by bounding volumes) whose exact clearance is measured per free pair
 CHUNK = 1 << 16
+NONE = np.iinfo(np.int64).max  # the sample index of an unfilled slot
 REASONS = ("Adjacent", "Default", "Always", "Never")
 
 
@@ -157,9 +158,10 @@ class Checker:
 
 def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: float = 0.0,
                environment: tuple[Environment, ...] = (), device: str = "cpu", threads: int | None = None,
-               progress: Callable[[int, int], None] | None = None) -> Collisions:
+               progress: Callable[[int, int], None] | None = None, cluster=None) -> Collisions:
     """Sweep ``samples`` random configurations within the joint limits for collisions between the
-    links (and with the environment meshes), and compute the collision matrix."""
+    links (and with the environment meshes), and compute the collision matrix; ``cluster`` (a
+    ``rswarp.Cluster`` or a Ray address) runs the sweep's samples as tasks on Ray."""
     if samples < 1:
         raise InputError("samples must be at least 1")
     if not (np.isfinite(padding) and padding >= 0):
@@ -170,20 +172,72 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     home = mech.home_position()
     default = checker.verdicts(home[None])[0][0]
     always, rounds, seen = _always(checker, lower, upper, seed, default)
-    checked = ~(default | always)
+    job = _Job(lower, upper, samples, seed, padding, tuple(environment), ~(default | always))
     sweep = _Sweep.empty(checker.pair_count, len(lower))
-    for q in sample_chunks(lower, upper, samples, "random", seed, chunk=CHUNK):
-        ok = checker.closes(q)  # past a dead point there is no pose to check: skipped, counted
-        sweep.skipped += int((~ok).sum())
-        if ok.any():
-            sweep.add(q[ok], *checker.verdicts(q[ok]), checked)
-        if progress:
-            progress(sweep.done + sweep.skipped, samples)
+    chunks = range(-(-samples // CHUNK))
+    if cluster is None:
+        _run(checker, job, sweep, chunks, progress)
+    else:
+        _on_cluster(mech, cluster, job, sweep, chunks, progress)
     if not sweep.done:
         raise model_error(mech, f"none of the {samples} samples closes the loops of '{mech.name}': every one lies "
                                 "past a dead point")
     clear = _clearances(checker, sweep, seen)
     return _result(mech, bodies, sweep, clear, default, always, seen, rounds, home, padding, seed)
+
+
+@dataclass(frozen=True)
+class _Job:
+    """What every task of a sweep needs: the samples' box, count and seed, the bodies, and which
+    pairs the matrix still checks."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    samples: int
+    seed: int
+    padding: float
+    environment: tuple[Environment, ...]
+    checked: np.ndarray
+
+    def size(self, chunks: range) -> int:
+        return max(0, min(chunks.stop * CHUNK, self.samples) - chunks.start * CHUNK)
+
+
+def _run(checker: Checker, job: _Job, sweep: "_Sweep", chunks: range,
+         progress: Callable[[int, int], None] | None = None) -> None:
+    """The samples of ``chunks`` into ``sweep``."""
+    for k, q in zip(chunks, sample_chunks(job.lower, job.upper, job.samples, "random", job.seed, chunk=CHUNK,
+                                          chunks=chunks)):
+        ok = checker.closes(q)  # past a dead point there is no pose to check: skipped, counted
+        sweep.skipped += int((~ok).sum())
+        if ok.any():
+            index = k * CHUNK + np.nonzero(ok)[0]
+            sweep.add(q[ok], index, *checker.verdicts(q[ok]), job.checked)
+        if progress:
+            progress(sweep.done + sweep.skipped, job.samples)
+
+
+def _on_cluster(mech: Mechanism, cluster, job: _Job, sweep: "_Sweep", chunks: range, progress) -> None:
+    """The chunks as Ray tasks of ``cluster.task_samples`` samples, merged into ``sweep``."""
+    from . import cluster as ray
+
+    c = ray.as_cluster(cluster)
+    pkg, blobs = ray.package(mech, [e.path for e in job.environment])
+    spans = ray.spans(len(chunks), max(1, c.task_samples // CHUNK))
+    ray.run(c, _sweep_task, pkg, blobs, [(job, s, c.device, c.threads) for s in spans],
+            [job.size(s) for s in spans], sweep.merge, progress)
+
+
+def _sweep_task(shipped, task) -> "_Sweep":
+    """A Ray task: chunks of a sweep on this worker's collision kernels (built once per worker)."""
+    job, chunks, device, threads = task
+    env = tuple(Environment(e.name, shipped.local(e.path), e.pose) for e in job.environment)
+    key = ("checker", job.padding, tuple((e.name, e.path, e.pose.tobytes()) for e in env), device)
+    checker = shipped.cached(key, lambda: Checker(shipped.mech, collision_bodies(shipped.mech, env), job.padding,
+                                                  device, threads))
+    sweep = _Sweep.empty(checker.pair_count, len(job.lower))
+    _run(checker, job, sweep, chunks)
+    return sweep
 
 
 def _limits(mech: Mechanism) -> tuple[np.ndarray, np.ndarray]:
@@ -217,35 +271,57 @@ def _always(checker: Checker, lower, upper, seed: int, default: np.ndarray):
 
 @dataclass
 class _Sweep:
-    """Counts, examples and the nearest samples of free pairs, gathered chunk by chunk."""
+    """Counts, examples and the nearest samples of free pairs, gathered chunk by chunk. Examples
+    are the earliest samples, and of equal gaps the earliest sample is nearer, so sweeps of parts
+    of the samples merge (in any order) into the sweep of all of them."""
 
     done: int
     skipped: int
     counts: np.ndarray
     free: int
-    examples: list[list[np.ndarray]]
+    examples: list[list[tuple[int, np.ndarray]]]  # per pair: (sample index, q), earliest first
     near_gap: np.ndarray  # (pairs, CANDIDATES + 1): smallest lower bounds seen, ascending
+    near_index: np.ndarray  # (pairs, CANDIDATES + 1): their sample indices (NONE: not filled)
     near_q: np.ndarray  # (pairs, CANDIDATES + 1, dof)
 
     @classmethod
     def empty(cls, pairs: int, dof: int) -> "_Sweep":
         return cls(0, 0, np.zeros(pairs, np.int64), 0, [[] for _ in range(pairs)],
-                   np.full((pairs, CANDIDATES + 1), np.inf), np.zeros((pairs, CANDIDATES + 1, dof)))
+                   np.full((pairs, CANDIDATES + 1), np.inf), np.full((pairs, CANDIDATES + 1), NONE),
+                   np.zeros((pairs, CANDIDATES + 1, dof)))
 
-    def add(self, q: np.ndarray, hit: np.ndarray, gap: np.ndarray, checked: np.ndarray) -> None:
+    def add(self, q: np.ndarray, index: np.ndarray, hit: np.ndarray, gap: np.ndarray, checked: np.ndarray) -> None:
         self.done += len(q)
         self.counts += hit.sum(axis=0)
         self.free += int((~hit[:, checked].any(axis=1)).sum())
         for p in np.nonzero(hit.any(axis=0))[0]:
-            if len(self.examples[p]) < EXAMPLES:
-                self.examples[p] += list(q[np.nonzero(hit[:, p])[0][:EXAMPLES - len(self.examples[p])]])
+            ex = self.examples[p]
+            if len(ex) < EXAMPLES or index[0] < ex[-1][0]:
+                rows = np.nonzero(hit[:, p])[0][:EXAMPLES]
+                self.examples[p] = sorted(ex + [(int(index[r]), q[r]) for r in rows], key=lambda e: e[0])[:EXAMPLES]
         for p in np.nonzero(self.counts == 0)[0]:
             k = min(CANDIDATES + 1, len(q))
-            take = np.argpartition(gap[:, p], k - 1)[:k]
-            g = np.concatenate([self.near_gap[p], gap[take, p]])
-            qq = np.concatenate([self.near_q[p], q[take]])
-            keep = np.argsort(g, kind="stable")[:CANDIDATES + 1]
-            self.near_gap[p], self.near_q[p] = g[keep], qq[keep]
+            take = np.nonzero(gap[:, p] <= np.partition(gap[:, p], k - 1)[k - 1])[0]  # ties at the k-th too
+            self._nearest(p, gap[take, p], index[take], q[take])
+
+    def _nearest(self, p: int, gap: np.ndarray, index: np.ndarray, q: np.ndarray) -> None:
+        g = np.concatenate([self.near_gap[p], gap])
+        i = np.concatenate([self.near_index[p], index])
+        keep = np.lexsort((i, g))[:CANDIDATES + 1]
+        self.near_gap[p], self.near_index[p] = g[keep], i[keep]
+        self.near_q[p] = np.concatenate([self.near_q[p], q])[keep]
+
+    def merge(self, other: "_Sweep") -> None:
+        """Add a sweep of other samples: exact in any order."""
+        self.done += other.done
+        self.skipped += other.skipped
+        self.counts += other.counts
+        self.free += other.free
+        for p, ex in enumerate(other.examples):
+            if ex:
+                self.examples[p] = sorted(self.examples[p] + ex, key=lambda e: e[0])[:EXAMPLES]
+        for p in np.nonzero(self.counts == 0)[0]:
+            self._nearest(p, other.near_gap[p], other.near_index[p], other.near_q[p])
 
 
 def _clearances(checker: Checker, sweep: _Sweep, seen: np.ndarray) -> dict[int, tuple[float, np.ndarray, float]]:
@@ -275,7 +351,7 @@ def _result(mech, bodies: Bodies, sweep: _Sweep, clear: dict, default, always, s
         c = clear.get(p)
         pairs.append(PairResult(
             body1=bodies.bodies[a].name, body2=bodies.bodies[b].name, environment=bodies.bodies[b].link < 0,
-            collisions=int(sweep.counts[p]), examples=tuple(tuple(float(v) for v in q) for q in sweep.examples[p]),
+            collisions=int(sweep.counts[p]), examples=tuple(tuple(float(v) for v in q) for _, q in sweep.examples[p]),
             clearance=None if c is None else c[0], clearance_q=None if c is None else tuple(float(v) for v in c[1]),
             clearance_floor=None if c is None else c[2], reason=reason))
     links = tuple(b.name for b in bodies.bodies if b.link >= 0)

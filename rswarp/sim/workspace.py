@@ -79,29 +79,44 @@ class Workspace:
 # -- sampling -----------------------------------------------------------------------------------------
 
 
+METHODS = ("random", "sobol", "grid")
+
+
+def sample_count(samples: int, method: str, dof: int) -> int:
+    """How many configurations a sweep of ``samples`` visits (a grid rounds to whole points per axis)."""
+    return grid_points(samples, dof) ** dof if method == "grid" else samples
+
+
+def chunk_count(samples: int, method: str, dof: int, chunk: int = SAMPLE_CHUNK) -> int:
+    return -(-sample_count(samples, method, dof) // chunk)
+
+
 def sample_chunks(lower: np.ndarray, upper: np.ndarray, samples: int, method: str = "random", seed: int = 0,
-                  chunk: int = SAMPLE_CHUNK):
-    """Yield float64 joint-value chunks covering the box [lower, upper]."""
+                  chunk: int = SAMPLE_CHUNK, chunks: range | None = None):
+    """Yield float64 joint-value chunks in the box [lower, upper]: all of them, or those numbered
+    ``chunks``. Chunk k holds samples ``k * chunk`` on and depends only on the method, the seed and
+    k, so tasks anywhere draw the samples one run would."""
     dof = len(lower)
     span = upper - lower
+    chunks = range(max(1, chunk_count(samples, method, dof, chunk))) if chunks is None else chunks
     if method == "random":
-        for k, lo in enumerate(range(0, samples, chunk)):
-            rng = np.random.default_rng([seed, k])  # depends on (seed, chunk) only
-            yield lower + span * rng.random((min(chunk, samples - lo), dof))
+        for k in chunks:
+            rng = np.random.default_rng([seed, k])
+            yield lower + span * rng.random((min(chunk, samples - k * chunk), dof))
     elif method == "sobol":
         from scipy.stats import qmc
 
         engine = qmc.Sobol(dof, scramble=True, seed=seed)
-        for lo in range(0, samples, chunk):
+        if chunks.start:  # (scipy refuses a skip of 0)
+            engine.fast_forward(chunks.start * chunk)
+        for k in chunks:
             with warnings.catch_warnings():  # balance is best for powers of two; any count is valid
                 warnings.simplefilter("ignore", UserWarning)
-                block = engine.random(min(chunk, samples - lo))
-            yield lower + span * block
-    elif method == "grid":
+                yield lower + span * engine.random(min(chunk, samples - k * chunk))
+    elif method == "grid":  # values from indices: memory is one chunk, whatever the points per axis
         per = grid_points(samples, dof)
-        total = per ** dof
-        for lo in range(0, total, chunk):  # values from indices: memory is one chunk, whatever ``per``
-            idx = np.unravel_index(np.arange(lo, min(lo + chunk, total)), (per,) * dof)
+        for k in chunks:
+            idx = np.unravel_index(np.arange(k * chunk, min((k + 1) * chunk, per ** dof)), (per,) * dof)
             yield lower + span * (np.stack(idx, axis=1) / (per - 1))
     else:
         raise ValueError(f"unknown sampling method '{method}' (random, sobol or grid)")
@@ -159,19 +174,28 @@ def _refine(fun: Callable[[np.ndarray], float], starts: np.ndarray, lower, upper
 
 
 class _TopK:
-    """The k largest values seen and their joint values, over chunks."""
+    """The k largest values seen, their sample indices and joint values. Of equal values the
+    earliest sample wins, so the k kept are the same however the samples were split and merged."""
 
     def __init__(self, k: int, dof: int):
         self.v = np.full(0, -np.inf)
+        self.i = np.zeros(0, np.int64)
         self.q = np.zeros((0, dof))
         self.k = k
 
-    def add(self, values: np.ndarray, q: np.ndarray) -> None:
-        take = np.argsort(values)[-self.k:]
-        v = np.concatenate([self.v, values[take]])
-        qq = np.concatenate([self.q, q[take]])
-        keep = np.argsort(v, kind="stable")[-self.k:]
-        self.v, self.q = v[keep], qq[keep]
+    def add(self, values: np.ndarray, q: np.ndarray, index: np.ndarray) -> None:
+        if len(values) > self.k:  # the k largest, and every sample tied with the k-th
+            take = np.nonzero(values >= np.partition(values, -self.k)[-self.k])[0]
+            values, q, index = values[take], q[take], index[take]
+        self._keep(np.concatenate([self.v, values]), np.concatenate([self.i, index]), np.concatenate([self.q, q]))
+
+    def merge(self, other: "_TopK") -> None:
+        self._keep(np.concatenate([self.v, other.v]), np.concatenate([self.i, other.i]),
+                   np.concatenate([self.q, other.q]))
+
+    def _keep(self, v: np.ndarray, i: np.ndarray, q: np.ndarray) -> None:
+        keep = np.lexsort((-i, v))[-self.k:]  # ascending: the best value last
+        self.v, self.i, self.q = v[keep], i[keep], q[keep]
 
 
 @dataclass
@@ -189,16 +213,21 @@ class _Best:
     def empty(cls, dof: int) -> "_Best":
         return cls(*(_TopK(TOP_K, dof) for _ in range(6)))
 
-    def add(self, exact: _Exact, q: np.ndarray, wrist: np.ndarray | None, flange: np.ndarray) -> None:
+    def add(self, exact: _Exact, q: np.ndarray, index: np.ndarray, wrist: np.ndarray | None,
+            flange: np.ndarray) -> None:
         f = flange.astype(float)
-        self.flange_reach.add(exact.radial(f), q)
-        self.flange_low.add(-f[:, 2], q)
-        self.flange_high.add(f[:, 2], q)
+        self.flange_reach.add(exact.radial(f), q, index)
+        self.flange_low.add(-f[:, 2], q, index)
+        self.flange_high.add(f[:, 2], q, index)
         if wrist is not None:
             w = wrist.astype(float)
-            self.reach.add(exact.radial(w), q)
-            self.wrist_low.add(-w[:, 2], q)
-            self.wrist_high.add(w[:, 2], q)
+            self.reach.add(exact.radial(w), q, index)
+            self.wrist_low.add(-w[:, 2], q, index)
+            self.wrist_high.add(w[:, 2], q, index)
+
+    def merge(self, other: "_Best") -> None:
+        for name in self.__dataclass_fields__:
+            getattr(self, name).merge(getattr(other, name))
 
 
 @dataclass
@@ -231,6 +260,14 @@ class _Grids:
         self.top += self._histogram(shown[:, 0], shown[:, 1], 0, 1)
         self.side += self._histogram(side[:, 0], side[:, 2], 0, 2)
 
+    def merge(self, other: "_Grids") -> None:
+        """Occupancy ORs, view counts add: exact in any order."""
+        self.flange |= other.flange
+        if self.wrist is not None:
+            self.wrist |= other.wrist
+        self.side += other.side
+        self.top += other.top
+
     def _histogram(self, a: np.ndarray, b: np.ndarray, ia: int, ib: int) -> np.ndarray:
         r, c = self.radius, self.base
         return np.histogram2d(a, b, bins=VIEW_BINS, range=[[c[ia] - r, c[ia] + r], [c[ib] - r, c[ib] + r]])[0].astype(np.int64)
@@ -251,14 +288,57 @@ def voxels_per_side(radius: float, resolution: float) -> int:
 # -- the sweep ----------------------------------------------------------------------------------------
 
 
+@dataclass(frozen=True)
+class _Spec:
+    """What every task of a sweep needs to draw and bin its samples the way one run would."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    samples: int
+    method: str
+    seed: int
+    radius: float
+    resolution: float
+
+    def size(self, chunks: range, dof: int) -> int:
+        """Samples in the chunks numbered ``chunks``."""
+        total = sample_count(self.samples, self.method, dof)
+        return max(0, min(chunks.stop * SAMPLE_CHUNK, total) - chunks.start * SAMPLE_CHUNK)
+
+
+@dataclass
+class _Part:
+    """What the samples of some chunks gave: the best samples, the grids and the counts. Parts merge
+    exactly in any order, so a sweep cut into tasks gives the numbers of one run."""
+
+    best: _Best
+    grids: _Grids
+    done: int = 0
+    skipped: int = 0
+
+    @classmethod
+    def empty(cls, spec: _Spec, exact: _Exact) -> "_Part":
+        return cls(_Best.empty(exact.kin.dof),
+                   _Grids.empty(exact.j1_point, spec.radius, spec.resolution, exact.has_wrist))
+
+    def merge(self, other: "_Part") -> None:
+        self.best.merge(other.best)
+        self.grids.merge(other.grids)
+        self.done += other.done
+        self.skipped += other.skipped
+
+
 def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: str = "random",
               resolution: float = 0.025, kinematics: Kinematics | None = None,
-              progress: Callable[[int, int], None] | None = None) -> Workspace:
-    """Sweep ``samples`` joint configurations within the limits and measure the workspace."""
+              progress: Callable[[int, int], None] | None = None, cluster=None) -> Workspace:
+    """Sweep ``samples`` joint configurations within the limits and measure the workspace;
+    ``cluster`` (a ``rswarp.Cluster`` or a Ray address) runs the samples as tasks on Ray."""
     if samples < 1:
         raise InputError("samples must be at least 1")
     if not resolution > 0:
         raise InputError("the voxel resolution must be positive")
+    if method not in METHODS:
+        raise InputError(f"unknown sampling method '{method}' (random, sobol or grid)")
     kin = kinematics or Kinematics(mech)
     if kin.dof == 0:
         raise model_error(mech, f"mechanism '{mech.name}' has no active joints: there is no workspace to sweep")
@@ -267,31 +347,63 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
     lower, upper = mech.bounds()
     if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
         raise InputError("every active joint needs finite limits for a sweep")
-    radius = _radius(exact, lower, upper, seed)
-    grids = _Grids.empty(exact.j1_point, radius, resolution, exact.has_wrist)
-    best = _Best.empty(kin.dof)
-    total = samples if method != "grid" else grid_points(samples, kin.dof) ** kin.dof
-    done = skipped = 0
-    for q in sample_chunks(lower, upper, samples, method, seed):
+    spec = _Spec(lower, upper, samples, method, seed, _radius(exact, lower, upper, seed), resolution)
+    part = _Part.empty(spec, exact)
+    chunks = range(chunk_count(samples, method, kin.dof))
+    if cluster is None:
+        _sweep(kin, exact, part, spec, chunks, progress)
+    else:
+        _on_cluster(mech, cluster, spec, part, chunks, progress)
+    if part.skipped == part.done:
+        raise model_error(mech, f"none of the {part.done} samples closes the loops of '{mech.name}': every one "
+                                "lies past a dead point")
+    return _result(mech, exact, part.best, part.grids, part.done, part.skipped, method, seed, lower, upper)
+
+
+def _sweep(kin: Kinematics, exact: _Exact, part: _Part, spec: _Spec, chunks: range,
+           progress: Callable[[int, int], None] | None = None) -> None:
+    """The samples of ``chunks`` into ``part``."""
+    total = sample_count(spec.samples, spec.method, kin.dof)
+    for k, q in zip(chunks, sample_chunks(spec.lower, spec.upper, spec.samples, spec.method, spec.seed,
+                                          chunks=chunks)):
         wrist, flange = kin.wrist_flange(q, wrist=exact.has_wrist)
-        done += len(q)
+        part.done += len(q)
+        index = k * SAMPLE_CHUNK + np.arange(len(q))
         ok = np.isfinite(flange).all(axis=1)  # NaN: a loop cannot close there; skipped and counted
         if not ok.all():
-            skipped += int((~ok).sum())
-            q, flange, wrist = q[ok], flange[ok], None if wrist is None else wrist[ok]
+            part.skipped += int((~ok).sum())
+            q, index, flange, wrist = q[ok], index[ok], flange[ok], None if wrist is None else wrist[ok]
         if progress:
-            progress(done, total)
+            progress(part.done, total)
         if not len(q):
             continue
-        best.add(exact, q, wrist, flange)
+        part.best.add(exact, q, index, wrist, flange)
         q0 = q.copy()
         q0[:, 0] = 0.0  # the side view: the plane of J1 = 0
         w0, f0 = kin.wrist_flange(q0, wrist=exact.has_wrist)
-        grids.add(wrist, flange, f0 if w0 is None else w0)
-    if skipped == done:
-        raise model_error(mech, f"none of the {done} samples closes the loops of '{mech.name}': every one lies past "
-                                "a dead point")
-    return _result(mech, exact, best, grids, done, skipped, method, seed, lower, upper)
+        part.grids.add(wrist, flange, f0 if w0 is None else w0)
+
+
+def _on_cluster(mech: Mechanism, cluster, spec: _Spec, part: _Part, chunks: range, progress) -> None:
+    """The chunks as Ray tasks of ``cluster.task_samples`` samples, merged into ``part``."""
+    from . import cluster as ray
+
+    c = ray.as_cluster(cluster)
+    pkg, blobs = ray.package(mech)
+    dof = len(spec.lower)
+    spans = ray.spans(len(chunks), max(1, c.task_samples // SAMPLE_CHUNK))
+    ray.run(c, _sweep_task, pkg, blobs, [(spec, s, c.device, c.threads) for s in spans],
+            [spec.size(s, dof) for s in spans], part.merge, progress)
+
+
+def _sweep_task(shipped, job) -> _Part:
+    """A Ray task: chunks of a sweep on this worker's kinematics (compiled once per worker)."""
+    spec, chunks, device, threads = job
+    kin = shipped.cached(("kinematics", device), lambda: Kinematics(shipped.mech, device=device, threads=threads))
+    exact = _Exact(kin)
+    part = _Part.empty(spec, exact)
+    _sweep(kin, exact, part, spec, chunks)
+    return part
 
 
 def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, skipped: int, method: str, seed: int,

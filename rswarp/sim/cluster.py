@@ -1,0 +1,268 @@
+"""Batches on a Ray cluster: a sweep, a collision sweep or a cable run cut into tasks, each task
+running the same Warp kernels on its worker, the partial results merged on the driver.
+
+A model travels as its RSXML file's bytes plus every mesh file it uses, each put into Ray's object
+store once under its content hash (``Package``); a worker writes them into a folder of its own,
+reads the model there like any file, and keeps it (and the kernels it compiled) for every later
+task of the same model. Nothing that holds Warp arrays is pickled.
+
+Ray is optional (``pip install 'rswarp[ray]'``) and imported only when a cluster is asked for.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import os
+import re
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+from ..errors import InputError
+from ..files import read_regular
+from ..rsxml.model import Mechanism
+
+INSTALL = "--ray needs Ray, an optional extra: pip install 'rswarp[ray]' (from a checkout: pip install -e '.[ray]')"
+TASK_SAMPLES = 1 << 20  # sweep and collision samples per task: seconds of work, so scheduling costs little
+TASK_ENVS = 64  # cable environments per task
+RETRIES = 3  # a task whose worker died, or that raised, is run again up to this many times
+
+
+@dataclass(frozen=True)
+class Cluster:
+    """Where and how a batch runs on Ray.
+
+    ``address``: None starts a local Ray instance on this machine (``cpus`` of its cores, default
+    all); "auto" joins the cluster this machine belongs to; "ray://host:10001" a remote one. A
+    Ray already initialized in this process is used as it is. ``device`` is the Warp device of the
+    workers: "cpu" (each task takes ``cpus_per_task`` cores) or "cuda" (each task takes one GPU)."""
+
+    address: str | None = None
+    cpus: int | None = None
+    device: str = "cpu"
+    cpus_per_task: int = 1
+    task_samples: int = TASK_SAMPLES
+    task_envs: int = TASK_ENVS
+    retries: int = RETRIES
+
+    def __post_init__(self):
+        if self.device.split(":")[0] not in ("cpu", "cuda"):
+            raise InputError(f"device '{self.device}' on a Ray cluster: use cpu or cuda")
+        for name in ("cpus_per_task", "task_samples", "task_envs"):
+            if getattr(self, name) < 1:
+                raise InputError(f"Cluster.{name} must be at least 1")
+        if self.cpus is not None and self.cpus < 1:
+            raise InputError("Cluster.cpus must be at least 1")
+
+    @property
+    def threads(self) -> int:
+        """Warp launch threads of a task on a CPU worker: the cores Ray gave it."""
+        return self.cpus_per_task
+
+
+def as_cluster(cluster: Cluster | str | None) -> Cluster | None:
+    """``cluster=`` as given to the library: a Cluster, an address ("local" or "" for a local
+    instance), or None (no cluster: run here)."""
+    if cluster is None or isinstance(cluster, Cluster):
+        return cluster
+    if isinstance(cluster, str):
+        return Cluster(address=None if cluster in ("", "local") else cluster)
+    raise InputError(f"cluster= takes a rswarp.Cluster or a Ray address, not {type(cluster).__name__}")
+
+
+# -- what a worker gets: files by content hash -------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Package:
+    """A model's files as workers rebuild them: paths relative to a common folder, each with the
+    SHA-256 of its bytes (``key`` hashes them all, naming the model on every worker)."""
+
+    key: str
+    model: str  # the RSXML file
+    files: tuple[tuple[str, str], ...]  # (relative path, sha256), the RSXML file among them
+    extra: dict[str, str] = field(default_factory=dict, compare=False)  # a driver path -> its relative path
+
+
+def package(mech: Mechanism, extra: Sequence[str | Path] = ()) -> tuple[Package, dict[str, bytes]]:
+    """The package of ``mech`` (its file and every mesh its parts use) plus ``extra`` files
+    (environment meshes), and the bytes of each hash."""
+    if not mech.path:
+        raise InputError(f"mechanism '{mech.name}' was not read from a file: a Ray run ships the RSXML file "
+                         "its workers read")
+    paths = [Path(mech.path).resolve(), *_mesh_files(mech), *(Path(p).resolve() for p in extra)]
+    paths = [p for p in dict.fromkeys(_with_sidecars(paths))]
+    root = Path(os.path.commonpath([str(p.parent) for p in paths]))
+    blobs: dict[str, bytes] = {}
+    files = []
+    for p in paths:
+        data = read_regular(p)
+        digest = hashlib.sha256(data).hexdigest()
+        blobs[digest] = data
+        files.append((p.relative_to(root).as_posix(), digest))
+    key = hashlib.sha256(json.dumps(files).encode()).hexdigest()[:16]
+    extra_rel = {str(e): Path(e).resolve().relative_to(root).as_posix() for e in extra}
+    return Package(key, files[0][0], tuple(files), extra_rel), blobs
+
+
+def _mesh_files(mech: Mechanism) -> list[Path]:
+    from ..geometry.meshes import part_mesh_path
+
+    out = []
+    for link in mech.link_names:
+        for part, _ in mech.parts(link):
+            found = part_mesh_path(mech, part)
+            if found is not None:
+                out.append(found.resolve())
+    return out
+
+
+def _with_sidecars(paths: list[Path]) -> list[Path]:
+    """The files plus those a glTF or OBJ file names beside it (buffers, textures, materials)."""
+    out = []
+    for p in paths:
+        out.append(p)
+        try:
+            if p.suffix.lower() == ".gltf":
+                doc = json.loads(read_regular(p))
+                names = [b.get("uri", "") for key in ("buffers", "images") for b in doc.get(key, [])]
+            elif p.suffix.lower() == ".obj":
+                names = re.findall(rb"^mtllib\s+(.+?)\s*$", read_regular(p), re.M)
+                names = [n.decode(errors="replace") for n in names]
+            else:
+                continue
+        except (OSError, ValueError, AttributeError):
+            continue  # the mesh reader says what is wrong with the file itself
+        for n in names:
+            side = (p.parent / n).resolve()
+            if n and not n.startswith("data:") and side.is_file():
+                out.append(side)
+    return out
+
+
+class Shipped:
+    """A model rebuilt on a worker: its mechanism, its files, and what tasks built from it."""
+
+    def __init__(self, pkg: Package, folder: Path):
+        from ..rsxml.documents import load_mechanism
+
+        self.key, self.folder = pkg.key, folder
+        self.extra = {driver: str(folder / rel) for driver, rel in pkg.extra.items()}
+        self.mech, _ = load_mechanism(folder / pkg.model)
+        self._built: dict[Any, Any] = {}
+
+    def local(self, driver_path: str) -> str:
+        """Where an extra file given on the driver lies on this worker."""
+        return self.extra[str(driver_path)]
+
+    def cached(self, key, build: Callable[[], Any]):
+        """``build()`` once per worker process for this model and ``key`` (kernels, bodies)."""
+        if key not in self._built:
+            self._built[key] = build()
+        return self._built[key]
+
+
+_SHIPPED: dict[str, Shipped] = {}  # per worker process: models by key
+
+
+def unpack(pkg: Package, blobs: dict) -> Shipped:
+    """The model on this worker, written out and read on the first task that needs it."""
+    if pkg.key not in _SHIPPED:
+        import ray
+
+        folder = Path(tempfile.mkdtemp(prefix=f"rswarp-{pkg.key}-"))
+        for rel, digest in pkg.files:
+            data = ray.get(blobs[digest])
+            if hashlib.sha256(data).hexdigest() != digest:
+                raise RuntimeError(f"the object store returned other bytes for {rel}")
+            target = folder / rel
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(data)
+        _SHIPPED[pkg.key] = Shipped(pkg, folder)
+    return _SHIPPED[pkg.key]
+
+
+# -- running tasks -----------------------------------------------------------------------------------
+
+
+def ray_module():
+    """Ray, or an InputError saying how to install it."""
+    try:
+        import ray
+    except ImportError:
+        raise InputError(INSTALL) from None
+    return ray
+
+
+def connect(cluster: Cluster):
+    """Ray initialized for ``cluster`` (a Ray already initialized here is kept)."""
+    ray = ray_module()
+    if not ray.is_initialized():
+        quiet = dict(include_dashboard=False, logging_level=logging.ERROR, log_to_driver=False)
+        if cluster.address is None:
+            ray.init(address="local", num_cpus=cluster.cpus or os.cpu_count(), **quiet)
+        else:
+            try:
+                ray.init(address=cluster.address, **quiet)
+            except (ConnectionError, RuntimeError, ValueError) as exc:
+                raise InputError(f"cannot reach the Ray cluster at '{cluster.address}': {exc}") from None
+    return ray
+
+
+class TaskFailed(RuntimeError):
+    """A task failed on every try: an internal error, not the user's."""
+
+
+def _task(fn, pkg: Package, blobs: dict, job):
+    """What a worker runs: the model rebuilt (or found), then ``fn(shipped, job)``. Bad input is
+    returned, not raised, so Ray does not retry what cannot succeed."""
+    try:
+        return ("ok", fn(unpack(pkg, blobs), job))
+    except InputError as exc:
+        return ("input", str(exc))
+
+
+def run(cluster: Cluster, fn: Callable, pkg: Package, blobs: dict[str, bytes], jobs: list, sizes: list[int],
+        merge: Callable[[Any], None], progress: Callable[[int, int], None] | None = None) -> None:
+    """Run ``fn(shipped, job)`` for every job on the cluster, handing each result to ``merge`` as it
+    arrives (merges are exact in any order); ``progress(done, total)`` counts the jobs' sizes."""
+    ray = connect(cluster)
+    refs = {digest: ray.put(data) for digest, data in blobs.items()}
+    gpu = cluster.device.startswith("cuda")
+    remote = ray.remote(_task).options(
+        name=f"rswarp-{fn.__name__.strip('_')}", num_cpus=cluster.cpus_per_task,
+        num_gpus=1 if gpu else 0, max_retries=cluster.retries, retry_exceptions=True)
+    pending = {remote.remote(fn, pkg, refs, job): size for job, size in zip(jobs, sizes)}
+    total, done = sum(sizes), 0
+    if progress is not None:
+        progress(0, total)
+    try:
+        while pending:
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            for ref in ready:
+                kind, value = _result(ray, ref, cluster)
+                if kind == "input":
+                    raise InputError(value)
+                merge(value)
+                done += pending.pop(ref)
+                if progress is not None:
+                    progress(done, total)
+    finally:
+        for ref in pending:  # an error or Ctrl-C: what is still queued is not wanted
+            ray.cancel(ref, force=True)
+
+
+def _result(ray, ref, cluster: Cluster):
+    try:
+        return ray.get(ref)
+    except ray.exceptions.RayError as exc:
+        first = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
+        raise TaskFailed(f"a Ray task failed {cluster.retries + 1} times: {first}") from exc
+
+
+def spans(count: int, per: int) -> list[range]:
+    """``range(count)`` cut into consecutive spans of ``per``."""
+    return [range(lo, min(lo + per, count)) for lo in range(0, count, per)]
