@@ -21,6 +21,7 @@ _LAZY = {
     "workspace": ("sim.workspace", "workspace"),
     "collisions": ("sim.collisions", "collisions"),
     "simulate_cables": ("sim.cables", "simulate_cables"),
+    "Cluster": ("sim.cluster", "Cluster"),
     "build_library": ("report.library", "build_library"),
     "to_usd": ("export.usd_layout", "to_usd"),
     "to_newton": ("export.newton", "to_newton"),
@@ -43,5 +44,5 @@ __all__ = [
     "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal",
     "InputError", "Joint", "Limit", "LinkGraph", "Mechanism", "MeshError", "MeshNotFoundError", "Part", "Pose", "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
-    "Kinematics", "workspace", "collisions", "simulate_cables", "build_library", "to_usd", "to_newton", "to_urdf",
+    "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton", "to_urdf",
 ]

@@ -14,6 +14,7 @@ from .info import report_dict, report_text
 
 DEMO_SAMPLES = 20_000
 DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS = 16, 4.0
+DEMO_RAY_TASKS = 4  # collision-sweep chunks run as Ray tasks
 
 
 @dataclass
@@ -23,14 +24,15 @@ class Demo:
     reports: list[Report] = field(default_factory=list)
     robots: list[dict] = field(default_factory=list)
     libraries: list[dict] = field(default_factory=list)
+    ray: dict = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
-        return all(r.ok for r in self.reports)
+        return all(r.ok for r in self.reports) and self.ray.get("same_as_local", True)
 
     def as_dict(self) -> dict:
         return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots,
-                "libraries": self.libraries}
+                "libraries": self.libraries, "ray": self.ray}
 
 
 def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) -> Demo:
@@ -38,15 +40,45 @@ def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) ->
     from .. import examples
 
     demo = Demo()
+    robots = []
     for path in examples.ALL:
         report = check(path)
         demo.reports.append(report)
         say(_check_text(path.name, report))
         if report.ok and isinstance(report.model, Mechanism):
+            robots.append(report.model)
             demo.robots.append(demo_robot(report.model, Path(out), say))
         elif report.ok and report.kind == "LibraryCompiler":
             demo.libraries.append(demo_library(path, Path(out) / "library", say))
+    demo.ray = demo_ray(robots, say)
     return demo
+
+
+def demo_ray(robots: list[Mechanism], say: Callable[[str], None]) -> dict:
+    """The first robot's collision sweep again as tasks on a local Ray instance, compared with the
+    local run; or, without Ray, how to get it."""
+    import importlib.util
+
+    from ..errors import InputError
+    from ..sim.cluster import INSTALL, Cluster, identical
+    from ..sim.collisions import CHUNK, collisions
+
+    if importlib.util.find_spec("ray") is None:
+        say(f"== Ray: not installed; {INSTALL.split(': ', 1)[1]} to run sweeps, collision sweeps and cable runs "
+            "as tasks on a cluster (--ray)\n")
+        return {"installed": False}
+    for mech in robots:
+        samples = DEMO_RAY_TASKS * CHUNK
+        try:
+            here = collisions(mech, samples=samples, seed=0)
+        except InputError:  # no meshes: nothing to sweep
+            continue
+        there = collisions(mech, samples=samples, seed=0, cluster=Cluster(task_samples=CHUNK))
+        same = identical(here, there)
+        say(f"== Ray: {mech.name}'s collision sweep of {samples} samples as {DEMO_RAY_TASKS} tasks on a local Ray "
+            f"instance: {'the same report as the local run' if same else 'DIFFERENT from the local run'}\n")
+        return {"installed": True, "mechanism": mech.name, "samples": samples, "same_as_local": same}
+    return {"installed": True}
 
 
 def demo_library(path: Path, out: Path, say: Callable[[str], None]) -> dict:

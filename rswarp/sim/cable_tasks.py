@@ -39,7 +39,7 @@ def on_cluster(mech: Mechanism, trajectories: list[Trajectory], who: list[int], 
                          f"{need / 2**30:.1f} GiB for {len(who)} environments x {frames} frames, over the cap "
                          f"of {MAX_VALUES_BYTES >> 30} GiB; split the run (fewer environments or seconds)")
     pkg, blobs = ray.package(mech)
-    spans = ray.spans(len(who), c.task_envs)
+    spans = ray.task_spans(c, len(who), c.task_envs)
     jobs = [_job(s, trajectories, who, frames, options, c) for s in spans]
     with tempfile.TemporaryDirectory(prefix="rswarp-cables-") as folder:
         merged = _Merged(len(mech.cables), len(who), frames, Path(folder))

@@ -11,11 +11,13 @@ Ray is optional (``pip install 'rswarp[ray]'``) and imported only when a cluster
 
 from __future__ import annotations
 
+import atexit
 import hashlib
 import json
 import logging
 import os
 import re
+import shutil
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -174,6 +176,7 @@ def unpack(pkg: Package, blobs: dict) -> Shipped:
         import ray
 
         folder = Path(tempfile.mkdtemp(prefix=f"rswarp-{pkg.key}-"))
+        atexit.register(shutil.rmtree, folder, True)  # the worker's copy goes with the worker
         for rel, digest in pkg.files:
             data = ray.get(blobs[digest])
             if hashlib.sha256(data).hexdigest() != digest:
@@ -230,8 +233,9 @@ def run(cluster: Cluster, fn: Callable, pkg: Package, blobs: dict[str, bytes], j
     """Run ``fn(shipped, job)`` for every job on the cluster, handing each result to ``merge`` as it
     arrives (merges are exact in any order); ``progress(done, total)`` counts the jobs' sizes."""
     ray = connect(cluster)
-    refs = {digest: ray.put(data) for digest, data in blobs.items()}
     gpu = cluster.device.startswith("cuda")
+    _check_resources(ray, cluster, gpu)
+    refs = {digest: ray.put(data) for digest, data in blobs.items()}
     remote = ray.remote(_task).options(
         name=f"rswarp-{fn.__name__.strip('_')}", num_cpus=cluster.cpus_per_task,
         num_gpus=1 if gpu else 0, max_retries=cluster.retries, retry_exceptions=True)
@@ -255,6 +259,15 @@ def run(cluster: Cluster, fn: Callable, pkg: Package, blobs: dict[str, bytes], j
             ray.cancel(ref, force=True)
 
 
+def _check_resources(ray, cluster: Cluster, gpu: bool) -> None:
+    """A task no node can take would wait forever: say so instead."""
+    have = ray.cluster_resources()
+    if gpu and have.get("GPU", 0) < 1:
+        raise InputError("device 'cuda' on the Ray cluster: it has no GPU (use --device cpu)")
+    if have.get("CPU", 0) < cluster.cpus_per_task:
+        raise InputError(f"the Ray cluster has {have.get('CPU', 0):g} CPUs, a task asks for {cluster.cpus_per_task}")
+
+
 def _result(ray, ref, cluster: Cluster):
     try:
         return ray.get(ref)
@@ -263,6 +276,34 @@ def _result(ray, ref, cluster: Cluster):
         raise TaskFailed(f"a Ray task failed {cluster.retries + 1} times: {first}") from exc
 
 
+def identical(a, b) -> bool:
+    """Whether two results are equal bit for bit (NaN equal to NaN), through dataclasses, arrays,
+    tuples and lists: a cluster run checked against a local one."""
+    import dataclasses
+
+    import numpy as np
+
+    if dataclasses.is_dataclass(a):
+        return type(a) is type(b) and all(identical(getattr(a, f.name), getattr(b, f.name))
+                                          for f in dataclasses.fields(a))
+    if isinstance(a, np.ndarray):
+        return isinstance(b, np.ndarray) and a.shape == b.shape and a.dtype == b.dtype and \
+            np.array_equal(a, b, equal_nan=a.dtype.kind in "fc")
+    if isinstance(a, (tuple, list)):
+        return type(a) is type(b) and len(a) == len(b) and all(identical(x, y) for x, y in zip(a, b))
+    if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
+        return True
+    return a == b
+
+
 def spans(count: int, per: int) -> list[range]:
     """``range(count)`` cut into consecutive spans of ``per``."""
     return [range(lo, min(lo + per, count)) for lo in range(0, count, per)]
+
+
+def task_spans(cluster: Cluster, count: int, per: int) -> list[range]:
+    """``count`` items (chunks, environments) cut into tasks of ``per``, or smaller so that a small
+    batch still gives every worker of the cluster two tasks (the results are the same either way)."""
+    have = connect(cluster).cluster_resources()
+    workers = have.get("GPU", 0) if cluster.device.startswith("cuda") else have.get("CPU", 1) // cluster.cpus_per_task
+    return spans(count, max(1, min(per, -(-count // max(1, int(2 * workers))))))

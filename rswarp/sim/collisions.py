@@ -172,9 +172,9 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     home = mech.home_position()
     default = checker.verdicts(home[None])[0][0]
     always, rounds, seen = _always(checker, lower, upper, seed, default)
-    job = _Job(lower, upper, samples, seed, padding, tuple(environment), ~(default | always))
+    job = _Job(lower, upper, samples, seed, padding, tuple(environment), ~(default | always), CHUNK)
     sweep = _Sweep.empty(checker.pair_count, len(lower))
-    chunks = range(-(-samples // CHUNK))
+    chunks = range(-(-samples // job.chunk))
     if cluster is None:
         _run(checker, job, sweep, chunks, progress)
     else:
@@ -198,20 +198,21 @@ class _Job:
     padding: float
     environment: tuple[Environment, ...]
     checked: np.ndarray
+    chunk: int  # samples per chunk: with the seed, it decides which samples a sweep draws
 
     def size(self, chunks: range) -> int:
-        return max(0, min(chunks.stop * CHUNK, self.samples) - chunks.start * CHUNK)
+        return max(0, min(chunks.stop * self.chunk, self.samples) - chunks.start * self.chunk)
 
 
 def _run(checker: Checker, job: _Job, sweep: "_Sweep", chunks: range,
          progress: Callable[[int, int], None] | None = None) -> None:
     """The samples of ``chunks`` into ``sweep``."""
-    for k, q in zip(chunks, sample_chunks(job.lower, job.upper, job.samples, "random", job.seed, chunk=CHUNK,
-                                          chunks=chunks)):
+    for k, q in zip(chunks, sample_chunks(job.lower, job.upper, job.samples, "random", job.seed, job.chunk,
+                                          chunks)):
         ok = checker.closes(q)  # past a dead point there is no pose to check: skipped, counted
         sweep.skipped += int((~ok).sum())
         if ok.any():
-            index = k * CHUNK + np.nonzero(ok)[0]
+            index = k * job.chunk + np.nonzero(ok)[0]
             sweep.add(q[ok], index, *checker.verdicts(q[ok]), job.checked)
         if progress:
             progress(sweep.done + sweep.skipped, job.samples)
@@ -223,7 +224,7 @@ def _on_cluster(mech: Mechanism, cluster, job: _Job, sweep: "_Sweep", chunks: ra
 
     c = ray.as_cluster(cluster)
     pkg, blobs = ray.package(mech, [e.path for e in job.environment])
-    spans = ray.spans(len(chunks), max(1, c.task_samples // CHUNK))
+    spans = ray.task_spans(c, len(chunks), max(1, c.task_samples // job.chunk))
     ray.run(c, _sweep_task, pkg, blobs, [(job, s, c.device, c.threads) for s in spans],
             [job.size(s) for s in spans], sweep.merge, progress)
 

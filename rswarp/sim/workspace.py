@@ -299,11 +299,12 @@ class _Spec:
     seed: int
     radius: float
     resolution: float
+    chunk: int  # samples per chunk: with the seed, it decides which samples a sweep draws
 
     def size(self, chunks: range, dof: int) -> int:
         """Samples in the chunks numbered ``chunks``."""
         total = sample_count(self.samples, self.method, dof)
-        return max(0, min(chunks.stop * SAMPLE_CHUNK, total) - chunks.start * SAMPLE_CHUNK)
+        return max(0, min(chunks.stop * self.chunk, total) - chunks.start * self.chunk)
 
 
 @dataclass
@@ -347,9 +348,9 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
     lower, upper = mech.bounds()
     if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
         raise InputError("every active joint needs finite limits for a sweep")
-    spec = _Spec(lower, upper, samples, method, seed, _radius(exact, lower, upper, seed), resolution)
+    spec = _Spec(lower, upper, samples, method, seed, _radius(exact, lower, upper, seed), resolution, SAMPLE_CHUNK)
     part = _Part.empty(spec, exact)
-    chunks = range(chunk_count(samples, method, kin.dof))
+    chunks = range(chunk_count(samples, method, kin.dof, spec.chunk))
     if cluster is None:
         _sweep(kin, exact, part, spec, chunks, progress)
     else:
@@ -365,10 +366,10 @@ def _sweep(kin: Kinematics, exact: _Exact, part: _Part, spec: _Spec, chunks: ran
     """The samples of ``chunks`` into ``part``."""
     total = sample_count(spec.samples, spec.method, kin.dof)
     for k, q in zip(chunks, sample_chunks(spec.lower, spec.upper, spec.samples, spec.method, spec.seed,
-                                          chunks=chunks)):
+                                          spec.chunk, chunks)):
         wrist, flange = kin.wrist_flange(q, wrist=exact.has_wrist)
         part.done += len(q)
-        index = k * SAMPLE_CHUNK + np.arange(len(q))
+        index = k * spec.chunk + np.arange(len(q))
         ok = np.isfinite(flange).all(axis=1)  # NaN: a loop cannot close there; skipped and counted
         if not ok.all():
             part.skipped += int((~ok).sum())
@@ -391,7 +392,7 @@ def _on_cluster(mech: Mechanism, cluster, spec: _Spec, part: _Part, chunks: rang
     c = ray.as_cluster(cluster)
     pkg, blobs = ray.package(mech)
     dof = len(spec.lower)
-    spans = ray.spans(len(chunks), max(1, c.task_samples // SAMPLE_CHUNK))
+    spans = ray.task_spans(c, len(chunks), max(1, c.task_samples // spec.chunk))
     ray.run(c, _sweep_task, pkg, blobs, [(spec, s, c.device, c.threads) for s in spans],
             [spec.size(s, dof) for s in spans], part.merge, progress)
 
