@@ -189,3 +189,14 @@ def test_the_cli_on_ray_writes_what_a_local_run_writes(local_ray, tmp_path, caps
     assert docs[0] == docs[1]
     assert (tmp_path / "here" / "collision_matrix.srdf").read_bytes() == \
         (tmp_path / "there" / "collision_matrix.srdf").read_bytes()
+
+
+def test_an_unreachable_cluster_is_one_line(monkeypatch, tmp_path, capsys):
+    """A head node that does not answer: one line and exit 1 within seconds (Ray alone would retry
+    for minutes), before anything is scheduled."""
+    monkeypatch.setattr(ray, "is_initialized", lambda: False)
+    t = time.perf_counter()
+    assert main(["sweep", str(IRB), "--samples", "100", "--out", str(tmp_path / "s"), "--ray", "127.0.0.1:1"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["rswarp: cannot reach the Ray cluster at '127.0.0.1:1': Connection refused"]
+    assert time.perf_counter() - t < 30 and not (tmp_path / "s").exists()

@@ -19,6 +19,7 @@ import os
 import re
 import shutil
 import tempfile
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -208,11 +209,28 @@ def connect(cluster: Cluster):
         if cluster.address is None:
             ray.init(address="local", num_cpus=cluster.cpus or os.cpu_count(), **quiet)
         else:
+            _reachable(cluster.address)
             try:
-                ray.init(address=cluster.address, **quiet)
+                with warnings.catch_warnings():  # Ray's own warning would repeat the one line below
+                    warnings.simplefilter("ignore")
+                    ray.init(address=cluster.address, **quiet)
             except (ConnectionError, RuntimeError, ValueError) as exc:
                 raise InputError(f"cannot reach the Ray cluster at '{cluster.address}': {exc}") from None
     return ray
+
+
+def _reachable(address: str) -> None:
+    """A head node's ``host:port`` answers, or an InputError now (Ray itself would retry for
+    minutes). Other forms ("auto", "ray://...") are left to Ray."""
+    import socket
+
+    host, _, port = address.rpartition(":")
+    if "://" in address or not host or not port.isdigit():
+        return
+    try:
+        socket.create_connection((host, int(port)), timeout=5).close()
+    except OSError as exc:
+        raise InputError(f"cannot reach the Ray cluster at '{address}': {exc.strerror or exc}") from None
 
 
 class TaskFailed(RuntimeError):
