@@ -5,6 +5,7 @@ scheduled; models travel as files by content hash."""
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -200,3 +201,15 @@ def test_an_unreachable_cluster_is_one_line(monkeypatch, tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["rswarp: cannot reach the Ray cluster at '127.0.0.1:1': Connection refused"]
     assert time.perf_counter() - t < 30 and not (tmp_path / "s").exists()
+
+
+def test_a_task_failing_on_every_try_is_an_internal_error(local_ray):
+    """Bytes that do not match their hash fail the task on each of its tries (Ray retries it); the
+    driver then raises TaskFailed, an internal error (exit 2), never the user's fault."""
+    mech = rswarp.load(FOLD)
+    pkg, blobs = package(mech)
+    pkg = dataclasses.replace(pkg, key="corrupted")  # not the model a worker may already hold
+    blobs = {digest: b"not the file" for digest in blobs}
+    with pytest.raises(cluster_module.TaskFailed, match="failed 4 times"):
+        cluster_module.run(Cluster(), workspace_module._sweep_task, pkg, blobs, [None], [1], lambda part: None)
+    assert not isinstance(cluster_module.TaskFailed("x"), rswarp.InputError)
