@@ -178,6 +178,16 @@ def test_models_travel_as_files_by_content_hash(local_ray):
     assert shipped.local(str(DATA / "collisions" / "room.stl")).startswith(str(shipped.folder))
 
 
+def test_meshes_reached_through_links_keep_their_place(tmp_path):
+    """A model whose meshes are symbolic links into another folder ships them beside the model,
+    where its parts look for them, not where the links point."""
+    (tmp_path / "fold.rsxml").write_bytes(FOLD.read_bytes())
+    for name in ("slab.stl", "post.stl", "arm.stl"):
+        (tmp_path / name).symlink_to(DATA / "collisions" / name)
+    pkg, _ = package(rswarp.load(tmp_path / "fold.rsxml"))
+    assert {rel for rel, _ in pkg.files} == {"fold.rsxml", "slab.stl", "post.stl", "arm.stl"}
+
+
 def test_the_cli_on_ray_writes_what_a_local_run_writes(local_ray, tmp_path, capsys):
     """``rswarp collisions --ray``: the same report and SRDF as without."""
     for name, extra in (("here", []), ("there", ["--ray"])):

@@ -96,7 +96,7 @@ def package(mech: Mechanism, extra: Sequence[str | Path] = ()) -> tuple[Package,
     if not mech.path:
         raise InputError(f"mechanism '{mech.name}' was not read from a file: a Ray run ships the RSXML file "
                          "its workers read")
-    paths = [Path(mech.path).resolve(), *_mesh_files(mech), *(Path(p).resolve() for p in extra)]
+    paths = [_absolute(mech.path), *_mesh_files(mech), *(_absolute(p) for p in extra)]
     paths = [p for p in dict.fromkeys(_with_sidecars(paths))]
     root = Path(os.path.commonpath([str(p.parent) for p in paths]))
     blobs: dict[str, bytes] = {}
@@ -107,7 +107,7 @@ def package(mech: Mechanism, extra: Sequence[str | Path] = ()) -> tuple[Package,
         blobs[digest] = data
         files.append((p.relative_to(root).as_posix(), digest))
     key = hashlib.sha256(json.dumps(files).encode()).hexdigest()[:16]
-    extra_rel = {str(e): Path(e).resolve().relative_to(root).as_posix() for e in extra}
+    extra_rel = {str(e): _absolute(e).relative_to(root).as_posix() for e in extra}
     return Package(key, files[0][0], tuple(files), extra_rel), blobs
 
 
@@ -119,8 +119,14 @@ def _mesh_files(mech: Mechanism) -> list[Path]:
         for part, _ in mech.parts(link):
             found = part_mesh_path(mech, part)
             if found is not None:
-                out.append(found.resolve())
+                out.append(_absolute(found))
     return out
+
+
+def _absolute(path: str | Path) -> Path:
+    """An absolute path, symbolic links kept: a mesh reached through a linked folder must lie at
+    the same place relative to the model on a worker as here."""
+    return Path(os.path.abspath(path))
 
 
 def _with_sidecars(paths: list[Path]) -> list[Path]:
@@ -140,7 +146,7 @@ def _with_sidecars(paths: list[Path]) -> list[Path]:
         except (OSError, ValueError, AttributeError):
             continue  # the mesh reader says what is wrong with the file itself
         for n in names:
-            side = (p.parent / n).resolve()
+            side = _absolute(p.parent / n)
             if n and not n.startswith("data:") and side.is_file():
                 out.append(side)
     return out
