@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..rsxml.model import Mechanism
 from .cable import CableStepper
 from .cable_results import SERIES, CableResult, Series, spread
-from .cables import CableOptions, _stepper, simulate
+from .cables import CableOptions, make_stepper, simulate
 from .trajectory import Trajectory
 
 PER_ENV = ("peak_tension", "peak_tension_time", "min_bend_radius", "min_bend_time", "min_bend_at", "clearance",
@@ -67,7 +67,7 @@ def _cable_task(shipped, job):
     def stepper(model) -> CableStepper:
         key = ("stepper", model.name, options.density, options.substeps, options.iterations, options.floor,
                options.contact, options.device)
-        return shipped.cached(key, lambda: _stepper(mech, model, options, meshes))
+        return shipped.cached(key, lambda: make_stepper(mech, model, options, meshes))
 
     runs, recorded_q = simulate(mech, trajectories, who, frames, options, meshes, values=True, stepper=stepper)
     return start, [r.result() for r in runs], [r.tally.values for r in runs], recorded_q

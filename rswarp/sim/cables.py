@@ -105,7 +105,7 @@ def simulate(mech: Mechanism, trajectories: list[Trajectory], who: list[int], fr
     """The run of environments ``who`` (each its trajectory's index): its cables, settled and
     stepped ``frames`` frames, and the recorded environment's joints. ``values``: keep every
     environment's per-frame values (a task of a cluster run) instead of their spread."""
-    make = stepper or (lambda model: _stepper(mech, model, options, meshes))
+    make = stepper or (lambda model: make_stepper(mech, model, options, meshes))
     runs = [_CableRun(mech, c, len(who), frames, options, make, values) for c in mech.cables]
     schedule = _Schedule(mech, trajectories, who, options)
     _settle(runs, schedule, options)
@@ -122,7 +122,8 @@ def simulate(mech: Mechanism, trajectories: list[Trajectory], who: list[int], fr
     return runs, np.asarray(recorded_q)
 
 
-def _stepper(mech: Mechanism, model: CableModel, options: CableOptions, meshes) -> CableStepper:
+def make_stepper(mech: Mechanism, model: CableModel, options: CableOptions, meshes) -> CableStepper:
+    """The stepper of one cable as ``options`` asks for it."""
     return CableStepper(mech, model, substeps=options.substeps, iterations=options.iterations,
                         damping=options.damping, meshes=meshes, floor=options.floor, device=options.device,
                         threads=options.threads)
