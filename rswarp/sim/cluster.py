@@ -211,6 +211,7 @@ def connect(cluster: Cluster):
     """Ray initialized for ``cluster`` (a Ray already initialized here is kept)."""
     ray = ray_module()
     if not ray.is_initialized():
+        os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")  # no telemetry leaves the machine unasked
         quiet = dict(include_dashboard=False, logging_level=logging.ERROR, log_to_driver=False)
         if cluster.address is None:
             ray.init(address="local", num_cpus=cluster.cpus or os.cpu_count(), **quiet)
