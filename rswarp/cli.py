@@ -71,7 +71,7 @@ def cmd_sweep(args) -> int:
     cluster = _cluster(args)
     ws = workspace(mech, samples=args.samples, seed=args.seed, method=args.method,
                    resolution=sweep_resolution(mech, args.resolution),
-                   kinematics=Kinematics(mech, device="cpu" if cluster else args.device), progress=_Progress("sweep"),
+                   kinematics=Kinematics(mech, device=_driver_device(args, cluster)), progress=_Progress("sweep"),
                    cluster=cluster)
     doc = write_sweep(ws, mech, args.out)
     _emit_json(doc) if args.json else print(sweep_text(ws, mech, doc["files"]))
@@ -86,7 +86,7 @@ def cmd_collisions(args) -> int:
     check_collisions_folder(args.out)
     cluster = _cluster(args)
     result = collisions(mech, samples=args.samples, seed=args.seed, padding=args.padding * mech.length_factor,
-                        environment=environment_meshes(mech, args.env), device="cpu" if cluster else args.device,
+                        environment=environment_meshes(mech, args.env), device=_driver_device(args, cluster),
                         progress=None if args.json else _Progress("collisions"), cluster=cluster)
     for w in result.warnings:
         print(w, file=sys.stderr)
@@ -126,6 +126,23 @@ def _cluster(args):
 
     ray_module()
     return Cluster(address=None if args.ray == "local" else args.ray, device=args.device)
+
+
+def _driver_device(args, cluster) -> str:
+    """The device of this machine's share of a run (MoveIt's rounds, clearances, refining extremes):
+    ``--device``, as on the workers, so a Ray run equals a local one; the CPU, with a warning,
+    where this machine lacks it."""
+    if cluster is None or args.device == "cpu":
+        return args.device
+    from .sim.launch import warp_device
+
+    try:
+        warp_device(args.device)
+        return args.device
+    except InputError:
+        print(f"rswarp: warning: this machine has no '{args.device}': its share of the run goes on the CPU, so "
+              f"the results may differ in the last digits from a run all on '{args.device}'", file=sys.stderr)
+        return "cpu"
 
 
 def cmd_build(args) -> int:

@@ -223,3 +223,26 @@ def test_a_task_failing_on_every_try_is_an_internal_error(local_ray):
     with pytest.raises(cluster_module.TaskFailed, match="failed 4 times"):
         cluster_module.run(Cluster(), workspace_module._sweep_task, pkg, blobs, [None], [1], lambda part: None)
     assert not isinstance(cluster_module.TaskFailed("x"), rswarp.InputError)
+
+
+def test_cuda_asked_of_a_machine_without_one_is_one_line(tmp_path, capsys):
+    """Warp's own CUDA driver errors are not passed on: locally one line; with --ray a warning that
+    this machine's share goes on the CPU, then the cluster's refusal."""
+    from rswarp.sim.launch import init_warp
+
+    if init_warp().get_cuda_device_count():
+        pytest.skip("this machine has a GPU")
+    assert main(["collisions", str(FOLD), "--samples", "100", "--out", str(tmp_path / "c"), "--device", "cuda"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("rswarp: device 'cuda' is not available here"), err
+    monkeypatch = pytest.MonkeyPatch()
+    monkeypatch.setattr(ray, "cluster_resources", lambda: {"CPU": 2.0})
+    monkeypatch.setattr(ray, "is_initialized", lambda: True)
+    try:
+        assert main(["collisions", str(FOLD), "--samples", "100", "--out", str(tmp_path / "c"), "--device", "cuda",
+                     "--ray"]) == 1
+    finally:
+        monkeypatch.undo()
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and "its share of the run goes on the CPU" in err[0] and "it has no GPU" in err[1], err
+    assert not (tmp_path / "c").exists()

@@ -47,6 +47,18 @@ def init_warp():
     return wp
 
 
+def warp_device(name: str):
+    """The Warp device ``name``, or an InputError saying it is not here. Warp's native code prints
+    its CUDA driver errors while it looks; the one-line error says it all, so they are dropped."""
+    wp = init_warp()
+    with _native_stderr():
+        try:
+            return wp.get_device(name)
+        except (RuntimeError, ValueError) as exc:
+            failed = exc
+    raise InputError(f"device '{name}' is not available here ({failed})")
+
+
 @contextlib.contextmanager
 def _native_stderr():
     """Capture what native code writes to file descriptor 2 during the block (lines, as bytes)."""
@@ -77,11 +89,7 @@ class Launcher:
     when the kernel needs one (``scratch`` is its width; its type is the kernel's)."""
 
     def __init__(self, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
-        wp = init_warp()
-        try:
-            self.device = wp.get_device(device)
-        except (RuntimeError, ValueError) as exc:
-            raise InputError(f"device '{device}' is not available here ({exc})") from None
+        self.device = warp_device(device)
         self.chunk = max(1, int(chunk))
         self.threads = max(1, threads or (os.cpu_count() or 1)) if self.device.is_cpu else 1
         self._pool: ThreadPoolExecutor | None = None
