@@ -87,6 +87,10 @@ class CableResult:
 
 
 SERIES = ("tension", "bend", "gap")
+# CableResult's fields with one row per environment (the others describe the cable or the run)
+PER_ENV = ("peak_tension", "peak_tension_time", "min_bend_radius", "min_bend_time", "min_bend_at", "clearance",
+           "clearance_time", "clearance_at", "contact_time", "contact_at", "stretch", "stretch_time", "max_twist",
+           "status", "failed_time", "final_points")
 
 
 class Tally:

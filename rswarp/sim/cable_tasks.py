@@ -16,13 +16,10 @@ import numpy as np
 from ..errors import InputError
 from ..rsxml.model import Mechanism
 from .cable import CableStepper
-from .cable_results import SERIES, CableResult, Series, spread
+from .cable_results import PER_ENV, SERIES, CableResult, Series, spread
 from .cables import CableOptions, make_stepper, simulate
 from .trajectory import Trajectory
 
-PER_ENV = ("peak_tension", "peak_tension_time", "min_bend_radius", "min_bend_time", "min_bend_at", "clearance",
-           "clearance_time", "clearance_at", "contact_time", "contact_at", "stretch", "stretch_time", "max_twist",
-           "status", "failed_time", "final_points")
 MAX_VALUES_BYTES = 16 << 30  # the driver's file of per-frame values: 16 GiB at most
 FRAME_BLOCK = 1024  # frames read back at a time to take their spread
 

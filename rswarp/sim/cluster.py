@@ -12,6 +12,7 @@ Ray is optional (``pip install 'rswarp[ray]'``) and imported only when a cluster
 from __future__ import annotations
 
 import atexit
+import dataclasses
 import hashlib
 import json
 import logging
@@ -23,6 +24,8 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
+
+import numpy as np
 
 from ..errors import InputError
 from ..files import read_regular
@@ -272,16 +275,24 @@ def run(cluster: Cluster, fn: Callable, pkg: Package, blobs: dict[str, bytes], j
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:
+                size = pending.pop(ref)  # finished: never cancelled (Ray aborts on cancelling a failed task)
                 kind, value = _result(ray, ref, cluster)
                 if kind == "input":
                     raise InputError(value)
                 merge(value)
-                done += pending.pop(ref)
+                done += size
                 if progress is not None:
                     progress(done, total)
     finally:
-        for ref in pending:  # an error or Ctrl-C: what is still queued is not wanted
-            ray.cancel(ref, force=True)
+        _cancel(ray, list(pending))
+
+
+def _cancel(ray, refs: list) -> None:
+    """An error or Ctrl-C: the tasks not yet finished are not wanted."""
+    if refs:
+        _, waiting = ray.wait(refs, num_returns=len(refs), timeout=0)
+        for ref in waiting:
+            ray.cancel(ref)
 
 
 def _check_resources(ray, cluster: Cluster, gpu: bool) -> None:
@@ -304,10 +315,6 @@ def _result(ray, ref, cluster: Cluster):
 def identical(a, b) -> bool:
     """Whether two results are equal bit for bit (NaN equal to NaN), through dataclasses, arrays,
     tuples and lists: a cluster run checked against a local one."""
-    import dataclasses
-
-    import numpy as np
-
     if dataclasses.is_dataclass(a):
         return type(a) is type(b) and all(identical(getattr(a, f.name), getattr(b, f.name))
                                           for f in dataclasses.fields(a))
@@ -324,6 +331,11 @@ def identical(a, b) -> bool:
 def spans(count: int, per: int) -> list[range]:
     """``range(count)`` cut into consecutive spans of ``per``."""
     return [range(lo, min(lo + per, count)) for lo in range(0, count, per)]
+
+
+def span_size(span: range, per: int, total: int) -> int:
+    """Items in the chunks numbered ``span``, chunks of ``per`` out of ``total`` items."""
+    return max(0, min(span.stop * per, total) - span.start * per)
 
 
 def task_spans(cluster: Cluster, count: int, per: int) -> list[range]:

@@ -200,9 +200,6 @@ class _Job:
     checked: np.ndarray
     chunk: int  # samples per chunk: with the seed, it decides which samples a sweep draws
 
-    def size(self, chunks: range) -> int:
-        return max(0, min(chunks.stop * self.chunk, self.samples) - chunks.start * self.chunk)
-
 
 def _run(checker: Checker, job: _Job, sweep: "_Sweep", chunks: range,
          progress: Callable[[int, int], None] | None = None) -> None:
@@ -226,7 +223,7 @@ def _on_cluster(mech: Mechanism, cluster, job: _Job, sweep: "_Sweep", chunks: ra
     pkg, blobs = ray.package(mech, [e.path for e in job.environment])
     spans = ray.task_spans(c, len(chunks), max(1, c.task_samples // job.chunk))
     ray.run(c, _sweep_task, pkg, blobs, [(job, s, c.device, c.threads) for s in spans],
-            [job.size(s) for s in spans], sweep.merge, progress)
+            [ray.span_size(s, job.chunk, job.samples) for s in spans], sweep.merge, progress)
 
 
 def _sweep_task(shipped, task) -> "_Sweep":

@@ -301,11 +301,6 @@ class _Spec:
     resolution: float
     chunk: int  # samples per chunk: with the seed, it decides which samples a sweep draws
 
-    def size(self, chunks: range, dof: int) -> int:
-        """Samples in the chunks numbered ``chunks``."""
-        total = sample_count(self.samples, self.method, dof)
-        return max(0, min(chunks.stop * self.chunk, total) - chunks.start * self.chunk)
-
 
 @dataclass
 class _Part:
@@ -391,10 +386,10 @@ def _on_cluster(mech: Mechanism, cluster, spec: _Spec, part: _Part, chunks: rang
 
     c = ray.as_cluster(cluster)
     pkg, blobs = ray.package(mech)
-    dof = len(spec.lower)
+    total = sample_count(spec.samples, spec.method, len(spec.lower))
     spans = ray.task_spans(c, len(chunks), max(1, c.task_samples // spec.chunk))
     ray.run(c, _sweep_task, pkg, blobs, [(spec, s, c.device, c.threads) for s in spans],
-            [spec.size(s, dof) for s in spans], part.merge, progress)
+            [ray.span_size(s, spec.chunk, total) for s in spans], part.merge, progress)
 
 
 def _sweep_task(shipped, job) -> _Part:
