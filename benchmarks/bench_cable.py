@@ -94,8 +94,8 @@ def initial_points(ref, segments: int) -> np.ndarray:
 
 def ours(segments: int, envs: int, settle: float, timed: float, ref) -> dict:
     import rswarp
-    from rswarp.sim.cable import CableStepper, cable_model
-    from rswarp.sim.cables import FRAME_RATE, SUBSTEPS
+    from rswarp.sim.cable_chain import ParticleChain
+    from rswarp.sim.cable_solver import FRAME_RATE, SUBSTEPS, CableOptions
 
     xml = f"""<?xml version="1.0"?>
 <Mechanism xmlns="urn:abb-robotics-robotstudio-graphiccomponent" type="Other" name="Hose" lengthUnit="mm" angleUnit="deg">
@@ -115,20 +115,19 @@ def ours(segments: int, envs: int, settle: float, timed: float, ref) -> dict:
         path = Path(tmp) / "hose.rsxml"
         path.write_text(xml)
         mech = rswarp.load(path)
-    model = cable_model(mech, mech.cables[0])
-    assert len(model.rest) == segments, (len(model.rest), segments)
-    stepper = CableStepper(mech, model, substeps=SUBSTEPS, damping=1.0)
-    state = stepper.state(envs)
-    state.x[:] = initial_points(ref, segments)[None]  # the peers start from the reference too
+    chain = ParticleChain(mech, mech.cables[0], CableOptions(substeps=SUBSTEPS, damping=1.0))
+    assert len(chain.arrays.rest) == segments, (len(chain.arrays.rest), segments)
+    state = chain.state(envs)
+    state.x.numpy()[:] = initial_points(ref, segments)[None]  # the peers start from the reference too
     zero = np.zeros((envs, SUBSTEPS, 0), np.float32)
     frame = 1 / FRAME_RATE
     for _ in range(int(settle * FRAME_RATE)):
-        stepper.step(state, zero, frame)
+        chain.step(state, zero, frame)
     cpu = time.process_time()
     for _ in range(int(timed * FRAME_RATE)):
-        stepper.step(state, zero, frame)
+        chain.step(state, zero, frame)
     cpu = time.process_time() - cpu
-    sag, shape = accuracy(state.x[0].astype(float), ref)
+    sag, shape = accuracy(chain.points(state, 0), ref)
     return {"cpu": cpu / timed / envs, "sag": sag, "shape": shape, "step": f"{1e3 * frame / SUBSTEPS:.2f} ms"}
 
 
@@ -226,7 +225,7 @@ def whole_run(envs: int = 256, seconds: float = 10.0) -> None:
     import rswarp
     from rswarp.examples import IRB2600ID
     from rswarp.sim.cables import simulate_cables
-    from rswarp.sim.trajectory import random_trajectory
+    from rswarp.kinematics.trajectory import random_trajectory
 
     mech = rswarp.load(IRB2600ID)
     trajectories = [random_trajectory(mech, seconds, seed) for seed in range(envs)]

@@ -19,7 +19,7 @@ import numpy as np
 
 import rswarp
 from rswarp.report.collisions import collisions_text
-from rswarp.sim.bodies import Bodies, collision_bodies
+from rswarp.sim.bodies import CollisionBodies, collision_bodies
 from rswarp.sim.collisions import Checker, collisions
 
 IRB = Path(__file__).resolve().parents[1] / "examples" / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"
@@ -82,7 +82,7 @@ def per_pair(mech, bodies, q: np.ndarray) -> None:
     """Where the time goes: each pair alone, on one core (forward kinematics included in each)."""
     print(f"\n{'pair (one core)':<20} {'us/state':>9} {'collides':>9}")
     for p, names in enumerate(bodies.pair_names()):
-        checker = Checker(mech, Bodies(bodies.bodies, (bodies.pairs[p],), bodies.adjacent, ()), threads=1)
+        checker = Checker(mech, CollisionBodies(bodies.bodies, (bodies.pairs[p],), bodies.adjacent, ()), threads=1)
         t = time.perf_counter()
         hit = checker.verdicts(q)[0]
         print(f"{'/'.join(names):<20} {(time.perf_counter() - t) / len(q) * 1e6:>9.2f} {hit.mean():>9.2%}")

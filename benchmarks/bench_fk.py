@@ -103,7 +103,7 @@ def main() -> None:
 
     import rswarp
     from rswarp import examples
-    from rswarp.sim.kinematics import Kinematics
+    from rswarp.kinematics.kinematics import Kinematics
     from rswarp.sim.launch import init_warp
 
     init_warp()  # quiet Warp

@@ -27,9 +27,9 @@ from pathlib import Path
 
 import rswarp
 from rswarp.sim.cables import SETTLE_HOLD, SETTLE_MOVE, simulate_cables
-from rswarp.sim.cluster import Cluster, connect, identical
+from rswarp.sim.engine import Cluster, connect, identical
 from rswarp.sim.collisions import CHUNK
-from rswarp.sim.trajectory import random_trajectory
+from rswarp.kinematics.trajectory import random_trajectory
 from rswarp.sim.workspace import SAMPLE_CHUNK
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -82,7 +82,7 @@ def workloads(quick: bool) -> list[Workload]:
 
 def tasks(w: Workload, n: int, task: int) -> int:
     """How many tasks a batch of ``n`` makes (small batches are cut finer, for every worker)."""
-    from rswarp.sim.cluster import task_spans
+    from rswarp.sim.engine import task_spans
 
     return len(task_spans(w.cluster(task), -(-n // w.fine), max(1, task // w.fine)))
 

@@ -18,10 +18,10 @@ import numpy as np
 
 import rswarp
 from rswarp.sim.cables import CableOptions, simulate_cables
-from rswarp.sim.cluster import Cluster, identical
-from rswarp.sim.kinematics import Kinematics
+from rswarp.sim.engine import Cluster, identical
+from rswarp.kinematics.kinematics import Kinematics
 from rswarp.sim.launch import init_warp
-from rswarp.sim.trajectory import random_trajectory
+from rswarp.kinematics.trajectory import random_trajectory
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

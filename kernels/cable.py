@@ -9,22 +9,24 @@ tridiagonal system solved in linear time (a direct solve, not Gauss-Seidel sweep
 do not stretch under their weight). Bending follows by XPBD on the discrete curvature x[i-1] -
 2 x[i] + x[i+1] with compliance l^3 / EI, then the lengths are restored and contact again.
 Velocities are the positions' change, damped. Each frame reports the peak tension, the tightest
-bend, the twist, and the least clearance per link and to the floor.
+bend, the twist, the stretch between attachments, and the least clearance per link and to the
+floor: the statistics the host reads, while the state stays where the kernel runs.
 """
 
 from typing import Any
 
 import warp as wp
 
-from .cable_contact import BIG, CableParams, near_function, sharpest_function, twist_function
+from .cable_contact import BIG, CableParams, near_function, sharpest_function, stretch_function, twist_function
+from .cache import cached, module_name
 from .fk import emit_local, pose_functions, tree_fk
 from .types import Chain, types_of
 
 NEWTON_STEPS = 3  # exact-length projections per substep (quadratic convergence)
 
 # columns of a frame's statistics, per environment
-TENSION, BEND, BEND_AT, TWIST = range(4)
-STATS = 4
+TENSION, BEND, BEND_AT, TWIST, STRETCH = range(5)
+STATS = 5
 # an environment's state
 RUNNING, NOT_FINITE, RUNAWAY = 0, 1, 2
 MAX_PARTICLES = 4096  # per cable (its particle arrays live in each thread's local memory)
@@ -38,14 +40,15 @@ def capacity(particles: int) -> int:
     return max(16, 1 << (int(particles) - 1).bit_length())
 
 
-def cable_kernel(chain: Chain, links: set, particles: int, bending_iterations: int):
-    """``step(prm, dt, qs, x, v, status, stats, clear, at)``: one frame for each environment, in as
-    many substeps as ``qs`` has rows. ``qs`` (envs, substeps, dof): the joints at the end of each
-    substep; ``x``, ``v`` (envs, particles) positions and velocities and ``status`` (envs,), updated
-    in place; ``stats`` (envs, STATS) the frame's peak tension, least bend radius and where, and
-    twist; ``clear``, ``at`` (envs, links + 1): the least clearance to each link (the floor last)
-    over the frame and the particle where. An environment that blows up stops, frozen, with its
-    status set."""
+@cached
+def cable_kernel(chain: Chain, links, particles: int, bending_iterations: int):
+    """``step(params, dt, qs, x_out, v_out, status_out, stats_out, clear_out, at_out)``: one frame for
+    each environment, in as many substeps as ``qs`` has rows. ``qs`` (envs, substeps, dof): the
+    joints at the end of each substep; ``x_out``, ``v_out`` (envs, particles) positions and
+    velocities and ``status_out`` (envs,) are read and updated in place; ``stats_out`` (envs, STATS)
+    gets the frame's peak tension, least bend radius and where, twist and stretch; ``clear_out``,
+    ``at_out`` (envs, links + 1): the least clearance to each link (the floor last) over the frame
+    and the particle where. An environment that blows up stops, frozen, with its status set."""
     S = wp.float32
     M34 = types_of(S).mat34
     n_links = max(len(chain.parent), 1)
@@ -54,16 +57,27 @@ def cable_kernel(chain: Chain, links: set, particles: int, bending_iterations: i
     advance = _advance_function(chain, links)
     near = near_function(n_links)
     substep = _substep_function(P, bending_iterations, near)
-    sharpest, twist, commit = sharpest_function(), twist_function(), _commit_function()
-    carried = "-".join(str(k) for k in sorted(links))
-    module = f"rswarp_cable_{chain.digest()}_{carried}_{P}_{bending_iterations}"
+    sharpest, twist, stretch, commit = sharpest_function(), twist_function(), stretch_function(), _commit_function()
+    module = module_name("cable", chain, links, P, bending_iterations)
 
     @wp.kernel(enable_backward=False, module=module)
-    def step(prm: CableParams, dt: S, qs: wp.array3d(dtype=S), x: wp.array2d(dtype=wp.vec3),
-             v: wp.array2d(dtype=wp.vec3), status: wp.array(dtype=wp.int32), stats: wp.array2d(dtype=S),
-             clear: wp.array2d(dtype=S), at: wp.array2d(dtype=wp.int32)):
+    def step(
+        # Model:
+        params: CableParams,
+        dt: S,
+        # In:
+        qs: wp.array3d(dtype=S),
+        # Out (the state, read and updated in place):
+        x_out: wp.array2d(dtype=wp.vec3),
+        v_out: wp.array2d(dtype=wp.vec3),
+        status_out: wp.array(dtype=wp.int32),
+        # Out (the frame's statistics):
+        stats_out: wp.array2d(dtype=S),
+        clear_out: wp.array2d(dtype=S),
+        at_out: wp.array2d(dtype=wp.int32),
+    ):
         e = wp.tid()
-        if status[e] != RUNNING:
+        if status_out[e] != RUNNING:
             return
         poses = wp.zeros(shape=n_links, dtype=M34)
         p = wp.zeros(shape=P, dtype=wp.vec3)
@@ -77,30 +91,31 @@ def cable_kernel(chain: Chain, links: set, particles: int, bending_iterations: i
         tightest = S(BIG)
         tightest_at = int(-1)
         for s in range(qs.shape[1]):
-            advance(prm, poses, qs[e], s, h, x, v, e, p)
-            peak = wp.max(peak, substep(p, prm, poses, h, gap, where))
-            r, k_r = sharpest(p, prm)
+            advance(params, poses, qs[e], s, h, x_out, v_out, e, p)
+            peak = wp.max(peak, substep(p, params, poses, h, gap, where))
+            r, k_r = sharpest(p, params)
             if r < tightest:
                 tightest = r
                 tightest_at = k_r
-            failed = commit(p, prm, h, x, v, e)
+            failed = commit(p, params, h, x_out, v_out, e)
             if failed != RUNNING:
-                status[e] = failed
+                status_out[e] = failed
                 return
-        near(p, prm, poses, prm.reach, 0, gap, where)
-        stats[e, TENSION] = peak
-        stats[e, BEND] = tightest
-        stats[e, BEND_AT] = S(tightest_at)
-        stats[e, TWIST] = twist(p, prm, poses)
+        near(p, params, poses, params.reach, 0, gap, where)
+        stats_out[e, TENSION] = peak
+        stats_out[e, BEND] = tightest
+        stats_out[e, BEND_AT] = S(tightest_at)
+        stats_out[e, TWIST] = twist(p, params, poses)
+        stats_out[e, STRETCH] = stretch(p, params)
         for j in range(slots):
-            clear[e, j] = gap[j]
-            at[e, j] = where[j]
+            clear_out[e, j] = gap[j]
+            at_out[e, j] = where[j]
 
     return step
 
 
 def _advance_function(chain: Chain, links: set):
-    """``advance(prm, poses, q, s, h, x, v, e, p)``: forward kinematics for substep ``s``, then the
+    """``advance(params, poses, q, s, h, x, v, e, p)``: forward kinematics for substep ``s``, then the
     predicted positions: carried particles where their links are, free ones by their velocity
     and gravity (the velocity updated)."""
     S = wp.float32
@@ -108,38 +123,38 @@ def _advance_function(chain: Chain, links: set):
     apply = pose_functions(S)[2]
 
     @wp.func
-    def advance(prm: CableParams, poses: Any, q: wp.array2d(dtype=S), s: int, h: S,
+    def advance(params: CableParams, poses: Any, q: wp.array2d(dtype=S), s: int, h: S,
                 x: Any, v: Any, e: int, p: Any):
         fk(q, s, poses)
-        for k in range(prm.w.shape[0]):
-            if prm.link[k] >= 0:
-                p[k] = apply(poses[prm.link[k]], prm.local[k])
+        for k in range(params.w.shape[0]):
+            if params.link[k] >= 0:
+                p[k] = apply(poses[params.link[k]], params.local[k])
             else:
-                v[e, k] = v[e, k] + prm.gravity * h
+                v[e, k] = v[e, k] + params.gravity * h
                 p[k] = x[e, k] + v[e, k] * h
 
     return advance
 
 
 def _substep_function(P: int, bending_iterations: int, near):
-    """``substep(p, prm, poses, h, gap, where) -> tension``: contact, exact lengths, bending,
+    """``substep(p, params, poses, h, gap, where) -> tension``: contact, exact lengths, bending,
     lengths and contact again on the predicted positions; the greatest segment tension (N)."""
     S = wp.float32
     project = _length_projection(P, S)
     bend = _bending_solve(P, S)
 
     @wp.func
-    def substep(p: Any, prm: CableParams, poses: Any, h: S, gap: Any, where: Any) -> S:
-        near(p, prm, poses, prm.margin, 1, gap, where)
+    def substep(p: Any, params: CableParams, poses: Any, h: S, gap: Any, where: Any) -> S:
+        near(p, params, poses, params.margin, 1, gap, where)
         impulse = wp.zeros(shape=P, dtype=S)  # each segment's constraint impulse this substep
-        project(p, prm.rest, prm.w, impulse)
+        project(p, params.rest, params.w, impulse)
         lam = wp.zeros(shape=P, dtype=wp.vec3)  # XPBD multipliers of the curvature constraints
         for it in range(bending_iterations):
-            bend(p, lam, prm.w, prm.compliance, h)
-            project(p, prm.rest, prm.w, impulse)
-        near(p, prm, poses, prm.margin, 1, gap, where)
+            bend(p, lam, params.w, params.compliance, h)
+            project(p, params.rest, params.w, impulse)
+        near(p, params, poses, params.margin, 1, gap, where)
         peak = S(0.0)
-        for k in range(prm.rest.shape[0]):
+        for k in range(params.rest.shape[0]):
             peak = wp.max(peak, -impulse[k] / (h * h))
         return peak
 
@@ -147,21 +162,21 @@ def _substep_function(P: int, bending_iterations: int, near):
 
 
 def _commit_function():
-    """``commit(p, prm, h, x, v, e) -> status``: the substep's positions and damped velocities
+    """``commit(p, params, h, x, v, e) -> status``: the substep's positions and damped velocities
     into the state, unless a particle is not finite or faster than ``max_speed``: then the state
     stays as it was and the failure is returned."""
 
     @wp.func
-    def commit(p: Any, prm: CableParams, h: float, x: wp.array2d(dtype=wp.vec3), v: wp.array2d(dtype=wp.vec3),
+    def commit(p: Any, params: CableParams, h: float, x: wp.array2d(dtype=wp.vec3), v: wp.array2d(dtype=wp.vec3),
                e: int) -> int:
-        keep = wp.exp(-prm.damping * h)
-        for k in range(prm.w.shape[0]):
+        keep = wp.exp(-params.damping * h)
+        for k in range(params.w.shape[0]):
             speed = wp.length(p[k] - x[e, k]) / h * keep
             if not wp.isfinite(speed):
                 return NOT_FINITE
-            if speed > prm.max_speed:
+            if speed > params.max_speed:
                 return RUNAWAY
-        for k in range(prm.w.shape[0]):
+        for k in range(params.w.shape[0]):
             v[e, k] = (p[k] - x[e, k]) / h * keep
             x[e, k] = p[k]
         return RUNNING

@@ -1,7 +1,8 @@
 """What a cable meets and how it is measured, as device functions for ``rswarp.kernels.cable``:
 contact with the link meshes (Warp ``wp.Mesh`` BVH queries in each link's zero-position frame,
 with the cable's radius) and the floor, the bend radius along the chain, and the twist between
-two clamped ends (a reference normal parallel-transported along the chain)."""
+two clamped ends (a reference normal parallel-transported along the chain), and the stretch between
+consecutive attachments."""
 
 from typing import Any
 
@@ -23,7 +24,8 @@ class CableParams:
     sphere (centre, radius) that spares the query of far links. ``ends``: the links clamping the
     first and the last segment (-1: that end turns freely); ``start_normal``, ``end_normal``: their
     reference normals at the zero position, parallel-transported into each other along the rest
-    shape, so the rest shape has no twist."""
+    shape, so the rest shape has no twist. ``pair_a``, ``pair_b``: consecutive attached particles,
+``pair_length`` the cable's length between them."""
 
     rest: wp.array(dtype=wp.float32)
     w: wp.array(dtype=wp.float32)
@@ -43,6 +45,9 @@ class CableParams:
     margin: wp.float32  # contact query distance beyond the radius, per substep
     reach: wp.float32  # clearance query distance beyond the radius, per frame
     max_speed: wp.float32  # a particle faster than this has blown up
+    pair_a: wp.array(dtype=wp.int32)
+    pair_b: wp.array(dtype=wp.int32)
+    pair_length: wp.array(dtype=wp.float32)
 
 
 _, _, _apply, _rotate = pose_functions(wp.float32)
@@ -91,7 +96,7 @@ def _link_gap(p: wp.vec3, m: M34, mesh: wp.uint64, sphere: wp.vec4, radius: floa
 
 
 def near_function(n_links: int):
-    """``near(p, prm, poses, query, push, clear, at)`` for a tree of ``n_links`` links: each free
+    """``near(p, params, poses, query, push, clear, at)`` for a tree of ``n_links`` links: each free
     particle against every link it may touch and the floor (slot ``n_links``). It lowers the least
     clearance per slot (surface to surface, where within ``query``) and notes which particle; with
     ``push``, particles inside are moved out along the normal (frictionless contact). A particle
@@ -105,39 +110,39 @@ def near_function(n_links: int):
             at[j] = k
 
     @wp.func
-    def near(p: Any, prm: CableParams, poses: Any, query: float, push: int, clear: Any, at: Any):
-        for k in range(prm.w.shape[0]):
-            if prm.w[k] <= 0.0:
+    def near(p: Any, params: CableParams, poses: Any, query: float, push: int, clear: Any, at: Any):
+        for k in range(params.w.shape[0]):
+            if params.w[k] <= 0.0:
                 continue
             for j in range(n_links):
-                if prm.mesh[j] != wp.uint64(0) and prm.touch[k, j] != 0:
-                    gap, out = _link_gap(p[k], poses[j], prm.mesh[j], prm.sphere[j], prm.radius, query)
+                if params.mesh[j] != wp.uint64(0) and params.touch[k, j] != 0:
+                    gap, out = _link_gap(p[k], poses[j], params.mesh[j], params.sphere[j], params.radius, query)
                     note(clear, at, j, gap, k)
                     if push != 0 and gap < 0.0:
                         p[k] = out
-            gap = p[k][2] - prm.radius - prm.floor
+            gap = p[k][2] - params.radius - params.floor
             note(clear, at, n_links, gap, k)
-            if push != 0 and gap < 0.0 and gap > -prm.radius - query:
-                p[k] = wp.vec3(p[k][0], p[k][1], prm.floor + prm.radius)
+            if push != 0 and gap < 0.0 and gap > -params.radius - query:
+                p[k] = wp.vec3(p[k][0], p[k][1], params.floor + params.radius)
 
     return near
 
 
 def sharpest_function():
-    """``sharpest(p, prm) -> (radius, k)``: the least bend radius along the chain and where: at
+    """``sharpest(p, params) -> (radius, k)``: the least bend radius along the chain and where: at
     particle k, l / (2 tan(angle / 2)) with l the mean of its two segments' rest lengths (the
     discrete curvature of elastic rods)."""
 
     @wp.func
-    def sharpest(p: Any, prm: CableParams):
+    def sharpest(p: Any, params: CableParams):
         best = float(BIG)
         where = int(-1)
-        for k in range(1, prm.w.shape[0] - 1):
+        for k in range(1, params.w.shape[0] - 1):
             a = p[k] - p[k - 1]
             b = p[k + 1] - p[k]
             s = wp.length(wp.cross(a, b))
             if s > TINY:
-                r = 0.5 * (prm.rest[k - 1] + prm.rest[k]) * (wp.length(a) * wp.length(b) + wp.dot(a, b)) / (2.0 * s)
+                r = 0.5 * (params.rest[k - 1] + params.rest[k]) * (wp.length(a) * wp.length(b) + wp.dot(a, b)) / (2.0 * s)
                 if r < best:
                     best = r
                     where = k
@@ -147,24 +152,39 @@ def sharpest_function():
 
 
 def twist_function():
-    """``twist(p, prm, poses)``: the turn (rad) of the last clamp's normal about the cable from the
+    """``twist(p, params, poses)``: the turn (rad) of the last clamp's normal about the cable from the
     first clamp's normal carried along the chain by parallel transport; 0 unless both ends are
     clamped."""
 
     @wp.func
-    def twist(p: Any, prm: CableParams, poses: Any) -> float:
-        if prm.ends[0] < 0 or prm.ends[1] < 0:
+    def twist(p: Any, params: CableParams, poses: Any) -> float:
+        if params.ends[0] < 0 or params.ends[1] < 0:
             return 0.0
-        n = _rotate(poses[prm.ends[0]], prm.start_normal)
+        n = _rotate(poses[params.ends[0]], params.start_normal)
         t0 = wp.normalize(p[1] - p[0])
-        for k in range(1, prm.w.shape[0] - 1):
+        for k in range(1, params.w.shape[0] - 1):
             t1 = wp.normalize(p[k + 1] - p[k])
             b = wp.cross(t0, t1)
             c = wp.dot(t0, t1)
             if c > -0.999:
                 n = c * n + wp.cross(b, n) + b * (wp.dot(b, n) / (1.0 + c))
             t0 = t1
-        e = _rotate(poses[prm.ends[1]], prm.end_normal)
+        e = _rotate(poses[params.ends[1]], params.end_normal)
         return wp.atan2(wp.dot(t0, wp.cross(n, e)), wp.dot(n, e))
 
     return twist
+
+
+def stretch_function():
+    """``stretch(p, params)``: the greatest straight distance between consecutive attachments over
+    the cable's length between them (1: pulled straight); 0 with fewer than two attachments."""
+
+    @wp.func
+    def stretch(p: Any, params: CableParams) -> float:
+        most = float(0.0)
+        for k in range(params.pair_a.shape[0]):
+            d = wp.length(p[params.pair_b[k]] - p[params.pair_a[k]]) / params.pair_length[k]
+            most = wp.max(most, d)
+        return most
+
+    return stretch

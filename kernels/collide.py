@@ -10,10 +10,11 @@ spheres, root boxes): the host keeps the nearest samples by it, and a second ker
 exact distances (the clearance of pairs that never collide).
 """
 
-from functools import lru_cache
 from typing import Any
 
 import warp as wp
+
+from .cache import cached, module_name
 
 from .fk import emit_local, pose_functions, tree_fk
 from .geometry import FAR
@@ -22,24 +23,24 @@ from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
 from .witness import witness_functions
 
 
-@lru_cache(maxsize=None)
+@cached
 def containment_functions(scalar=wp.float32):
     """enclosed(m, a, b, r, t): whether either body contains a piece of the other."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def in_box(m: Bodies, node: int, p: V3) -> bool:
+    def in_box(m: BodyArrays, node: int, p: V3) -> bool:
         o = wp.transpose(m.node_axes[node]) * (p - m.node_center[node])
         h = m.node_half[node]
         return wp.abs(o[0]) <= h[0] and wp.abs(o[1]) <= h[1] and wp.abs(o[2]) <= h[2]
 
     @wp.func
-    def point_inside(m: Bodies, body: int, p: wp.vec3) -> bool:
+    def point_inside(m: BodyArrays, body: int, p: wp.vec3) -> bool:
         """Whether a point lies inside a body: on a closed mesh, the parity of three rays' crossings
         (two of three agreeing, so a ray that grazes an edge is outvoted; a quarter of the
         cost of the winding number), else the generalized winding number."""
-        if m.closed[body] == 0:
+        if m.watertight[body] == 0:
             q = wp.mesh_query_point_sign_winding_number(m.mesh[body], p, wp.float32(FAR))
             return q.result and q.sign < wp.float32(0.0)
         votes = int(0)
@@ -53,7 +54,7 @@ def containment_functions(scalar=wp.float32):
         return votes >= 2
 
     @wp.func
-    def contains(m: Bodies, outer: int, inner: int, r: M33, t: V3) -> bool:
+    def contains(m: BodyArrays, outer: int, inner: int, r: M33, t: V3) -> bool:
         """Whether a piece of body ``inner`` lies inside closed body ``outer`` (x_outer = r x_inner + t),
         given that their surfaces do not cross: one point per piece decides, once the piece's
         extreme points are all in the outer body's box."""
@@ -70,7 +71,7 @@ def containment_functions(scalar=wp.float32):
         return False
 
     @wp.func
-    def enclosed(m: Bodies, a: int, b: int, r: M33, t: V3) -> bool:
+    def enclosed(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
         """Whether either body contains a piece of the other (their surfaces being apart)."""
         rt = wp.transpose(r)
         return contains(m, b, a, rt, -(rt * t)) or contains(m, a, b, r, t)
@@ -78,7 +79,7 @@ def containment_functions(scalar=wp.float32):
     return enclosed
 
 
-@lru_cache(maxsize=None)
+@cached
 def pose_helpers(scalar=wp.float32):
     """(rotation, relative): a pose's rotation, and B's frame in A's."""
     S, V3, M33, M34, M44 = types_of(scalar)
@@ -98,19 +99,19 @@ def pose_helpers(scalar=wp.float32):
     return rotation, relative
 
 
-@lru_cache(maxsize=None)
+@cached
 def pair_functions(scalar=wp.float32):
-    """(pair_verdict, pair_distance) over a ``Bodies`` struct."""
+    """(pair_verdict, pair_distance) over a ``BodyArrays`` struct."""
     S, V3, M33, M34, M44 = types_of(scalar)
     node_gap, mesh_distance = traversal_functions(scalar)
     meshes_cross = crossing_walk(scalar)
     rotation, relative = pose_helpers(scalar)
     enclosed = containment_functions(scalar)
     _, witness_hit = witness_functions(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def pair_verdict(m: Bodies, a: int, b: int, pa: M34, pb: M34, cell: int, sphere_gap: S) -> S:
+    def pair_verdict(m: BodyArrays, a: int, b: int, pa: M34, pb: M34, cell: int, sphere_gap: S) -> S:
         """Bodies a and b at poses pa and pb, whose bounding spheres are ``sphere_gap`` apart (at
         most the padding): at most the padding if they collide (-1 if one contains the other),
         else a lower bound of their distance above the padding (from their spheres and root
@@ -137,7 +138,7 @@ def pair_functions(scalar=wp.float32):
         return wp.max(gap, m.padding + S(1.0e-9))
 
     @wp.func
-    def pair_distance(m: Bodies, a: int, b: int, rel: M34) -> S:
+    def pair_distance(m: BodyArrays, a: int, b: int, rel: M34) -> S:
         """The exact distance between bodies a and b, b's frame in a's being ``rel`` (0 where
         surfaces cross, -1 where one contains the other)."""
         r = rotation(rel)
@@ -150,21 +151,16 @@ def pair_functions(scalar=wp.float32):
     return pair_verdict, pair_distance
 
 
-_KERNELS: dict[str, Any] = {}
-
-
+@cached
 def collision_kernels(chain: Chain, links, scalar=wp.float32):
     """(collide, distance, witness) for bodies riding on chain ``links``:
 
-    ``collide(bodies, q, hit, gap)``: for configuration ``q[i]``, each pair's verdict ``hit[i, p]``
-    (1: collides) and ``gap[i, p]``, a lower bound of the pair's distance when it is free.
-    ``distance(bodies, q, pair, out)``: the exact distance of pair ``pair[i]`` at ``q[i]``.
-    ``witness(bodies, q, pair, out)``: crossing triangle pairs of pair ``pair[i]`` at ``q[i]``,
-    spread over all that cross (``witness_vec``, -1 where fewer cross)."""
-    key = f"{chain.digest()}_{'_'.join(str(int(k)) for k in sorted(links))}_{scalar.__name__}"
-    if key not in _KERNELS:
-        _KERNELS[key] = _make_kernels(key, chain, links, scalar)
-    return _KERNELS[key]
+    ``collide(bodies, q, hit_out, gap_out)``: for configuration ``q[i]``, each pair's verdict
+    ``hit_out[i, p]`` (1: collides) and ``gap_out[i, p]``, a lower bound of the pair's distance when
+    it is free. ``distance(bodies, q, pair, distance_out)``: the exact distance of pair ``pair[i]``
+    at ``q[i]``. ``witness(bodies, q, pair, witness_out)``: crossing triangle pairs of pair
+    ``pair[i]`` at ``q[i]``, spread over all that cross (``witness_vec``, -1 where fewer cross)."""
+    return _make_kernels(module_name("collide", chain, links, scalar), chain, links, scalar)
 
 
 def _body_pose(scalar):
@@ -174,17 +170,17 @@ def _body_pose(scalar):
     differ in length is specialized for one of them only (a C++ build error in the others)."""
     S, V3, M33, M34, M44 = types_of(scalar)
     _, _, apply, _ = pose_functions(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def body_pose(m: Bodies, poses: Any, b: int) -> M34:
+    def body_pose(m: BodyArrays, poses: Any, b: int) -> M34:
         k = m.link[b]
         if k >= 0:
             return poses[k]
         return m.pose[b]
 
     @wp.func
-    def body_centre(m: Bodies, centres: Any, b: int) -> V3:
+    def body_centre(m: BodyArrays, centres: Any, b: int) -> V3:
         k = m.link[b]
         if k >= 0:
             return centres[k]
@@ -193,9 +189,9 @@ def _body_pose(scalar):
     return body_pose, body_centre
 
 
-def _make_kernels(key: str, chain: Chain, links, scalar):
+def _make_kernels(module: str, chain: Chain, links, scalar):
     S, V3, M33, M34, M44 = types_of(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
     pair_verdict, pair_distance = pair_functions(scalar)
     rotation, relative = pose_helpers(scalar)
     witness_cell, _ = witness_functions(scalar)
@@ -204,10 +200,17 @@ def _make_kernels(key: str, chain: Chain, links, scalar):
     _, _, apply, _ = pose_functions(scalar)
     n = max(len(chain.parent), 1)
     fk = tree_fk(chain, set(int(k) for k in links) or {chain.root}, emit_local(scalar), scalar)
-    module = f"rswarp_collide_{key}"
 
     @wp.kernel(enable_backward=False, module=module)
-    def collide(m: Bodies, q: wp.array2d(dtype=S), hit: wp.array2d(dtype=wp.uint8), gap: wp.array2d(dtype=S)):
+    def collide(
+        # Model:
+        m: BodyArrays,
+        # In:
+        q: wp.array2d(dtype=S),
+        # Out:
+        hit_out: wp.array2d(dtype=wp.uint8),
+        gap_out: wp.array2d(dtype=S),
+    ):
         i = wp.tid()
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
@@ -222,28 +225,44 @@ def _make_kernels(key: str, chain: Chain, links, scalar):
             if g <= m.padding:
                 g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i), g)
             if g <= m.padding:
-                hit[i, p] = wp.uint8(1)
-                gap[i, p] = S(0.0)
+                hit_out[i, p] = wp.uint8(1)
+                gap_out[i, p] = S(0.0)
             else:
-                hit[i, p] = wp.uint8(0)
-                gap[i, p] = g
+                hit_out[i, p] = wp.uint8(0)
+                gap_out[i, p] = g
 
     @wp.func
-    def posed_pair(m: Bodies, q: wp.array2d(dtype=S), i: int, p: int) -> M34:
+    def posed_pair(m: BodyArrays, q: wp.array2d(dtype=S), i: int, p: int) -> M34:
         """Pair p's second body in the frame of its first, at configuration q[i]."""
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
         return relative(body_pose(m, poses, m.pair_a[p]), body_pose(m, poses, m.pair_b[p]))
 
     @wp.kernel(enable_backward=False, module=module)
-    def distance(m: Bodies, q: wp.array2d(dtype=S), pair: wp.array(dtype=wp.int32), out: wp.array(dtype=S)):
+    def distance(
+        # Model:
+        m: BodyArrays,
+        # In:
+        q: wp.array2d(dtype=S),
+        pair: wp.array(dtype=wp.int32),
+        # Out:
+        distance_out: wp.array(dtype=S),
+    ):
         i = wp.tid()
-        out[i] = pair_distance(m, m.pair_a[pair[i]], m.pair_b[pair[i]], posed_pair(m, q, i, pair[i]))
+        distance_out[i] = pair_distance(m, m.pair_a[pair[i]], m.pair_b[pair[i]], posed_pair(m, q, i, pair[i]))
 
     @wp.kernel(enable_backward=False, module=module)
-    def witness(m: Bodies, q: wp.array2d(dtype=S), pair: wp.array(dtype=wp.int32), out: wp.array(dtype=witness_vec)):
+    def witness(
+        # Model:
+        m: BodyArrays,
+        # In:
+        q: wp.array2d(dtype=S),
+        pair: wp.array(dtype=wp.int32),
+        # Out:
+        witness_out: wp.array(dtype=witness_vec),
+    ):
         i = wp.tid()
         rel = posed_pair(m, q, i, pair[i])
-        out[i] = crossing_sample(m, m.pair_a[pair[i]], m.pair_b[pair[i]], rotation(rel), V3(rel[0, 3], rel[1, 3], rel[2, 3]))
+        witness_out[i] = crossing_sample(m, m.pair_a[pair[i]], m.pair_b[pair[i]], rotation(rel), V3(rel[0, 3], rel[1, 3], rel[2, 3]))
 
     return collide, distance, witness

@@ -1,9 +1,10 @@
 """Distances and overlap tests between points, segments, triangles and boxes, as device code in
 one precision: the narrow and middle phases of the collision kernels (``collide``)."""
 
-from functools import lru_cache
 
 import warp as wp
+
+from .cache import cached
 
 from .types import types_of
 
@@ -11,7 +12,7 @@ FAR = 1.0e30
 EPS_AXIS = 1.0e-6  # added to |R| in the box test: parallel edges never separate boxes that touch
 
 
-@lru_cache(maxsize=None)
+@cached
 def point_triangle_function(scalar=wp.float32):
     """point_triangle_sq(p, a, b, c): the squared distance from a point to a triangle."""
     S, V3, M33, M34, M44 = types_of(scalar)
@@ -51,7 +52,7 @@ def point_triangle_function(scalar=wp.float32):
     return point_triangle_sq
 
 
-@lru_cache(maxsize=None)
+@cached
 def segment_function(scalar=wp.float32):
     """segment_segment_sq(p1, q1, p2, q2): the squared distance between two segments."""
     S, V3, M33, M34, M44 = types_of(scalar)
@@ -93,7 +94,7 @@ def segment_function(scalar=wp.float32):
     return segment_segment_sq
 
 
-@lru_cache(maxsize=None)
+@cached
 def crossing_function(scalar=wp.float32):
     """triangles_cross(a0, a1, a2, b0, b1, b2): whether two triangles in one frame meet."""
     S, V3, M33, M34, M44 = types_of(scalar)
@@ -141,7 +142,7 @@ def crossing_function(scalar=wp.float32):
     return triangles_cross
 
 
-@lru_cache(maxsize=None)
+@cached
 def triangle_functions(scalar=wp.float32):
     """(triangles_cross, triangle_distance) for two triangles in one frame."""
     S, V3, M33, M34, M44 = types_of(scalar)
@@ -175,7 +176,7 @@ def triangle_functions(scalar=wp.float32):
     return triangles_cross, triangle_distance
 
 
-@lru_cache(maxsize=None)
+@cached
 def box_functions(scalar=wp.float32):
     """(abs_rotation, box_gap): |r| + eps, and a lower bound of the distance between two boxes."""
     S, V3, M33, M34, M44 = types_of(scalar)

@@ -1,19 +1,20 @@
 """Loop closure by damped Newton steps with continuation, as device code the FK kernels call once
-per configuration before posing links (``rswarp.rsxml.general`` is the host twin and says why).
+per configuration before posing links (the host twin, ``newton_loop_values``, says why).
 
 Each loop is specialized at code generation: its two paths' joints are unrolled with their axes
 and points folded in as constants; the unknowns (the loop's passive joints) live in one vector
 shared by all loops, ``solve(q, i)``, NaN for a loop that cannot close at that configuration.
 """
 
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
 import warp as wp
 
-from ..rsxml.general import (CLOSED, CLOSING, FINE_ITERATIONS, FINE_STEPS, ITERATIONS, MAX_STEP, NEAR, PATH_A,
-                             PATH_B, POLISH, SINGULAR, STEPS, square_rows)
+from .cache import cached
+from .motion import revolute_motion
+from .specs import (CLOSING, CLOSURE_TOLERANCE, FINE_ITERATIONS, FINE_STEPS, ITERATIONS, MAX_STEP, NEAR, PATH_A,
+                    PATH_B, POLISH, SINGULAR, STEPS, square_rows)
 from .types import Chain, types_of
 
 
@@ -25,10 +26,10 @@ def unknowns(chain: Chain) -> int:
 def loop_solver(chain: Chain, scalar=wp.float32):
     """``solve(q, i) -> x``: every Newton-solved passive joint at configuration ``q[i]`` (a vector
     of ``unknowns(chain)``), or None when the chain has no such loop."""
-    if not len(chain.general):
+    if not len(chain.newton_rows):
         return None
     VM = wp.types.vector(unknowns(chain), scalar)
-    rows = np.asarray(chain.general)
+    rows = np.asarray(chain.newton_rows)
     loops = tuple(_loop_solve(rows[rows[:, 0] == lid], VM, scalar) for lid in np.unique(rows[:, 0]))
 
     @wp.func
@@ -45,7 +46,7 @@ def _loop_solve(rows: np.ndarray, VM, scalar):
     """One loop's solve: continuation from zero in STEPS steps of ITERATIONS Newton steps, POLISH
     more at the target; a path that comes near a singular pose (the square part's determinant
     under NEAR of zero's) is taken again in FINE_STEPS steps. NaN for its unknowns where the
-    closure's residual stays above CLOSED or the path meets a singular pose (under SINGULAR)."""
+    closure's residual stays above CLOSURE_TOLERANCE or the path meets a singular pose (under SINGULAR)."""
     S = scalar
     V3 = types_of(scalar).vec3
     u = rows[:, 4][rows[:, 4] >= 0].astype(int)
@@ -79,7 +80,7 @@ def _loop_solve(rows: np.ndarray, VM, scalar):
         e = ends(q, i, x, S(1.0), wp.zeros(shape=wp.static(m), dtype=V3), wp.zeros(shape=wp.static(m), dtype=V3))
         gap = wp.length(V3(e[0, 0] - e[2, 0], e[0, 1] - e[2, 1], e[0, 2] - e[2, 2]))
         gap += wp.length(V3(e[1, 0] - e[3, 0], e[1, 1] - e[3, 1], e[1, 2] - e[3, 2]))
-        if wp.isnan(gap) or gap > S(CLOSED) or wp.isnan(ratio) or ratio < S(SINGULAR):
+        if wp.isnan(gap) or gap > S(CLOSURE_TOLERANCE) or wp.isnan(ratio) or ratio < S(SINGULAR):
             for a in range(wp.static(m)):
                 x[wp.static(first) + a] = S(wp.nan)
         return x
@@ -91,14 +92,12 @@ def _ends(rows: np.ndarray, first: int, m: int, VM, scalar):
     """``ends(q, i, x, s, W, O) -> (4, 3)``: the closing joint's point and axis carried by path A,
     then by path B (rows), with active joints at ``s`` times their values; each unknown's world axis
     and point before its joint go to ``W[a]``, ``O[a]`` (local arrays)."""
-    from .fk import _revolute
-
     T = types_of(scalar)
     S, V3, M33 = T.scalar, T.vec3, T.mat33
     M43 = wp.types.matrix((4, 3), S)
     closing = rows[rows[:, 1] == CLOSING][0]
     pc, ac = V3(*(float(v) for v in closing[8:11])), V3(*(float(v) for v in closing[5:8]))
-    path_a, path_b = (_path(rows[rows[:, 1] == role], first, T, _revolute) for role in (PATH_A, PATH_B))
+    path_a, path_b = (_path(rows[rows[:, 1] == role], first, T) for role in (PATH_A, PATH_B))
 
     @wp.func
     def ends(q: wp.array2d(dtype=S), i: int, x: VM, s: S, W: Any, O: Any) -> M43:
@@ -119,14 +118,14 @@ def _ends(rows: np.ndarray, first: int, m: int, VM, scalar):
     return ends
 
 
-def _path(rows: np.ndarray, first: int, T, revolute_entries) -> tuple:
+def _path(rows: np.ndarray, first: int, T) -> tuple:
     """A wp.func per joint of one path: ``(q, i, x, s, r, t, W, O) -> (r, t)`` applies the joint."""
     S, V3, M33 = T.scalar, T.vec3, T.mat33
     out = []
     for row in rows:
         jtype, col, u = int(row[2]), int(row[3]), int(row[4])
         axis, point = V3(*(float(v) for v in row[5:8])), V3(*(float(v) for v in row[8:11]))
-        rot, tra = revolute_entries(row[5:8], row[8:11], T) if jtype == 0 else (None, None)
+        rot, tra = revolute_motion(row[5:8], row[8:11], T) if jtype == 0 else (None, None)
         out.append(_joint(jtype, col, u - first if u >= 0 else -1, u, axis, point, rot, tra, T))
     return tuple(out)
 
@@ -156,7 +155,7 @@ def _joint(jtype: int, col: int, local: int, u: int, axis, point, rot, tra, T):
 def _newton_step(rows: np.ndarray, first: int, m: int, ends, VM, scalar):
     """``newton(q, i, x, s) -> (x, ratio)``: one Gauss-Newton step on the closure (normal equations
     solved by elimination, unrolled), damped to MAX_STEP; and the determinant of the closure's square
-    part before the step, relative to zero's (``rswarp.rsxml.general.square_rows``)."""
+    part before the step, relative to zero's (``specs.square_rows``)."""
     T = types_of(scalar)
     S, V3 = T.scalar, T.vec3
     kinds, sides = np.zeros(m, int), np.zeros(m)
@@ -236,7 +235,7 @@ def _square_det(square: tuple, det0: float, scalar):
     return ratio
 
 
-@lru_cache(maxsize=None)
+@cached
 def _normal_solve(m: int, scalar):
     """``solve(JP, JA, ep, ea) -> dx``: (JᵀJ + εI) dx = Jᵀe for the m columns (JP[a], JA[a]) and
     the residual (ep, ea), by Gaussian elimination (JᵀJ is symmetric positive definite)."""

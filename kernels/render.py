@@ -2,9 +2,10 @@
 anti-aliased edges) of an orthographic camera at one ``wp.Mesh`` of the whole component, and
 shades each hit with its face's colour (ambient plus one directional light)."""
 
-from functools import lru_cache
 
 import warp as wp
+
+from .cache import cached
 
 SAMPLES = 4  # rays per pixel
 AMBIENT = 0.35  # share of a colour lit from nowhere; the light gives the rest
@@ -25,14 +26,23 @@ class Camera:
     height: int
 
 
-@lru_cache(maxsize=None)
+@cached
 def render_kernel():
-    """render(mesh, colours, camera, pixel_index, out): ``out[i]`` = RGBA (0..1, straight alpha:
-    the share of the pixel's rays that hit) of pixel ``pixel_index[i]`` (row-major, top row first)."""
+    """render(mesh, colours, camera, pixel_index, rgba_out): ``rgba_out[i]`` = RGBA (0..1, straight
+    alpha: the share of the pixel's rays that hit) of pixel ``pixel_index[i]`` (row-major, top row
+    first)."""
 
     @wp.kernel(enable_backward=False, module="rswarp_render")
-    def render(mesh: wp.uint64, colours: wp.array(dtype=wp.vec3), cam: Camera, pixel_index: wp.array(dtype=wp.int32),
-               out: wp.array(dtype=wp.vec4)):
+    def render(
+        # Model:
+        mesh: wp.uint64,
+        colours: wp.array(dtype=wp.vec3),
+        cam: Camera,
+        # In:
+        pixel_index: wp.array(dtype=wp.int32),
+        # Out:
+        rgba_out: wp.array(dtype=wp.vec4),
+    ):
         i = wp.tid()
         k = pixel_index[i]
         x = float(k % cam.width)
@@ -55,6 +65,6 @@ def render_kernel():
                 hits += 1.0
         if hits > 0.0:
             colour = colour / hits
-        out[i] = wp.vec4(colour[0], colour[1], colour[2], hits / float(SAMPLES))
+        rgba_out[i] = wp.vec4(colour[0], colour[1], colour[2], hits / float(SAMPLES))
 
     return render

@@ -2,10 +2,11 @@
 test, the split, the leaves' triangles, and the walks built on them (nearest or crossing triangles;
 a spread sample of all crossing triangle pairs)."""
 
-from functools import lru_cache
 from typing import Any
 
 import warp as wp
+
+from .cache import cached
 
 from .geometry import FAR, box_functions, triangle_functions
 from .types import WITNESSES, bodies_struct, types_of, witness_vec
@@ -14,15 +15,15 @@ STACK = 96  # node pairs a traversal keeps pending: two balanced trees of depth 
 SAMPLE = 32  # crossing triangle pairs a sampling walk holds at once
 
 
-@lru_cache(maxsize=None)
+@cached
 def leaf_function(scalar=wp.float32):
     """leaf_distance(m, na, nb, r, t, overlap_only): what the tree walk does with two leaves."""
     S, V3, M33, M34, M44 = types_of(scalar)
     triangles_cross, triangle_distance = triangle_functions(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def leaf_distance(m: Bodies, na: int, nb: int, r: M33, t: V3, overlap_only: bool) -> S:
+    def leaf_distance(m: BodyArrays, na: int, nb: int, r: M33, t: V3, overlap_only: bool) -> S:
         """The distance between the triangles of two leaves; with ``overlap_only``, 0 if two cross
         and huge otherwise."""
         best = S(FAR)
@@ -46,16 +47,16 @@ def leaf_function(scalar=wp.float32):
     return leaf_distance
 
 
-@lru_cache(maxsize=None)
+@cached
 def node_functions(scalar=wp.float32):
     """(node_gap, child_gaps, split): what the tree walk does with one pair of boxes."""
     S, V3, M33, M34, M44 = types_of(scalar)
     V2 = wp.types.vector(2, scalar)
     abs_rotation, box_gap = box_functions(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def node_gap(m: Bodies, na: int, nb: int, r: M33, t: V3) -> S:
+    def node_gap(m: BodyArrays, na: int, nb: int, r: M33, t: V3) -> S:
         """A lower bound of the distance between the boxes of nodes na (body A) and nb (body B),
         x_A = r x_B + t: B's box is carried into the frame of A's."""
         at = wp.transpose(m.node_axes[na])
@@ -64,7 +65,7 @@ def node_functions(scalar=wp.float32):
         return box_gap(m.node_half[na], m.node_half[nb], rr, abs_rotation(rr), d, True)
 
     @wp.func
-    def child_gaps(m: Bodies, c: wp.vec4i, r: M33, t: V3, bound: bool) -> V2:
+    def child_gaps(m: BodyArrays, c: wp.vec4i, r: M33, t: V3, bound: bool) -> V2:
         """node_gap of the two pairs ``split`` gives (a1, b1, a2, b2), the node they share carried
         across once: B's box into A's body frame, or the frame of A's box into B's body. Without
         ``bound``, a pair apart only gets some positive value."""
@@ -88,7 +89,7 @@ def node_functions(scalar=wp.float32):
         return g
 
     @wp.func
-    def split(m: Bodies, na: int, nb: int) -> wp.vec4i:
+    def split(m: BodyArrays, na: int, nb: int) -> wp.vec4i:
         """The two node pairs (a1, b1, a2, b2) that (na, nb) opens into: the larger node's children
         (the one that is not a leaf)."""
         ha = m.node_half[na]
@@ -100,17 +101,17 @@ def node_functions(scalar=wp.float32):
     return node_gap, child_gaps, split
 
 
-@lru_cache(maxsize=None)
+@cached
 def traversal_functions(scalar=wp.float32):
     """(node_gap, mesh_distance): the box gap of two tree nodes, and the dual walk of two bodies'
     box trees down to their nearest triangles."""
     S, V3, M33, M34, M44 = types_of(scalar)
     leaf_distance = leaf_function(scalar)
     node_gap, child_gaps, split = node_functions(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def mesh_distance(m: Bodies, a: int, b: int, r: M33, t: V3, limit: S, stop: S) -> S:
+    def mesh_distance(m: BodyArrays, a: int, b: int, r: M33, t: V3, limit: S, stop: S) -> S:
         """The distance between bodies a and b (x_A = r x_B + t) where it is at most ``limit``, else
         a distance above ``limit`` or a huge value; returns as soon as one at or below ``stop`` is
         found. With ``limit`` 0 only crossing surfaces are looked for (0 if they cross).
@@ -162,17 +163,17 @@ def traversal_functions(scalar=wp.float32):
     return node_gap, mesh_distance
 
 
-@lru_cache(maxsize=None)
+@cached
 def crossing_walk(scalar=wp.float32):
     """meshes_cross(m, a, b, r, t): the dual walk that only looks for two crossing triangles (the
     verdict at padding 0: no distances, no square roots)."""
     S, V3, M33, M34, M44 = types_of(scalar)
     leaf_distance = leaf_function(scalar)
     _, child_gaps, split = node_functions(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def meshes_cross(m: Bodies, a: int, b: int, r: M33, t: V3) -> bool:
+    def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
         """Whether the surfaces of bodies a and b cross (x_A = r x_B + t). Depth first, the more
         overlapping children first; the boxes of the roots are known to overlap."""
         stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
@@ -205,7 +206,7 @@ def crossing_walk(scalar=wp.float32):
     return meshes_cross
 
 
-@lru_cache(maxsize=None)
+@cached
 def keeping_functions():
     """(keep, spread): the bookkeeping of a sample spread evenly over a stream of crossings, in a
     kernel-local array of SAMPLE (A's, B's) triangle pairs."""
@@ -245,7 +246,7 @@ def keeping_functions():
     return keep, spread
 
 
-@lru_cache(maxsize=None)
+@cached
 def sampling_functions(scalar=wp.float32):
     """crossing_sample(m, a, b, r, t): WITNESSES crossing triangle pairs of bodies a and b spread
     over all of them (``witness_vec``: A's, B's triangle, pair after pair; -1 where fewer cross)."""
@@ -253,10 +254,10 @@ def sampling_functions(scalar=wp.float32):
     triangles_cross, _ = triangle_functions(scalar)
     node_gap, child_gaps, split = node_functions(scalar)
     keep, spread = keeping_functions()
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def crossing_sample(m: Bodies, a: int, b: int, r: M33, t: V3) -> witness_vec:
+    def crossing_sample(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> witness_vec:
         """Walks every overlapping node pair (depth first, so neighbours in the walk are neighbours
         on the surface) and keeps every stride-th crossing, doubling the stride when SAMPLE are
         held: what is kept is spread evenly over the walk, whatever the number of crossings."""

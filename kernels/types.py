@@ -1,11 +1,13 @@
 """Types the kernels and their hosts share, declared once: joint codes, the flat arrays a
-mechanism compiles to (``Chain``), and the Warp value types of each precision."""
+mechanism compiles to (``Chain``), the Warp value types of each precision, and the struct of the
+collision kernels' bodies."""
 
-from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 import warp as wp
+
+from .cache import cached
 
 REVOLUTE = 0
 PRISMATIC = 1
@@ -23,10 +25,10 @@ class Chain(NamedTuple):
     point: np.ndarray  # float64 (n, 3): a point on the axis
     order: np.ndarray  # int32: the tree's links, parents before children, root first
     mimic: np.ndarray  # float64 (n, dof): a passive joint of a solved loop moves by mimic[k] @ q; zeros else
-    closed: np.ndarray  # float64 (n, SPEC): a closed form (rswarp.rsxml.closed: balance cylinder, four-bar); kind 0: none
-    closed_coef: np.ndarray  # float64 (n, dof): the input angle closed[k] reads, closed_coef[k] @ q
+    closed_form: np.ndarray  # float64 (n, SPEC): a closed form (``specs``: balance cylinder, four-bar); kind 0: none
+    closed_input: np.ndarray  # float64 (n, dof): the input angle closed_form[k] reads, closed_input[k] @ q
     unknown: np.ndarray  # int32 (n,): the link's joint as an unknown of the loops' Newton solve; -1: none
-    general: np.ndarray  # float64 (rows, 11): those loops (rswarp.rsxml.general)
+    newton_rows: np.ndarray  # float64 (rows, specs.ROW): the loops of that solve
 
     @property
     def root(self) -> int:
@@ -56,7 +58,7 @@ class Chain(NamedTuple):
         return h.hexdigest()[:16]
 
 
-PIECE_POINTS = 7  # points per connected piece of a body (rswarp.geometry.bvh.component_points)
+PIECE_POINTS = 7  # points per connected piece of a body (the host's component_points)
 WITNESSES = 8  # crossing triangle pairs kept per cell of a pair's witness grid
 witness_vec = wp.types.vector(length=2 * WITNESSES, dtype=wp.int32)  # (A's, B's) triangle, pair after pair
 
@@ -71,30 +73,30 @@ class Scalar(NamedTuple):
     mat44: type
 
 
-@lru_cache(maxsize=None)
+@cached
 def types_of(scalar) -> Scalar:
     return Scalar(scalar, wp.types.vector(3, scalar), wp.types.matrix((3, 3), scalar),
                   wp.types.matrix((3, 4), scalar), wp.types.matrix((4, 4), scalar))
 
 
-@lru_cache(maxsize=None)
+@cached
 def bodies_struct(scalar=wp.float32):
     """The struct of everything the collision kernels read about bodies and pairs (one precision)."""
     _, V3, M33, M34, M44 = types_of(scalar)
 
     @wp.struct
-    class Bodies:
+    class BodyArrays:
         link: wp.array(dtype=wp.int32)  # the chain link that moves the body, -1: fixed in the world
         pose: wp.array(dtype=M34)  # a fixed body's pose
         root: wp.array(dtype=wp.int32)  # its tree's root node
         mesh: wp.array(dtype=wp.uint64)  # its wp.Mesh, for point-inside queries
-        closed: wp.array(dtype=wp.int32)  # 1: a watertight mesh (inside by ray parity)
+        watertight: wp.array(dtype=wp.int32)  # 1: a closed mesh (inside by ray parity)
         center: wp.array(dtype=V3)  # bounding sphere, body frame
         radius: wp.array(dtype=scalar)
         point_start: wp.array(dtype=wp.int32)  # first connected piece (containment)
         point_count: wp.array(dtype=wp.int32)  # pieces
-        points: wp.array(dtype=V3)  # PIECE_POINTS per piece (rswarp.geometry.bvh.component_points)
-        node_center: wp.array(dtype=V3)  # box trees (rswarp.geometry.bvh), all bodies joined
+        points: wp.array(dtype=V3)  # PIECE_POINTS per piece
+        node_center: wp.array(dtype=V3)  # oriented box trees, all bodies joined
         node_axes: wp.array(dtype=M33)  # each box's axes (columns) in its body's frame
         node_half: wp.array(dtype=V3)
         node_left: wp.array(dtype=wp.int32)
@@ -104,7 +106,7 @@ def bodies_struct(scalar=wp.float32):
         pair_b: wp.array(dtype=wp.int32)
         padding: scalar
         # per pair, a grid over the (at most two) joints its relative pose depends on, holding
-        # triangle pairs that cross at each cell's centre: tried before any walk (rswarp.sim.witness)
+        # triangle pairs that cross at each cell's centre: tried before any walk (``witness``)
         cell_start: wp.array(dtype=wp.int32)  # its first cell, -1: no grid
         cell_col: wp.array(dtype=wp.int32)  # two per pair: the q column of each grid axis, -1: none
         cell_lo: wp.array(dtype=scalar)  # two per pair: the axis' lower limit
@@ -112,4 +114,4 @@ def bodies_struct(scalar=wp.float32):
         cell_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
         witness: wp.array(dtype=wp.vec2i)  # WITNESSES per cell: (A's, B's) triangle, -1: none
 
-    return Bodies
+    return BodyArrays

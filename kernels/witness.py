@@ -6,24 +6,25 @@ It pays for pairs that collide often and whose relative pose depends on one or t
 wrist that always overlaps its forearm, say): the walk that finds a first crossing opens dozens
 of node pairs, the witnesses of a cell a few triangles."""
 
-from functools import lru_cache
 
 import warp as wp
+
+from .cache import cached
 
 from .geometry import triangle_functions
 from .types import WITNESSES, bodies_struct, types_of
 
 
-@lru_cache(maxsize=None)
+@cached
 def witness_functions(scalar=wp.float32):
     """(witness_cell, witness_hit): the cell of pair p at q[i] (-1: the pair has no grid), and
     whether one of the cell's witnesses crosses at x_A = r x_B + t."""
     S, V3, M33, M34, M44 = types_of(scalar)
     triangles_cross, _ = triangle_functions(scalar)
-    Bodies = bodies_struct(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def witness_cell(m: Bodies, p: int, q: wp.array2d(dtype=S), i: int) -> int:
+    def witness_cell(m: BodyArrays, p: int, q: wp.array2d(dtype=S), i: int) -> int:
         start = m.cell_start[p]
         if start < 0:
             return -1
@@ -36,7 +37,7 @@ def witness_functions(scalar=wp.float32):
         return start + cell
 
     @wp.func
-    def witness_hit(m: Bodies, cell: int, r: M33, t: V3) -> bool:
+    def witness_hit(m: BodyArrays, cell: int, r: M33, t: V3) -> bool:
         for k in range(WITNESSES * cell, WITNESSES * cell + WITNESSES):
             w = m.witness[k]
             if w[0] < 0:

@@ -17,7 +17,7 @@ from .rsxml.write import save, to_rsxml
 # Kinematics, sweeps and exports import Warp, USD or Newton: loaded on first use, so reading RSXML
 # stays light.
 _LAZY = {
-    "Kinematics": ("sim.kinematics", "Kinematics"),
+    "Kinematics": ("kinematics.kinematics", "Kinematics"),
     "workspace": ("sim.workspace", "workspace"),
     "collisions": ("sim.collisions", "collisions"),
     "simulate_cables": ("sim.cables", "simulate_cables"),

@@ -9,7 +9,8 @@ import pytest
 from scipy.optimize import brentq
 
 import rswarp
-from rswarp.sim.cable import CableStepper, cable_model
+from rswarp.sim.cable_chain import ParticleChain
+from rswarp.sim.cable_solver import CableOptions
 
 from conftest import DATA
 
@@ -17,13 +18,12 @@ FRAME = 1 / 60
 
 
 def settle(mech, cable, seconds: float, envs: int = 1, damping: float = 3.0, qs=None):
-    model = cable_model(mech, cable)
-    stepper = CableStepper(mech, model, substeps=20, iterations=2, damping=damping)
-    state = stepper.state(envs)
-    zero = np.zeros((envs, stepper.substeps, mech.dof), np.float32)
+    chain = ParticleChain(mech, cable, CableOptions(substeps=20, iterations=2, damping=damping))
+    state = chain.state(envs)
+    zero = np.zeros((envs, chain.substeps, mech.dof), np.float32)
     for f in range(int(round(seconds / FRAME))):
-        stepper.step(state, zero if qs is None else qs(f), FRAME)
-    return model, state.x, state.v
+        chain.step(state, zero if qs is None else qs(f), FRAME)
+    return chain.arrays, state.x.numpy(), state.v.numpy()
 
 
 def test_hanging_hose_sags_like_the_inextensible_catenary():
@@ -64,15 +64,14 @@ def test_attached_points_follow_a_turning_link():
     the arm within 0.1 mm at every frame's end."""
     mech = rswarp.load(DATA / "cables" / "catenary.rsxml")
     carried = mech.cables[1]
-    model = cable_model(mech, carried)
-    stepper = CableStepper(mech, model, substeps=10, iterations=2)
-    state = stepper.state(2)
-    x = state.x
+    chain = ParticleChain(mech, carried, CableOptions(substeps=10, iterations=2))
+    state = chain.state(2)
+    x = state.x.numpy()  # on the CPU, a view of the state the kernel updates
     rate = np.radians(90.0)
     for f in range(60):
         t = (f * 10 + np.arange(1, 11)) * FRAME / 10
         qs = np.stack([rate * t, -rate * t])[:, :, None]  # two environments turning opposite ways
-        stepper.step(state, qs, FRAME)
+        chain.step(state, qs, FRAME)
         for e, sign in enumerate((1, -1)):
             a = sign * rate * (f + 1) * FRAME
             want = np.array([0.4 * np.cos(a), 0.4 * np.sin(a), 0.5])
@@ -84,15 +83,15 @@ def test_with_nothing_driven_energy_never_increases():
     """The catenary hose released from its V-shaped rest shape with no damping: kinetic plus
     gravitational energy (its bending energy is negligible) never grows from frame to frame."""
     mech = rswarp.load(DATA / "cables" / "catenary.rsxml")
-    model = cable_model(mech, mech.cables[0])
-    stepper = CableStepper(mech, model, substeps=20, iterations=2, damping=0.0)
-    state = stepper.state(1)
-    x, v = state.x, state.v
+    chain = ParticleChain(mech, mech.cables[0], CableOptions(substeps=20, iterations=2, damping=0.0))
+    model = chain.arrays
+    state = chain.state(1)
+    x, v = state.x.numpy(), state.v.numpy()  # views of the state on the CPU
     mass = np.where(model.inv_mass > 0, 1 / np.where(model.inv_mass > 0, model.inv_mass, 1), 0.0)
-    zero = np.zeros((1, stepper.substeps, mech.dof), np.float32)
+    zero = np.zeros((1, chain.substeps, mech.dof), np.float32)
     energy = []
     for _ in range(120):
-        stepper.step(state, zero, FRAME)
+        chain.step(state, zero, FRAME)
         energy.append(float(np.sum(mass * (0.5 * np.sum(v[0] ** 2, axis=1) + 9.81 * x[0, :, 2]))))
     assert np.diff(energy).max() <= 1e-6 * abs(energy[0])
     assert energy[-1] < energy[0]  # it moved, and lost energy to the projections

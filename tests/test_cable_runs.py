@@ -12,9 +12,9 @@ from scipy.optimize import brentq
 
 import rswarp
 from rswarp.cli import main
-from rswarp.sim.cable import CableStepper, cable_model
+from rswarp.sim.cable_chain import ParticleChain
 from rswarp.sim.cables import CableOptions, simulate_cables
-from rswarp.sim.trajectory import Trajectory
+from rswarp.kinematics.trajectory import Trajectory
 
 from conftest import DATA
 
@@ -59,15 +59,14 @@ def test_floor_holds_the_hose_up():
 def test_catenary_support_tension():
     """Settled, the hung hose pulls on its supports with w c cosh(D / 2c), within 2 %."""
     mech = rswarp.load(DATA / "cables" / "catenary.rsxml")
-    model = cable_model(mech, mech.cables[0])
-    stepper = CableStepper(mech, model, substeps=20, damping=3.0)
-    state = stepper.state(1)
+    chain = ParticleChain(mech, mech.cables[0], CableOptions(substeps=20, damping=3.0))
+    state = chain.state(1)
     zero = np.zeros((1, 20, 1), np.float32)
     for _ in range(480):
-        stepper.step(state, zero, 1 / 60)
+        chain.step(state, zero, 1 / 60)
     c = brentq(lambda a: 2 * a * np.sinh(0.5 / a) - 1.2, 0.05, 10.0)
     w = 9.81 * 1200 * np.pi * 0.005 ** 2
-    assert state.stats[0, 0] == pytest.approx(w * c * np.cosh(0.5 / c), rel=0.02)
+    assert chain.statistics(state)["tension"][0] == pytest.approx(w * c * np.cosh(0.5 / c), rel=0.02)
 
 
 def wrist_sweeps(seconds: float = 3.0) -> list[Trajectory]:
@@ -154,3 +153,19 @@ def test_cable_command_refuses_bad_input(tmp_path, capsys):
     assert "no Cable" in capsys.readouterr().err and not out.exists()
     assert main(["cable", str(ID), "--random", "--floor", "nan", "--out", str(out)]) == 1
     assert "--floor: must be a finite number" in capsys.readouterr().err and not out.exists()
+
+
+def test_a_playback_stage_first_leaves_exports_whole(tmp_path):
+    """Writing a playback stage before any export (a fresh process) still registers Newton's
+    schemas with USD first: the export that follows authors its Newton joint attributes."""
+    import subprocess
+    import sys
+
+    script = (f"import rswarp, numpy as np\n"
+              f"from rswarp.export.playback import PlaybackCable, write_playback\n"
+              f"write_playback({str(tmp_path / 'p.usdc')!r}, 'p', [], [PlaybackCable('c', np.zeros((2, 3, 3)), 0.01, "
+              f"(0, 0, 0))], 60.0)\n"
+              f"rswarp.export.export(rswarp.load({str(ID)!r}), {str(tmp_path / 'r.usda')!r})\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "NewtonJointAPI" in (tmp_path / "r.usda").read_text()

@@ -17,7 +17,7 @@ from rswarp.cli import main
 from rswarp.sim.bodies import collision_bodies
 from rswarp.geometry.bvh import PIECE_POINTS, build_bvh, component_points
 from rswarp.kernels import types as kernel_types
-from rswarp.sim.chain import chain_of
+from rswarp.kinematics.chain import chain_of
 from rswarp.sim.collisions import CHUNK, Checker, collisions
 from rswarp.sim.witness import pair_columns
 
@@ -204,9 +204,9 @@ def test_environment_meshes(tmp_path):
     floor.apply_translation([0, 0, -0.05])
     floor.export(tmp_path / "floor.stl")
     mech = rswarp.load(str(IRB))
-    from rswarp.report.collisions import environment_meshes
+    from rswarp.sim.bodies import placed_environments
 
-    env = environment_meshes(mech, [f"{tmp_path / 'floor.stl'}@0,0,0.001"])
+    env = placed_environments(mech, [f"{tmp_path / 'floor.stl'}@0,0,0.001"])
     c = collisions(mech, samples=2000, environment=env)
     floor_pairs = {p.body1: p for p in c.pairs if p.environment}
     assert set(floor_pairs) == set(c.links)

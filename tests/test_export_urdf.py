@@ -10,7 +10,7 @@ import trimesh
 import rswarp
 from rswarp import examples
 from rswarp.export.urdf import to_urdf
-from rswarp.sim.kinematics import Kinematics
+from rswarp.kinematics.kinematics import Kinematics
 from conftest import DATA
 
 pin = pytest.importorskip("pinocchio")

@@ -10,7 +10,7 @@ import rswarp
 from rswarp import examples
 from rswarp.export.frames import link_origins
 from rswarp.export.usd_layout import to_usd
-from rswarp.sim.kinematics import Kinematics
+from rswarp.kinematics.kinematics import Kinematics
 from conftest import DATA
 
 pxr = pytest.importorskip("pxr")

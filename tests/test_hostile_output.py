@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 import rswarp
 from rswarp import examples
 from rswarp.cli import main
-from rswarp.report import outputs
+from rswarp.report import output, sweep
 from rswarp.sim import workspace as ws_module
 from conftest import DATA
 from generated import mechanism
@@ -44,7 +44,7 @@ def test_interrupted_sweep_keeps_the_previous_set(tmp_path, capsys, monkeypatch)
     def interrupted(path, *args, **kwargs):
         raise KeyboardInterrupt  # after workspace.npz was written into the temporary folder
 
-    monkeypatch.setattr(outputs, "atomic_write", interrupted)
+    monkeypatch.setattr(sweep, "atomic_write", interrupted)
     assert run(["sweep", BRANCHING, "--samples", 900, "--seed", 3, "--out", out], capsys)[0] == 130
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sweep"]  # no temporary folder left
@@ -82,7 +82,7 @@ def test_voxel_grid_over_the_cap_names_a_resolution_that_fits(capsys, tmp_path):
 
 
 def test_report_json_never_holds_nan():
-    doc = outputs.json_safe({"a": float("nan"), "b": [1.0, float("inf")], "c": {"d": -float("inf")}, "e": "x"})
+    doc = output.json_safe({"a": float("nan"), "b": [1.0, float("inf")], "c": {"d": -float("inf")}, "e": "x"})
     assert doc == {"a": None, "b": [1.0, None], "c": {"d": None}, "e": "x"}
     json.dumps(doc, allow_nan=False)
 

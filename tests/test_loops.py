@@ -7,7 +7,7 @@ import pytest
 
 import rswarp
 from rswarp.report.info import SHOWN_LOOPS, mechanism_text
-from rswarp.rsxml.loops import FOUR_BAR, GENERAL, PARALLELOGRAM, SLIDER, classify, loops
+from rswarp.kinematics.loops import FOUR_BAR, GENERAL, PARALLELOGRAM, SLIDER, classify, loops
 from rswarp.rsxml.model import Joint, Mechanism, Part
 
 from rswarp import examples
@@ -16,7 +16,7 @@ from conftest import DATA
 
 
 def test_parallel_rod_is_a_parallelogram_with_coaxial_active_joints():
-    (loop,) = rswarp.load(DATA / "parallel_rod.rsxml").graph.loops
+    (loop,) = loops(rswarp.load(DATA / "parallel_rod.rsxml").graph)
     assert loop.kind == PARALLELOGRAM and loop.closing.name == "Rod2"
     assert loop.corners == (("Rod1",), ("J3", "J2"), ("Elbow",), ("Rod2",))  # J2 and J3 share one shaft
     assert [j.name for j in loop.passive] == ["Rod1", "Elbow", "Rod2"]
@@ -24,9 +24,9 @@ def test_parallel_rod_is_a_parallelogram_with_coaxial_active_joints():
 
 
 def test_four_bar_and_balance_cylinder():
-    (four,) = rswarp.load(DATA / "loops" / "four_bar.rsxml").graph.loops
+    (four,) = loops(rswarp.load(DATA / "loops" / "four_bar.rsxml").graph)
     assert four.kind == FOUR_BAR and len(four.corners) == 4
-    (cylinder,) = rswarp.load(DATA / "loops" / "balance.rsxml").graph.loops
+    (cylinder,) = loops(rswarp.load(DATA / "loops" / "balance.rsxml").graph)
     assert cylinder.kind == SLIDER and [j.name for j in cylinder.passive] == ["Stroke", "Pivot", "Pin"]
     assert cylinder.corners == (("Pivot",), ("J2",), ("Pin",))  # the prismatic joint is no corner
 
@@ -182,7 +182,7 @@ def test_configurations_past_a_dead_point_are_flagged_and_nan():
     q = np.random.default_rng(11).uniform(*mech.bounds(), (2000, 1))
     want = dead_point_flags(q)
     assert 0.1 < (~want).mean() < 0.3  # the dead point lies inside the limits
-    np.testing.assert_array_equal(kin.closes(q), want)
+    np.testing.assert_array_equal(kin.loops_close(q), want)
     assert np.isnan(kin.passive(q)[~want]).all() and np.isfinite(kin.passive(q)[want]).all()
     poses = kin.fk(q)
     moved = [mech.graph.link_index(n) for n in ("Coupler", "Rocker")]
@@ -211,7 +211,7 @@ def test_palletizer_flange_stays_horizontal():
     straight down and turns only with J1 and J6; its three loops close."""
     mech = rswarp.load(examples.PALLETIZER)
     kin = rswarp.Kinematics(mech)
-    assert [loop.kind for loop in mech.graph.loops] == [PARALLELOGRAM] * 3
+    assert [loop.kind for loop in loops(mech.graph)] == [PARALLELOGRAM] * 3
     lower, upper = mech.bounds()
     q = lower + (upper - lower) * np.random.default_rng(7).random((2000, len(lower)))
     flange = kin.flange(q)
@@ -446,13 +446,13 @@ def test_five_bar_is_solved_by_newton_steps_on_its_branch():
     the configurations where the arms are spread too wide for the forearms to meet (and those within
     0.1 mm of it, where the solve cannot vouch for the branch)."""
     mech = rswarp.load(DATA / "loops" / "five_bar.rsxml")
-    assert mech.graph.loops[0].kind == GENERAL
+    assert loops(mech.graph)[0].kind == GENERAL
     kin = rswarp.Kinematics(mech)
     q = np.random.default_rng(14).uniform(*mech.bounds(), (3000, 2))
     want = five_bar_tip(q)
     reachable = np.isfinite(want).all(axis=1)
     assert 0.02 < (~reachable).mean() < 0.5
-    closes = kin.closes(q)
+    closes = kin.loops_close(q)
     assert not (closes & ~reachable).any()  # never a pose where the forearms cannot meet
     assert (elbow_gap(q[reachable & ~closes]) > 2 * np.hypot(100, 150) - 0.1).all()  # within 0.1 mm of it
     tip = kin.flange(q)[:, [0, 2], 3] * 1000
@@ -463,14 +463,14 @@ def test_five_bar_is_solved_by_newton_steps_on_its_branch():
     from rswarp.sim.workspace import sample_chunks
 
     sampled = np.concatenate(list(sample_chunks(*mech.bounds(), 2000, "random", 1)))
-    assert ws.unreachable == int((~kin.closes(sampled)).sum()) >= int((~np.isfinite(five_bar_tip(sampled)).all(axis=1)).sum()) > 0
+    assert ws.unreachable == int((~kin.loops_close(sampled)).sum()) >= int((~np.isfinite(five_bar_tip(sampled)).all(axis=1)).sum()) > 0
 
 
 def test_cylinder_hung_from_the_arm_is_solved_by_newton_steps():
     """The balance cylinder arranged the other way (no closed form): the stroke still equals the
     law-of-cosines value, on the base that J1 turns, and the loop closes."""
     mech = rswarp.load(DATA / "loops" / "balance_hung.rsxml")
-    (loop,) = mech.graph.loops
+    (loop,) = loops(mech.graph)
     assert loop.kind == SLIDER
     kin = rswarp.Kinematics(mech)
     q = np.random.default_rng(15).uniform(*mech.bounds(), (500, 2))
@@ -480,7 +480,7 @@ def test_cylinder_hung_from_the_arm_is_solved_by_newton_steps():
     pin = np.stack([o[0] + c * r[0] + s * r[1], o[1] - s * r[0] + c * r[1]], axis=1)  # J2 about +y
     stroke = dict(zip(kin.passive_joints, kin.passive(q).T))["Stroke"]
     np.testing.assert_allclose(stroke, np.linalg.norm(pin - p, axis=1) - 0.5, atol=1e-9)
-    assert kin.closes(q).all() and loop_gap(mech, kin.fk(q)).max() < 1e-6
+    assert kin.loops_close(q).all() and loop_gap(mech, kin.fk(q)).max() < 1e-6
 
 
 def test_fk_says_a_configuration_past_a_dead_point_is_unreachable(capsys):
@@ -505,16 +505,16 @@ def test_newton_continuation_never_leaves_the_parallelogram_branch():
     kernels): over 4000 random configurations it never comes out on the anti-parallelogram. Where the
     path folds the parallelogram within a few degrees of flat, the singular pose where the branches
     meet, the configuration is flagged, not guessed."""
-    from rswarp.rsxml.general import general_rows, general_values
+    from rswarp.kinematics.newton_loop import newton_loop_values, newton_rows
 
     mech, kin, _ = parallel_rod()
-    (loop,) = mech.graph.loops
-    rows, unknowns, why = general_rows(mech.graph, loop, 0)
+    (loop,) = loops(mech.graph)
+    rows, unknowns, why = newton_rows(mech.graph, loop, 0)
     assert why is None and len(unknowns) == 2
     q = np.random.default_rng(16).uniform(*mech.bounds(), (4000, mech.dof))
     order = [mech.graph.tree_joint[k].name for k in sorted(unknowns, key=unknowns.get)]
     closed = np.stack([dict(zip(kin.passive_joints, kin.passive(q).T))[n] for n in order], axis=1)
-    solved = general_values(rows, q, 2)
+    solved = newton_loop_values(rows, q, 2)
     flagged = np.isnan(solved).any(axis=1)
     np.testing.assert_allclose(solved[~flagged], closed[~flagged], atol=1e-9)
     assert np.degrees(np.abs(closed[flagged, 0])).min() > 84  # flat is at 90 degrees from zero's shape
@@ -523,7 +523,7 @@ def test_newton_continuation_never_leaves_the_parallelogram_branch():
     newton = rswarp.Kinematics(mech)
     unknown = np.full(len(mech.link_names), -1, np.int32)
     unknown[list(unknowns)] = list(unknowns.values())
-    newton.chain = newton.chain._replace(mimic=np.zeros_like(newton.chain.mimic), unknown=unknown, general=rows)
+    newton.chain = newton.chain._replace(mimic=np.zeros_like(newton.chain.mimic), unknown=unknown, newton_rows=rows)
     newton._kernels, newton.newton_loops = {}, True
     poses, want = newton.fk64(q), kin.fk64(q)
     np.testing.assert_array_equal(np.isnan(poses).any(axis=(1, 2, 3)), flagged)

@@ -18,13 +18,14 @@ import pytest
 
 import rswarp
 from rswarp.cli import main
-from rswarp.report.collisions import environment_meshes
-from rswarp.sim import cluster as cluster_module
 from rswarp.sim import collisions as collisions_module
+from rswarp.sim import engine
 from rswarp.sim import workspace as workspace_module
+from rswarp.sim.bodies import placed_environments
 from rswarp.sim.cables import CableOptions, simulate_cables
-from rswarp.sim.cluster import Cluster, identical, package, unpack
-from rswarp.sim.trajectory import Trajectory, random_trajectory
+from rswarp.sim.engine import Cluster, identical
+from rswarp.sim.package import package, unpack
+from rswarp.kinematics.trajectory import Trajectory, random_trajectory
 
 from conftest import DATA
 
@@ -40,7 +41,7 @@ DRAPED = DATA / "cables" / "draped.rsxml"
 @pytest.fixture(scope="module")
 def local_ray():
     """One local Ray instance of 2 CPUs for the module; its workers keep their kernels."""
-    cluster_module.connect(Cluster(cpus=2))
+    engine.connect(Cluster(cpus=2))
     yield
     ray.shutdown()
 
@@ -72,7 +73,7 @@ def test_collisions_on_ray_are_the_local_sweep(local_ray, small_chunks):
     mesh (shipped to the workers by content hash) are identical to a local run."""
     for path, env in ((IRB, []), (FOLD, [f"{DATA / 'collisions' / 'room.stl'}@0,0,0.3"])):
         mech = rswarp.load(path)
-        placed = environment_meshes(mech, env)
+        placed = placed_environments(mech, env)
         here = rswarp.collisions(mech, samples=30_000, seed=2, environment=placed)
         there = rswarp.collisions(mech, samples=30_000, seed=2, environment=placed,
                                   cluster=Cluster(task_samples=8192))
@@ -119,7 +120,7 @@ def test_a_worker_killed_mid_batch_changes_nothing(local_ray):
     trajectories = [random_trajectory(mech, 1.0, seed) for seed in range(6)]
     here = simulate_cables(mech, trajectories, envs=6, seconds=1.0)
     killed, stop = [], threading.Event()
-    killer = threading.Thread(target=_kill_first, args=(b"rswarp-cable_task", killed, stop))
+    killer = threading.Thread(target=_kill_first, args=(b"rswarp-cable", killed, stop))
     killer.start()
     try:
         there = simulate_cables(mech, trajectories, envs=6, seconds=1.0, cluster=Cluster(task_envs=1))
@@ -136,7 +137,7 @@ def test_bad_input_fails_before_anything_is_scheduled(monkeypatch, tmp_path, cap
     def refuse(*args, **kwargs):
         raise AssertionError("a task was scheduled")
 
-    monkeypatch.setattr(cluster_module, "connect", refuse)
+    monkeypatch.setattr(engine, "connect", refuse)
     bad = DATA / "bad" / "home_outside_limits.rsxml"
     beyond = DATA / "trajectories" / "beyond_limits.csv"
     runs = [["sweep", str(bad), "--samples", "100", "--out", str(tmp_path / "s"), "--ray"],
@@ -173,7 +174,7 @@ def test_models_travel_as_files_by_content_hash(local_ray):
     for rel, digest in names.items():
         assert hashlib.sha256((DATA / "collisions" / rel).read_bytes()).hexdigest() == digest
         assert blobs[digest] == (DATA / "collisions" / rel).read_bytes()
-    shipped = unpack(pkg, {d: ray.put(b) for d, b in blobs.items()})
+    shipped = unpack(pkg, blobs.__getitem__)
     assert shipped.mech == mech and str(shipped.folder) not in str(FOLD)
     assert shipped.local(str(DATA / "collisions" / "room.stl")).startswith(str(shipped.folder))
 
@@ -220,9 +221,11 @@ def test_a_task_failing_on_every_try_is_an_internal_error(local_ray):
     pkg, blobs = package(mech)
     pkg = dataclasses.replace(pkg, key="corrupted")  # not the model a worker may already hold
     blobs = {digest: b"not the file" for digest in blobs}
-    with pytest.raises(cluster_module.TaskFailed, match="failed 4 times"):
-        cluster_module.run(Cluster(), workspace_module._sweep_task, pkg, blobs, [None], [1], lambda part: None)
-    assert not isinstance(cluster_module.TaskFailed("x"), rswarp.InputError)
+    job = workspace_module.SweepJob(*mech.bounds(), samples=1, method="random", seed=0, radius=1.0,
+                                    resolution=0.5, has_wrist=False, chunk=1, base=np.zeros(3))
+    with pytest.raises(engine.TaskFailed, match="failed 4 times"):
+        engine.run_tasks(Cluster(), job, pkg, blobs, [range(1)], lambda span, part: None)
+    assert not isinstance(engine.TaskFailed("x"), rswarp.InputError)
 
 
 def test_cuda_asked_of_a_machine_without_one_is_one_line(tmp_path, capsys):

@@ -8,7 +8,7 @@ import pytest
 
 import rswarp
 from rswarp import examples
-from rswarp.sim.trajectory import assign, random_trajectory, read_trajectory
+from rswarp.kinematics.trajectory import assign, random_trajectory, read_trajectory
 
 from conftest import DATA
 

@@ -9,7 +9,7 @@ import pytest
 import rswarp
 from rswarp import examples
 from rswarp.cli import main
-from rswarp.sim.kinematics import Kinematics
+from rswarp.kinematics.kinematics import Kinematics
 from rswarp.sim.workspace import radial_distance, sample_chunks, workspace
 from conftest import DATA
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import model_error
+from ..kinematics.loops import UnsolvedLoop, passive_map, passive_values
 from ..rsxml.model import Mechanism
 
 
@@ -30,7 +32,6 @@ def link_origins(mech: Mechanism) -> dict[str, np.ndarray]:
 
 def mechanism_of(model):
     """The mechanism to export, and the SmartComponent around it (None if there is none)."""
-    from ..errors import model_error
     from ..rsxml.model import SmartComponent
 
     if isinstance(model, SmartComponent):
@@ -67,14 +68,11 @@ def home_passive(mech: Mechanism) -> dict[int, float]:
     """The passive joints of the loops at the home position, by link index; a loop that cannot be
     solved (unless home is the zero position), or cannot close at home, is the file's error at its
     closing joint."""
-    from ..errors import model_error
-    from ..rsxml.loops import UnsolvedLoop, passive_values
-
     if not mech.graph.closing:
         return {}
     home = mech.home_position()
     try:
-        values = passive_values(mech.graph.passive, home[None])
+        values = passive_values(passive_map(mech.graph), home[None])
     except UnsolvedLoop as exc:
         if not home.any():
             return {}  # the zero position is assembled (the spec): every passive joint at zero

@@ -7,8 +7,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from pxr import Gf, Sdf, Tf, Usd, UsdGeom, Vt
+from pxr import Gf, Sdf, Usd, UsdGeom, Vt
 
+from .names import PrimNames
 from .usd_bodies import author_mesh
 
 
@@ -43,13 +44,13 @@ def write_playback(path, name: str, links: list[PlaybackLink], cables: list[Play
     stage.SetEndTimeCode(frames - 1)
     stage.SetTimeCodesPerSecond(fps)
     stage.SetFramesPerSecond(fps)
-    root = UsdGeom.Xform.Define(stage, "/" + _ident(name))
+    root = UsdGeom.Xform.Define(stage, "/" + PrimNames()(name))
     stage.SetDefaultPrim(root.GetPrim())
-    base = root.GetPath()
+    base, names = root.GetPath(), PrimNames()  # names that collide once made valid get suffixes
     for link in links:
-        _link(stage, base.AppendChild(_ident(link.name)), link)
+        _link(stage, base.AppendChild(names(link.name)), link)
     for cable in cables:
-        _cable(stage, base.AppendChild("cable_" + _ident(cable.name)), cable)
+        _cable(stage, base.AppendChild(names("cable_" + cable.name)), cable)
     stage.GetRootLayer().Save()
 
 
@@ -76,7 +77,3 @@ def _cable(stage, path: Sdf.Path, cable: PlaybackCable) -> None:
         points.Set(Vt.Vec3fArray.FromNumpy(pts), Usd.TimeCode(f))
         lo, hi = pts.min(axis=0) - cable.radius, pts.max(axis=0) + cable.radius
         extent.Set(Vt.Vec3fArray.FromNumpy(np.stack([lo, hi]).astype(np.float32)), Usd.TimeCode(f))
-
-
-def _ident(name: str) -> str:
-    return Tf.MakeValidIdentifier(name or "unnamed")

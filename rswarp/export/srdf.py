@@ -45,3 +45,15 @@ def read_srdf(path: str | Path, links) -> tuple[tuple[str, str, str], ...]:
                                              f"link '{name}' is not a link of this robot ({', '.join(sorted(known))})")])
         out.append((a, b, el.get("reason") or "User"))
     return tuple(out)
+
+
+def collision_matrix(mech, srdf: str | Path | None = None, samples: int | None = None) -> tuple[tuple[str, str, str], ...]:
+    """The pairs a collision matrix disables for an export: those of the SRDF ``srdf``, or of a
+    collision sweep of ``samples`` samples run now; none without either."""
+    if srdf is not None:
+        return read_srdf(srdf, mech.link_names)
+    if samples is None:
+        return ()
+    from ..sim.collisions import collisions  # Warp and the collision kernels, only for a sweep
+
+    return tuple(collisions(mech, samples=samples).disabled())

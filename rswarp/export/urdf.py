@@ -31,8 +31,9 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, model_error
 from ..files import cleanup_on_terminate, merge_folder, new_folders
+from ..kinematics.loops import UnsolvedLoop, loops, passive_map
 from ..rsxml.model import Mechanism
 from ..transforms import matrix_euler_zyx
 from .frames import link_origins
@@ -126,18 +127,15 @@ def _link(body: BodyPhysics, files: _Files) -> list[str]:
 def loop_mimics(mech: Mechanism) -> dict[str, list[tuple[str, float]]]:
     """Each passive tree joint of the loops as (active joint, multiplier) terms of its value; a
     loop whose passive joints are not such sums is the file's error at its closing joint."""
-    from ..errors import model_error
-    from ..rsxml.loops import UnsolvedLoop
-
     graph = mech.graph
     if not graph.closing:
         return {}
     try:
-        passive = graph.passive
+        passive = passive_map(graph)
     except UnsolvedLoop as exc:
         raise exc.error(mech, "URDF cannot express") from None
-    for k in map(int, ((passive.closed[:, 0] != 0) | (passive.unknown >= 0)).nonzero()[0]):
-        loop = next(loop for loop in graph.loops if graph.tree_joint[k] in loop.joints)
+    for k in map(int, ((passive.closed_form[:, 0] != 0) | (passive.unknown >= 0)).nonzero()[0]):
+        loop = next(loop for loop in loops(graph) if graph.tree_joint[k] in loop.joints)
         raise model_error(mech, f"joint '{loop.closing.name}' closes a {loop.kind} loop whose passive joints are not "
                                 "linear in the active ones: URDF's <mimic> cannot express it (the USD export keeps "
                                 "the loop)", loop.closing.line)

@@ -10,36 +10,15 @@ from __future__ import annotations
 
 import newton_usd_schemas  # noqa: F401 (registers Newton's schemas, NewtonSiteAPI and others, with USD)
 import numpy as np
-from pxr import Gf, Kind, Sdf, Tf, Usd, UsdGeom, UsdPhysics, Vt
+from pxr import Gf, Kind, Sdf, Usd, UsdGeom, UsdPhysics, Vt
 
 from ..rsxml.model import Mechanism, SmartComponent
 from ..transforms import translated
 from .frames import mechanism_of
+from .names import PrimNames
 from .physics import PhysicsOptions, RobotPhysics, robot_physics
 from .usd_bodies import author_filtered_pairs, author_links
 from .usd_joints import author_joints
-
-
-class Names:
-    """Valid, unique prim names; the RSXML name is kept as displayName. A name that is one of the
-    exporter's own scopes (``RESERVED``) is renamed, with a warning, so it never takes their place."""
-
-    RESERVED = frozenset({"joints", "cables", "visuals", "collisions"})
-
-    def __init__(self, warnings: list[str] | None = None):
-        self.used: set[str] = set(self.RESERVED) if warnings is not None else set()
-        self.warnings = warnings
-
-    def __call__(self, name: str, what: str = "") -> str:
-        base = Tf.MakeValidIdentifier(name or "unnamed")
-        out, i = base, 1
-        while out in self.used:
-            out, i = f"{base}_{i}", i + 1
-        self.used.add(out)
-        if base in self.RESERVED and self.warnings is not None:
-            self.warnings.append(f"{what or 'prim'} '{name}': named '{out}' in USD ('{base}' is the exporter's own "
-                                 "scope); its display name stays")
-        return out
 
 
 def _metadata(mech: Mechanism, sc: SmartComponent | None) -> dict:
@@ -69,7 +48,7 @@ def build_stage(stage, model, physics: PhysicsOptions | RobotPhysics | None = No
     mech, sc = mechanism_of(model)
     robot = physics if isinstance(physics, RobotPhysics) else robot_physics(mech, physics)
     warnings = list(robot.warnings)
-    names = Names(warnings)
+    names = PrimNames(warnings)
     root = _author_root(stage, mech, sc, names)
     link_path = author_links(stage, mech, root, robot, names)
     author_filtered_pairs(stage, robot, link_path)
@@ -78,7 +57,7 @@ def build_stage(stage, model, physics: PhysicsOptions | RobotPhysics | None = No
     return warnings
 
 
-def _author_root(stage, mech: Mechanism, sc, names: "Names") -> str:
+def _author_root(stage, mech: Mechanism, sc, names: PrimNames) -> str:
     """Stage units and the robot prim: default prim, component kind, metadata, articulation root."""
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
@@ -96,7 +75,7 @@ def _author_root(stage, mech: Mechanism, sc, names: "Names") -> str:
     return str(root.GetPath())
 
 
-def _author_frames(stage, mech: Mechanism, root: str, link_path: dict, origins: dict, names: "Names") -> None:
+def _author_frames(stage, mech: Mechanism, root: str, link_path: dict, origins: dict, names: PrimNames) -> None:
     """Flanges (frames with a Newton site), the base frame and the cables."""
     for fl in mech.flanges:
         fx = UsdGeom.Xform.Define(stage, f"{link_path[fl.link]}/{names(fl.name, what='flange')}")

@@ -9,6 +9,7 @@ from pxr import Gf, UsdGeom, UsdPhysics, Vt
 
 from ..geometry.meshes import GRAPHITE_WHITE, mesh_color
 from ..transforms import matrix_quat
+from .names import PrimNames
 from .physics import BodyPhysics, RobotPhysics
 
 VISUALS, COLLISIONS = "visuals", "collisions"  # the scopes under each link
@@ -61,13 +62,11 @@ def author_links(stage, mech, root: str, physics: RobotPhysics, names) -> dict[s
 
 def _author_parts(stage, path: str, body: BodyPhysics, approximation: str) -> None:
     """Visual meshes under ``visuals``; the convex pieces, guide purpose, under ``collisions``."""
-    from .usd import Names
-
     if not body.parts:
         return
     UsdGeom.Scope.Define(stage, f"{path}/{VISUALS}")
     UsdGeom.Scope.Define(stage, f"{path}/{COLLISIONS}")
-    visual_names, collision_names = Names(), Names()
+    visual_names, collision_names = PrimNames(), PrimNames()
     for part in body.parts:
         mesh = part.mesh
         visual = author_mesh(stage, f"{path}/{VISUALS}/{visual_names(part.name)}", np.asarray(mesh.vertices) - body.origin,

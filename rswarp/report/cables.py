@@ -5,39 +5,51 @@ and, when asked, ``playback.usdc``: robot and cables over time for usdview."""
 
 from __future__ import annotations
 
-import io
-import json
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
 from ..files import atomic_folder, atomic_write, check_replaceable
+from ..kinematics.kinematics import Kinematics
+from ..kinematics.trajectory import run_trajectories
+from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..sim.cable_results import CableResult
-from ..sim.cables import CableRun
-from ..sim.trajectory import Trajectory, random_trajectory, read_trajectory
-from .outputs import json_safe
+from ..sim.cable_solver import DENSITY, FRAME_RATE, SUBSTEPS, CableOptions, link_meshes
+from ..sim.cables import CableRun, simulate_cables
+from ..sim.engine import cluster_for
+from .output import Output, Warn, ignore, json_bytes, json_safe
 
 CABLE_FILES = ("report.json", "tension.png", "bend_radius.png", "clearance.png", "playback.usdc")
 TAUT = 0.999  # attachments this share of the cable length apart: pulled straight, no slack left
 
 
+def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None = None, random: bool = False,
+               seconds: float | None = None, seed: int = 0, usd: bool = False, min_bend_radius: float | None = None,
+               floor: float | None = 0.0, density: float = DENSITY, frame_rate: float = FRAME_RATE,
+               substeps: int = SUBSTEPS, cable_model: str = "chain", device: str = "cpu", ray: str | None = None,
+               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
+    """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
+    ones), written into ``out``; ``min_bend_radius`` and ``floor`` (None: none) in the file's length
+    unit."""
+    mech, _ = load_mechanism(path)
+    check_cable_folder(out)
+    trajectories = run_trajectories(mech, trajectory, random, envs, seconds, seed)
+    options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, cable_model=cable_model,
+                           min_bend_radius=mech.si_length(min_bend_radius), floor=mech.si_length(floor),
+                           record=0 if usd else -1, device=device)
+    run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
+                          cluster=cluster_for(ray, device))
+    for w in run.warnings:
+        warn(w)
+    doc = write_cables(run, mech, out, usd=usd)
+    return Output(doc, cables_text(run, doc["files"]))
+
+
 def check_cable_folder(out: str | Path) -> None:
     """Refuse an output folder the run could not replace, before anything is simulated."""
     check_replaceable(Path(out), CABLE_FILES)
-
-
-RANDOM_SECONDS = 10.0  # a --random run's length unless given
-
-
-def cable_trajectories(mech: Mechanism, files: list[str] | None, random: bool, envs: int, seconds: float | None,
-                       seed: int) -> list[Trajectory]:
-    """The trajectories of a run: the CSV files read (checked against the limits), or one smooth
-    random trajectory per environment, from seeds ``seed``, ``seed + 1``, ..."""
-    if random:
-        span = seconds or RANDOM_SECONDS
-        return [random_trajectory(mech, span, seed + e) for e in range(envs)]
-    return [read_trajectory(f, mech) for f in files or []]
 
 
 def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = False) -> dict:
@@ -52,7 +64,7 @@ def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = Fa
             atomic_write(tmp / names[key], png)
         if usd:
             _playback(run, mech, tmp / names["playback"])
-        atomic_write(tmp / names["report"], (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
+        atomic_write(tmp / names["report"], json_bytes(doc))
     return doc
 
 
@@ -61,7 +73,8 @@ def cable_report(run: CableRun) -> dict:
     o = run.options
     return json_safe({
         "mechanism": run.mechanism, "environments": run.envs, "seconds": float(run.times[-1]),
-        "frame_rate": o.frame_rate, "substeps": o.substeps, "trajectories": list(run.trajectories),
+        "frame_rate": o.frame_rate, "substeps": o.substeps, "cable_model": o.cable_model,
+        "trajectories": list(run.trajectories),
         "floor_z_m": o.floor, "warnings": list(run.warnings),
         "cables": [_cable_dict(c, run) for c in run.cables]})
 
@@ -192,8 +205,6 @@ def _plots(run: CableRun) -> list[bytes]:
 def _playback(run: CableRun, mech: Mechanism, path: Path) -> None:
     """The recorded environment's robot and cables, sampled per frame (every stride-th when long)."""
     from ..export.playback import PlaybackCable, PlaybackLink, write_playback
-    from ..sim.cable import link_meshes
-    from ..sim.kinematics import Kinematics
 
     stride = run.cables[0].stride
     q = run.q[::stride]

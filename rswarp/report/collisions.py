@@ -1,46 +1,51 @@
-"""What a collision sweep leaves in its output folder (``collision_matrix.srdf``, ``report.json``,
-``heatmap.png``) and the summary it prints, in the file's units."""
+"""``rswarp collisions``: a collision sweep of a file, what it leaves in its output folder
+(``collision_matrix.srdf``, ``report.json``, ``heatmap.png``) and the summary it prints, in the
+file's units."""
 
 from __future__ import annotations
 
 import io
-import json
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError
 from ..export.srdf import srdf_text
 from ..files import atomic_folder, atomic_write, check_replaceable
+from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
-from ..sim.bodies import Environment
-from ..sim.collisions import REASONS, Collisions
-from .outputs import json_safe
+from ..sim.bodies import placed_environments
+from ..sim.collisions import REASONS, Collisions, collisions
+from ..sim.engine import cluster_for
+from ..sim.launch import driver_device
+from .output import Output, Warn, ignore, json_bytes, json_safe
 
 COLLISION_FILES = ("collision_matrix.srdf", "report.json", "heatmap.png")
+
+
+def run_collisions(path: str, out: str, samples: int, seed: int = 0, padding: float = 0.0, env: list[str] = (),
+                   device: str = "cpu", ray: str | None = None, progress: Callable[[float, float], None] | None = None,
+                   warn: Warn = ignore) -> Output:
+    """``rswarp collisions``: the sweep of ``path`` and its matrix written into ``out``; ``padding``
+    and the ``env`` meshes' positions (``MESH@x,y,z``) in the file's length unit."""
+    mech, _ = load_mechanism(path)
+    check_collisions_folder(out)
+    cluster = cluster_for(ray, device)
+    here, why = driver_device(device, cluster is not None)
+    if why:
+        warn(f"rswarp: warning: {why}")
+    result = collisions(mech, samples=samples, seed=seed, padding=mech.si_length(padding),
+                        environment=placed_environments(mech, env), device=here, progress=progress, cluster=cluster)
+    for w in result.warnings:
+        warn(w)
+    doc = write_collisions(result, out)
+    return Output(doc, collisions_text(result, mech, doc["files"]))
 
 
 def check_collisions_folder(out: str | Path) -> None:
     """Refuse an output folder the sweep could not replace, before any sampling is done."""
     check_replaceable(Path(out), COLLISION_FILES)
-
-
-def environment_meshes(mech: Mechanism, specs: list[str]) -> tuple[Environment, ...]:
-    """``MESH@x,y,z`` (a position in the file's length unit; ``@...`` may be left out) as placed meshes."""
-    out = []
-    for spec in specs:
-        path, _, at = spec.rpartition("@") if "@" in spec else (spec, "", "")
-        try:
-            xyz = [float(v) for v in at.split(",")] if at else [0.0, 0.0, 0.0]
-        except ValueError:
-            xyz = []
-        if len(xyz) != 3 or not np.all(np.isfinite(xyz)):
-            raise InputError(f"--env '{spec}': give MESH@x,y,z with three numbers in the file's length unit")
-        pose = np.eye(4)
-        pose[:3, 3] = np.asarray(xyz) * mech.length_factor
-        out.append(Environment(Path(path).stem, path, pose))
-    return tuple(out)
 
 
 def collisions_srdf(c: Collisions) -> str:
@@ -58,7 +63,7 @@ def write_collisions(c: Collisions, out: str | Path) -> dict:
     with atomic_folder(out, COLLISION_FILES) as tmp:
         atomic_write(tmp / "collision_matrix.srdf", collisions_srdf(c).encode())
         atomic_write(tmp / "heatmap.png", heatmap_png(c))
-        atomic_write(tmp / "report.json", (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
+        atomic_write(tmp / "report.json", json_bytes(doc))
     return doc
 
 

@@ -11,6 +11,7 @@ from ..errors import RsxmlError
 from ..rsxml.documents import Report, check
 from ..rsxml.model import Mechanism
 from .info import report_dict, report_text
+from .output import Output
 
 DEMO_SAMPLES = 20_000
 DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS = 16, 4.0
@@ -33,6 +34,12 @@ class Demo:
     def as_dict(self) -> dict:
         return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots,
                 "libraries": self.libraries, "ray": self.ray}
+
+
+def demo_output(out: str | Path = "rswarp-demo", say: Callable[[str], None] = lambda text: None) -> Output:
+    """``rswarp demo``: the demo as a command shows it (its text told to ``say`` as it goes)."""
+    demo = run_demo(out, say)
+    return Output(demo.as_dict(), "", 0 if demo.ok else 1)
 
 
 def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) -> Demo:
@@ -60,7 +67,7 @@ def demo_ray(robots: list[Mechanism], say: Callable[[str], None]) -> dict:
     import importlib.util
 
     from ..errors import InputError
-    from ..sim.cluster import INSTALL, Cluster, identical
+    from ..sim.engine import INSTALL, Cluster, identical
     from ..sim.collisions import CHUNK, collisions
 
     if importlib.util.find_spec("ray") is None:
@@ -106,7 +113,7 @@ def _check_text(name: str, report: Report) -> str:
 def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     """The flange at home, the reach and the exports of one robot."""
     from ..export import export
-    from ..sim.kinematics import Kinematics
+    from ..kinematics.kinematics import Kinematics
     from ..sim.workspace import workspace
     from .poses import rounded
 
@@ -157,10 +164,11 @@ def _cables(mech: Mechanism, out: Path) -> list[str]:
     """A cable run on random trajectories (``rswarp cable --random``), written to ``out/<name>-cables``."""
     if not mech.cables:
         return []
+    from ..kinematics.trajectory import run_trajectories
     from ..sim.cables import simulate_cables
-    from .cables import cable_trajectories, cables_text, write_cables
+    from .cables import cables_text, write_cables
 
-    trajectories = cable_trajectories(mech, None, True, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS, 0)
+    trajectories = run_trajectories(mech, None, True, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS, 0)
     run = simulate_cables(mech, trajectories, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS)
     folder = out / f"{mech.name}-cables"
     doc = write_cables(run, mech, folder)

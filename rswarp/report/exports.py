@@ -1,12 +1,36 @@
-"""What ``rswarp export`` prints: the mass table (link, mass, centre of mass), the joints' drive
-and limit settings, and the link pairs kept from colliding. JSON is SI (metres, radians); the
-text uses the file's length unit."""
+"""``rswarp export`` and what it prints: the mass table (link, mass, centre of mass), the joints'
+drive and limit settings, and the link pairs kept from colliding. JSON is SI (metres, radians);
+the text uses the file's length unit."""
 
 from __future__ import annotations
 
 import math
 
+from ..export import export
+from ..export.frames import mechanism_of
+from ..export.physics import DRIVE_HZ, PhysicsOptions
+from ..export.srdf import collision_matrix
+from ..geometry.mass import DEFAULT_DENSITY
+from ..rsxml.documents import checked
+from .output import Output, Warn, ignore
 from .poses import rounded
+
+
+def run_export(path: str, output: str, layout: str | None = None, mesh_paths: str | None = None,
+               collision: str = "convexHull", density: float = DEFAULT_DENSITY, mass: float | None = None,
+               drive_hz: float = DRIVE_HZ, armature: float | None = None, effort: float | None = None,
+               velocity: float | None = None, collision_matrix_srdf: str | None = None,
+               collision_samples: int | None = None, warn: Warn = ignore) -> Output:
+    """``rswarp export``: the file's model as USD or URDF at ``output`` (``drive_hz`` 0: no drives),
+    filtering the pairs an SRDF or a collision sweep of ``collision_samples`` disables."""
+    model = checked(path).model
+    disabled = collision_matrix(mechanism_of(model)[0], collision_matrix_srdf, collision_samples)
+    physics = PhysicsOptions(density=density, mass=mass, collision=collision, drive_hz=drive_hz or None,
+                             armature=armature, effort=effort, velocity=velocity, disabled=disabled)
+    result = export(model, output, layout=layout, mesh_paths=mesh_paths, physics=physics)
+    for w in result.warnings:
+        warn(w)
+    return Output(export_dict(result), export_text(result))
 
 
 def export_dict(result) -> dict:

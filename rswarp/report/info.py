@@ -1,5 +1,6 @@
-"""What ``rswarp info`` shows: a plain dict of a checked file (SI units, snake_case keys) for
-``--json``, and a readable text in the file's own units."""
+"""What ``rswarp check`` and ``rswarp info`` show: a file's problems and verdict, and a plain dict of
+a checked file (SI units, snake_case keys) for ``--json`` beside a readable text in the file's own
+units."""
 
 from __future__ import annotations
 
@@ -7,12 +8,13 @@ from pathlib import Path
 
 from ..errors import one_line
 from ..geometry.meshes import part_mesh_path
-from ..rsxml.documents import Report
+from ..kinematics.loops import loops
+from ..rsxml.documents import Report, check, checked
 from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource
-from ..rsxml.loops import loops
 from ..rsxml.model import Group, Mechanism, Part, Pose, SmartComponent, iter_parts
 from ..rsxml.units import format_number
 from ..transforms import matrix_euler_zyx
+from .output import Output, Warn, ignore
 
 SHOWN_LOOPS = 20  # loops info describes (each costs a walk of its length); the rest are counted
 
@@ -288,6 +290,21 @@ def check_verdict(r: Report) -> str:
                     f"{nw} warning{'s' * (nw != 1)})")
 
 
-def check_text(reports: list[Report]) -> str:
-    """Every problem as ``file:line: message``, then a verdict per file (as ``check`` prints them)."""
-    return "\n".join(line for r in reports for line in [*(str(d) for d in r.all_diagnostics), check_verdict(r)])
+def run_check(paths: list[str], warn: Warn = ignore, say: Warn = ignore) -> Output:
+    """``rswarp check``: each file's problems to ``warn`` and its verdict to ``say``, file by file
+    as they are checked (the text is empty: all of it was said); exit 1 when any file has errors."""
+    reports = []
+    for path in paths:
+        reports.append(report := check(path))
+        for d in report.all_diagnostics:
+            warn(str(d))
+        say(check_verdict(report))
+    return Output(check_dict(reports), "", 0 if all(r.ok for r in reports) else 1)
+
+
+def run_info(path: str, warn: Warn = ignore) -> Output:
+    """``rswarp info``: what a file describes (its warnings to ``warn``); errors raise."""
+    report = checked(path)
+    for d in report.warnings:
+        warn(str(d))
+    return Output(report_dict(report), report_text(report))

@@ -19,6 +19,7 @@ from ..errors import InputError, MeshError, RsxmlError, one_line
 from ..files import atomic_folder, atomic_write, new_folders
 from ..rsxml.documents import Report, check
 from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource, resolve_relative
+from .output import Output
 
 LAYOUTS = ("usdz", "component")
 PREVIEW_SIZE = 512
@@ -87,6 +88,13 @@ def build_library(path: str | Path, out: str | Path | None = None, layout: str =
     if not existed and not any(r.status == "built" for r in results):
         out.rmdir()  # made for this build, and nothing was built into it
     return LibraryBuild(path=str(path), out=str(out), layout=layout, results=tuple(results))
+
+
+def run_build(path: str, out: str | None = None, layout: str = "usdz", size: int = PREVIEW_SIZE, device: str = "cpu",
+              progress: Callable[[float, float], None] | None = None) -> Output:
+    """``rswarp build``: every asset of a LibraryCompiler file; exit 1 if any failed."""
+    build = build_library(path, out, layout=layout, size=size, device=device, progress=progress)
+    return Output(build.report(), build_text(build), 0 if build.ok else 1)
 
 
 def library_targets(lib: LibraryCompiler) -> list[Target]:
@@ -257,7 +265,7 @@ def _thumbnail(report: Report, target: Target, mech, size: int, device: str, war
 
 def _home_poses(mech, warnings: list[str]):
     """Every link's pose at home; the zero position where the kinematics cannot be solved."""
-    from ..sim.kinematics import Kinematics
+    from ..kinematics.kinematics import Kinematics
 
     try:
         return Kinematics(mech).fk64(mech.home_position()[None])[0]

@@ -8,10 +8,23 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from ..kinematics.kinematics import Kinematics
+from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
 from ..rsxml.units import BOUNDS, format_number
 from ..transforms import matrix_euler_zyx
+from .output import Output, Warn, ignore, json_safe
+
+
+def run_fk(path: str, q: str, device: str = "cpu", warn: Warn = ignore) -> Output:
+    """``rswarp fk``: every link's and flange's pose for joint values typed in the file's units
+    (values outside their limits are a warning, not an error)."""
+    mech, _ = load_mechanism(path)
+    values = joint_values(mech, q)
+    for warning in limit_warnings(mech, values):
+        warn(warning)
+    return Output(*fk_report(mech, values, device=device))
 
 
 def pose_dict(m: np.ndarray) -> dict:
@@ -74,8 +87,6 @@ def fk_report(mech: Mechanism, q: np.ndarray, device: str = "cpu") -> tuple[dict
     """Every link's and flange's pose for one set of joint values (SI): a JSON-ready dict and text.
     Where a loop cannot close (past a dead point) the links it moves are NaN, ``closes`` is False
     and the text says so on its last line."""
-    from ..sim.kinematics import Kinematics
-
     kin = Kinematics(mech, device=device)
     links = kin.fk(q[None])[0]
     flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
@@ -85,8 +96,6 @@ def fk_report(mech: Mechanism, q: np.ndarray, device: str = "cpu") -> tuple[dict
            "flanges": {n: pose_dict(m) for n, m in flanges.items()}}
     text = pose_text(mech, list(zip(kin.links, links)), list(flanges.items()))
     if not closes:
-        from .outputs import json_safe
-
         doc = json_safe(doc)  # JSON has no NaN: the poses a loop cannot give are null
         text += ("\nunreachable: a loop cannot close at these joint values (past a dead point); the links it "
                  "moves have no pose (nan)")

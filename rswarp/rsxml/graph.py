@@ -1,5 +1,6 @@
-"""The link graph of a mechanism, built once and asked by everything else: validation, kinematics,
-the exporters and the sweeps. Nothing else walks the joints.
+"""The link graph of a mechanism as topology, built once and asked by everything else: validation,
+kinematics, the exporters and the sweeps. Nothing else walks the joints. (How a loop's passive
+joints move is kinematics: ``rswarp.kinematics.loops``.)
 
 Rules (the same for every user):
 - Joints go from ``parent`` to ``child``. A joint naming an unknown link, repeating a joint name,
@@ -17,9 +18,25 @@ from collections import deque
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import Iterable, Mapping
+from typing import Iterable, Mapping, Protocol, Sequence
 
-from .model import Joint, Mechanism
+
+class Joint(Protocol):
+    """What the graph reads of a joint (``rswarp.rsxml.model.Joint``): the model builds its graph,
+    so the graph does not import the model."""
+
+    name: str
+    parent: str
+    child: str
+    active: bool
+
+
+class Mechanism(Protocol):
+    """What the graph reads of a mechanism (``rswarp.rsxml.model.Mechanism``)."""
+
+    link_names: tuple[str, ...]
+    joints: Sequence[Joint]
+    base_link: str
 
 
 @dataclass(frozen=True, eq=False)
@@ -171,26 +188,10 @@ class LinkGraph:
                 b = self.parent[b]
         return up, down, a
 
-    @cached_property
-    def loops(self):
-        """Every loop with its kind (``rswarp.rsxml.loops.Loop``), in the order of ``closing``."""
-        from .loops import loops
-
-        return loops(self)
-
     def closes_all_active_loop(self, closing: Joint) -> bool:
         """True when a loop has no passive joint: nothing in it can follow the others. The active
         joints alone reach both its links, so the tree path between them is active too."""
         return closing.active and not self._late[self.index[closing.parent]] and not self._late[self.index[closing.child]]
-
-    @cached_property
-    def passive(self):
-        """How every passive joint of the loops follows the active ones
-        (``rswarp.rsxml.loops.passive_map``), found once; ``UnsolvedLoop`` for a loop rswarp cannot
-        solve (raised again on every ask)."""
-        from .loops import passive_map
-
-        return passive_map(self)
 
     @cached_property
     def joints_in_loops(self) -> frozenset[str]:

@@ -232,6 +232,10 @@ class Mechanism:
         """SI per file unit for this joint's values (angle or length)."""
         return self.angle_factor if joint.revolute else self.length_factor
 
+    def si_length(self, value: float | None) -> float | None:
+        """A length given in the file's unit (a command-line value) in metres; None stays None."""
+        return None if value is None else value * self.length_factor
+
     # -- lookup ----------------------------------------------------------------------------------
     @property
     def link_names(self) -> tuple[str, ...]:

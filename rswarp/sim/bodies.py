@@ -13,6 +13,8 @@ from ..errors import InputError, MeshNotFoundError
 from ..geometry.bvh import MAX_DEPTH, build_bvh, component_points, join
 from ..geometry.meshes import file_mesh, link_mesh
 from ..rsxml.model import Mechanism
+from ..rsxml.parse import number
+from ..rsxml.units import MAX_LENGTH
 
 
 @dataclass(frozen=True)
@@ -38,7 +40,7 @@ class Body:
 
 
 @dataclass(frozen=True)
-class Bodies:
+class CollisionBodies:
     """Bodies, the pairs tested (indices into ``bodies``), and warnings about the geometry."""
 
     bodies: tuple[Body, ...]
@@ -58,7 +60,28 @@ class Bodies:
         return tuple(b.link for b in self.bodies if b.link >= 0)
 
 
-def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ()) -> Bodies:
+def placed_environments(mech: Mechanism, specs: list[str]) -> tuple[Environment, ...]:
+    """Environment meshes given as ``MESH@x,y,z`` (the mesh file, and where its origin goes in the
+    world, in the file's length unit) as placed meshes; anything else is an InputError."""
+    out = []
+    for spec in specs:
+        path, at, where = spec.rpartition("@")
+        try:
+            xyz = [number(v) for v in where.split(",")]
+        except ValueError:
+            xyz = []
+        usage = f"--env '{spec}': give MESH@x,y,z, a mesh file and three numbers in the file's length unit"
+        if not at or not path or len(xyz) != 3:
+            raise InputError(usage)
+        pose = np.eye(4)
+        pose[:3, 3] = [mech.si_length(v) for v in xyz]
+        if not np.all(np.abs(pose[:3, 3]) <= MAX_LENGTH):
+            raise InputError(f"--env '{spec}': a position within {MAX_LENGTH:g} m of the origin, please")
+        out.append(Environment(Path(path).stem, path, pose))
+    return tuple(out)
+
+
+def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ()) -> CollisionBodies:
     """The links with geometry and the environment meshes; pairs: every two links not joined by a
     joint (links without geometry contracted away, as MoveIt does), and each environment mesh with
     every link."""
@@ -85,7 +108,7 @@ def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ())
     pairs = [(i, j) for i in range(len(links)) for j in range(i + 1, len(links))
              if frozenset((links[i], links[j])) not in adjacent]
     pairs += [(i, j) for j in range(len(links), len(bodies)) for i in range(len(links))]
-    return Bodies(tuple(bodies), tuple(pairs), adjacent, tuple(warnings))
+    return CollisionBodies(tuple(bodies), tuple(pairs), adjacent, tuple(warnings))
 
 
 def _body(name: str, link: int, mesh, pose: np.ndarray, warnings: list[str]) -> Body:
@@ -114,7 +137,7 @@ class DeviceBodies:
     points, the bounding spheres and the ``wp.Mesh`` objects (which the structs refer to) are made
     once; ``struct(scalar)`` gives the arrays in a precision."""
 
-    def __init__(self, bodies: Bodies, padding: float, device):
+    def __init__(self, bodies: CollisionBodies, padding: float, device):
         import warp as wp
 
         self.bodies, self.padding, self.device = bodies, padding, device
@@ -151,7 +174,7 @@ class DeviceBodies:
         s.pose = arr(np.array([b.pose[:3] for b in bodies]), M34)
         s.root = arr(self.roots, wp.int32)
         s.mesh = arr(np.array([m.id for m in self.meshes], np.uint64), wp.uint64)
-        s.closed = arr(np.array([b.watertight for b in bodies], np.int32), wp.int32)
+        s.watertight = arr(np.array([b.watertight for b in bodies], np.int32), wp.int32)
         s.center, s.radius = arr(np.array(centre), V3), arr(np.array(radius) * (1 + 1e-6) + grow, S)
         counts = np.array([len(p) for p in self.points], np.int32)
         s.point_start = arr(np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32), wp.int32)

@@ -1,19 +1,27 @@
-"""What a cable run reports, and its tally: per environment, the extremes of each quantity and
-when and where they happened; over time, their spread across environments (``Series``). Kept as
-running extremes so memory grows with environments plus frames, never with their product."""
+"""What a cable run reports, and how it is gathered: per environment, the extremes of each quantity
+and when and where they happened (``RunningExtremes``, fed a solver's named statistics frame by
+frame); over time, their spread across environments (``Series``). Kept as running extremes so
+memory grows with environments plus frames, never with their product. A run cut into tasks puts
+its pieces together in a ``CableTally``, exactly as one run would have gathered them."""
 
 from __future__ import annotations
 
-import warnings
-from dataclasses import dataclass, field
+import tempfile
+from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import numpy as np
 
-from ..kernels.cable import BEND, BEND_AT, NOT_FINITE, RUNAWAY, RUNNING, TENSION, TWIST
-from .cable import MAX_SPEED, CableModel, CableState
+from .cable_solver import RUNNING, CableSolver
 
-UNMEASURED = 1.0e29  # the kernel's "nothing within reach" (BIG) reads as +inf
 MAX_RECORDED = 20_000  # frames kept for playback; longer runs keep every k-th frame
+MAX_VALUES_BYTES = 16 << 30  # a cut run's per-frame values, kept in a file: 16 GiB at most
+
+
+def values_bytes(envs: int, frames: int, cables: int) -> int:
+    """The size of a cut run's file of per-frame values (checked against MAX_VALUES_BYTES first)."""
+    return frames * len(SERIES) * envs * 4 * cables
+FRAME_BLOCK = 1024  # frames read back at a time to take their spread
 
 
 @dataclass(frozen=True)
@@ -93,18 +101,14 @@ PER_ENV = ("peak_tension", "peak_tension_time", "min_bend_radius", "min_bend_tim
            "status", "failed_time", "final_points")
 
 
-class Tally:
-    """Running extremes of one cable's environments, fed each frame's ``CableState``; per frame the
-    spread of each of SERIES across them, or with ``values`` every environment's value (frames, 3,
-    envs) float32, which holds the kernel's float32 results exactly: a task of a cluster run keeps
-    these, and the driver takes the spread of all environments."""
+class RunningExtremes:
+    """Running extremes of one cable's environments, fed each frame's statistics (by name, from its
+    ``CableSolver``); per frame the spread of each of SERIES across them, or with ``values`` every
+    environment's value (frames, 3, envs) float32, which holds the kernels' float32 results exactly:
+    a piece of a cut run keeps these, and the tally takes the spread of all environments."""
 
-    def __init__(self, model: CableModel, envs: int, slots: int, frames: int, record: int, values: bool = False):
-        self.model = model
-        self.arc = np.append(model.arc, np.nan)  # index -1 (none) reads NaN
-        anchors = [k for k in range(model.cable.start, model.cable.stop) if model.link[k] >= 0]
-        self.pairs = np.array(list(zip(anchors[:-1], anchors[1:])), np.int64).reshape(-1, 2)
-        self.pair_length = model.arc[self.pairs[:, 1]] - model.arc[self.pairs[:, 0]]
+    def __init__(self, solver: CableSolver, envs: int, slots: int, frames: int, record: int, values: bool = False):
+        self.solver = solver
         nan = lambda *shape: np.full(shape, np.nan)  # noqa: E731
         self.peak, self.peak_t = np.zeros(envs), nan(envs)
         self.bend, self.bend_t, self.bend_at = np.full(envs, np.inf), nan(envs), nan(envs)
@@ -119,52 +123,42 @@ class Tally:
         self.recorded: list[np.ndarray] = []
         self.frame = 0
 
-    def start(self, state: CableState) -> None:
+    def start(self, state) -> None:
         """The twist at the end of settling: its turns are counted from here on."""
-        self.twist_prev = state.stats[:, TWIST].astype(np.float64)
+        self.twist_prev = self.solver.statistics(state)["twist"].copy()
         self.twist = self.twist_prev.copy()
 
-    def add(self, state: CableState, t: float) -> None:
-        live = state.status == RUNNING
+    def add(self, state, t: float) -> None:
+        stats = self.solver.statistics(state)
+        status = stats["status"]
+        live = status == RUNNING
         gone = ~live & np.isnan(self.failed_t)
-        self.failed_t[gone], self.failed_why[gone] = t, state.status[gone]
-        stats = state.stats.astype(np.float64)
-        tension = np.where(live, stats[:, TENSION], np.nan)
+        self.failed_t[gone], self.failed_why[gone] = t, status[gone]
+        tension = np.where(live, stats["tension"], np.nan)
         _higher(self.peak, tension, t, self.peak_t)
-        bend = np.where(live, stats[:, BEND], np.nan)
-        bend[bend > UNMEASURED] = np.inf
-        where = self.arc[np.where(stats[:, BEND_AT] >= 0, stats[:, BEND_AT], -1).astype(np.int64)]
-        _lower(self.bend, bend, t, self.bend_t, self.bend_at, where)
-        gap = self._clearances(state, live, t)
-        self._stretch(state, live, t)
-        self._twist(stats[:, TWIST], live)
+        bend = np.where(live, stats["bend_radius"], np.nan)
+        _lower(self.bend, bend, t, self.bend_t, self.bend_at, stats["bend_at"])
+        gap = self._clearances(stats, live, t)
+        _higher(self.stretch, np.where(live, stats["stretch"], np.nan), t, self.stretch_t)
+        self._twist(stats["twist"], live)
         if self.values is not None:
             self.values[self.frame] = (tension, bend, gap)
         else:
             for key, values in zip(SERIES, (tension, bend, gap)):
                 self.series[key].append(spread(values))
         if self.record >= 0 and self.frame % self.stride == 0:
-            self.recorded.append(state.x[min(self.record, len(state.x) - 1), self.model.cable].copy())
+            self.recorded.append(self.solver.points(state, min(self.record, len(live) - 1)))
         self.frame += 1
 
-    def _clearances(self, state: CableState, live: np.ndarray, t: float) -> np.ndarray:
+    def _clearances(self, stats: dict, live: np.ndarray, t: float) -> np.ndarray:
         """Least clearance per link and the floor; the first contact. Returns each environment's
         least clearance to anything this frame."""
-        c = np.where(live[:, None], state.clear.astype(np.float64), np.nan)
-        c[c > UNMEASURED] = np.inf
-        where = self.arc[state.at.astype(np.int64)]
+        c = np.where(live[:, None], stats["clearance"], np.nan)
+        where = stats["clearance_at"]
         _lower(self.clear, c, t, self.clear_t, self.clear_at, where)
         first = (c <= 0) & np.isnan(self.contact_t)
         self.contact_t[first], self.contact_at[first] = t, where[first]
         return c.min(axis=1)
-
-    def _stretch(self, state: CableState, live: np.ndarray, t: float) -> None:
-        """The straight distance between consecutive attachments over the cable between them."""
-        if not len(self.pairs):
-            return
-        x = state.x.astype(np.float64)
-        d = np.linalg.norm(x[:, self.pairs[:, 1]] - x[:, self.pairs[:, 0]], axis=2) / self.pair_length
-        _higher(self.stretch, np.where(live, d.max(axis=1), np.nan), t, self.stretch_t)
 
     def _twist(self, raw: np.ndarray, live: np.ndarray) -> None:
         """Whole turns counted: each frame's change is taken in (-pi, pi]."""
@@ -173,20 +167,110 @@ class Tally:
         self.twist_prev = np.where(live, raw, self.twist_prev)
         self.max_twist = np.maximum(self.max_twist, np.abs(self.twist))
 
-    def result(self, allowed: float, links: tuple[str, ...], state: CableState) -> CableResult:
-        why = {NOT_FINITE: "positions became NaN or infinite",
-               RUNAWAY: f"a particle passed {MAX_SPEED:g} m/s (runaway energy)"}
+    def result(self, allowed: float, links: tuple[str, ...], state) -> CableResult:
+        why = self.solver.failures
         status = np.array(["ok" if np.isnan(t) else f"stopped at t = {t:.3f} s: {why.get(int(k), 'failed')}"
                            for t, k in zip(self.failed_t, self.failed_why)], dtype=object)
-        model = self.model
-        own = state.x[:, model.cable].astype(np.float64)
-        recorded = np.asarray(self.recorded, np.float64).reshape(-1, own.shape[1], 3)
+        solver = self.solver
+        final = solver.points(state)
+        recorded = np.asarray(self.recorded, np.float64).reshape(-1, final.shape[1], 3)
+        series = {key: Series.of(self.series[key]) for key in SERIES}
         return CableResult(
-            model.name, model.length, model.radius, float(allowed),
-            model.torsion, links, self.peak, self.peak_t, self.bend, self.bend_t, self.bend_at, self.clear,
-            self.clear_t, self.clear_at, self.contact_t, self.contact_at, self.stretch, self.stretch_t,
-            self.max_twist, status, self.failed_t, own, Series.of(self.series["tension"]),
-            Series.of(self.series["bend"]), Series.of(self.series["gap"]), recorded, self.stride)
+            name=solver.name, length=solver.length, radius=solver.radius, allowed_bend_radius=float(allowed),
+            torsion_stiffness=solver.torsion_stiffness, links=links, peak_tension=self.peak,
+            peak_tension_time=self.peak_t, min_bend_radius=self.bend, min_bend_time=self.bend_t,
+            min_bend_at=self.bend_at, clearance=self.clear, clearance_time=self.clear_t, clearance_at=self.clear_at,
+            contact_time=self.contact_t, contact_at=self.contact_at, stretch=self.stretch,
+            stretch_time=self.stretch_t, max_twist=self.max_twist, status=status, failed_time=self.failed_t,
+            final_points=final, recorded=recorded, stride=self.stride, **series)
+
+
+@dataclass(frozen=True)
+class CablePiece:
+    """What a run of some environments gave: each cable's results over them (from ``start`` on),
+    each cable's per-frame values where the piece is not the whole run (else None: its results
+    hold the spread already), and the recorded environment's joints."""
+
+    start: int
+    results: tuple[CableResult, ...]
+    values: tuple[np.ndarray, ...] | None
+    recorded_q: np.ndarray
+
+
+class CableTally:
+    """A cable run's pieces put together in place, as one run gathers them: per-environment arrays
+    at their offsets; the per-frame values of a cut run in a file-backed (frames, 3, envs) array per
+    cable (capped at MAX_VALUES_BYTES), whose spread is taken frame by frame at the end; the
+    recorded environment from its piece. A task's own piece is kept as it is until merged."""
+
+    def __init__(self, envs: int, frames: int, cables: int):
+        self.envs, self.frames, self.cables = envs, frames, cables
+        self.pieces: list[CablePiece] = []  # added here, not yet placed
+        self.whole: CablePiece | None = None
+        self.fields: list[dict[str, np.ndarray]] = []
+        self.values: list[np.ndarray] = []
+        self.recorded: list[CableResult | None] = [None] * cables
+        self.recorded_q = np.zeros((0,))
+        self.first: CablePiece | None = None
+        self._folder: tempfile.TemporaryDirectory | None = None
+
+    def add(self, piece: CablePiece) -> None:
+        self.pieces.append(piece)
+
+    def merge(self, other: "CableTally") -> None:
+        for piece in other.pieces:
+            self._place(piece)
+
+    def _place(self, piece: CablePiece) -> None:
+        if piece.values is None:  # the whole run in one piece
+            self.whole = piece
+            return
+        if not self.fields:
+            self._allocate(piece)
+        for c, (r, v) in enumerate(zip(piece.results, piece.values)):
+            for k in PER_ENV:
+                self.fields[c][k][piece.start:piece.start + r.envs] = getattr(r, k)
+            self.values[c][:, :, piece.start:piece.start + r.envs] = v
+            if len(r.recorded):
+                self.recorded[c], self.recorded_q = r, piece.recorded_q
+        self.first = piece
+
+    def _allocate(self, piece: CablePiece) -> None:
+        self._folder = tempfile.TemporaryDirectory(prefix="rswarp-cables-")
+        self.fields = [{k: np.empty((self.envs, *getattr(r, k).shape[1:]), getattr(r, k).dtype) for k in PER_ENV}
+                       for r in piece.results]
+        self.values = [np.lib.format.open_memmap(Path(self._folder.name) / f"values{c}.npy", "w+", np.float32,
+                                                 (self.frames, len(SERIES), self.envs)) for c in range(self.cables)]
+
+    def results(self) -> tuple[tuple[CableResult, ...], np.ndarray]:
+        """Every cable's results over all environments, and the recorded environment's joints."""
+        for piece in self.pieces:
+            self._place(piece)
+        self.pieces = []
+        if self.whole is not None:
+            return self.whole.results, self.whole.recorded_q
+        try:
+            out = []
+            for c, first in enumerate(self.first.results):
+                rec = self.recorded[c] or first
+                out.append(replace(first, **self.fields[c], **_series(self.values[c]), recorded=rec.recorded,
+                                   stride=rec.stride))
+            return tuple(out), self.recorded_q
+        finally:
+            self.values = []
+            if self._folder is not None:
+                self._folder.cleanup()
+
+
+def _series(values: np.ndarray) -> dict[str, Series]:
+    """The spread of each quantity per frame over all environments, as one run takes it."""
+    rows: dict[str, list] = {key: [] for key in SERIES}
+    for lo in range(0, len(values), FRAME_BLOCK):
+        block = np.asarray(values[lo:lo + FRAME_BLOCK], np.float64)
+        for frame in block:
+            for key, v in zip(SERIES, frame):
+                rows[key].append(spread(v))
+    return {key: Series.of(rows[key]) for key in SERIES}
 
 
 def _lower(best: np.ndarray, value: np.ndarray, t: float, when: np.ndarray, where: np.ndarray | None = None,

@@ -3,48 +3,32 @@ following its own joint trajectory kinematically, and what a dress-pack designer
 (``simulate_cables``): peak tension, the tightest bend, clearance and contact per link, whether
 the cable is long enough, its twist, and its final shape.
 
-Each run starts from the rest shape at the zero position (where the file gives the control
-points): the robot moves to the trajectory's start in SETTLE_MOVE seconds and holds for
-SETTLE_HOLD while the cable settles under more damping; results count from the trajectory's t = 0.
+A run is a client of the batch engine: its items are environments, a task runs some of them with
+one ``CableSolver`` per cable (the model ``CableOptions.cable_model`` names). Each run starts from
+the rest shape at the zero position (where the file gives the control points): the robot moves to
+the trajectory's start in SETTLE_MOVE seconds and holds for SETTLE_HOLD while the cable settles
+under more damping; results count from the trajectory's t = 0.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
 from ..errors import InputError
+from ..kinematics.trajectory import Trajectory, assign, minimum_jerk
 from ..rsxml.model import Mechanism
-from .cable import DENSITY, CableModel, CableState, CableStepper, cable_model, link_meshes
-from .cable_results import CableResult, Tally
-from .trajectory import Trajectory, assign, minimum_jerk
+from .cable_models import make_solver
+from .cable_results import MAX_VALUES_BYTES, CablePiece, CableResult, CableTally, RunningExtremes, values_bytes
+from .cable_solver import CableOptions, link_meshes
+from .engine import Job, run_batch
 
-FRAME_RATE = 60.0  # frames per second: results are sampled per frame, substeps between
-SUBSTEPS = 10  # per frame: 1.7 ms steps
 SETTLE_MOVE, SETTLE_HOLD, SETTLE_DAMPING = 0.5, 0.5, 10.0  # s, s, 1/s
-BEND_FACTOR = 10.0  # the least allowed bend radius, in diameters, unless given
 MAX_ENVS = 1 << 16  # environments of one run: its state and per-frame results stay bounded
 MAX_FRAMES = 1_000_000  # frames of one run (4.6 h at 60 fps)
-
-
-@dataclass(frozen=True)
-class CableOptions:
-    """How a run is stepped and judged (SI)."""
-
-    frame_rate: float = FRAME_RATE
-    substeps: int = SUBSTEPS
-    iterations: int = 2
-    damping: float = 1.0  # 1/s: velocities decay as exp(-damping t)
-    density: float = DENSITY
-    bend_factor: float = BEND_FACTOR
-    min_bend_radius: float | None = None  # m; default bend_factor x the diameter
-    floor: float | None = 0.0  # z of the floor (m); None: no floor
-    contact: bool = True  # against the link meshes
-    record: int = -1  # the environment whose shapes are kept for playback (--usd); -1: none
-    device: str = "cpu"
-    threads: int | None = None
 
 
 @dataclass(frozen=True)
@@ -67,11 +51,11 @@ class CableRun:
 
 def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, seconds: float | None = None,
                     options: CableOptions = CableOptions(),
-                    progress: Callable[[int, int], None] | None = None, cluster=None) -> CableRun:
+                    progress: Callable[[float, float], None] | None = None, cluster=None) -> CableRun:
     """Every cable of ``mech`` in ``envs`` environments, environment e following
     ``trajectories[assign(...)[e]]`` for ``seconds`` (default: the longest trajectory). ``cluster``
-    (a ``rswarp.Cluster`` or a Ray address) runs the environments as tasks on Ray; ``progress``
-    then counts environments, not frames."""
+    (a ``rswarp.Cluster`` or a Ray address) runs the environments as tasks on Ray. ``progress``
+    counts environments."""
     if not mech.cables:
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if not trajectories:
@@ -83,60 +67,105 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     if not 1 <= frames <= MAX_FRAMES:
         raise InputError(f"{seconds:g} s at {options.frame_rate:g} frames per second is {frames} frames; "
                          f"a run takes 1 to {MAX_FRAMES}")
+    job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
     meshes = link_meshes(mech) if options.contact else None
-    who = assign(trajectories, envs)
     if cluster is not None:
-        from .cable_tasks import on_cluster
-
+        _check_cut_run(mech, envs, frames)
         for c in mech.cables:  # a cable rswarp cannot model fails here, before anything is scheduled
-            cable_model(mech, c, density=options.density)
-        cables, recorded_q = on_cluster(mech, trajectories, who, frames, options, progress, cluster)
-    else:
-        runs, recorded_q = simulate(mech, trajectories, who, frames, options, meshes, progress)
-        cables = tuple(r.result() for r in runs)
+            make_solver(mech, c, dataclasses.replace(options, contact=False), None)
+    tools = None if cluster is not None else job.solvers(mech, options, meshes)
+    tally = run_batch(job, mech, tools=tools, cluster=cluster, progress=progress)
+    cables, recorded_q = tally.results()
     times = np.arange(1, frames + 1) / options.frame_rate
-    return CableRun(mech.name, cables, times, tuple(t.source for t in trajectories), tuple(who),
-                    recorded_q, options, meshes.warnings if meshes else ())
+    return CableRun(mech.name, cables, times, tuple(t.source for t in trajectories), job.who, recorded_q, options,
+                    meshes.warnings if meshes else ())
 
 
-def simulate(mech: Mechanism, trajectories: list[Trajectory], who: list[int], frames: int, options: CableOptions,
-             meshes, progress: Callable[[int, int], None] | None = None, values: bool = False,
-             stepper: Callable | None = None) -> tuple[list["_CableRun"], np.ndarray]:
-    """The run of environments ``who`` (each its trajectory's index): its cables, settled and
-    stepped ``frames`` frames, and the recorded environment's joints. ``values``: keep every
-    environment's per-frame values (a task of a cluster run) instead of their spread."""
-    make = stepper or (lambda model: make_stepper(mech, model, options, meshes))
-    runs = [_CableRun(mech, c, len(who), frames, options, make, values) for c in mech.cables]
-    schedule = _Schedule(mech, trajectories, who, options)
-    _settle(runs, schedule, options)
-    recorded_q = []
-    for f in range(frames):
-        t0 = f / options.frame_rate
-        qs = schedule.frame(t0)
-        for r in runs:
-            r.step(qs, t0 + 1 / options.frame_rate)
-        if options.record >= 0:  # the played-back environment's joints, thinned like its cables
-            recorded_q.append(qs[min(options.record, len(who) - 1), -1])
-        if progress is not None:
-            progress(f + 1, frames)
-    return runs, np.asarray(recorded_q)
+def _check_cut_run(mech: Mechanism, envs: int, frames: int) -> None:
+    """A run cut into tasks keeps each environment's value per frame for the spread: refused now
+    where that is over the cap."""
+    need = values_bytes(envs, frames, len(mech.cables))
+    if need > MAX_VALUES_BYTES:
+        raise InputError(f"a cluster run keeps each environment's value per frame for the spread plots: "
+                         f"{need / 2**30:.1f} GiB for {envs} environments x {frames} frames, over the cap "
+                         f"of {MAX_VALUES_BYTES >> 30} GiB; split the run (fewer environments or seconds)")
 
 
-def make_stepper(mech: Mechanism, model: CableModel, options: CableOptions, meshes) -> CableStepper:
-    """The stepper of one cable as ``options`` asks for it."""
-    return CableStepper(mech, model, substeps=options.substeps, iterations=options.iterations,
-                        damping=options.damping, meshes=meshes, floor=options.floor, device=options.device,
-                        threads=options.threads)
+@dataclass(frozen=True)
+class CableJob(Job):
+    """A cable run as the engine's job: its items are environments; ``who[e - first]`` is the
+    trajectory environment e follows (a task carries only its environments and their trajectories,
+    ``first`` numbering its first)."""
+
+    name = "cable"
+    unit = "environment"
+
+    trajectories: tuple[Trajectory, ...]
+    who: tuple[int, ...]
+    first: int
+    envs: int  # environments of the whole run
+    cables: int
+    frames: int
+    options: CableOptions
+
+    @property
+    def count(self) -> int:
+        return self.envs
+
+    def task_items(self, cluster) -> int:
+        return cluster.task_envs
+
+    def for_task(self, span: range) -> "CableJob":
+        used = sorted({self.who[e - self.first] for e in span})
+        renumber = {k: n for n, k in enumerate(used)}
+        return dataclasses.replace(self, trajectories=tuple(self.trajectories[k] for k in used),
+                                   who=tuple(renumber[self.who[e - self.first]] for e in span), first=span.start)
+
+    def tools_key(self) -> tuple:
+        return (dataclasses.replace(self.options, record=-1, threads=None),)
+
+    def tools(self, model, device: str, threads: int | None) -> list:
+        options = dataclasses.replace(self.options, device=device, threads=threads)
+        meshes = model.cached(("link meshes",), lambda: link_meshes(model.mech)) if options.contact else None
+        return self.solvers(model.mech, options, meshes)
+
+    @staticmethod
+    def solvers(mech: Mechanism, options: CableOptions, meshes) -> list:
+        return [make_solver(mech, c, options, meshes) for c in mech.cables]
+
+    def empty(self) -> CableTally:
+        return CableTally(self.envs, self.frames, self.cables)
+
+    def run(self, solvers: list, tally: CableTally, span: range, tick) -> None:
+        """Environments ``span``: settled, stepped ``frames`` frames, gathered into one piece."""
+        whole = len(span) == self.envs
+        record = self.options.record - span.start if span.start <= self.options.record < span.stop else -1
+        who = np.asarray([self.who[e - self.first] for e in span])
+        schedule = _Schedule(self.trajectories, who, self.options)
+        runs = [_CableEnvs(s, len(span), self.frames, self.options, record, values=not whole) for s in solvers]
+        _settle(runs, schedule, self.options)
+        recorded_q = []
+        for f in range(self.frames):
+            t0 = f / self.options.frame_rate
+            qs = schedule.frame(t0)
+            for r in runs:
+                r.step(qs, t0 + 1 / self.options.frame_rate)
+            if record >= 0:  # the played-back environment's joints, thinned like its cables
+                recorded_q.append(qs[record, -1])
+            tick(len(span) / self.frames)
+        results = tuple(r.result() for r in runs)
+        values = None if whole else tuple(r.extremes.values for r in runs)
+        tally.add(CablePiece(span.start, results, values, np.asarray(recorded_q)))
 
 
 class _Schedule:
     """The joints of every environment at each substep: the trajectories, preceded by the settling
     move from the zero position to each one's start."""
 
-    def __init__(self, mech: Mechanism, trajectories: list[Trajectory], who: list[int], options: CableOptions):
-        self.trajectories, self.who, self.options = trajectories, np.asarray(who), options
-        self.dof = mech.dof
+    def __init__(self, trajectories: tuple[Trajectory, ...], who: np.ndarray, options: CableOptions):
+        self.trajectories, self.who, self.options = trajectories, who, options
         self.start = np.stack([trajectories[k].at(np.zeros(1))[0] for k in who])
+        self.dof = self.start.shape[1]
 
     def _times(self, t0: float) -> np.ndarray:
         """The ends of the substeps of the frame that starts at ``t0``."""
@@ -145,9 +174,8 @@ class _Schedule:
 
     def frame(self, t0: float) -> np.ndarray:
         """(envs, substeps, dof) float32 over the frame starting at ``t0`` (trajectory time)."""
-        o = self.options
         t = self._times(t0)
-        out = np.empty((len(self.who), o.substeps, self.dof), np.float32)
+        out = np.empty((len(self.who), self.options.substeps, self.dof), np.float32)
         for k, traj in enumerate(self.trajectories):
             rows = self.who == k
             if rows.any():
@@ -160,40 +188,30 @@ class _Schedule:
         return (self.start[:, None, :] * blend[None, :, None]).astype(np.float32)
 
 
-def _settle(runs: list["_CableRun"], schedule: _Schedule, options: CableOptions) -> None:
+def _settle(runs: list["_CableEnvs"], schedule: _Schedule, options: CableOptions) -> None:
     frames = int(round((SETTLE_MOVE + SETTLE_HOLD) * options.frame_rate))
     for r in runs:
-        r.stepper.set_damping(SETTLE_DAMPING)
+        r.solver.set_damping(SETTLE_DAMPING)
     for f in range(frames):
         qs = schedule.settling(f / options.frame_rate)
         for r in runs:
-            r.stepper.step(r.state, qs, 1 / options.frame_rate)
+            r.solver.step(r.state, qs, 1 / options.frame_rate)
     for r in runs:
-        r.stepper.set_damping(options.damping)
-        r.started()
+        r.solver.set_damping(options.damping)
+        r.extremes.start(r.state)
 
 
-class _CableRun:
-    """One cable's environments and what is gathered from them frame by frame."""
+class _CableEnvs:
+    """One cable's environments in a task: its solver's state and what is gathered frame by frame."""
 
-    def __init__(self, mech: Mechanism, cable, envs: int, frames: int, options: CableOptions,
-                 stepper: Callable[[CableModel], CableStepper], values: bool = False):
-        self.model: CableModel = cable_model(mech, cable, density=options.density)
-        self.stepper = stepper(self.model)
-        self.stepper.set_damping(options.damping)
-        self.state: CableState = self.stepper.state(envs)
-        self.options = options
-        self.links = (*mech.graph.links, "floor")
-        self.tally = Tally(self.model, envs, len(self.links), frames, options.record, values)
-
-    def started(self) -> None:
-        self.tally.start(self.state)
+    def __init__(self, solver, envs: int, frames: int, options: CableOptions, record: int, values: bool):
+        self.solver, self.options = solver, options
+        self.state = solver.state(envs)
+        self.extremes = RunningExtremes(solver, envs, len(solver.links), frames, record, values)
 
     def step(self, qs: np.ndarray, t: float) -> None:
-        self.stepper.step(self.state, qs, 1 / self.options.frame_rate)
-        self.tally.add(self.state, t)
+        self.solver.step(self.state, qs, 1 / self.options.frame_rate)
+        self.extremes.add(self.state, t)
 
     def result(self) -> CableResult:
-        o = self.options
-        allowed = o.min_bend_radius if o.min_bend_radius is not None else o.bend_factor * 2 * self.model.radius
-        return self.tally.result(allowed, self.links, self.state)
+        return self.extremes.result(self.solver.allowed_bend_radius, self.solver.links, self.state)

@@ -22,10 +22,11 @@ import numpy as np
 
 from ..errors import InputError, model_error
 from ..kernels.types import WITNESSES
+from ..kinematics.chain import loops_close, mechanism_chain
+from ..kinematics.kinematics import Kinematics
 from ..rsxml.model import Mechanism
-from .bodies import Bodies, DeviceBodies, Environment, collision_bodies
-from .chain import closes, mechanism_chain
-from .kinematics import Kinematics
+from .bodies import CollisionBodies, DeviceBodies, Environment, collision_bodies
+from .engine import Job, run_batch
 from .launch import Launcher, init_warp
 from .witness import witness_grid
 from .workspace import sample_chunks
@@ -107,7 +108,7 @@ class Checker:
     batches, ``distances(q, pairs)`` for exact clearances (float64). ``witnesses``: build the
     witness grids (``rswarp.sim.witness``) that spare walks; verdicts are the same without."""
 
-    def __init__(self, mech: Mechanism, bodies: Bodies, padding: float = 0.0, device: str = "cpu",
+    def __init__(self, mech: Mechanism, bodies: CollisionBodies, padding: float = 0.0, device: str = "cpu",
                  threads: int | None = None, witnesses: bool = True):
         wp = init_warp()
         from ..kernels.collide import collision_kernels
@@ -115,7 +116,7 @@ class Checker:
         self.bodies = bodies
         self.chain = chain = mechanism_chain(mech)
         # the per-configuration flag of closed loops: on the host, or the device for Newton-solved ones
-        self.closes = Kinematics(mech, device).closes if len(chain.general) else partial(closes, chain)
+        self.loops_close = Kinematics(mech, device).loops_close if len(chain.newton_rows) else partial(loops_close, chain)
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
@@ -158,7 +159,7 @@ class Checker:
 
 def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: float = 0.0,
                environment: tuple[Environment, ...] = (), device: str = "cpu", threads: int | None = None,
-               progress: Callable[[int, int], None] | None = None, cluster=None) -> Collisions:
+               progress: Callable[[float, float], None] | None = None, cluster=None) -> Collisions:
     """Sweep ``samples`` random configurations within the joint limits for collisions between the
     links (and with the environment meshes), and compute the collision matrix; ``cluster`` (a
     ``rswarp.Cluster`` or a Ray address) runs the sweep's samples as tasks on Ray."""
@@ -172,24 +173,22 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     home = mech.home_position()
     default = checker.verdicts(home[None])[0][0]
     always, rounds, seen = _always(checker, lower, upper, seed, default)
-    job = _Job(lower, upper, samples, seed, padding, tuple(environment), ~(default | always), CHUNK)
-    sweep = _Sweep.empty(checker.pair_count, len(lower))
-    chunks = range(-(-samples // job.chunk))
-    if cluster is None:
-        _run(checker, job, sweep, chunks, progress)
-    else:
-        _on_cluster(mech, cluster, job, sweep, chunks, progress)
-    if not sweep.done:
+    job = CollisionJob(lower, upper, samples, seed, padding, tuple(environment), ~(default | always), CHUNK)
+    tally = run_batch(job, mech, tools=checker, cluster=cluster, progress=progress)
+    if not tally.done:
         raise model_error(mech, f"none of the {samples} samples closes the loops of '{mech.name}': every one lies "
                                 "past a dead point")
-    clear = _clearances(checker, sweep, seen)
-    return _result(mech, bodies, sweep, clear, default, always, seen, rounds, home, padding, seed)
+    clear = _clearances(checker, tally, seen)
+    return _result(mech, bodies, tally, clear, default, always, seen, rounds, home, padding, seed)
 
 
 @dataclass(frozen=True)
-class _Job:
+class CollisionJob(Job):
     """What every task of a sweep needs: the samples' box, count and seed, the bodies, and which
-    pairs the matrix still checks."""
+    pairs the matrix still checks; its items are chunks of samples."""
+
+    name = "collisions"
+    unit = "sample"
 
     lower: np.ndarray
     upper: np.ndarray
@@ -200,42 +199,41 @@ class _Job:
     checked: np.ndarray
     chunk: int  # samples per chunk: with the seed, it decides which samples a sweep draws
 
+    @property
+    def count(self) -> int:
+        return -(-self.samples // self.chunk)
 
-def _run(checker: Checker, job: _Job, sweep: "_Sweep", chunks: range,
-         progress: Callable[[int, int], None] | None = None) -> None:
-    """The samples of ``chunks`` into ``sweep``."""
-    for k, q in zip(chunks, sample_chunks(job.lower, job.upper, job.samples, "random", job.seed, job.chunk,
-                                          chunks)):
-        ok = checker.closes(q)  # past a dead point there is no pose to check: skipped, counted
-        sweep.skipped += int((~ok).sum())
-        if ok.any():
-            index = k * job.chunk + np.nonzero(ok)[0]
-            sweep.add(q[ok], index, *checker.verdicts(q[ok]), job.checked)
-        if progress:
-            progress(sweep.done + sweep.skipped, job.samples)
+    def task_items(self, cluster) -> int:
+        return max(1, cluster.task_samples // self.chunk)
 
+    def size(self, span: range) -> float:
+        return float(max(0, min(span.stop * self.chunk, self.samples) - span.start * self.chunk))
 
-def _on_cluster(mech: Mechanism, cluster, job: _Job, sweep: "_Sweep", chunks: range, progress) -> None:
-    """The chunks as Ray tasks of ``cluster.task_samples`` samples, merged into ``sweep``."""
-    from . import cluster as ray
+    def local_spans(self) -> list[range]:
+        return [range(k, k + 1) for k in range(self.count)]
 
-    c = ray.as_cluster(cluster)
-    pkg, blobs = ray.package(mech, [e.path for e in job.environment])
-    spans = ray.task_spans(c, len(chunks), max(1, c.task_samples // job.chunk))
-    ray.run(c, _sweep_task, pkg, blobs, [(job, s, c.device, c.threads) for s in spans],
-            [ray.span_size(s, job.chunk, job.samples) for s in spans], sweep.merge, progress)
+    def files(self) -> tuple[str, ...]:
+        return tuple(e.path for e in self.environment)
 
+    def tools_key(self) -> tuple:
+        return (self.padding, tuple((e.name, e.path, e.pose.tobytes()) for e in self.environment))
 
-def _sweep_task(shipped, task) -> "_Sweep":
-    """A Ray task: chunks of a sweep on this worker's collision kernels (built once per worker)."""
-    job, chunks, device, threads = task
-    env = tuple(Environment(e.name, shipped.local(e.path), e.pose) for e in job.environment)
-    key = ("checker", job.padding, tuple((e.name, e.path, e.pose.tobytes()) for e in env), device)
-    checker = shipped.cached(key, lambda: Checker(shipped.mech, collision_bodies(shipped.mech, env), job.padding,
-                                                  device, threads))
-    sweep = _Sweep.empty(checker.pair_count, len(job.lower))
-    _run(checker, job, sweep, chunks)
-    return sweep
+    def tools(self, model, device: str, threads: int | None) -> Checker:
+        env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.environment)
+        return Checker(model.mech, collision_bodies(model.mech, env), self.padding, device, threads)
+
+    def empty(self) -> "CollisionTally":
+        return CollisionTally.empty(len(self.checked), len(self.lower))
+
+    def run(self, checker: Checker, tally: "CollisionTally", span: range, tick) -> None:
+        """The samples of chunks ``span`` into ``tally``."""
+        for k, q in zip(span, sample_chunks(self.lower, self.upper, self.samples, "random", self.seed, self.chunk,
+                                            span)):
+            ok = checker.loops_close(q)  # past a dead point there is no pose to check: skipped, counted
+            tally.skipped += int((~ok).sum())
+            if ok.any():
+                index = k * self.chunk + np.nonzero(ok)[0]
+                tally.add(q[ok], index, *checker.verdicts(q[ok]), self.checked)
 
 
 def _limits(mech: Mechanism) -> tuple[np.ndarray, np.ndarray]:
@@ -257,7 +255,7 @@ def _always(checker: Checker, lower, upper, seed: int, default: np.ndarray):
     while True:
         rng = np.random.default_rng([seed, 0x5EED, rounds])  # apart from the sweep's chunk streams
         q = lower + (upper - lower) * rng.random((ROUND, len(lower)))
-        q = q[checker.closes(q)]
+        q = q[checker.loops_close(q)]
         hit = checker.verdicts(q)[0] & ~(default | always)  # disabled pairs are not checked (MoveIt's ACM)
         seen |= hit.any(axis=0)
         rounds += 1
@@ -268,7 +266,7 @@ def _always(checker: Checker, lower, upper, seed: int, default: np.ndarray):
 
 
 @dataclass
-class _Sweep:
+class CollisionTally:
     """Counts, examples and the nearest samples of free pairs, gathered chunk by chunk. Examples
     are the earliest samples, and of equal gaps the earliest sample is nearer, so sweeps of parts
     of the samples merge (in any order) into the sweep of all of them."""
@@ -283,7 +281,7 @@ class _Sweep:
     near_q: np.ndarray  # (pairs, CANDIDATES + 1, dof)
 
     @classmethod
-    def empty(cls, pairs: int, dof: int) -> "_Sweep":
+    def empty(cls, pairs: int, dof: int) -> "CollisionTally":
         return cls(0, 0, np.zeros(pairs, np.int64), 0, [[] for _ in range(pairs)],
                    np.full((pairs, CANDIDATES + 1), np.inf), np.full((pairs, CANDIDATES + 1), NONE),
                    np.zeros((pairs, CANDIDATES + 1, dof)))
@@ -309,7 +307,7 @@ class _Sweep:
         self.near_gap[p], self.near_index[p] = g[keep], i[keep]
         self.near_q[p] = np.concatenate([self.near_q[p], q])[keep]
 
-    def merge(self, other: "_Sweep") -> None:
+    def merge(self, other: "CollisionTally") -> None:
         """Add a sweep of other samples: exact in any order."""
         self.done += other.done
         self.skipped += other.skipped
@@ -322,7 +320,7 @@ class _Sweep:
             self._nearest(p, other.near_gap[p], other.near_index[p], other.near_q[p])
 
 
-def _clearances(checker: Checker, sweep: _Sweep, seen: np.ndarray) -> dict[int, tuple[float, np.ndarray, float]]:
+def _clearances(checker: Checker, sweep: CollisionTally, seen: np.ndarray) -> dict[int, tuple[float, np.ndarray, float]]:
     """For each pair never seen colliding: (smallest exact clearance among its nearest samples, where,
     a floor below which no sample comes: the exact values and the bound of the samples not measured)."""
     free = [p for p in range(checker.pair_count) if sweep.counts[p] == 0 and not seen[p]]
@@ -340,7 +338,7 @@ def _clearances(checker: Checker, sweep: _Sweep, seen: np.ndarray) -> dict[int, 
     return out
 
 
-def _result(mech, bodies: Bodies, sweep: _Sweep, clear: dict, default, always, seen, rounds, home, padding,
+def _result(mech, bodies: CollisionBodies, sweep: CollisionTally, clear: dict, default, always, seen, rounds, home, padding,
             seed) -> Collisions:
     pairs = []
     for p, (a, b) in enumerate(bodies.pairs):

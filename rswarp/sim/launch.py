@@ -1,10 +1,11 @@
 """The one launcher: Warp initialized quietly, a device picked, a batch cut into chunks and run.
 
 Warp runs a CPU launch on one core, so on a CPU a batch is cut into chunks launched from a thread
-pool (the launch releases the GIL), at least one chunk per core. On a GPU a chunk is large and
-inputs and outputs are copied across. Outputs are host arrays the caller owns, filled in place.
-Each item of the batch is computed by one thread the same way whatever the chunking, so results
-are bit-identical on one core or many.
+pool (the launch releases the GIL), at least one chunk per core. On a GPU a chunk is large. Inputs
+and outputs are host arrays the caller owns (copied across on a GPU, outputs filled in place), or
+Warp arrays already on the device, which stay there: state kept across launches (a cable run's)
+never crosses the bus. Each item of the batch is computed by one thread the same way whatever
+the chunking, so results are bit-identical on one core or many.
 """
 
 from __future__ import annotations
@@ -80,13 +81,29 @@ def _native_stderr():
             lines.extend(tmp.read().splitlines(keepends=True))
 
 
+def driver_device(device: str, on_cluster: bool) -> tuple[str, str | None]:
+    """The device of this machine's share of a run (MoveIt's rounds, clearances, refining extremes),
+    and a warning when it differs from ``device``: ``device`` itself, as on a cluster's workers, so
+    a Ray run equals a local one; the CPU where this machine lacks it and the run is on a cluster
+    (alone, a missing device is the user's error)."""
+    if not on_cluster or device == "cpu":
+        return device, None
+    try:
+        warp_device(device)
+        return device, None
+    except InputError:
+        return "cpu", (f"this machine has no '{device}': its share of the run goes on the CPU, so the results may "
+                       f"differ in the last digits from a run all on '{device}'")
+
+
 class Launcher:
     """Runs kernels over a batch of ``n`` items on one device.
 
     A kernel's parameters are, in order: ``params`` (model constants, passed as given), then the
-    batch ``inputs`` and ``outputs`` (host NumPy arrays whose first axis is the batch; each is cut
-    per chunk and typed as the kernel declares), with a per-item ``scratch`` array between them
-    when the kernel needs one (``scratch`` is its width; its type is the kernel's)."""
+    batch ``inputs`` and ``outputs`` whose first axis is the batch, each cut per chunk: host NumPy
+    arrays (typed as the kernel declares) or Warp arrays on the launcher's device. A per-item
+    ``scratch`` array goes between them when the kernel needs one (``scratch`` is its width; its
+    type is the kernel's)."""
 
     def __init__(self, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
         self.device = warp_device(device)
@@ -99,8 +116,8 @@ class Launcher:
         """Compile (or load from Warp's cache) the kernel's module before any thread launches it."""
         init_warp().load_module(kernel.module, device=self.device)
 
-    def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence[np.ndarray] = (),
-               outputs: Sequence[np.ndarray] = (), scratch: int | None = None) -> None:
+    def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence = (), outputs: Sequence = (),
+               scratch: int | None = None) -> None:
         """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk)."""
         args = kernel.adj.args
         first = len(params)
@@ -116,18 +133,22 @@ class Launcher:
             init_warp().launch(kernel, dim=hi - lo, inputs=[*params, *ins, *extra], outputs=outs, device=self.device)
             if not self.device.is_cpu:
                 for host, dev in zip(outputs, outs):
-                    host[lo:hi] = dev.numpy().reshape(host[lo:hi].shape)
+                    if isinstance(host, np.ndarray):
+                        host[lo:hi] = dev.numpy().reshape(host[lo:hi].shape)
 
         self._spread(n, run)
 
-    def _view(self, host: np.ndarray, dtype):
-        """A zero-copy Warp view of a host array on the CPU, a device copy on a GPU."""
+    def _view(self, host, dtype):
+        """A zero-copy Warp view of a host array on the CPU, a device copy on a GPU; a Warp array
+        (a chunk of one on this device) as it is."""
         wp = init_warp()
+        if isinstance(host, wp.array):
+            return host
         return wp.array(host, dtype=dtype, device=self.device, copy=not self.device.is_cpu)
 
-    def _target(self, host: np.ndarray, dtype):
+    def _target(self, host, dtype):
         """An output: the host array itself on the CPU; on a GPU a copy of it, so a kernel may also
-        read what it updates (cable states), copied back after the launch."""
+        read what it updates, copied back after the launch; a Warp array on this device as it is."""
         return self._view(host, dtype)
 
     def _scratch(self, n: int, width: int, dtype):

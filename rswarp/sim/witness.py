@@ -11,14 +11,14 @@ from typing import Callable
 import numpy as np
 
 from ..kernels.types import WITNESSES, Chain
-from .bodies import Bodies
+from .bodies import CollisionBodies
 
 CELLS = {0: (), 1: (256,), 2: (32, 32)}  # cells along each grid axis, by the number of joints
 
 
 @dataclass(frozen=True)
 class WitnessGrid:
-    """Every pair's grid as the flat arrays of the ``Bodies`` struct (two axis slots per pair)."""
+    """Every pair's grid as the flat arrays of the ``BodyArrays`` struct (two axis slots per pair)."""
 
     start: np.ndarray  # (pairs,) int32: first cell, -1 for no grid
     col: np.ndarray  # (2 * pairs,) int32: q column of each axis, -1 for none
@@ -27,12 +27,9 @@ class WitnessGrid:
     res: np.ndarray  # (2 * pairs,) int32 cells along each axis
     witness: np.ndarray  # (cells * WITNESSES, 2) int32: (A's, B's) triangle, -1 for none
 
-    @property
-    def cells(self) -> int:
-        return len(self.witness) // WITNESSES
 
 
-def pair_columns(chain: Chain, bodies: Bodies) -> list[tuple[int, ...]]:
+def pair_columns(chain: Chain, bodies: CollisionBodies) -> list[tuple[int, ...]]:
     """Per pair, the q columns whose joints move one body relative to the other: the joints on the
     path between their links (every joint above the link, for a body fixed in the world), and the
     active joints a passive one on that path follows."""
@@ -53,7 +50,7 @@ def pair_columns(chain: Chain, bodies: Bodies) -> list[tuple[int, ...]]:
     return cols
 
 
-def witness_grid(sample: Callable[[np.ndarray, np.ndarray], np.ndarray], chain: Chain, bodies: Bodies,
+def witness_grid(sample: Callable[[np.ndarray, np.ndarray], np.ndarray], chain: Chain, bodies: CollisionBodies,
                  lower: np.ndarray, upper: np.ndarray) -> WitnessGrid:
     """The grids of every pair moved by at most two joints with finite limits. ``sample(q, pair)``
     gives (N, 2 * WITNESSES) crossing triangle pairs of ``pair[i]`` at ``q[i]``."""

@@ -18,8 +18,9 @@ from typing import Callable
 import numpy as np
 
 from ..errors import InputError, model_error
+from ..kinematics.kinematics import Kinematics
 from ..rsxml.model import Mechanism
-from .kinematics import Kinematics
+from .engine import Job, run_batch
 
 SAMPLE_CHUNK = 1 << 18
 TOP_K = 4  # best samples refined per extreme
@@ -130,7 +131,7 @@ def grid_points(samples: int, dof: int) -> int:
 # -- float64 geometry used to refine extremes ---------------------------------------------------------
 
 
-class _Exact:
+class Float64Points:
     """Float64 wrist centre, flange and J1-axis distance: the same device code as the batches, in
     float64 (``Kinematics.wrist_flange64``), so an optimizer can refine extremes to the true ones."""
 
@@ -173,7 +174,7 @@ def _refine(fun: Callable[[np.ndarray], float], starts: np.ndarray, lower, upper
     return best_v, best_q
 
 
-class _TopK:
+class TopK:
     """The k largest values seen, their sample indices and joint values. Of equal values the
     earliest sample wins, so the k kept are the same however the samples were split and merged."""
 
@@ -189,7 +190,7 @@ class _TopK:
             values, q, index = values[take], q[take], index[take]
         self._keep(np.concatenate([self.v, values]), np.concatenate([self.i, index]), np.concatenate([self.q, q]))
 
-    def merge(self, other: "_TopK") -> None:
+    def merge(self, other: "TopK") -> None:
         self._keep(np.concatenate([self.v, other.v]), np.concatenate([self.i, other.i]),
                    np.concatenate([self.q, other.q]))
 
@@ -199,21 +200,21 @@ class _TopK:
 
 
 @dataclass
-class _Best:
+class BestSamples:
     """The best samples of each extreme a sweep measures (lows are kept as the highest negatives)."""
 
-    reach: _TopK
-    flange_reach: _TopK
-    wrist_low: _TopK
-    wrist_high: _TopK
-    flange_low: _TopK
-    flange_high: _TopK
+    reach: TopK
+    flange_reach: TopK
+    wrist_low: TopK
+    wrist_high: TopK
+    flange_low: TopK
+    flange_high: TopK
 
     @classmethod
-    def empty(cls, dof: int) -> "_Best":
-        return cls(*(_TopK(TOP_K, dof) for _ in range(6)))
+    def empty(cls, dof: int) -> "BestSamples":
+        return cls(*(TopK(TOP_K, dof) for _ in range(6)))
 
-    def add(self, exact: _Exact, q: np.ndarray, index: np.ndarray, wrist: np.ndarray | None,
+    def add(self, exact: Float64Points, q: np.ndarray, index: np.ndarray, wrist: np.ndarray | None,
             flange: np.ndarray) -> None:
         f = flange.astype(float)
         self.flange_reach.add(exact.radial(f), q, index)
@@ -225,13 +226,13 @@ class _Best:
             self.wrist_low.add(-w[:, 2], q, index)
             self.wrist_high.add(w[:, 2], q, index)
 
-    def merge(self, other: "_Best") -> None:
+    def merge(self, other: "BestSamples") -> None:
         for name in self.__dataclass_fields__:
             getattr(self, name).merge(getattr(other, name))
 
 
 @dataclass
-class _Grids:
+class Grids:
     """Voxel occupancy and the side and top views, filled chunk by chunk."""
 
     origin: np.ndarray
@@ -244,7 +245,7 @@ class _Grids:
     top: np.ndarray
 
     @classmethod
-    def empty(cls, base: np.ndarray, radius: float, resolution: float, has_wrist: bool) -> "_Grids":
+    def empty(cls, base: np.ndarray, radius: float, resolution: float, has_wrist: bool) -> "Grids":
         dims = (voxels_per_side(radius, resolution),) * 3
         views = (np.zeros((VIEW_BINS, VIEW_BINS), np.int64) for _ in range(2))
         return cls(base - radius, resolution, radius, base, np.zeros(dims, bool) if has_wrist else None,
@@ -260,7 +261,7 @@ class _Grids:
         self.top += self._histogram(shown[:, 0], shown[:, 1], 0, 1)
         self.side += self._histogram(side[:, 0], side[:, 2], 0, 2)
 
-    def merge(self, other: "_Grids") -> None:
+    def merge(self, other: "Grids") -> None:
         """Occupancy ORs, view counts add: exact in any order."""
         self.flange |= other.flange
         if self.wrist is not None:
@@ -288,9 +289,30 @@ def voxels_per_side(radius: float, resolution: float) -> int:
 # -- the sweep ----------------------------------------------------------------------------------------
 
 
+@dataclass
+class SweepTally:
+    """What the samples of some chunks gave: the best samples, the grids and the counts. Tallies
+    merge exactly in any order, so a sweep cut into tasks gives the numbers of one run."""
+
+    best: BestSamples
+    grids: Grids
+    done: int = 0
+    skipped: int = 0
+
+    def merge(self, other: "SweepTally") -> None:
+        self.best.merge(other.best)
+        self.grids.merge(other.grids)
+        self.done += other.done
+        self.skipped += other.skipped
+
+
 @dataclass(frozen=True)
-class _Spec:
-    """What every task of a sweep needs to draw and bin its samples the way one run would."""
+class SweepJob(Job):
+    """What every task of a sweep needs to draw and bin its samples the way one run would; its
+    items are chunks of samples."""
+
+    name = "sweep"
+    unit = "sample"
 
     lower: np.ndarray
     upper: np.ndarray
@@ -299,34 +321,60 @@ class _Spec:
     seed: int
     radius: float
     resolution: float
+    has_wrist: bool
     chunk: int  # samples per chunk: with the seed, it decides which samples a sweep draws
+    base: np.ndarray  # the J1 axis point the grids are centred on
 
+    @property
+    def count(self) -> int:
+        return chunk_count(self.samples, self.method, len(self.lower), self.chunk)
 
-@dataclass
-class _Part:
-    """What the samples of some chunks gave: the best samples, the grids and the counts. Parts merge
-    exactly in any order, so a sweep cut into tasks gives the numbers of one run."""
+    @property
+    def total(self) -> int:
+        return sample_count(self.samples, self.method, len(self.lower))
 
-    best: _Best
-    grids: _Grids
-    done: int = 0
-    skipped: int = 0
+    def task_items(self, cluster) -> int:
+        return max(1, cluster.task_samples // self.chunk)
 
-    @classmethod
-    def empty(cls, spec: _Spec, exact: _Exact) -> "_Part":
-        return cls(_Best.empty(exact.kin.dof),
-                   _Grids.empty(exact.j1_point, spec.radius, spec.resolution, exact.has_wrist))
+    def size(self, span: range) -> float:
+        return float(max(0, min(span.stop * self.chunk, self.total) - span.start * self.chunk))
 
-    def merge(self, other: "_Part") -> None:
-        self.best.merge(other.best)
-        self.grids.merge(other.grids)
-        self.done += other.done
-        self.skipped += other.skipped
+    def local_spans(self) -> list[range]:
+        return [range(k, k + 1) for k in range(self.count)]
+
+    def tools_key(self) -> tuple:
+        return ("kinematics",)
+
+    def tools(self, model, device: str, threads: int | None) -> Kinematics:
+        return Kinematics(model.mech, device=device, threads=threads)
+
+    def empty(self) -> SweepTally:
+        return SweepTally(BestSamples.empty(len(self.lower)),
+                          Grids.empty(self.base, self.radius, self.resolution, self.has_wrist))
+
+    def run(self, kin: Kinematics, tally: SweepTally, span: range, tick) -> None:
+        """The samples of chunks ``span`` into ``tally``."""
+        exact = Float64Points(kin)
+        for k, q in zip(span, sample_chunks(self.lower, self.upper, self.samples, self.method, self.seed,
+                                            self.chunk, span)):
+            wrist, flange = kin.wrist_flange(q, wrist=self.has_wrist)
+            tally.done += len(q)
+            index = k * self.chunk + np.arange(len(q))
+            ok = np.isfinite(flange).all(axis=1)  # NaN: a loop cannot close there; skipped and counted
+            if not ok.all():
+                tally.skipped += int((~ok).sum())
+                q, index, flange, wrist = q[ok], index[ok], flange[ok], None if wrist is None else wrist[ok]
+            if len(q):
+                tally.best.add(exact, q, index, wrist, flange)
+                q0 = q.copy()
+                q0[:, 0] = 0.0  # the side view: the plane of J1 = 0
+                w0, f0 = kin.wrist_flange(q0, wrist=self.has_wrist)
+                tally.grids.add(wrist, flange, f0 if w0 is None else w0)
 
 
 def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: str = "random",
               resolution: float = 0.025, kinematics: Kinematics | None = None,
-              progress: Callable[[int, int], None] | None = None, cluster=None) -> Workspace:
+              progress: Callable[[float, float], None] | None = None, cluster=None) -> Workspace:
     """Sweep ``samples`` joint configurations within the limits and measure the workspace;
     ``cluster`` (a ``rswarp.Cluster`` or a Ray address) runs the samples as tasks on Ray."""
     if samples < 1:
@@ -339,74 +387,24 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
     if kin.dof == 0:
         raise model_error(mech, f"mechanism '{mech.name}' has no active joints: there is no workspace to sweep")
     kin.flange_frame()  # a mechanism without a flange has nothing to measure: a clear error
-    exact = _Exact(kin)
+    exact = Float64Points(kin)
     lower, upper = mech.bounds()
     if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
         raise InputError("every active joint needs finite limits for a sweep")
-    spec = _Spec(lower, upper, samples, method, seed, _radius(exact, lower, upper, seed), resolution, SAMPLE_CHUNK)
-    part = _Part.empty(spec, exact)
-    chunks = range(chunk_count(samples, method, kin.dof, spec.chunk))
-    if cluster is None:
-        _sweep(kin, exact, part, spec, chunks, progress)
-    else:
-        _on_cluster(mech, cluster, spec, part, chunks, progress)
-    if part.skipped == part.done:
-        raise model_error(mech, f"none of the {part.done} samples closes the loops of '{mech.name}': every one "
+    job = SweepJob(lower, upper, samples, method, seed, _radius(exact, lower, upper, seed), resolution,
+                   exact.has_wrist, SAMPLE_CHUNK, exact.j1_point)
+    tally = run_batch(job, mech, tools=kin, cluster=cluster, progress=progress)
+    if tally.skipped == tally.done:
+        raise model_error(mech, f"none of the {tally.done} samples closes the loops of '{mech.name}': every one "
                                 "lies past a dead point")
-    return _result(mech, exact, part.best, part.grids, part.done, part.skipped, method, seed, lower, upper)
+    return _result(mech, exact, tally, method, seed, lower, upper)
 
 
-def _sweep(kin: Kinematics, exact: _Exact, part: _Part, spec: _Spec, chunks: range,
-           progress: Callable[[int, int], None] | None = None) -> None:
-    """The samples of ``chunks`` into ``part``."""
-    total = sample_count(spec.samples, spec.method, kin.dof)
-    for k, q in zip(chunks, sample_chunks(spec.lower, spec.upper, spec.samples, spec.method, spec.seed,
-                                          spec.chunk, chunks)):
-        wrist, flange = kin.wrist_flange(q, wrist=exact.has_wrist)
-        part.done += len(q)
-        index = k * spec.chunk + np.arange(len(q))
-        ok = np.isfinite(flange).all(axis=1)  # NaN: a loop cannot close there; skipped and counted
-        if not ok.all():
-            part.skipped += int((~ok).sum())
-            q, index, flange, wrist = q[ok], index[ok], flange[ok], None if wrist is None else wrist[ok]
-        if progress:
-            progress(part.done, total)
-        if not len(q):
-            continue
-        part.best.add(exact, q, index, wrist, flange)
-        q0 = q.copy()
-        q0[:, 0] = 0.0  # the side view: the plane of J1 = 0
-        w0, f0 = kin.wrist_flange(q0, wrist=exact.has_wrist)
-        part.grids.add(wrist, flange, f0 if w0 is None else w0)
-
-
-def _on_cluster(mech: Mechanism, cluster, spec: _Spec, part: _Part, chunks: range, progress) -> None:
-    """The chunks as Ray tasks of ``cluster.task_samples`` samples, merged into ``part``."""
-    from . import cluster as ray
-
-    c = ray.as_cluster(cluster)
-    pkg, blobs = ray.package(mech)
-    total = sample_count(spec.samples, spec.method, len(spec.lower))
-    spans = ray.task_spans(c, len(chunks), max(1, c.task_samples // spec.chunk))
-    ray.run(c, _sweep_task, pkg, blobs, [(spec, s, c.device, c.threads) for s in spans],
-            [ray.span_size(s, spec.chunk, total) for s in spans], part.merge, progress)
-
-
-def _sweep_task(shipped, job) -> _Part:
-    """A Ray task: chunks of a sweep on this worker's kinematics (compiled once per worker)."""
-    spec, chunks, device, threads = job
-    kin = shipped.cached(("kinematics", device), lambda: Kinematics(shipped.mech, device=device, threads=threads))
-    exact = _Exact(kin)
-    part = _Part.empty(spec, exact)
-    _sweep(kin, exact, part, spec, chunks)
-    return part
-
-
-def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, skipped: int, method: str, seed: int,
-            lower, upper) -> Workspace:
+def _result(mech, exact: Float64Points, tally: SweepTally, method: str, seed: int, lower, upper) -> Workspace:
     """The refined extremes and the grids as a Workspace."""
+    best, grids = tally.best, tally.grids
 
-    def refined(top: _TopK, which: int, fun, sign: float = 1.0) -> Extreme:
+    def refined(top: TopK, which: int, fun, sign: float = 1.0) -> Extreme:
         value, q = _refine(lambda x: sign * fun(exact.points(x)[which][0]), top.q[::-1], lower, upper)
         return Extreme(value=sign * value, q=tuple(float(v) for v in q), sampled=sign * float(top.v[-1]))
 
@@ -415,7 +413,7 @@ def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, skipped:
 
     w = exact.has_wrist
     return Workspace(
-        mechanism=mech.name, samples=done, method=method, seed=seed, unreachable=skipped,
+        mechanism=mech.name, samples=tally.done, method=method, seed=seed, unreachable=tally.skipped,
         reach=refined(best.reach, 0, radial) if w else None,
         flange_reach=refined(best.flange_reach, 1, radial),
         wrist_low=refined(best.wrist_low, 0, lambda p: p[2], -1.0) if w else None,
@@ -428,7 +426,7 @@ def _result(mech, exact: _Exact, best: _Best, grids: _Grids, done: int, skipped:
     )
 
 
-def _radius(exact: _Exact, lower: np.ndarray, upper: np.ndarray, seed: int) -> float:
+def _radius(exact: Float64Points, lower: np.ndarray, upper: np.ndarray, seed: int) -> float:
     """The largest distance of a wrist centre or flange from the J1 axis point, found like any other
     extreme (pilot samples, then refined), plus a margin: the grids and views span it exactly."""
     q = next(sample_chunks(lower, upper, 4096, "random", seed))

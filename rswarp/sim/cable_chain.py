@@ -1,5 +1,7 @@
-"""Host side of cable dynamics (``rswarp.kernels.cable``): a cable as the flat arrays its kernel
-takes, the link meshes it touches, and frames of many environments stepped on the shared launcher.
+"""The particle-chain cable model (``rswarp.kernels.cable``): a cable as a chain of particles kept
+inextensible by exact projections and bent by XPBD, frictionless, with contact at the particles.
+Here: the flat arrays its kernel takes, and ``ParticleChain``, the ``CableSolver`` that steps many
+environments of one cable on the shared launcher, its state kept on the device.
 """
 
 from __future__ import annotations
@@ -8,26 +10,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, MeshNotFoundError
+from ..errors import InputError
 from ..geometry.cable import CableRest, cable_rest
-from ..geometry.meshes import link_mesh
+from ..kernels.cable import BEND, BEND_AT, STATS, STRETCH, TENSION, TWIST, cable_kernel
+from ..kernels.cable_contact import CableParams
 from ..kernels.types import Chain
+from ..kinematics.chain import mechanism_chain
 from ..rsxml.model import Cable, Mechanism, iter_parts
-from .chain import mechanism_chain
+from .cable_solver import (DENSITY, GRAVITY, MAX_SPEED, POISSON, REACH, YOUNGS_MODULUS, CableOptions, CableSolver,
+                           LinkMeshes)
 from .launch import Launcher, init_warp
 
-DENSITY = 1200.0  # kg/m^3: a hose (DESIGN.md)
-POISSON = 0.5  # rubber: incompressible, so G = E / 3
-YOUNGS_MODULUS = 5e7  # Pa, where the file gives none: a rubber-like dress-pack hose
-GRAVITY = (0.0, 0.0, -9.81)
 ATTACHED_FREE = 4.0  # radii (plus a segment) of cable beside an attachment that may lie on its link
-MAX_SPEED = 100.0  # m/s: a particle faster than this (on a robot's hose) has blown up
-REACH = 0.25  # m: clearances are measured up to this far; farther reads as "beyond"
 BIG_FLOOR = 1.0e6  # m: no floor
+UNMEASURED = 1.0e29  # the kernel's "nothing within reach" (BIG) reads as +inf
 
 
 @dataclass(frozen=True)
-class CableModel:
+class ChainArrays:
     """One cable as particle arrays (SI). ``link[k] >= 0``: particle k moves rigidly with that link
     from its zero-position point ``x0[k]``. A control point with a ``direction`` at an end of the
     cable gets a ghost particle one segment beyond it, along the direction reversed, held by the
@@ -62,8 +62,14 @@ class CableModel:
         """The cable's own length (ghost segments excluded)."""
         return float(self.arc[self.cable.stop - 1])
 
+    @property
+    def attachment_pairs(self) -> np.ndarray:
+        """(pairs, 2) consecutive attached particles of the cable itself (ghosts excluded)."""
+        anchors = [k for k in range(self.cable.start, self.cable.stop) if self.link[k] >= 0]
+        return np.array(list(zip(anchors[:-1], anchors[1:])), np.int64).reshape(-1, 2)
 
-def cable_model(mech: Mechanism, cable: Cable, density: float = DENSITY, poisson: float = POISSON) -> CableModel:
+
+def chain_arrays(mech: Mechanism, cable: Cable, density: float = DENSITY, poisson: float = POISSON) -> ChainArrays:
     """The particle arrays of ``cable`` (its rest shape: ``rswarp.geometry.cable.cable_rest``)."""
     rest = cable_rest(mech, cable)
     links = _attachment_links(mech, cable)
@@ -80,7 +86,7 @@ def cable_model(mech: Mechanism, cable: Cable, density: float = DENSITY, poisson
     lk = np.concatenate([[seg[0]], (seg[:-1] + seg[1:]) / 2, [seg[-1]]])  # the length a curvature spans
     own = slice(first, first + len(rest.points))
     ends = (int(link[0]) if first else -1, int(link[-1]) if own.stop < len(x0) else -1)
-    return CableModel(cable.name, x0, seg, inv, link, lk ** 3 / ei, own, cable.radius,
+    return ChainArrays(cable.name, x0, seg, inv, link, lk ** 3 / ei, own, cable.radius,
                       _touch(seg, link, len(mech.graph.links), cable.radius), ends, _normals(x0), gj)
 
 
@@ -128,7 +134,7 @@ def _attachment_links(mech: Mechanism, cable: Cable) -> list[int]:
 
 
 def _ghosts(cable: Cable, rest: CableRest, x0, seg, link, links):
-    """Clamp the tangent at attached end points that have a direction (see ``CableModel``)."""
+    """Clamp the tangent at attached end points that have a direction (see ``ChainArrays``)."""
     first = 0
     cps = cable.control_points
     if links[0] >= 0 and cps[0].direction is not None:  # the cable leaves the point along direction
@@ -150,81 +156,53 @@ def _masses(rest: np.ndarray, radius: float, density: float) -> np.ndarray:
 
 
 @dataclass
-class CableState:
-    """Many environments of one cable (float32, host arrays filled in place by each frame):
-    positions and velocities (envs, P, 3), status (envs,: ``kernels.cable`` RUNNING, NOT_FINITE,
-    RUNAWAY), the last frame's statistics (envs, STATS) and clearances (envs, links + 1, the floor
-    last) with the particle where each was least."""
+class ChainState:
+    """Many environments of one cable, as Warp arrays on the solver's device: positions and
+    velocities (envs, P), status (envs,), and the last frame's statistics: ``stats`` (envs, STATS)
+    and the least clearance per link and the floor with the particle where (envs, links + 1)."""
 
-    x: np.ndarray
-    v: np.ndarray
-    status: np.ndarray
-    stats: np.ndarray
-    clear: np.ndarray
-    at: np.ndarray
-
-
-@dataclass(frozen=True)
-class LinkMeshes:
-    """The link meshes a cable may touch, in each link's zero-position frame (metres); None for a
-    link without geometry. ``warnings``: links whose mesh files are missing (no contact with them)."""
-
-    meshes: tuple
-    warnings: tuple[str, ...]
+    x: object
+    v: object
+    status: object
+    stats: object
+    clear: object
+    at: object
 
 
-def link_meshes(mech: Mechanism) -> LinkMeshes:
-    """Every link's parts as one mesh, as ``rswarp.geometry.meshes.link_mesh`` reads them."""
-    out, missing = [], []
-    for name in mech.graph.links:
-        try:
-            mesh = link_mesh(mech, name)
-        except MeshNotFoundError as exc:
-            missing.append((name, str(exc)))
-            mesh = None
-        out.append(None if mesh is None or len(mesh.faces) == 0 else
-                   (np.asarray(mesh.vertices, np.float64), np.asarray(mesh.faces, np.int64)))
-    warnings = [f"{why}: cables do not touch link '{name}'" for name, why in missing[:1]]
-    if len(missing) > 1:
-        warnings.append(f"{len(missing) - 1} more link(s) without their mesh files, not touched either: "
-                        + ", ".join(name for name, _ in missing[1:]))
-    return LinkMeshes(tuple(out), tuple(warnings))
+class ParticleChain(CableSolver):
+    """Frames of many environments of one cable on a mechanism as a particle chain."""
 
+    kind = "chain"
 
-class CableStepper:
-    """Frames of many environments of one cable on a mechanism: ``step(state, qs, dt)`` advances a
-    ``CableState`` in place by one frame of ``qs.shape[1]`` substeps."""
-
-    def __init__(self, mech: Mechanism, model: CableModel, substeps: int = 20, iterations: int = 2,
-                 damping: float = 1.0, meshes: LinkMeshes | None = None, floor: float | None = None,
-                 device: str = "cpu", threads: int | None = None):
-        wp = init_warp()
-        from ..kernels.cable import cable_kernel
-
-        if substeps < 1 or iterations < 1:
+    def __init__(self, mech: Mechanism, cable: Cable, options: CableOptions = CableOptions(),
+                 meshes: LinkMeshes | None = None):
+        if options.substeps < 1 or options.iterations < 1:
             raise InputError("substeps and iterations must be at least 1")
-        self.model, self.substeps = model, int(substeps)
+        super().__init__(mech, cable, options)
+        self.arrays = model = chain_arrays(mech, cable, density=options.density)
+        self.length, self.torsion_stiffness, self.substeps = model.length, model.torsion, int(options.substeps)
+        self.arc = model.arc[model.cable]
+        self._arc_of = np.append(model.arc, np.nan)  # particle index -> arc; -1 (none) reads NaN
         chain: Chain = mechanism_chain(mech)
         self.n_links = max(len(chain.parent), 1)
         meshes = meshes or LinkMeshes((None,) * len(chain.parent), ())
         touched = {j for j, m in enumerate(meshes.meshes) if m is not None}
         links = {int(k) for k in model.link if k >= 0} | touched
-        self.kernel = cable_kernel(chain, links, model.particles, int(iterations))
-        self.launcher = Launcher(device, chunk=64, threads=threads)
+        self.kernel = cable_kernel(chain, links, model.particles, int(options.iterations))
+        self.launcher = Launcher(options.device, chunk=64, threads=options.threads)
         self.launcher.load(self.kernel)
         self._meshes = [None] * self.n_links  # Warp keeps a mesh's BVH only while the Mesh lives
-        self.params = self._params(wp, model, meshes, damping, floor)
+        self.params = self._params(model, meshes, options.damping, options.floor)
 
-    def _params(self, wp, model: CableModel, meshes: LinkMeshes, damping: float, floor: float | None):
-        from ..kernels.cable_contact import CableParams
-
+    def _params(self, model: ChainArrays, meshes: LinkMeshes, damping: float, floor: float | None) -> CableParams:
+        wp = init_warp()
         dev = self.launcher.device
-        prm = CableParams()
+        params = CableParams()
         f32 = lambda a: wp.array(np.asarray(a, np.float32), dtype=wp.float32, device=dev)  # noqa: E731
-        prm.rest, prm.w, prm.compliance = f32(model.rest), f32(model.inv_mass), f32(model.compliance)
-        prm.link = wp.array(model.link, dtype=wp.int32, device=dev)
-        prm.local = wp.array(np.asarray(model.x0, np.float32), dtype=wp.vec3, device=dev)
-        prm.touch = wp.array(model.touch, dtype=wp.int32, device=dev)
+        i32 = lambda a: wp.array(np.asarray(a, np.int32), dtype=wp.int32, device=dev)  # noqa: E731
+        params.rest, params.w, params.compliance = f32(model.rest), f32(model.inv_mass), f32(model.compliance)
+        params.link, params.touch = i32(model.link), wp.array(model.touch, dtype=wp.int32, device=dev)
+        params.local = wp.array(np.asarray(model.x0, np.float32), dtype=wp.vec3, device=dev)
         ids, spheres = np.zeros(self.n_links, np.uint64), np.zeros((self.n_links, 4), np.float32)
         for j, m in enumerate(meshes.meshes):
             if m is not None:
@@ -233,31 +211,52 @@ class CableStepper:
                 ids[j] = self._meshes[j].id
                 centre = (m[0].min(axis=0) + m[0].max(axis=0)) / 2
                 spheres[j] = (*centre, np.linalg.norm(m[0] - centre, axis=1).max())
-        prm.mesh = wp.array(ids, dtype=wp.uint64, device=dev)
-        prm.sphere = wp.array(spheres, dtype=wp.vec4, device=dev)
-        prm.ends = wp.vec2i(*model.ends)
-        prm.start_normal, prm.end_normal = wp.vec3(*model.normals[0]), wp.vec3(*model.normals[1])
-        prm.gravity = wp.vec3(*GRAVITY)
-        prm.radius, prm.damping = float(model.radius), float(damping)
-        prm.floor = -BIG_FLOOR if floor is None else float(floor)
-        prm.margin, prm.reach, prm.max_speed = float(model.rest.max()), REACH, MAX_SPEED
-        return prm
+        params.mesh = wp.array(ids, dtype=wp.uint64, device=dev)
+        params.sphere = wp.array(spheres, dtype=wp.vec4, device=dev)
+        params.ends = wp.vec2i(*model.ends)
+        params.start_normal, params.end_normal = wp.vec3(*model.normals[0]), wp.vec3(*model.normals[1])
+        params.gravity = wp.vec3(*GRAVITY)
+        params.radius, params.damping = float(model.radius), float(damping)
+        params.floor = -BIG_FLOOR if floor is None else float(floor)
+        params.margin, params.reach, params.max_speed = float(model.rest.max()), REACH, MAX_SPEED
+        pairs = model.attachment_pairs
+        params.pair_a, params.pair_b = i32(pairs[:, 0]), i32(pairs[:, 1])
+        params.pair_length = f32(model.arc[pairs[:, 1]] - model.arc[pairs[:, 0]])
+        return params
 
-    def state(self, envs: int) -> CableState:
-        """``envs`` environments at the rest shape, at rest, running."""
-        from ..kernels.cable import STATS
-
-        x = np.ascontiguousarray(np.repeat(np.asarray(self.model.x0, np.float32)[None], envs, axis=0))
-        return CableState(x, np.zeros_like(x), np.zeros(envs, np.int32), np.zeros((envs, STATS), np.float32),
-                          np.zeros((envs, self.n_links + 1), np.float32), np.zeros((envs, self.n_links + 1), np.int32))
+    def state(self, envs: int) -> ChainState:
+        wp = init_warp()
+        dev = self.launcher.device
+        x = np.ascontiguousarray(np.repeat(np.asarray(self.arrays.x0, np.float32)[None], envs, axis=0))
+        zeros = lambda shape, dtype: wp.zeros(shape, dtype=dtype, device=dev)  # noqa: E731
+        return ChainState(wp.array(x, dtype=wp.vec3, device=dev), zeros(x.shape[:2], wp.vec3), zeros(envs, wp.int32),
+                          zeros((envs, STATS), wp.float32), zeros((envs, self.n_links + 1), wp.float32),
+                          zeros((envs, self.n_links + 1), wp.int32))
 
     def set_damping(self, damping: float) -> None:
         self.params.damping = float(damping)
 
-    def step(self, state: CableState, qs: np.ndarray, dt: float) -> None:
-        """One frame of length ``dt``: ``qs`` (envs, substeps, dof) the joints at each substep's end."""
+    def step(self, state: ChainState, qs: np.ndarray, dt: float) -> None:
         qs = np.ascontiguousarray(qs, np.float32)
-        if qs.shape[:2] != (len(state.x), self.substeps):
-            raise ValueError(f"qs must have shape ({len(state.x)}, {self.substeps}, dof), got {qs.shape}")
-        self.launcher.launch(self.kernel, len(state.x), params=[self.params, float(dt)], inputs=[qs],
+        envs = state.x.shape[0]
+        if qs.shape[:2] != (envs, self.substeps):
+            raise ValueError(f"qs must have shape ({envs}, {self.substeps}, dof), got {qs.shape}")
+        self.launcher.launch(self.kernel, envs, params=[self.params, float(dt)], inputs=[qs],
                              outputs=[state.x, state.v, state.status, state.stats, state.clear, state.at])
+
+    def statistics(self, state: ChainState) -> dict[str, np.ndarray]:
+        stats = state.stats.numpy().astype(np.float64)  # what the host reads: a frame's statistics only
+        clear = state.clear.numpy().astype(np.float64)
+        bend = stats[:, BEND]
+        bend[bend > UNMEASURED] = np.inf
+        clear[clear > UNMEASURED] = np.inf
+        bend_at = np.where(stats[:, BEND_AT] >= 0, stats[:, BEND_AT], -1).astype(np.int64)
+        return {"status": state.status.numpy().copy(), "tension": stats[:, TENSION], "bend_radius": bend,
+                "bend_at": self._arc_of[bend_at], "twist": stats[:, TWIST], "stretch": stats[:, STRETCH],
+                "clearance": clear, "clearance_at": self._arc_of[state.at.numpy().astype(np.int64)]}
+
+    def points(self, state: ChainState, env: int | None = None) -> np.ndarray:
+        own = self.arrays.cable
+        if env is None:
+            return state.x.numpy()[:, own].astype(np.float64)
+        return state.x[env].numpy()[own].astype(np.float64)

@@ -142,6 +142,19 @@ def minimum_jerk(s: np.ndarray) -> np.ndarray:
     return s ** 3 * (10 - 15 * s + 6 * s * s)
 
 
+RANDOM_SECONDS = 10.0  # a random run's length unless given
+
+
+def run_trajectories(mech: Mechanism, files: list[str] | None, random: bool, envs: int, seconds: float | None,
+                     seed: int) -> list[Trajectory]:
+    """The trajectories of a run: the CSV files read (checked against the limits), or one smooth
+    random trajectory per environment, from seeds ``seed``, ``seed + 1``, ..."""
+    if random:
+        span = seconds or RANDOM_SECONDS
+        return [random_trajectory(mech, span, seed + e) for e in range(envs)]
+    return [read_trajectory(f, mech) for f in files or []]
+
+
 def assign(trajectories: list[Trajectory], envs: int) -> list[int]:
     """Which trajectory each environment follows: round-robin over the given ones."""
     if not trajectories:

@@ -1,31 +1,44 @@
-"""What a sweep leaves in its output folder, and the summary it prints: the voxel grids
-(``workspace.npz``), the work-range figures (``side.png``, ``top.png``) and ``report.json``."""
+"""``rswarp sweep``: a workspace sweep of a file, what it leaves in its output folder (the voxel
+grids ``workspace.npz``, the work-range figures ``side.png`` and ``top.png``, ``report.json``) and
+the summary it prints."""
 
 from __future__ import annotations
 
 import io
-import json
-import math
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError
 from ..files import atomic_folder, atomic_write, check_replaceable
+from ..kinematics.kinematics import Kinematics
+from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
-from ..sim.workspace import Workspace
+from ..sim.engine import cluster_for
+from ..sim.launch import driver_device
+from ..sim.workspace import Workspace, workspace
+from .output import Output, Warn, ignore, json_bytes, json_safe
 
 DEFAULT_RESOLUTION = 0.025  # m: voxel size of a sweep
 
 
-def sweep_resolution(mech: Mechanism, resolution: float | None) -> float:
-    """A voxel size given in the file's length unit, in metres (the default when None)."""
-    if resolution is None:
-        return DEFAULT_RESOLUTION
-    if not resolution > 0:
-        raise InputError("--resolution must be positive")
-    return resolution * mech.length_factor
+def run_sweep(path: str, out: str, samples: int, method: str = "random", seed: int = 0,
+              resolution: float | None = None, device: str = "cpu", ray: str | None = None,
+              progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
+    """``rswarp sweep``: the sweep of ``path`` written into ``out``; ``resolution`` in the file's
+    length unit (default 25 mm); ``ray``: a Ray address ("local" for a local instance), or None."""
+    mech, _ = load_mechanism(path)
+    check_sweep_folder(out)
+    cluster = cluster_for(ray, device)
+    here, why = driver_device(device, cluster is not None)
+    if why:
+        warn(f"rswarp: warning: {why}")
+    ws = workspace(mech, samples=samples, seed=seed, method=method,
+                   resolution=DEFAULT_RESOLUTION if resolution is None else mech.si_length(resolution),
+                   kinematics=Kinematics(mech, device=here), progress=progress, cluster=cluster)
+    doc = write_sweep(ws, mech, out)
+    return Output(doc, sweep_text(ws, mech, doc["files"]))
 
 
 SWEEP_FILES = ("workspace.npz", "report.json", "side.png", "top.png")
@@ -49,19 +62,8 @@ def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path) -> dict:
 
         save_voxels(ws, tmp / files["voxels"].name)
         work_range_figures(ws, mech, tmp / "side.png", tmp / "top.png")
-        atomic_write(tmp / files["report"].name, (json.dumps(doc, indent=2, allow_nan=False) + "\n").encode())
+        atomic_write(tmp / files["report"].name, json_bytes(doc))
     return doc
-
-
-def json_safe(value):
-    """``value`` with every non-finite float as None: JSON has no NaN, and a reader must not choke."""
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {k: json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [json_safe(v) for v in value]
-    return value
 
 
 def save_voxels(ws: Workspace, path) -> None:

@@ -12,12 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .closed import FOUR_BAR, SPEC
-from .model import Joint
+from ..kernels.specs import DEAD_TOLERANCE, FOUR_BAR, SPEC
+from ..rsxml.model import Joint
 
 # a spec: [FOUR_BAR, V0 (2), V1 (2), V2 (2), V3 (2), w (3)]: the corners at zero in plane
 # coordinates, and the joint's value as w . (turn of S0, S1, S2), each side's turn against S3
-DEAD_TOLERANCE = 1e-5  # relative to the coupler's length squared: rounding at a dead point still closes
 
 
 def four_bar_specs(graph, loop, points: list[np.ndarray], sides: list[int],
@@ -53,7 +52,7 @@ def four_bar_specs(graph, loop, points: list[np.ndarray], sides: list[int],
 
 def four_bar_values(spec: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """The passive joint's value (rad) for driven angles ``theta``, NaN past a dead point (host
-    side, float64; ``rswarp.kernels.fk.four_bar_function`` is the device twin)."""
+    side, float64; ``rswarp.kernels.closed_forms.four_bar_function`` is the device twin)."""
     v0, v1_0, v2_0, v3 = spec[1:3], spec[3:5], spec[5:7], spec[7:9]
     w = spec[9:12]
     theta = np.asarray(theta, np.float64)

@@ -1,5 +1,6 @@
-"""The kinematic loops of a mechanism (parallel rods, parallelograms, balance cylinders) and the
-kind of each, asked of the link graph at the zero position, which the spec defines as assembled.
+"""The kinematic loops of a mechanism (parallel rods, parallelograms, balance cylinders), the kind of
+each, and how their passive joints follow the active ones, asked of the link graph at the zero
+position, which the spec defines as assembled.
 
 A loop is a closing joint and the tree paths from its two links to their common ancestor
 (``LinkGraph.loop``). Planar loops (revolute axes all parallel, prismatic axes across them) are
@@ -11,15 +12,18 @@ prismatic joint are sliders (a balance cylinder); anything else is general.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
-from .model import Joint
-from .closed import FOUR_BAR as FOUR_BAR_SPEC
-from .closed import SPEC
+from ..errors import model_error
+from ..kernels.specs import FOUR_BAR as FOUR_BAR_SPEC
+from ..kernels.specs import ROW, SPEC
+from ..rsxml.graph import LinkGraph
+from ..rsxml.model import Joint
 from .fourbar import four_bar_specs, four_bar_values
-from .general import ROW, general_rows, general_values
+from .newton_loop import newton_loop_values, newton_rows
 from .slider import slider_specs, slider_values
 
 PARALLELOGRAM, FOUR_BAR, SLIDER, GENERAL = "parallelogram", "four-bar", "slider", "general"
@@ -140,8 +144,6 @@ class UnsolvedLoop(ValueError):
     def error(self, mech, what: str):
         """The file's error at the closing joint: "joint 'X' closes a kinematic loop that ``what``:
         why"."""
-        from ..errors import model_error
-
         j = self.loop.closing
         return model_error(mech, f"joint '{j.name}' closes a kinematic loop that {what}: {self}", j.line)
 
@@ -149,22 +151,40 @@ class UnsolvedLoop(ValueError):
 @dataclass(frozen=True)
 class PassiveMap:
     """How each link's passive tree joint follows the active joints (rows by link index):
-    ``mimic[k] @ q`` (parallelograms), or a closed form ``closed[k]`` (a ``rswarp.rsxml.closed``
-    spec, kind 0 for none: balance cylinders, four-bars) of the input angle ``closed_coef[k] @ q``,
-    or unknown ``unknown[k]`` of the damped Newton solve of the loops in ``general``."""
+    ``mimic[k] @ q`` (parallelograms), or a closed form ``closed_form[k]`` (a spec laid out in
+    ``rswarp.kernels.specs``, kind 0 for none: balance cylinders, four-bars) of the input angle
+    ``closed_input[k] @ q``, or unknown ``unknown[k]`` of the damped Newton solve of the loops in
+    ``newton_rows``."""
 
     mimic: np.ndarray
-    closed: np.ndarray
-    closed_coef: np.ndarray
+    closed_form: np.ndarray
+    closed_input: np.ndarray
     unknown: np.ndarray  # int32 (n,): the link's joint in a Newton solve's unknowns, -1 for none
-    general: np.ndarray  # (rows, ROW): the loops of the Newton solve (rswarp.rsxml.general)
+    newton_rows: np.ndarray  # (rows, ROW): the loops of the Newton solve (``newton_loop``)
 
 
-def passive_map(graph) -> PassiveMap:
+_PASSIVE: "weakref.WeakKeyDictionary[LinkGraph, PassiveMap | UnsolvedLoop]" = weakref.WeakKeyDictionary()
+
+
+def passive_map(graph: LinkGraph) -> PassiveMap:
+    """``find_passive_map`` of a graph, found once per graph and shared (nobody writes to it); the
+    same ``UnsolvedLoop`` on every ask for a loop rswarp cannot solve."""
+    if graph not in _PASSIVE:
+        try:
+            _PASSIVE[graph] = find_passive_map(graph)
+        except UnsolvedLoop as exc:
+            _PASSIVE[graph] = exc
+    found = _PASSIVE[graph]
+    if isinstance(found, UnsolvedLoop):
+        raise found
+    return found
+
+
+def find_passive_map(graph: LinkGraph) -> PassiveMap:
     """Every passive joint of the loops, as the active joints fix it: in parallelograms a signed sum
     of active joints (opposite sides keep their angle, as they are parallel at the zero position),
     in balance cylinders and four-bars a closed form, in any other loop a damped Newton solve with
-    continuation (``rswarp.rsxml.general``). ``UnsolvedLoop`` for a loop none of them takes, a
+    continuation (``newton_loop``). ``UnsolvedLoop`` for a loop none of them takes, a
     passive joint two loops would set, or parallelograms whose passive joints the active ones do
     not fix."""
     dof, n = len(graph.active), len(graph.links)
@@ -181,7 +201,7 @@ def passive_map(graph) -> PassiveMap:
                     unknown.setdefault(graph.link_index(j.child), len(unknown))
             continue
         why = _add_closed(graph, loop, out) if loop.kind in (SLIDER, FOUR_BAR) else f"its loop is {loop.kind}"
-        out = _add_general(graph, loop, out, why) if why else out
+        out = _add_newton(graph, loop, out, why) if why else out
         for k in _set_by(out, loop, graph):
             if claimed.setdefault(k, loop) is not loop:
                 raise UnsolvedLoop(loop, f"its passive joint '{graph.tree_joint[k].name}' is in another loop too")
@@ -190,7 +210,7 @@ def passive_map(graph) -> PassiveMap:
             loop = claimed[min(set(unknown) & set(claimed))]
             raise UnsolvedLoop(loop, "its passive joints are in a parallelogram too")
         _solve_parallelograms(graph, rows, unknown, solved, out.mimic)
-    for a in vars(out).values():  # found once and shared (LinkGraph.passive): nobody writes to it
+    for a in vars(out).values():  # found once and shared (passive_map): nobody writes to it
         a.setflags(write=False)
     return out
 
@@ -198,21 +218,21 @@ def passive_map(graph) -> PassiveMap:
 def _set_by(out: PassiveMap, loop: Loop, graph) -> list[int]:
     """The links whose passive joints ``loop`` sets (closed forms and Newton solves)."""
     links = [graph.index[j.child] for j in loop.joints[:-1] if not j.active]
-    return [k for k in links if out.closed[k, 0] != 0 or out.unknown[k] >= 0]
+    return [k for k in links if out.closed_form[k, 0] != 0 or out.unknown[k] >= 0]
 
 
-def _add_general(graph, loop: Loop, out: PassiveMap, why: str) -> PassiveMap:
-    """The loop as rows of a Newton solve (``rswarp.rsxml.general``); ``UnsolvedLoop`` saying why
-    neither a closed form (``why``) nor the solve takes it."""
+def _add_newton(graph, loop: Loop, out: PassiveMap, why: str) -> PassiveMap:
+    """The loop as rows of a Newton solve (``newton_loop``); ``UnsolvedLoop`` saying why neither a
+    closed form (``why``) nor the solve takes it."""
     first = int(out.unknown.max()) + 1
-    rows, unknowns, refused = general_rows(graph, loop, first)
+    rows, unknowns, refused = newton_rows(graph, loop, first)
     if refused:
         raise UnsolvedLoop(loop, f"{why}, and a Newton solve cannot take it: {refused}")
-    rows[:, 0] = len(np.unique(out.general[:, 0]))
+    rows[:, 0] = len(np.unique(out.newton_rows[:, 0]))
     unknown = out.unknown.copy()
     for k, u in unknowns.items():
         unknown[k] = u
-    return PassiveMap(out.mimic, out.closed, out.closed_coef, unknown, np.concatenate([out.general, rows]))
+    return PassiveMap(out.mimic, out.closed_form, out.closed_input, unknown, np.concatenate([out.newton_rows, rows]))
 
 
 def _add_closed(graph, loop: Loop, out: PassiveMap) -> str | None:
@@ -229,9 +249,9 @@ def _add_closed(graph, loop: Loop, out: PassiveMap) -> str | None:
         if specs is None:
             return "its slider is not a cylinder pivoting on the loop's base and pinned to an arm one active joint turns"
     for k, (spec, coef) in specs.items():
-        out.closed[k] = spec
+        out.closed_form[k] = spec
         for col, c in coef.items():
-            out.closed_coef[k, col] = c
+            out.closed_input[k, col] = c
     return None
 
 
@@ -305,15 +325,15 @@ def passive_values(passive, q) -> dict[int, np.ndarray]:
     its loop cannot close. ``passive``: a ``PassiveMap``, or a ``Chain`` (the same rows)."""
     q = np.atleast_2d(np.asarray(q, np.float64))
     out = {}
-    for k in np.nonzero(np.any(passive.mimic != 0, axis=1) | (passive.closed[:, 0] != 0))[0]:
-        spec = passive.closed[k]
-        out[int(k)] = closed_values(spec, q @ passive.closed_coef[k]) if spec[0] else q @ passive.mimic[k]
-    if len(passive.general):
-        x = general_values(passive.general, q, int(passive.unknown.max()) + 1)
+    for k in np.nonzero(np.any(passive.mimic != 0, axis=1) | (passive.closed_form[:, 0] != 0))[0]:
+        spec = passive.closed_form[k]
+        out[int(k)] = closed_values(spec, q @ passive.closed_input[k]) if spec[0] else q @ passive.mimic[k]
+    if len(passive.newton_rows):
+        x = newton_loop_values(passive.newton_rows, q, int(passive.unknown.max()) + 1)
         out.update({int(k): x[:, u] for k, u in enumerate(passive.unknown) if u >= 0})
     return out
 
 
 def closed_values(spec: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """A passive joint's closed form (``PassiveMap.closed``) at input angles ``theta``, float64."""
+    """A passive joint's closed form (``PassiveMap.closed_form``) at input angles ``theta``, float64."""
     return four_bar_values(spec, theta) if spec[0] == FOUR_BAR_SPEC else slider_values(spec, theta)

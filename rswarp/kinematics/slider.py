@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .closed import ANGLE, SPEC, STROKE
-from .model import Joint
+from ..kernels.specs import ANGLE, SPEC, STROKE
+from ..rsxml.model import Joint
 
 # a spec: [kind (ANGLE or STROKE), sign, O (2), A0 (2), P (2)], the plane coordinates of the arm
 # joint, the pin at zero and the pivot; zeros to SPEC
@@ -19,7 +19,7 @@ def slider_specs(graph, loop, ancestor: int, normal: np.ndarray,
                  basis: tuple[np.ndarray, np.ndarray]) -> dict[int, tuple[np.ndarray, dict[int, float]]] | None:
     """For the pivot's and the piston's links: (spec, the arm angle's coefficients by q column);
     None when the loop is not arranged as a cylinder pinned to an arm turned by one active joint.
-    ``basis``: the plane's (u, v) (``rswarp.rsxml.loops.plane_basis``)."""
+    ``basis``: the plane's (u, v) (``loops.plane_basis``)."""
     pivot, stroke, closing = _parts(graph, loop, ancestor)
     if pivot is None:
         return None
@@ -56,7 +56,8 @@ def _parts(graph, loop, ancestor: int) -> tuple[Joint | None, Joint | None, Join
 
 
 def slider_values(spec: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """The pivot's angle or the stroke (by ``spec``) for arm angles ``theta`` (host side, float64)."""
+    """The pivot's angle or the stroke (by ``spec``) for arm angles ``theta`` (host side, float64;
+    ``rswarp.kernels.closed_forms.slider_function`` is the device twin)."""
     kind, sign, o, a0, p = spec[0], spec[1], spec[2:4], spec[4:6], spec[6:8]
     c, s = np.cos(theta), np.sin(theta)
     r = a0 - o

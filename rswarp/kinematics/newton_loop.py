@@ -8,30 +8,22 @@ the determinant of the closure's best-conditioned square part (chosen at zero) i
 the path, and a configuration whose path makes it change sign or nearly vanish is NaN too, never a
 pose on a branch rswarp cannot vouch for.
 
-A loop is described by rows (``Chain.general``): the joints of path A (loop ancestor down to the
-closing joint's parent link), of path B (down to its child link), and the closing joint. The
-closure: the closing joint's point and axis, carried by both paths, coincide. Only revolute closing
-joints are taken. ``general_values`` is the host twin (float64) of ``rswarp.kernels.loops``.
+A loop is described by rows (``Chain.newton_rows``, laid out in ``rswarp.kernels.specs``): the joints
+of path A (loop ancestor down to the closing joint's parent link), of path B (down to its child
+link), and the closing joint. The closure: the closing joint's point and axis, carried by both
+paths, coincide. Only revolute closing joints are taken. ``newton_loop_values`` is the host twin
+(float64) of ``rswarp.kernels.loops``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-# [loop, role, jtype (0 revolute, 1 prismatic), q column, unknown, axis (3), point (3), then for the
-# closing joint: the residual rows of the square part as a bit mask, and its determinant at zero]
-ROW = 13
-PATH_A, PATH_B, CLOSING = 1, 2, 3
-STEPS, ITERATIONS, POLISH = 8, 3, 4  # continuation steps, Newton iterations per step, and at the end
-FINE_STEPS, FINE_ITERATIONS = 128, 2  # the second pass, for paths that come near a singular pose
-MAX_STEP = 0.5  # rad (or m): a Newton step is damped to this length
-CLOSED = 1e-5  # residual (m, and unitless for the axis) under which the loop counts as closed
-NEAR, SINGULAR = 0.3, 0.05  # the square part's determinant relative to zero's: near a singular pose (a path
-# taken again in fine steps), and at one (the configuration is NaN)
-MAX_UNKNOWNS = 6  # passive joints one general loop may solve for
+from ..kernels.specs import (CLOSING, CLOSURE_TOLERANCE, ITERATIONS, FINE_ITERATIONS, FINE_STEPS, MAX_STEP,
+                             MAX_UNKNOWNS, NEAR, PATH_A, PATH_B, POLISH, ROW, SINGULAR, STEPS, square_rows)
 
 
-def general_rows(graph, loop, first_unknown: int) -> tuple[np.ndarray, dict[int, int], str | None]:
+def newton_rows(graph, loop, first_unknown: int) -> tuple[np.ndarray, dict[int, int], str | None]:
     """(rows, {link index: unknown index}, None), or (empty, {}, why) for a loop this solver does
     not take: a prismatic closing joint, too many passive joints, or one whose active joints do not
     fix its passive ones, or cannot move it."""
@@ -90,12 +82,6 @@ def _square_part(jac_u: np.ndarray, m: int) -> tuple[int, float]:
     return sum(1 << r for r in pick), float(np.linalg.det(jac_u[list(pick)]))
 
 
-def square_rows(rows: np.ndarray) -> list[int]:
-    """The residual rows of a loop's square part (its closing row's mask)."""
-    mask = int(rows[rows[:, 1] == CLOSING][0, 11])
-    return [r for r in range(6) if mask >> r & 1]
-
-
 def _mobility(jac_u: np.ndarray | None, jac_q: np.ndarray | None, m: int) -> str | None:
     """Why the loop cannot be solved at the zero position, or None: its passive joints must be
     fixed by the closure (full column rank) and the active ones must be able to move it."""
@@ -152,8 +138,8 @@ def _closure(rows: np.ndarray, q: np.ndarray, x: np.ndarray, first: int, m: int)
     return np.concatenate([xa - xb, aa - ab], axis=1), jac_u, jac_q
 
 
-def general_values(rows: np.ndarray, q: np.ndarray, unknowns: int) -> np.ndarray:
-    """(N, unknowns) passive values of every general loop at ``q`` (N, dof), float64; NaN for the
+def newton_loop_values(rows: np.ndarray, q: np.ndarray, unknowns: int) -> np.ndarray:
+    """(N, unknowns) passive values of every Newton-solved loop at ``q`` (N, dof), float64; NaN for the
     loop's joints where it cannot close."""
     q = np.atleast_2d(np.asarray(q, np.float64))
     x = np.zeros((len(q), unknowns))
@@ -175,7 +161,7 @@ def _solve(rows: np.ndarray, q: np.ndarray, x: np.ndarray, first: int, m: int) -
     x = x.copy()
     x[:, first:first + m] = out
     e = _closure(rows, q, x, first, m)[0]
-    out[(np.linalg.norm(e, axis=1) > CLOSED) | ~(ratio >= SINGULAR)] = np.nan
+    out[(np.linalg.norm(e, axis=1) > CLOSURE_TOLERANCE) | ~(ratio >= SINGULAR)] = np.nan
     return out
 
 

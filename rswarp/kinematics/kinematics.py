@@ -10,12 +10,13 @@ import numpy as np
 
 from ..errors import model_error
 from ..kernels import fk as fk_kernels
+from ..kernels import walk
 from ..rsxml.model import Mechanism
-from .chain import closes, mechanism_chain
-from .launch import DEFAULT_CHUNK, Launcher, init_warp
+from ..sim.launch import DEFAULT_CHUNK, Launcher, init_warp
+from .chain import loops_close, mechanism_chain
+from .loops import passive_values
 
-
-CLOSES_CHUNK = 1 << 14  # configurations whose poses ``closes`` holds at once
+LOOPS_CHUNK = 1 << 14  # configurations whose poses ``loops_close`` holds at once
 
 
 class Kinematics:
@@ -32,7 +33,7 @@ class Kinematics:
         self.launcher = Launcher(device, chunk, threads)
         self.device = self.launcher.device
         self.unrolled = len(self.chain.parent) <= fk_kernels.MAX_UNROLLED_LINKS
-        self.newton_loops = len(self.chain.general) > 0  # loops the kernels solve by damped Newton steps
+        self.newton_loops = len(self.chain.newton_rows) > 0  # loops the kernels solve by damped Newton steps
         if self.newton_loops and not self.unrolled:
             j = self.graph.closing[0]
             raise model_error(mech, f"loops with no closed form are solved in chains of at most "
@@ -54,7 +55,7 @@ class Kinematics:
 
     def fk(self, q, links: list[str] | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given); NaN for
-        the links a loop moves where it cannot close (``closes(q)`` is False).
+        the links a loop moves where it cannot close (``loops_close(q)`` is False).
 
         ``out`` (C-contiguous float32 of that shape) is filled in place: reusing one buffer in a loop
         saves the page faults of a fresh array."""
@@ -69,31 +70,29 @@ class Kinematics:
 
     def passive(self, q) -> np.ndarray:
         """``(N, len(passive_joints))`` values of the passive joints at ``q`` (rad / m), as the FK
-        kernels solve them (``rswarp.rsxml.loops.passive_map``), computed here in float64; NaN where a
-        loop cannot close (``closes``)."""
-        from ..rsxml.loops import passive_values
-
+        kernels solve them (``loops.passive_map``), computed here in float64; NaN where a loop cannot
+        close (``loops_close``)."""
         values = passive_values(self.chain, q)
         cols = [values[k] for k, _ in self._passive_rows()]
         return np.stack(cols, axis=1) if cols else np.zeros((len(np.atleast_2d(q)), 0))
 
-    def closes(self, q) -> np.ndarray:
+    def loops_close(self, q) -> np.ndarray:
         """``(N,)`` the per-configuration flag of closed loops: False where a loop cannot close at
         ``q`` (past a dead point); there ``fk`` and the sweeps' poses are NaN. Loops solved by
         Newton steps are asked of the device kernels (the host twin is slow), the rest on the host."""
         if not self.newton_loops:
-            return closes(self.chain, q)
+            return loops_close(self.chain, q)
         q = self._q(q, np.float64)
         out = np.ones(len(q), bool)
-        for lo in range(0, len(q), CLOSES_CHUNK):  # memory: one chunk of poses at a time
-            out[lo:lo + CLOSES_CHUNK] = np.isfinite(self.fk64(q[lo:lo + CLOSES_CHUNK])).all(axis=(1, 2, 3))
+        for lo in range(0, len(q), LOOPS_CHUNK):  # memory: one chunk of poses at a time
+            out[lo:lo + LOOPS_CHUNK] = np.isfinite(self.fk64(q[lo:lo + LOOPS_CHUNK])).all(axis=(1, 2, 3))
         return out
 
     def _passive_rows(self) -> list:
         """(link, its tree joint) for each passive joint that follows the active ones, file order."""
         c = self.chain
         moved = {j.name: k for k, j in self.graph.tree_order
-                 if np.any(c.mimic[k] != 0) or c.closed[k, 0] != 0 or c.unknown[k] >= 0}
+                 if np.any(c.mimic[k] != 0) or c.closed_form[k, 0] != 0 or c.unknown[k] >= 0}
         return [(moved[j.name], j) for j in self.mech.joints if j.name in moved]
 
     def fk64(self, q) -> np.ndarray:
@@ -163,7 +162,7 @@ class Kinematics:
         if key not in self._kernels:
             wp = init_warp()
             scalar = wp.float32 if dtype == np.float32 else wp.float64
-            Tree, frames, wrist = fk_kernels.generic_kernels(scalar)
+            Tree, frames, wrist = walk.generic_kernels(scalar)
             tree = Tree()
             c = self.chain
             for name in ("parent", "jtype", "qidx", "order"):
@@ -171,12 +170,12 @@ class Kinematics:
             for name in ("axis", "point"):
                 setattr(tree, name, wp.array(getattr(c, name).astype(dtype), dtype=wp.types.vector(3, scalar),
                                              device=self.device))
-            follows = np.any(c.mimic != 0, axis=1) | (c.closed[:, 0] != 0)
+            follows = np.any(c.mimic != 0, axis=1) | (c.closed_form[:, 0] != 0)
             tree.follows = wp.array(follows.astype(np.int32), dtype=wp.int32, device=self.device)
             tree.mimic = wp.array(np.ascontiguousarray(c.mimic, dtype), dtype=scalar, device=self.device)
-            tree.closed = wp.array(np.ascontiguousarray(c.closed, dtype), dtype=wp.types.vector(c.closed.shape[1], scalar),
-                                   device=self.device)
-            tree.closed_coef = wp.array(np.ascontiguousarray(c.closed_coef, dtype), dtype=scalar, device=self.device)
+            tree.closed_form = wp.array(np.ascontiguousarray(c.closed_form, dtype),
+                                        dtype=wp.types.vector(c.closed_form.shape[1], scalar), device=self.device)
+            tree.closed_input = wp.array(np.ascontiguousarray(c.closed_input, dtype), dtype=scalar, device=self.device)
             self.launcher.load(frames)
             self._kernels[key] = (tree, frames, wrist)
         return self._kernels[key]

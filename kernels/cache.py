@@ -1,0 +1,57 @@
+"""The one cache of device code. A factory of kernels or ``wp.func``s decorated with ``@cached``
+runs once per content of its arguments (a chain by its digest, arrays by their bytes), and
+``module_name`` names a Warp module by the same content, so equal mechanisms share compiled code
+in a process and Warp's on-disk cache serves later processes."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+from typing import Any, Callable
+
+import numpy as np
+
+_BUILT: dict[tuple, Any] = {}
+
+
+def _part(value) -> Any:
+    """A hashable stand-in for an argument, equal for equal contents."""
+    if hasattr(value, "digest") and callable(value.digest):
+        return ("digest", value.digest())
+    if isinstance(value, np.ndarray):
+        data = np.ascontiguousarray(value)
+        return ("array", data.dtype.str, data.shape, hashlib.sha256(data.tobytes()).hexdigest())
+    if isinstance(value, (set, frozenset)):
+        return ("set", tuple(sorted((_part(v) for v in value), key=repr)))
+    if isinstance(value, (list, tuple, range)):
+        return ("seq", tuple(_part(v) for v in value))
+    if isinstance(value, type):
+        return ("type", value.__module__, value.__qualname__)
+    if isinstance(value, (np.integer, np.floating, np.bool_)):
+        return value.item()
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    raise TypeError(f"no content key for a {type(value).__name__}")
+
+
+def content_digest(*args) -> str:
+    """A short hash of the arguments' content."""
+    return hashlib.sha256(repr(_part(args)).encode()).hexdigest()[:16]
+
+
+def module_name(prefix: str, *args) -> str:
+    """The Warp module of a factory's kernels: ``rswarp_<prefix>_<content digest>``."""
+    return f"rswarp_{prefix}_{content_digest(*args)}"
+
+
+def cached(factory: Callable) -> Callable:
+    """``factory(*args)`` made once per content of ``args`` in this process."""
+
+    @functools.wraps(factory)
+    def get(*args):
+        key = (factory.__module__, factory.__qualname__, _part(args))
+        if key not in _BUILT:
+            _BUILT[key] = factory(*args)
+        return _BUILT[key]
+
+    return get

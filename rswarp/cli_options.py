@@ -1,0 +1,119 @@
+"""The options of each ``rswarp`` command, beside those every command of a kind shares (``cli``'s
+parent parsers). Each option's destination is the keyword of the library function it goes to;
+numbers are parsed and bounded by ``rswarp.options``."""
+
+from __future__ import annotations
+
+import argparse
+
+from .export.physics import DRIVE_HZ
+from .geometry.mass import DEFAULT_DENSITY
+from .options import argument
+from .sim.cable_solver import DENSITY, FRAME_RATE, SUBSTEPS
+
+LENGTH = "in the file's length unit"
+
+
+def check(p: argparse.ArgumentParser) -> None:
+    p.add_argument("paths", nargs="+", metavar="FILE")
+
+
+def info(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="FILE")
+
+
+def fk(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="FILE")
+    p.add_argument("--q", required=True, help='active joint values in the file\'s units, e.g. "0,0,0,0,30,0"')
+
+
+def sweep(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="FILE")
+    p.add_argument("--samples", type=argument("samples"), default=1_000_000, help="joint configurations (default 1000000)")
+    p.add_argument("--method", choices=["random", "sobol", "grid"], default="random")
+    p.add_argument("--resolution", type=argument("resolution"), help=f"voxel size {LENGTH} (default 25 mm)")
+
+
+def collisions(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="FILE")
+    p.add_argument("--samples", type=argument("samples"), default=1_000_000, help="random configurations (default 1000000)")
+    p.add_argument("--padding", type=argument("padding"), default=0.0,
+                   help=f"pairs closer than this ({LENGTH}) count as colliding (default 0)")
+    p.add_argument("--env", action="append", default=[], metavar="MESH@x,y,z",
+                   help=f"an environment mesh placed in the world ({LENGTH}), tested against every link; repeat "
+                        "for more")
+
+
+def export(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="FILE")
+    p.add_argument("-o", "--output", required=True, metavar="OUT")
+    p.add_argument("--layout", choices=["flat", "component"],
+                   help="USD only: one file (default), or an interface layer with payloaded geometry/materials/"
+                        "physics layers")
+    p.add_argument("--mesh-paths", choices=["absolute", "relative"],
+                   help="URDF only: name the meshes/ files by absolute path (default: every loader finds them, "
+                        "pinocchio included) or relative to the URDF (a folder that can be moved)")
+    p.add_argument("--collision", choices=["convexHull", "convexDecomposition"], default="convexHull",
+                   help="collision geometry rswarp computes once (cached): a convex hull per part (default), or "
+                        "a convex decomposition with CoACD")
+    p.add_argument("--density", type=argument("density"), default=DEFAULT_DENSITY,
+                   help=f"kg/m^3 for link masses (default {DEFAULT_DENSITY:g}, cast aluminium)")
+    p.add_argument("--mass", type=argument("mass"), metavar="KG",
+                   help="the robot's total mass: scales the density so the links weigh this in all")
+    p.add_argument("--drive-hz", type=argument("drive-hz"), default=DRIVE_HZ, metavar="HZ",
+                   help=f"bandwidth of the position drives holding home (default {DRIVE_HZ:g}; 0: no drives)")
+    p.add_argument("--armature", type=argument("armature"), metavar="KGM2",
+                   help="motor reflected inertia for every joint, kg m^2 (kg for prismatic joints); default "
+                        "1e-3 x total mass x reach^2")
+    p.add_argument("--effort", type=argument("effort"), metavar="NM",
+                   help="effort limit for every joint, N m (N); default twice the largest gravity load plus "
+                        "10 rad/s^2 of acceleration")
+    p.add_argument("--velocity", type=argument("velocity"), metavar="RAD_S",
+                   help="velocity limit for every joint, rad/s (m/s); default 90 deg/s (0.5 m/s)")
+    matrix = p.add_mutually_exclusive_group()
+    matrix.add_argument("--collision-matrix", dest="collision_matrix_srdf", metavar="SRDF",
+                        help="filter every pair an SRDF disables (from 'rswarp collisions' or MoveIt) from contact")
+    matrix.add_argument("--collision-samples", type=argument("collision-samples"), metavar="N",
+                        help="run a collision sweep of N samples and filter every pair its matrix disables")
+
+
+def build(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="LIBRARY.xml")
+    p.add_argument("-o", "--out", metavar="DIR", help="where the assets go (default: beside the XML)")
+    p.add_argument("--layout", choices=["usdz", "component"], default="usdz",
+                   help="one .usdz per asset (default), or a folder per asset: an interface layer with payloaded "
+                        "geometry/materials/physics layers and the preview PNG")
+    p.add_argument("--size", type=argument("size"), default=512,
+                   help="preview image width and height in pixels (default 512)")
+
+
+def cable(p: argparse.ArgumentParser) -> None:
+    from .sim.cable_models import CABLE_MODELS
+
+    p.add_argument("path", metavar="FILE")
+    p.add_argument("--envs", type=argument("envs"), default=16, help="parallel environments (default 16)")
+    how = p.add_mutually_exclusive_group(required=True)
+    how.add_argument("--trajectory", action="append", metavar="CSV",
+                     help="joint trajectory, time,<joint>,... in the file's units; repeat for more (assigned "
+                          "round-robin)")
+    how.add_argument("--random", action="store_true",
+                     help="smooth random trajectories within the limits, one per environment (seeded by --seed)")
+    p.add_argument("--seconds", type=argument("seconds"),
+                   help="simulated time (default: the longest trajectory; 10 with --random)")
+    p.add_argument("--usd", action="store_true",
+                   help="also write playback.usdc: environment 0's robot and cables over time, for usdview")
+    p.add_argument("--min-bend-radius", type=argument("min-bend-radius"), metavar="R",
+                   help=f"allowed bend radius {LENGTH} (default ten times the diameter)")
+    floor = p.add_mutually_exclusive_group()
+    floor.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
+    floor.add_argument("--no-floor", dest="floor", action="store_const", const=None, help="no floor")
+    p.add_argument("--density", type=argument("density"), default=DENSITY, help=f"kg/m^3 (default {DENSITY:g}, a hose)")
+    p.add_argument("--frame-rate", type=argument("frame-rate"), default=FRAME_RATE,
+                   help=f"results per simulated second (default {FRAME_RATE:g})")
+    p.add_argument("--substeps", type=argument("substeps"), default=SUBSTEPS, help=f"steps per frame (default {SUBSTEPS})")
+    p.add_argument("--cable-model", choices=sorted(CABLE_MODELS), default="chain",
+                   help="how the cables are simulated (default chain: particles, inextensible, bent by XPBD)")
+
+
+def demo(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", default="rswarp-demo", metavar="DIR", help="where the outputs go (default ./rswarp-demo)")

@@ -1,0 +1,20 @@
+"""The cable models a run can use, by the name that chooses them (``CableOptions.cable_model``,
+``rswarp cable --cable-model``). A new model is a ``CableSolver`` and its kernel, named here."""
+
+from __future__ import annotations
+
+from ..errors import InputError
+from ..rsxml.model import Cable, Mechanism
+from .cable_chain import ParticleChain
+from .cable_solver import CableOptions, CableSolver, LinkMeshes
+
+CABLE_MODELS: dict[str, type[CableSolver]] = {ParticleChain.kind: ParticleChain}
+
+
+def make_solver(mech: Mechanism, cable: Cable, options: CableOptions, meshes: LinkMeshes | None) -> CableSolver:
+    """The solver of one cable as ``options`` asks for it."""
+    try:
+        model = CABLE_MODELS[options.cable_model]
+    except KeyError:
+        raise InputError(f"no cable model '{options.cable_model}' (models: {', '.join(CABLE_MODELS)})") from None
+    return model(mech, cable, options, meshes)
