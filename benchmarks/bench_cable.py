@@ -98,7 +98,8 @@ def ours(segments: int, envs: int, settle: float, timed: float, ref) -> dict:
     from rswarp.sim.cable_solver import FRAME_RATE, SUBSTEPS, CableOptions
 
     xml = f"""<?xml version="1.0"?>
-<Mechanism xmlns="urn:abb-robotics-robotstudio-graphiccomponent" type="Other" name="Hose" lengthUnit="mm" angleUnit="deg">
+<Mechanism xmlns="urn:abb-robotics-robotstudio-graphiccomponent" type="Other" name="Hose" lengthUnit="mm"
+           angleUnit="deg">
   <Links baseLink="Base"><Part name="Base"/></Links>
   <AdditionalComponents>
     <Cable radius="{RADIUS * 1000}" maxSegmentLength="{LENGTH * 1000 / segments + 1e-6}" name="Hose"
@@ -224,8 +225,8 @@ def whole_run(envs: int = 256, seconds: float = 10.0) -> None:
     trajectories of ``seconds`` (its kernel compiled first, by a one-frame run), wall and CPU time."""
     import rswarp
     from rswarp.examples import IRB2600ID
-    from rswarp.sim.cables import simulate_cables
     from rswarp.kinematics.trajectory import random_trajectory
+    from rswarp.sim.cables import simulate_cables
 
     mech = rswarp.load(IRB2600ID)
     trajectories = [random_trajectory(mech, seconds, seed) for seed in range(envs)]

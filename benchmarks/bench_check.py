@@ -28,7 +28,8 @@ NS = "urn:abb-robotics-robotstudio-graphiccomponent"
 
 
 def chain(n: int) -> str:
-    out = [f'<Mechanism xmlns="{NS}" type="Other" name="Long" lengthUnit="mm" angleUnit="deg">', '<Links baseLink="L0">']
+    out = [f'<Mechanism xmlns="{NS}" type="Other" name="Long" lengthUnit="mm" angleUnit="deg">',
+           '<Links baseLink="L0">']
     out += [f'<Part name="L{i}"/>' for i in range(n + 1)]
     out.append("</Links><Joints>")
     out += [f'<Joint name="J{i}" parent="L{i}" child="L{i + 1}" type="Rotational" active="true" '
@@ -64,7 +65,8 @@ def main() -> None:
         for n in (int(s) for s in args.sizes.split(",")):
             rows.append(measure(n, Path(tmp)))
             r = rows[-1]
-            print(f"{r['links']:>9} links {r['mib']:>7} MiB  check {r['check_s']:>8.2f} s  lxml parse {r['lxml_parse_s']:>6.2f} s"
+            print(f"{r['links']:>9} links {r['mib']:>7} MiB  check {r['check_s']:>8.2f} s  "
+                  f"lxml parse {r['lxml_parse_s']:>6.2f} s"
                   f"  ratio {r['ratio']:>5.1f}x  {r['us_per_link']:>6.1f} us/link", flush=True)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
     last = rows[-1]

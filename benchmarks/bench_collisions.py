@@ -51,7 +51,8 @@ def peer_verdicts(lib, bodies, poses: np.ndarray, repeats: int) -> tuple[np.ndar
     setup = time.perf_counter() - t
     out = np.zeros((len(poses), len(bodies.pairs)), bool)
     fcl = lib.__name__ == "fcl"
-    transform = (lambda m: lib.Transform(m[:3, :3], m[:3, 3])) if fcl else (lambda m: lib.Transform3s(m[:3, :3], m[:3, 3]))
+    make = lib.Transform if fcl else lib.Transform3s
+    transform = lambda m: make(m[:3, :3], m[:3, 3])
     request = lib.CollisionRequest()
     best = np.inf
     for _ in range(repeats):
@@ -110,7 +111,8 @@ def throughput(mech, bodies, args) -> tuple[list, dict, np.ndarray]:
             print(f"{name}: not installed, skipped")
             continue
         ref, secs, peer_setup = peer_verdicts(lib, bodies, poses, args.repeats)
-        rows.append((f"{'python-fcl' if name == 'fcl' else 'Coal'} (poses given, 1 thread)", len(poses), secs, peer_setup))
+        label = f"{'python-fcl' if name == 'fcl' else 'Coal'} (poses given, 1 thread)"
+        rows.append((label, len(poses), secs, peer_setup))
         mine = ours[:len(poses)]
         agree[name] = (int((mine == ref).sum()), int((ref & ~mine).sum()), int((mine & ~ref).sum()))
     return rows, agree, q

@@ -122,7 +122,8 @@ def main() -> None:
         rows.append((n, worlds, all_links, fresh, flange, peer, build, err))
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
-    first = "compiling into an empty cache" if args.cold_cache else "building the kernels, compiled or loaded from Warp's cache"
+    first = "compiling into an empty cache" if args.cold_cache else \
+        "building the kernels, compiled or loaded from Warp's cache"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
           f"{first}); Newton per row below (replicated worlds)")
     print_table(rows)

@@ -22,8 +22,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import rswarp  # noqa: E402
 from bench_fk import median_time  # noqa: E402
+
+import rswarp  # noqa: E402
 from rswarp import examples  # noqa: E402
 
 
@@ -96,7 +97,8 @@ def main() -> None:
     print(f"closure cost: the palletizer's all-link FK runs at {rows[0][1] / rows[1][1]:.2f}x the IRB 2600's rate "
           f"({rows[0][1] * 11 / (rows[1][1] * 7):.2f}x its link poses per second); flange only: "
           f"{rows[0][2] / rows[1][2]:.2f}x; the five-bar's Newton solve (8 continuation steps of 3 iterations, "
-          f"4 more) costs {1e9 / rows[3][1]:.0f} ns a configuration, the four-bar's closed form {1e9 / rows[2][1]:.0f} ns")
+          f"4 more) costs {1e9 / rows[3][1]:.0f} ns a configuration, the four-bar's closed form "
+          f"{1e9 / rows[2][1]:.0f} ns")
     print(json.dumps({"metric": "palletizer FK configurations/s (all links)", "ours": round(rows[0][1]),
                       "peer": round(newton_rate), "ratio": round(rows[0][1] / newton_rate, 2)}))
 

@@ -26,10 +26,10 @@ import time
 from pathlib import Path
 
 import rswarp
-from rswarp.sim.cables import SETTLE_HOLD, SETTLE_MOVE, simulate_cables
-from rswarp.sim.engine import Cluster, connect, identical
-from rswarp.sim.collisions import CHUNK
 from rswarp.kinematics.trajectory import random_trajectory
+from rswarp.sim.cables import SETTLE_HOLD, SETTLE_MOVE, simulate_cables
+from rswarp.sim.collisions import CHUNK
+from rswarp.sim.engine import Cluster, connect, identical
 from rswarp.sim.workspace import SAMPLE_CHUNK
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -71,10 +71,10 @@ def workloads(quick: bool) -> list[Workload]:
     programs = [random_trajectory(hose, CABLE_SECONDS, seed) for seed in range(64)]
     scale = 4 if quick else 1
     return [
-        Workload("workspace sweep", "sample", [s // scale for s in (1 << 19, 1 << 21, 1 << 23)], (1 << 20) // scale, SAMPLE_CHUNK,
-                 lambda n, c: rswarp.workspace(irb, samples=n, seed=1, cluster=c)),
-        Workload("collision sweep", "sample", [s // scale for s in (1 << 18, 1 << 20, 1 << 22)], (1 << 20) // scale, CHUNK,
-                 lambda n, c: rswarp.collisions(irb, samples=n, seed=1, cluster=c)),
+        Workload("workspace sweep", "sample", [s // scale for s in (1 << 19, 1 << 21, 1 << 23)], (1 << 20) // scale,
+                 SAMPLE_CHUNK, lambda n, c: rswarp.workspace(irb, samples=n, seed=1, cluster=c)),
+        Workload("collision sweep", "sample", [s // scale for s in (1 << 18, 1 << 20, 1 << 22)], (1 << 20) // scale,
+                 CHUNK, lambda n, c: rswarp.collisions(irb, samples=n, seed=1, cluster=c)),
         Workload("cable run", "environment", [s // scale for s in (16, 64, 256)], 64 // scale, 1,
                  lambda n, c: simulate_cables(hose, programs, n, CABLE_SECONDS, cluster=c)),
     ]
@@ -93,8 +93,8 @@ def measure(w: Workload, repeats: int) -> dict:
     w.run(w.sizes[0], w.cluster(w.task))  # warm: workers started, kernels loaded
     rows = []
     for n in w.sizes:
-        local, a = best(repeats, lambda: w.run(n, None))
-        remote, b = best(repeats, lambda: w.run(n, w.cluster(w.task)))
+        local, a = best(repeats, lambda n=n: w.run(n, None))
+        remote, b = best(repeats, lambda n=n: w.run(n, w.cluster(w.task)))
         assert identical(a, b), f"{w.name}: Ray's result differs from the local one at {n}"
         rows.append({"size": n, "tasks": tasks(w, n, w.task), "local_s": local, "ray_s": remote})
     n = w.sizes[1]

@@ -15,7 +15,8 @@ def main(path: str) -> None:
     lo, hi = mech.bounds()
     print(f"{mech.name}: {mech.dof} axes, base link {mech.base_link}")
     for joint, a, b in zip(mech.active_joints, lo, hi):
-        print(f"  {joint.name}: {joint.type:10s} axis {joint.axis.round(3)} through {tuple(round(v, 4) for v in joint.point1)} m,"
+        through = tuple(round(v, 4) for v in joint.point1)
+        print(f"  {joint.name}: {joint.type:10s} axis {joint.axis.round(3)} through {through} m,"
               f" range [{a:+.3f}, {b:+.3f}] {'rad' if joint.revolute else 'm'}")
     for name in mech.link_names:
         try:
@@ -24,8 +25,10 @@ def main(path: str) -> None:
             print(f"  {name}: no mesh ({exc.message})")
             continue
         if mesh is not None:
-            print(f"  {name}: {len(mesh.faces)} triangles, {mesh.volume * 1e3:.2f} litres, watertight={mesh.is_watertight}")
+            print(f"  {name}: {len(mesh.faces)} triangles, {mesh.volume * 1e3:.2f} litres, "
+                  f"watertight={mesh.is_watertight}")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else str(Path(__file__).parent / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"))
+    default = Path(__file__).parent / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"
+    main(sys.argv[1] if len(sys.argv) > 1 else str(default))

@@ -14,7 +14,8 @@ import numpy as np
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("file", nargs="?", default=str(Path(__file__).parent / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"))
+    default = Path(__file__).parent / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"
+    parser.add_argument("file", nargs="?", default=str(default))
     parser.add_argument("--worlds", type=int, default=64)
     parser.add_argument("--out", help="where to write the USD (default: a temporary folder)")
     args = parser.parse_args()

@@ -42,13 +42,10 @@ def capacity(particles: int) -> int:
 
 @cached
 def cable_kernel(chain: Chain, links, particles: int, bending_iterations: int):
-    """``step(params, dt, qs, x_out, v_out, status_out, stats_out, clear_out, at_out)``: one frame for
-    each environment, in as many substeps as ``qs`` has rows. ``qs`` (envs, substeps, dof): the
-    joints at the end of each substep; ``x_out``, ``v_out`` (envs, particles) positions and
-    velocities and ``status_out`` (envs,) are read and updated in place; ``stats_out`` (envs, STATS)
-    gets the frame's peak tension, least bend radius and where, twist and stretch; ``clear_out``,
-    ``at_out`` (envs, links + 1): the least clearance to each link (the floor last) over the frame
-    and the particle where. An environment that blows up stops, frozen, with its status set."""
+    """``step``: one frame for each environment, in as many substeps as ``qs`` (envs, substeps,
+    dof: the joints at each substep's end) has rows; the state is updated in place and the frame's
+    statistics written (``STATS`` columns; the least clearance to each link, the floor last, and
+    the particle where). An environment that blows up stops, frozen, with its status set."""
     S = wp.float32
     M34 = types_of(S).mat34
     n_links = max(len(chain.parent), 1)
@@ -58,6 +55,7 @@ def cable_kernel(chain: Chain, links, particles: int, bending_iterations: int):
     near = near_function(n_links)
     substep = _substep_function(P, bending_iterations, near)
     sharpest, twist, stretch, commit = sharpest_function(), twist_function(), stretch_function(), _commit_function()
+    copy_out = _copy_function()
     module = module_name("cable", chain, links, P, bending_iterations)
 
     @wp.kernel(enable_backward=False, module=module)
@@ -107,11 +105,23 @@ def cable_kernel(chain: Chain, links, particles: int, bending_iterations: int):
         stats_out[e, BEND_AT] = S(tightest_at)
         stats_out[e, TWIST] = twist(p, params, poses)
         stats_out[e, STRETCH] = stretch(p, params)
-        for j in range(slots):
+        copy_out(gap, where, e, clear_out, at_out)
+
+    return step
+
+
+def _copy_function():
+    """``copy_out(gap, where, e, clear_out, at_out)``: an environment's clearance slots into the
+    frame's statistics."""
+
+    @wp.func
+    def copy_out(gap: Any, where: Any, e: int, clear_out: wp.array2d(dtype=wp.float32),
+                 at_out: wp.array2d(dtype=wp.int32)):
+        for j in range(clear_out.shape[1]):
             clear_out[e, j] = gap[j]
             at_out[e, j] = where[j]
 
-    return step
+    return copy_out
 
 
 def _advance_function(chain: Chain, links: set):
@@ -149,7 +159,7 @@ def _substep_function(P: int, bending_iterations: int, near):
         impulse = wp.zeros(shape=P, dtype=S)  # each segment's constraint impulse this substep
         project(p, params.rest, params.w, impulse)
         lam = wp.zeros(shape=P, dtype=wp.vec3)  # XPBD multipliers of the curvature constraints
-        for it in range(bending_iterations):
+        for _ in range(bending_iterations):
             bend(p, lam, params.w, params.compliance, h)
             project(p, params.rest, params.w, impulse)
         near(p, params, poses, params.margin, 1, gap, where)
@@ -198,7 +208,7 @@ def _length_projection(P: int, scalar):
         c = wp.zeros(shape=n, dtype=S)  # superdiagonal, then the Thomas algorithm's factors
         d = wp.zeros(shape=n, dtype=S)  # right-hand side, then the solution
         count = rest.shape[0] + 1
-        for newton in range(NEWTON_STEPS):
+        for _ in range(NEWTON_STEPS):
             for k in range(count - 1):
                 seg = p[k + 1] - p[k]
                 length = wp.length(seg)

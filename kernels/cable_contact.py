@@ -142,7 +142,8 @@ def sharpest_function():
             b = p[k + 1] - p[k]
             s = wp.length(wp.cross(a, b))
             if s > TINY:
-                r = 0.5 * (params.rest[k - 1] + params.rest[k]) * (wp.length(a) * wp.length(b) + wp.dot(a, b)) / (2.0 * s)
+                mean = 0.5 * (params.rest[k - 1] + params.rest[k])
+                r = mean * (wp.length(a) * wp.length(b) + wp.dot(a, b)) / (2.0 * s)
                 if r < best:
                     best = r
                     where = k

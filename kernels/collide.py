@@ -15,7 +15,6 @@ from typing import Any
 import warp as wp
 
 from .cache import cached, module_name
-
 from .fk import emit_local, pose_functions, tree_fk
 from .geometry import FAR
 from .tree import crossing_walk, sampling_functions, traversal_functions
@@ -190,16 +189,20 @@ def _body_pose(scalar):
 
 
 def _make_kernels(module: str, chain: Chain, links, scalar):
+    fk = tree_fk(chain, set(int(k) for k in links) or {chain.root}, emit_local(scalar), scalar)
+    body = _body_pose(scalar)  # one per module: collide and the pair kernels share it
+    return (_sweep_kernel(module, chain, fk, body, scalar), *_pair_kernels(module, chain, fk, body, scalar))
+
+
+def _sweep_kernel(module: str, chain: Chain, fk, body, scalar):
+    """The sweep's kernel: every pair's verdict and gap at each configuration."""
     S, V3, M33, M34, M44 = types_of(scalar)
     BodyArrays = bodies_struct(scalar)
-    pair_verdict, pair_distance = pair_functions(scalar)
-    rotation, relative = pose_helpers(scalar)
+    pair_verdict, _ = pair_functions(scalar)
     witness_cell, _ = witness_functions(scalar)
-    crossing_sample = sampling_functions(scalar)
-    body_pose, body_centre = _body_pose(scalar)
+    body_pose, body_centre = body
     _, _, apply, _ = pose_functions(scalar)
     n = max(len(chain.parent), 1)
-    fk = tree_fk(chain, set(int(k) for k in links) or {chain.root}, emit_local(scalar), scalar)
 
     @wp.kernel(enable_backward=False, module=module)
     def collide(
@@ -230,6 +233,19 @@ def _make_kernels(module: str, chain: Chain, links, scalar):
             else:
                 hit_out[i, p] = wp.uint8(0)
                 gap_out[i, p] = g
+
+    return collide
+
+
+def _pair_kernels(module: str, chain: Chain, fk, body, scalar):
+    """(distance, witness): one pair at each configuration, its exact distance or its crossings."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    BodyArrays = bodies_struct(scalar)
+    _, pair_distance = pair_functions(scalar)
+    rotation, relative = pose_helpers(scalar)
+    crossing_sample = sampling_functions(scalar)
+    body_pose, _ = body
+    n = max(len(chain.parent), 1)
 
     @wp.func
     def posed_pair(m: BodyArrays, q: wp.array2d(dtype=S), i: int, p: int) -> M34:
@@ -263,6 +279,7 @@ def _make_kernels(module: str, chain: Chain, links, scalar):
     ):
         i = wp.tid()
         rel = posed_pair(m, q, i, pair[i])
-        witness_out[i] = crossing_sample(m, m.pair_a[pair[i]], m.pair_b[pair[i]], rotation(rel), V3(rel[0, 3], rel[1, 3], rel[2, 3]))
+        t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
+        witness_out[i] = crossing_sample(m, m.pair_a[pair[i]], m.pair_b[pair[i]], rotation(rel), t)
 
-    return collide, distance, witness
+    return distance, witness

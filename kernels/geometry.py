@@ -5,7 +5,6 @@ one precision: the narrow and middle phases of the collision kernels (``collide`
 import warp as wp
 
 from .cache import cached
-
 from .types import types_of
 
 FAR = 1.0e30

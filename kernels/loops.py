@@ -13,8 +13,21 @@ import warp as wp
 
 from .cache import cached
 from .motion import revolute_motion
-from .specs import (CLOSING, CLOSURE_TOLERANCE, FINE_ITERATIONS, FINE_STEPS, ITERATIONS, MAX_STEP, NEAR, PATH_A,
-                    PATH_B, POLISH, SINGULAR, STEPS, square_rows)
+from .specs import (
+    CLOSING,
+    CLOSURE_TOLERANCE,
+    FINE_ITERATIONS,
+    FINE_STEPS,
+    ITERATIONS,
+    MAX_STEP,
+    NEAR,
+    PATH_A,
+    PATH_B,
+    POLISH,
+    SINGULAR,
+    STEPS,
+    square_rows,
+)
 from .types import Chain, types_of
 
 
@@ -66,7 +79,7 @@ def _loop_solve(rows: np.ndarray, VM, scalar):
             if k < steps:
                 s = S(k + 1) / S(steps)
                 n = iterations
-            for it in range(n):
+            for _ in range(n):
                 x, r = newton(q, i, x, s)
                 if wp.isnan(r) or r < ratio:
                     ratio = r
@@ -89,26 +102,26 @@ def _loop_solve(rows: np.ndarray, VM, scalar):
 
 
 def _ends(rows: np.ndarray, first: int, m: int, VM, scalar):
-    """``ends(q, i, x, s, W, O) -> (4, 3)``: the closing joint's point and axis carried by path A,
+    """``ends(q, i, x, s, axes, anchors) -> (4, 3)``: the closing joint's point and axis carried by path A,
     then by path B (rows), with active joints at ``s`` times their values; each unknown's world axis
-    and point before its joint go to ``W[a]``, ``O[a]`` (local arrays)."""
+    and point before its joint go to ``axes[a]``, ``anchors[a]`` (local arrays)."""
     T = types_of(scalar)
-    S, V3, M33 = T.scalar, T.vec3, T.mat33
+    S, V3 = T.scalar, T.vec3
     M43 = wp.types.matrix((4, 3), S)
     closing = rows[rows[:, 1] == CLOSING][0]
     pc, ac = V3(*(float(v) for v in closing[8:11])), V3(*(float(v) for v in closing[5:8]))
     path_a, path_b = (_path(rows[rows[:, 1] == role], first, T) for role in (PATH_A, PATH_B))
 
     @wp.func
-    def ends(q: wp.array2d(dtype=S), i: int, x: VM, s: S, W: Any, O: Any) -> M43:
+    def ends(q: wp.array2d(dtype=S), i: int, x: VM, s: S, axes: Any, anchors: Any) -> M43:
         ra = wp.identity(n=3, dtype=S)
         ta = V3()
         for n in range(wp.static(len(path_a))):
-            ra, ta = wp.static(path_a[n])(q, i, x, s, ra, ta, W, O)
+            ra, ta = wp.static(path_a[n])(q, i, x, s, ra, ta, axes, anchors)
         rb = wp.identity(n=3, dtype=S)
         tb = V3()
         for n in range(wp.static(len(path_b))):
-            rb, tb = wp.static(path_b[n])(q, i, x, s, rb, tb, W, O)
+            rb, tb = wp.static(path_b[n])(q, i, x, s, rb, tb, axes, anchors)
         xa = ra * wp.static(pc) + ta
         aa = ra * wp.static(ac)
         xb = rb * wp.static(pc) + tb
@@ -119,8 +132,8 @@ def _ends(rows: np.ndarray, first: int, m: int, VM, scalar):
 
 
 def _path(rows: np.ndarray, first: int, T) -> tuple:
-    """A wp.func per joint of one path: ``(q, i, x, s, r, t, W, O) -> (r, t)`` applies the joint."""
-    S, V3, M33 = T.scalar, T.vec3, T.mat33
+    """A wp.func per joint of one path: ``(q, i, x, s, r, t, axes, anchors) -> (r, t)`` applies the joint."""
+    V3 = T.vec3
     out = []
     for row in rows:
         jtype, col, u = int(row[2]), int(row[3]), int(row[4])
@@ -135,14 +148,14 @@ def _joint(jtype: int, col: int, local: int, u: int, axis, point, rot, tra, T):
     revolute = jtype == 0
 
     @wp.func
-    def joint(q: wp.array2d(dtype=S), i: int, x: Any, s: S, r: M33, t: V3, W: Any, O: Any):
+    def joint(q: wp.array2d(dtype=S), i: int, x: Any, s: S, r: M33, t: V3, axes: Any, anchors: Any):
         v = S(0.0)
         if wp.static(col >= 0):
             v = s * q[i, wp.static(max(col, 0))]
         if wp.static(local >= 0):
             v = x[wp.static(max(u, 0))]
-            W[wp.static(max(local, 0))] = r * wp.static(axis)
-            O[wp.static(max(local, 0))] = r * wp.static(point) + t
+            axes[wp.static(max(local, 0))] = r * wp.static(axis)
+            anchors[wp.static(max(local, 0))] = r * wp.static(point) + t
         if wp.static(revolute):
             c = wp.cos(v)
             sn = wp.sin(v)
@@ -168,9 +181,9 @@ def _newton_step(rows: np.ndarray, first: int, m: int, ends, VM, scalar):
 
     @wp.func
     def newton(q: wp.array2d(dtype=S), i: int, x: VM, s: S):
-        W = wp.zeros(shape=wp.static(m), dtype=V3)
-        O = wp.zeros(shape=wp.static(m), dtype=V3)
-        e = ends(q, i, x, s, W, O)
+        axes = wp.zeros(shape=wp.static(m), dtype=V3)
+        anchors = wp.zeros(shape=wp.static(m), dtype=V3)
+        e = ends(q, i, x, s, axes, anchors)
         xa = V3(e[0, 0], e[0, 1], e[0, 2])
         aa = V3(e[1, 0], e[1, 1], e[1, 2])
         xb = V3(e[2, 0], e[2, 1], e[2, 2])
@@ -187,10 +200,10 @@ def _newton_step(rows: np.ndarray, first: int, m: int, ends, VM, scalar):
                 end = xa
                 ax = aa
             if wp.static(kinds[a] == 0):
-                JP[a] = sign * wp.cross(W[a], end - O[a])
-                JA[a] = sign * wp.cross(W[a], ax)
+                JP[a] = sign * wp.cross(axes[a], end - anchors[a])
+                JA[a] = sign * wp.cross(axes[a], ax)
             else:
-                JP[a] = sign * W[a]
+                JP[a] = sign * axes[a]
                 JA[a] = V3()
         dx = solve(JP, JA, ep, ea)
         norm = S(0.0)

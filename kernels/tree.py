@@ -7,7 +7,6 @@ from typing import Any
 import warp as wp
 
 from .cache import cached
-
 from .geometry import FAR, box_functions, triangle_functions
 from .types import WITNESSES, bodies_struct, types_of, witness_vec
 

@@ -10,7 +10,6 @@ of node pairs, the witnesses of a cell a few triangles."""
 import warp as wp
 
 from .cache import cached
-
 from .geometry import triangle_functions
 from .types import WITNESSES, bodies_struct, types_of
 

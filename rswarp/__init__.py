@@ -9,8 +9,19 @@ from .errors import Diagnostic, InputError, MeshError, MeshNotFoundError, RsxmlE
 from .rsxml.documents import Report, RsxmlWarning, check, load, load_library
 from .rsxml.graph import LinkGraph
 from .rsxml.model import (
-    Attribute, Cable, ControlPoint, DynamicProperty, Flange, Group, IOSignal, Joint, Limit, Mechanism, Part,
-    Pose, SmartComponent,
+    Attribute,
+    Cable,
+    ControlPoint,
+    DynamicProperty,
+    Flange,
+    Group,
+    IOSignal,
+    Joint,
+    Limit,
+    Mechanism,
+    Part,
+    Pose,
+    SmartComponent,
 )
 from .rsxml.write import save, to_rsxml
 
@@ -42,7 +53,9 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Attribute", "Cable", "ControlPoint", "Diagnostic", "DynamicProperty", "Flange", "Group", "IOSignal",
-    "InputError", "Joint", "Limit", "LinkGraph", "Mechanism", "MeshError", "MeshNotFoundError", "Part", "Pose", "Report",
+    "InputError", "Joint", "Limit", "LinkGraph", "Mechanism", "MeshError", "MeshNotFoundError", "Part", "Pose",
+    "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
-    "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton", "to_urdf",
+    "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton",
+    "to_urdf",
 ]

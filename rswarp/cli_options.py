@@ -29,14 +29,16 @@ def fk(p: argparse.ArgumentParser) -> None:
 
 def sweep(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", metavar="FILE")
-    p.add_argument("--samples", type=argument("samples"), default=1_000_000, help="joint configurations (default 1000000)")
+    p.add_argument("--samples", type=argument("samples"), default=1_000_000,
+                   help="joint configurations (default 1000000)")
     p.add_argument("--method", choices=["random", "sobol", "grid"], default="random")
     p.add_argument("--resolution", type=argument("resolution"), help=f"voxel size {LENGTH} (default 25 mm)")
 
 
 def collisions(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", metavar="FILE")
-    p.add_argument("--samples", type=argument("samples"), default=1_000_000, help="random configurations (default 1000000)")
+    p.add_argument("--samples", type=argument("samples"), default=1_000_000,
+                   help="random configurations (default 1000000)")
     p.add_argument("--padding", type=argument("padding"), default=0.0,
                    help=f"pairs closer than this ({LENGTH}) count as colliding (default 0)")
     p.add_argument("--env", action="append", default=[], metavar="MESH@x,y,z",
@@ -88,8 +90,6 @@ def build(p: argparse.ArgumentParser) -> None:
 
 
 def cable(p: argparse.ArgumentParser) -> None:
-    from .sim.cable_models import CABLE_MODELS
-
     p.add_argument("path", metavar="FILE")
     p.add_argument("--envs", type=argument("envs"), default=16, help="parallel environments (default 16)")
     how = p.add_mutually_exclusive_group(required=True)
@@ -110,9 +110,11 @@ def cable(p: argparse.ArgumentParser) -> None:
     p.add_argument("--density", type=argument("density"), default=DENSITY, help=f"kg/m^3 (default {DENSITY:g}, a hose)")
     p.add_argument("--frame-rate", type=argument("frame-rate"), default=FRAME_RATE,
                    help=f"results per simulated second (default {FRAME_RATE:g})")
-    p.add_argument("--substeps", type=argument("substeps"), default=SUBSTEPS, help=f"steps per frame (default {SUBSTEPS})")
-    p.add_argument("--cable-model", choices=sorted(CABLE_MODELS), default="chain",
-                   help="how the cables are simulated (default chain: particles, inextensible, bent by XPBD)")
+    p.add_argument("--substeps", type=argument("substeps"), default=SUBSTEPS,
+                   help=f"steps per frame (default {SUBSTEPS})")
+    p.add_argument("--cable-model", default="chain", metavar="MODEL",
+                   help="how the cables are simulated: a model of rswarp.sim.cable_models (default chain: "
+                        "particles, inextensible, bent by XPBD)")
 
 
 def demo(p: argparse.ArgumentParser) -> None:

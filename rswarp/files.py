@@ -77,13 +77,6 @@ def read_regular(path: str | Path) -> bytes:
     return data
 
 
-def check_regular(path: str | Path) -> None:
-    """Raise ``OSError`` unless ``path`` is a regular file within the size limit (for files that
-    another library opens, such as meshes)."""
-    fd, _ = open_regular(path)
-    os.close(fd)
-
-
 def output_error(path: str | Path, exc: OSError) -> InputError:
     """An OSError met while writing ``path`` as the user's problem, in one line."""
     return InputError(f"{path}: cannot write: {exc.strerror or exc}")

@@ -7,6 +7,7 @@ import pytest
 
 import rswarp
 from rswarp.cli import main
+
 from conftest import DATA
 
 BAD = sorted((DATA / "bad").iterdir())

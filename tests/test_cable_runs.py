@@ -12,9 +12,9 @@ from scipy.optimize import brentq
 
 import rswarp
 from rswarp.cli import main
+from rswarp.kinematics.trajectory import Trajectory
 from rswarp.sim.cable_chain import ParticleChain
 from rswarp.sim.cables import CableOptions, simulate_cables
-from rswarp.kinematics.trajectory import Trajectory
 
 from conftest import DATA
 

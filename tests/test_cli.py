@@ -9,6 +9,7 @@ import pytest
 import rswarp
 from rswarp import examples
 from rswarp.cli import main
+
 from conftest import DATA
 
 

@@ -14,10 +14,10 @@ import pytest
 
 import rswarp
 from rswarp.cli import main
-from rswarp.sim.bodies import collision_bodies
 from rswarp.geometry.bvh import PIECE_POINTS, build_bvh, component_points
 from rswarp.kernels import types as kernel_types
 from rswarp.kinematics.chain import chain_of
+from rswarp.sim.bodies import collision_bodies
 from rswarp.sim.collisions import CHUNK, Checker, collisions
 from rswarp.sim.witness import pair_columns
 

@@ -13,14 +13,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from generated import mechanism, torus_ply
 
 import rswarp
 from rswarp import examples
 from rswarp.cli import main
 from rswarp.export import export
-from rswarp.geometry import collision
+from rswarp.geometry import convex
+
 from conftest import DATA
-from generated import mechanism, torus_ply
 
 pxr = pytest.importorskip("pxr")
 from pxr import Usd, UsdGeom, UsdPhysics  # noqa: E402
@@ -38,9 +39,9 @@ def u_shape() -> trimesh.Trimesh:
 
 def test_convex_pieces_are_convex_and_cached(monkeypatch):
     mesh = u_shape()
-    hull = collision.convex_pieces(mesh.vertices, mesh.faces, "convexHull")
+    hull = convex.convex_pieces(mesh.vertices, mesh.faces, "convexHull")
     assert len(hull) == 1 and trimesh.Trimesh(hull[0].vertices, hull[0].faces).is_convex
-    pieces = collision.convex_pieces(mesh.vertices, mesh.faces, "convexDecomposition")
+    pieces = convex.convex_pieces(mesh.vertices, mesh.faces, "convexDecomposition")
     assert len(pieces) >= 3
     for p in pieces:
         t = trimesh.Trimesh(p.vertices, p.faces)
@@ -49,7 +50,7 @@ def test_convex_pieces_are_convex_and_cached(monkeypatch):
     import coacd
 
     monkeypatch.setattr(coacd, "run_coacd", lambda *a, **k: pytest.fail("recomputed a cached decomposition"))
-    again = collision.convex_pieces(mesh.vertices, mesh.faces, "convexDecomposition")
+    again = convex.convex_pieces(mesh.vertices, mesh.faces, "convexDecomposition")
     assert len(again) == len(pieces) and all(np.array_equal(a.vertices, b.vertices) for a, b in zip(again, pieces))
 
 
@@ -59,10 +60,10 @@ def hull_volume(pieces) -> float:
 
 def test_a_large_mesh_hull_is_reduced_but_inside_the_exact_hull():
     rng = np.random.default_rng(0)
-    points = rng.normal(size=(collision.EXACT_HULL_VERTICES + 1, 3))
-    reduced = collision.convex_pieces(points, np.zeros((0, 3), np.int64))[0]
+    points = rng.normal(size=(convex.EXACT_HULL_VERTICES + 1, 3))
+    reduced = convex.convex_pieces(points, np.zeros((0, 3), np.int64))[0]
     exact = trimesh.convex.convex_hull(points)
-    assert len(reduced.vertices) <= collision.HULL_DIRECTIONS
+    assert len(reduced.vertices) <= convex.HULL_DIRECTIONS
     assert np.all(exact.contains(reduced.vertices * 0.999))  # a subset of the exact hull's vertices
     assert trimesh.Trimesh(reduced.vertices, reduced.faces).volume > 0.97 * exact.volume
 

@@ -11,6 +11,7 @@ import rswarp
 from rswarp import examples
 from rswarp.export.urdf import to_urdf
 from rswarp.kinematics.kinematics import Kinematics
+
 from conftest import DATA
 
 pin = pytest.importorskip("pinocchio")

@@ -11,6 +11,7 @@ from rswarp import examples
 from rswarp.export.frames import link_origins
 from rswarp.export.usd_layout import to_usd
 from rswarp.kinematics.kinematics import Kinematics
+
 from conftest import DATA
 
 pxr = pytest.importorskip("pxr")

@@ -10,6 +10,7 @@ from lxml import etree
 import rswarp
 from rswarp import examples
 from rswarp.cli import main
+
 from conftest import DATA
 
 SEEDS = [examples.IRB2600ID, DATA / "transforms.rsxml", DATA / "cable.rsxml", DATA / "parallel_rod.rsxml",

@@ -6,6 +6,7 @@ import pytest
 import rswarp
 from rswarp import examples
 from rswarp.geometry import link_mesh, mesh_candidates, part_mesh, part_mesh_path
+
 from conftest import DATA
 
 

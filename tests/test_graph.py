@@ -4,13 +4,13 @@ exporters agree on the tree and the closing joints."""
 import random
 import re
 
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rswarp
 from rswarp.rsxml.graph import LinkGraph
 from rswarp.rsxml.model import Joint, Mechanism, Part
+
 from conftest import DATA
 
 

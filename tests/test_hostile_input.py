@@ -8,12 +8,13 @@ import sys
 import time
 
 import pytest
+from generated import NS, library, mechanism
 
 import rswarp
 from rswarp.cli import main
 from rswarp.rsxml import documents
+
 from conftest import DATA
-from generated import NS, library, mechanism
 
 ENTITY_DOC = """<?xml version="1.0" encoding="{enc}"?>
 <!DOCTYPE Mechanism [

@@ -13,6 +13,7 @@ import warnings
 
 import numpy as np
 import pytest
+from generated import mechanism
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -21,8 +22,8 @@ from rswarp import examples
 from rswarp.cli import main
 from rswarp.report import output, sweep
 from rswarp.sim import workspace as ws_module
+
 from conftest import DATA
-from generated import mechanism
 
 BRANCHING = DATA / "branching.rsxml"
 

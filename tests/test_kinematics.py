@@ -9,6 +9,7 @@ from scipy.spatial.transform import Rotation
 import rswarp
 from rswarp import examples
 from rswarp.kinematics.kinematics import Kinematics
+
 from conftest import DATA
 
 MODELS = {"irb1300": examples.IRB1300, "irb2600id": examples.IRB2600ID, "irb2600": examples.IRB2600,

@@ -6,11 +6,10 @@ import numpy as np
 import pytest
 
 import rswarp
-from rswarp.report.info import SHOWN_LOOPS, mechanism_text
-from rswarp.kinematics.loops import FOUR_BAR, GENERAL, PARALLELOGRAM, SLIDER, classify, loops
-from rswarp.rsxml.model import Joint, Mechanism, Part
-
 from rswarp import examples
+from rswarp.kinematics.loops import FOUR_BAR, GENERAL, PARALLELOGRAM, SLIDER, classify, loops
+from rswarp.report.info import SHOWN_LOOPS, mechanism_text
+from rswarp.rsxml.model import Joint, Mechanism, Part
 
 from conftest import DATA
 
@@ -535,7 +534,6 @@ def test_loops_start_closed_at_a_home_away_from_zero(tmp_path):
     to_newton start every passive joint where the loops close: eval_fk of their initial joint
     state closes each closing joint within 1e-5 m."""
     newton = pytest.importorskip("newton")
-    import warp as wp
     from scipy.spatial.transform import Rotation
 
     from rswarp.export.newton import to_newton

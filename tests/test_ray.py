@@ -18,6 +18,7 @@ import pytest
 
 import rswarp
 from rswarp.cli import main
+from rswarp.kinematics.trajectory import Trajectory, random_trajectory
 from rswarp.sim import collisions as collisions_module
 from rswarp.sim import engine
 from rswarp.sim import workspace as workspace_module
@@ -25,7 +26,6 @@ from rswarp.sim.bodies import placed_environments
 from rswarp.sim.cables import CableOptions, simulate_cables
 from rswarp.sim.engine import Cluster, identical
 from rswarp.sim.package import package, unpack
-from rswarp.kinematics.trajectory import Trajectory, random_trajectory
 
 from conftest import DATA
 

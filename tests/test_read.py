@@ -9,6 +9,7 @@ import rswarp
 from rswarp import examples
 from rswarp.rsxml.model import Group, Part, iter_parts
 from rswarp.transforms import euler_zyx_matrix, quat_matrix
+
 from conftest import DATA
 
 MM, DEG, IN = 1e-3, math.pi / 180, 0.0254

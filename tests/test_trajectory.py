@@ -1,4 +1,5 @@
-"""Joint trajectories for cable runs: the CSV of DESIGN.md read with file:line errors, and smooth
+"""Joint trajectories for cable runs: the CSV of the design notes (docs/design.md) read with file:line errors,
+and smooth
 random trajectories within the limits (issue "Cable dynamics in parallel environments")."""
 
 from __future__ import annotations

@@ -11,6 +11,7 @@ from rswarp import examples
 from rswarp.cli import main
 from rswarp.kinematics.kinematics import Kinematics
 from rswarp.sim.workspace import radial_distance, sample_chunks, workspace
+
 from conftest import DATA
 
 

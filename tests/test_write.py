@@ -8,6 +8,7 @@ from lxml import etree
 import rswarp
 from rswarp import examples
 from rswarp.rsxml.parse import children, local
+
 from conftest import DATA
 
 GOOD = [examples.IRB1300, examples.IRB2600ID, examples.IRB2600, DATA / "smart" / "Counter.rsxml",

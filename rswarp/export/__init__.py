@@ -29,8 +29,8 @@ def export(model, path: str | Path, *, layout: str | None = None, mesh_paths: st
     as keywords) says how it simulates. Bad settings raise InputError."""
     from ..files import cleanup_on_terminate
     from ..rsxml.model import Mechanism, SmartComponent
-    from .physics import PhysicsOptions, robot_physics
     from .frames import mechanism_of
+    from .physics import PhysicsOptions, robot_physics
 
     if not isinstance(model, (Mechanism, SmartComponent)):
         raise InputError(f"a {type(model).__name__} does not export: only a mechanism (or a SmartComponent "

@@ -74,7 +74,8 @@ def _transform(m: np.ndarray):
     return wp.transform(wp.vec3(*m[:3, 3]), wp.quat(x, y, z, w))
 
 
-def _add_joint(builder, graph, body: dict[int, int], k: int, j, home: np.ndarray, limit, jp: JointPhysics | None) -> int:
+def _add_joint(builder, graph, body: dict[int, int], k: int, j, home: np.ndarray, limit,
+               jp: JointPhysics | None) -> int:
     """Link k's tree joint: anchors on the axis; an active joint's limits, dynamics and home."""
     import newton
     import warp as wp

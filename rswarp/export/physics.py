@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import InputError, MeshNotFoundError
 from ..geometry import DEFAULT_DENSITY, mass_properties, part_mesh
-from ..geometry.collision import METHODS, Convex, convex_pieces, halfspaces, overlap
+from ..geometry.convex import METHODS, Convex, convex_pieces, halfspaces, overlap
 from ..rsxml.model import Mechanism
 from ..rsxml.units import JOINT_VELOCITY
 from .frames import link_origins, link_poses
@@ -196,7 +196,8 @@ def _subtrees(mech: Mechanism) -> dict[str, list[str]]:
     return carried
 
 
-def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict, options: PhysicsOptions) -> dict[str, JointPhysics]:
+def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict,
+            options: PhysicsOptions) -> dict[str, JointPhysics]:
     graph, carried = mech.graph, _subtrees(mech)
     total = sum(b.mass for b in bodies.values())
     reach = max([float(np.linalg.norm(p[:3, 3] - poses[graph.base][:3, 3])) for p in poses.values()]
@@ -206,7 +207,7 @@ def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict, option
         if graph.column(j.name) < 0:
             continue
         link = graph.links[k]
-        moved = [bodies[l] for l in carried[link] if l in bodies and bodies[l].mass > 0]
+        moved = [bodies[c] for c in carried[link] if c in bodies and bodies[c].mass > 0]
         parent = poses[graph.links[graph.parent[k]]]
         axis, point = parent[:3, :3] @ j.axis, parent[:3, :3] @ np.asarray(j.point1, float) + parent[:3, 3]
         default_armature = ARMATURE_SCALE * max(total, 1.0) * (reach ** 2 if j.revolute else 1.0)
@@ -267,11 +268,11 @@ def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict,
     those a collision matrix disables (``disabled``)."""
     graph = mech.graph
     order = [graph.links[k] for k in graph.order]
-    solid = [l for l in order if bodies.get(l) and bodies[l].parts]
+    solid = [name for name in order if bodies.get(name) and bodies[name].parts]
     # links without geometry are contracted away (MoveIt's rule): links joined through them are adjacent
     adjacent = graph.adjacent_pairs(has_geometry=solid)
     out = [(*_ordered(a, b, order), "adjacent") for a, b in (tuple(p) for p in adjacent)]
-    shapes = {l: _posed(bodies[l], poses[l]) for l in solid}
+    shapes = {name: _posed(bodies[name], poses[name]) for name in solid}
     for i, a in enumerate(solid):
         for b in solid[i + 1:]:
             if frozenset((a, b)) not in adjacent and _touch(shapes[a], shapes[b]):

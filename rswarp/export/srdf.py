@@ -41,13 +41,15 @@ def read_srdf(path: str | Path, links) -> tuple[tuple[str, str, str], ...]:
             if name is None:
                 raise RsxmlError([Diagnostic(path, el.sourceline or 0, "disable_collisions needs link1 and link2")])
             if name not in known:
+                names = ", ".join(sorted(known))
                 raise RsxmlError([Diagnostic(path, el.sourceline or 0,
-                                             f"link '{name}' is not a link of this robot ({', '.join(sorted(known))})")])
+                                             f"link '{name}' is not a link of this robot ({names})")])
         out.append((a, b, el.get("reason") or "User"))
     return tuple(out)
 
 
-def collision_matrix(mech, srdf: str | Path | None = None, samples: int | None = None) -> tuple[tuple[str, str, str], ...]:
+def collision_matrix(mech, srdf: str | Path | None = None,
+                     samples: int | None = None) -> tuple[tuple[str, str, str], ...]:
     """The pairs a collision matrix disables for an export: those of the SRDF ``srdf``, or of a
     collision sweep of ``samples`` samples run now; none without either."""
     if srdf is not None:

@@ -95,7 +95,7 @@ def to_urdf_text(mech: Mechanism, path: str | Path, physics: PhysicsOptions | Ro
     for k in graph.order:
         lines += _link(robot.bodies[graph.links[k]], files)
     taken = set(mech.link_names) | {fl.name for fl in mech.flanges}
-    for k, j in graph.tree_order:
+    for _, j in graph.tree_order:
         lines += _mimic_chain(mech, j, origins, robot, mimics[j.name], taken) if j.name in mimics else \
             _joint(mech, j, origins, robot)
     lines += _flanges(mech, origins)
@@ -118,7 +118,8 @@ def _link(body: BodyPhysics, files: _Files) -> list[str]:
                          "</geometry></collision>")
     if body.mass > 0:
         c, i = body.com, body.inertia
-        lines.append(f'    <inertial><origin xyz="{" ".join(_f(v) for v in c)}" rpy="0 0 0"/><mass value="{_f(body.mass)}"/>'
+        xyz = " ".join(_f(v) for v in c)
+        lines.append(f'    <inertial><origin xyz="{xyz}" rpy="0 0 0"/><mass value="{_f(body.mass)}"/>'
                      f'<inertia ixx="{_f(i[0, 0])}" ixy="{_f(i[0, 1])}" ixz="{_f(i[0, 2])}" iyy="{_f(i[1, 1])}" '
                      f'iyz="{_f(i[1, 2])}" izz="{_f(i[2, 2])}"/></inertial>')
     return lines + ["  </link>"]
@@ -163,7 +164,8 @@ def _mimic_chain(mech: Mechanism, j, origins: dict, robot: RobotPhysics, terms: 
         lines += [f"  <joint name={quoteattr(name)} type={quoteattr('revolute' if j.revolute else 'prismatic')}>",
                   f"    <parent link={quoteattr(parent)}/><child link={quoteattr(child)}/>{_origin(offset)}",
                   f'    <axis xyz="{" ".join(_f(v) for v in j.axis)}"/>',
-                  f'    <limit lower="{_f(lower)}" upper="{_f(upper)}" effort="{_f(jp.effort)}" velocity="{_f(jp.velocity)}"/>',
+                  f'    <limit lower="{_f(lower)}" upper="{_f(upper)}" effort="{_f(jp.effort)}" '
+                  f'velocity="{_f(jp.velocity)}"/>',
                   f'    <mimic joint={quoteattr(leader)} multiplier="{_f(multiplier)}" offset="0"/>', "  </joint>"]
         parent = child
     return lines
@@ -204,8 +206,9 @@ def _flanges(mech: Mechanism, origins: dict) -> list[str]:
         name = fl.name if fl.name not in names else f"{fl.name}_flange"
         names.add(name)
         lines.append(f"  <link name={quoteattr(name)}/>")
+        origin = _origin(translated(fl.pose.matrix(), origins[fl.link]))
         lines.append(f"  <joint name={quoteattr(name + '_joint')} type=\"fixed\"><parent link={quoteattr(fl.link)}/>"
-                     f"<child link={quoteattr(name)}/>{_origin(translated(fl.pose.matrix(), origins[fl.link]))}</joint>")
+                     f"<child link={quoteattr(name)}/>{origin}</joint>")
     return lines
 
 
@@ -224,9 +227,11 @@ def to_urdf(mech: Mechanism, path: str | Path, physics: PhysicsOptions | RobotPh
     folder = path.parent if str(path.parent) else Path(".")
     files = _Files(path.stem, folder.resolve() if mesh_paths == "absolute" else None)
     srdf = path.with_suffix(".srdf")
-    physics = physics if isinstance(physics, RobotPhysics) else robot_physics(mech, physics or PhysicsOptions(**options))
+    if not isinstance(physics, RobotPhysics):
+        physics = robot_physics(mech, physics or PhysicsOptions(**options))
     text, warnings = to_urdf_text(mech, path, physics, files)
-    with cleanup_on_terminate(), new_folders(path), tempfile.TemporaryDirectory(dir=folder, prefix=f".{path.stem}.") as tmp:
+    with cleanup_on_terminate(), new_folders(path), \
+            tempfile.TemporaryDirectory(dir=folder, prefix=f".{path.stem}.") as tmp:
         tmp = Path(tmp)
         (tmp / path.name).write_text(text)
         # URDF cannot say which pairs never need a contact test: an SRDF beside it does (MoveIt reads

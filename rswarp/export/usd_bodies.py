@@ -69,8 +69,9 @@ def _author_parts(stage, path: str, body: BodyPhysics, approximation: str) -> No
     visual_names, collision_names = PrimNames(), PrimNames()
     for part in body.parts:
         mesh = part.mesh
-        visual = author_mesh(stage, f"{path}/{VISUALS}/{visual_names(part.name)}", np.asarray(mesh.vertices) - body.origin,
-                             np.asarray(mesh.faces), mesh_color(mesh), np.asarray(mesh.vertex_normals))
+        visual = author_mesh(stage, f"{path}/{VISUALS}/{visual_names(part.name)}",
+                             np.asarray(mesh.vertices) - body.origin, np.asarray(mesh.faces), mesh_color(mesh),
+                             np.asarray(mesh.vertex_normals))
         visual.GetPrim().SetDisplayName(part.name)
         for i, piece in enumerate(part.pieces):
             name = collision_names(part.name if len(part.pieces) == 1 else f"{part.name}_{i}")

@@ -105,5 +105,6 @@ def _author_dynamics(prim, revolute: bool, jp: JointPhysics, home: float) -> Non
     prim.CreateAttribute("newton:armature", Sdf.ValueTypeNames.Float, custom=False).Set(float(jp.armature))
     prim.CreateAttribute("newton:limitStiffness", Sdf.ValueTypeNames.Float, custom=False).Set(
         float(jp.limit_stiffness / per))
-    prim.CreateAttribute("newton:limitDamping", Sdf.ValueTypeNames.Float, custom=False).Set(float(jp.limit_damping / per))
+    prim.CreateAttribute("newton:limitDamping", Sdf.ValueTypeNames.Float, custom=False).Set(
+        float(jp.limit_damping / per))
     prim.CreateAttribute("newton:velocityLimit", Sdf.ValueTypeNames.Float, custom=False).Set(float(jp.velocity * per))

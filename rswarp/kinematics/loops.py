@@ -247,7 +247,8 @@ def _add_closed(graph, loop: Loop, out: PassiveMap) -> str | None:
     else:
         specs = slider_specs(graph, loop, graph.common_ancestor(loop.closing), normal, plane_basis(normal))
         if specs is None:
-            return "its slider is not a cylinder pivoting on the loop's base and pinned to an arm one active joint turns"
+            return ("its slider is not a cylinder pivoting on the loop's base and pinned to an arm one active joint "
+                    "turns")
     for k, (spec, coef) in specs.items():
         out.closed_form[k] = spec
         for col, c in coef.items():

@@ -19,8 +19,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels.specs import (CLOSING, CLOSURE_TOLERANCE, ITERATIONS, FINE_ITERATIONS, FINE_STEPS, MAX_STEP,
-                             MAX_UNKNOWNS, NEAR, PATH_A, PATH_B, POLISH, ROW, SINGULAR, STEPS, square_rows)
+from ..kernels.specs import (
+    CLOSING,
+    CLOSURE_TOLERANCE,
+    FINE_ITERATIONS,
+    FINE_STEPS,
+    ITERATIONS,
+    MAX_STEP,
+    MAX_UNKNOWNS,
+    NEAR,
+    PATH_A,
+    PATH_B,
+    POLISH,
+    ROW,
+    SINGULAR,
+    STEPS,
+    square_rows,
+)
 
 
 def newton_rows(graph, loop, first_unknown: int) -> tuple[np.ndarray, dict[int, int], str | None]:
@@ -130,7 +145,8 @@ def _closure(rows: np.ndarray, q: np.ndarray, x: np.ndarray, first: int, m: int)
     (xa, aa), (xb, ab) = ends
     for role, jtype, col, u, w, o in records:
         sign, end, ax = (1.0, xa, aa) if role == PATH_A else (-1.0, xb, ab)
-        column = np.concatenate([np.cross(w, end - o), np.cross(w, ax)] if jtype == 0 else [w, np.zeros_like(w)], axis=1)
+        parts = [np.cross(w, end - o), np.cross(w, ax)] if jtype == 0 else [w, np.zeros_like(w)]
+        column = np.concatenate(parts, axis=1)
         if u >= 0:
             jac_u[:, :, u - first] += sign * column
         elif col >= 0:

@@ -1,4 +1,4 @@
-"""Joint trajectories that cable environments follow: CSV files as DESIGN.md defines them (header
+"""Joint trajectories that cable environments follow: CSV files as the design notes define them (header
 ``time,<active joints in file order>``, time in seconds, joint values in the RSXML file's units,
 linearly interpolated), and smooth random ones within the joint limits at plausible joint speeds,
 reproducible for a seed. Several trajectories serve many environments round-robin.

@@ -160,8 +160,8 @@ def _contact_lines(c: CableResult) -> list[str]:
             continue
         e = int(np.nanargmin(np.where(np.isfinite(col), col, np.inf)))
         touching = np.nonzero(np.isfinite(c.contact_time[:, j]))[0]
-        text = f"  {name}: least clearance {col[e] * 1000:.1f} mm (environment {e}, t = {c.clearance_time[e, j]:.2f} s, " \
-               f"{c.clearance_at[e, j]:.3f} m along)"
+        text = f"  {name}: least clearance {col[e] * 1000:.1f} mm (environment {e}, " \
+               f"t = {c.clearance_time[e, j]:.2f} s, {c.clearance_at[e, j]:.3f} m along)"
         if len(touching):
             first = touching[np.argmin(c.contact_time[touching, j])]
             text += f"; touches in {len(touching)} of {c.envs}, first environment {first} at t = " \

@@ -67,8 +67,8 @@ def demo_ray(robots: list[Mechanism], say: Callable[[str], None]) -> dict:
     import importlib.util
 
     from ..errors import InputError
-    from ..sim.engine import INSTALL, Cluster, identical
     from ..sim.collisions import CHUNK, collisions
+    from ..sim.engine import INSTALL, Cluster, identical
 
     if importlib.util.find_spec("ray") is None:
         say(f"== Ray: not installed; {INSTALL.split(': ', 1)[1]} to run sweeps, collision sweeps and cable runs "
@@ -136,7 +136,8 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     lines = [f"== {mech.name}: flange at home ({pos}) {unit}; reach {rounded(reach.value, lf, 1e-4)} {unit} "
              f"({what}, {DEMO_SAMPLES} samples refined)", *(f"   {w}" for w in warnings[:1]),
              f"   {collision_line}",
-             f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else no_urdf) + f": {_physics_line(done[0].physics)}",
+             f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else no_urdf)
+             + f": {_physics_line(done[0].physics)}",
              *_cables(mech, out), ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,

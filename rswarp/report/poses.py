@@ -50,7 +50,8 @@ def pose_text(mech: Mechanism, links: list[tuple[str, np.ndarray]], flanges: lis
             rows.append([f"{kind} {name}", *(rounded(float(v), lf, 1e-6) for v in m[:3, 3]),
                          *(rounded(a, af, 1e-5) for a in e)])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    return "\n".join("  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths))) for r in rows)
+    return "\n".join("  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
+                     for r in rows)
 
 
 def limit_warnings(mech: Mechanism, q: np.ndarray) -> list[str]:

@@ -85,13 +85,16 @@ def sweep_text(ws: Workspace, mech: Mechanism, files: dict) -> str:
 
     lines = [f"{mech.name}: {ws.samples} {ws.method} samples (seed {ws.seed}) within the joint limits"]
     if ws.reach is not None:
-        lines.append(f"  reach (J1 axis to wrist centre): {length(ws.reach.value)}  (best sample {length(ws.reach.sampled)})")
+        lines.append(f"  reach (J1 axis to wrist centre): {length(ws.reach.value)}  "
+                     f"(best sample {length(ws.reach.sampled)})")
         lines.append(f"  wrist centre height: {length(ws.wrist_low.value)} to {length(ws.wrist_high.value)}")
-    flange = "  flange reach" if ws.reach is not None else "  reach (J1 axis to flange centre; no wrist centre below five axes)"
+    flange = "  flange reach" if ws.reach is not None else \
+        "  reach (J1 axis to flange centre; no wrist centre below five axes)"
     lines.append(f"{flange}: {length(ws.flange_reach.value)}")
     lines.append(f"  flange height: {length(ws.flange_low.value)} to {length(ws.flange_high.value)}")
     if ws.unreachable:
-        lines.append(f"  skipped {ws.unreachable} samples ({ws.unreachable / ws.samples:.1%}) where a loop cannot close "
+        lines.append(f"  skipped {ws.unreachable} samples ({ws.unreachable / ws.samples:.1%}) where a loop cannot "
+                     "close "
                      "(past a dead point)")
     lines.append("  wrote " + ", ".join(str(p) for p in files.values()))
     return "\n".join(lines)

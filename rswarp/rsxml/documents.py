@@ -14,7 +14,12 @@ from pathlib import Path
 from ..errors import Diagnostic, RsxmlError
 from ..files import file_size_limit
 from .library import (
-    LibraryCompiler, LibraryResource, read_library, read_resource, resolve_relative, with_descriptions,
+    LibraryCompiler,
+    LibraryResource,
+    read_library,
+    read_resource,
+    resolve_relative,
+    with_descriptions,
 )
 from .model import Mechanism, SmartComponent
 from .parse import local, namespace, parse_xml

@@ -191,7 +191,8 @@ class LinkGraph:
     def closes_all_active_loop(self, closing: Joint) -> bool:
         """True when a loop has no passive joint: nothing in it can follow the others. The active
         joints alone reach both its links, so the tree path between them is active too."""
-        return closing.active and not self._late[self.index[closing.parent]] and not self._late[self.index[closing.child]]
+        late = self._late
+        return closing.active and not late[self.index[closing.parent]] and not late[self.index[closing.child]]
 
     @cached_property
     def joints_in_loops(self) -> frozenset[str]:

@@ -157,53 +157,62 @@ def read_library(root: etree._Element, file: str, diagnostics: list[Diagnostic])
             entries.append(el)
         else:
             r.warn(el, f"unknown element <{tag}> in <LibraryCompiler> ignored")
-    libraries = []
-    for el in entries:
-        r.known(el, ("source", "fileName"))
-        source = r.text(el, "source")
-        own, variants, component = DocumentProperties(), [], None
-        for c in children(el):  # an inline component is in the component namespace
-            tag = local(c)
-            if namespace(c) not in (namespace(el), NS_COMPONENT):
-                r.foreign(c)
-            elif tag == "DocumentProperties":
-                own = _properties(r, c)
-            elif tag == "Variant":
-                props = next((_properties(r, p) for p in r.children(c) if local(p) == "DocumentProperties"),
-                             DocumentProperties())
-                variants.append(Variant(name=c.get("name"), options=r.options(c, ("name",)),
-                                        properties=props.over(own.over(defaults)), line=c.sourceline or 0))
-            elif namespace(c) == NS_COMPONENT:
-                component = read_component_root(c, file, diagnostics)
-            else:
-                r.warn(c, f"unknown element <{tag}> in <Library> ignored")
-        file_name = r.text(el, "fileName")
-        if not file_name:
-            if source:
-                file_name = Path(source.replace("\\", "/")).stem + ".rslib"
-            elif component is not None:
-                file_name = f"{getattr(component, 'name', 'component')}.rslib"
-            else:
-                file_name = ""
-        if source is None and component is None:
-            r.error(el, "Library has neither a source nor a component inside")
-        elif source == "":
-            r.error(el, "Library has an empty source")
-        path = resolve_relative(base_dir, source) if source else None
-        if source and path is None:
-            r.error(el, f"Library source '{source}' not found (looked for {base_dir / source.replace(chr(92), '/')})")
-        libraries.append(LibraryEntry(
-            file_name=file_name, source=source, source_path=str(path) if path else None,
-            properties=own.over(defaults), own=own, variants=tuple(variants), component=component,
-            line=el.sourceline or 0))
+    libraries = [_library_entry(r, el, defaults, base_dir, diagnostics) for el in entries]
+    _check_entries(r, libraries)
+    return LibraryCompiler(path=file, defaults=defaults, libraries=tuple(libraries))
+
+
+def _library_entry(r: Reader, el: etree._Element, defaults: DocumentProperties, base_dir: Path,
+                   diagnostics: list[Diagnostic]) -> LibraryEntry:
+    """One ``Library``: its source or inline component, its properties and variants, its fileName."""
+    r.known(el, ("source", "fileName"))
+    source = r.text(el, "source")
+    own, variants, component = DocumentProperties(), [], None
+    for c in children(el):  # an inline component is in the component namespace
+        tag = local(c)
+        if namespace(c) not in (namespace(el), NS_COMPONENT):
+            r.foreign(c)
+        elif tag == "DocumentProperties":
+            own = _properties(r, c)
+        elif tag == "Variant":
+            props = next((_properties(r, p) for p in r.children(c) if local(p) == "DocumentProperties"),
+                         DocumentProperties())
+            variants.append(Variant(name=c.get("name"), options=r.options(c, ("name",)),
+                                    properties=props.over(own.over(defaults)), line=c.sourceline or 0))
+        elif namespace(c) == NS_COMPONENT:
+            component = read_component_root(c, r.file, diagnostics)
+        else:
+            r.warn(c, f"unknown element <{tag}> in <Library> ignored")
+    file_name = r.text(el, "fileName")
+    if not file_name:
+        if source:
+            file_name = Path(source.replace("\\", "/")).stem + ".rslib"
+        elif component is not None:
+            file_name = f"{getattr(component, 'name', 'component')}.rslib"
+        else:
+            file_name = ""
+    if source is None and component is None:
+        r.error(el, "Library has neither a source nor a component inside")
+    elif source == "":
+        r.error(el, "Library has an empty source")
+    path = resolve_relative(base_dir, source) if source else None
+    if source and path is None:
+        r.error(el, f"Library source '{source}' not found (looked for {base_dir / source.replace(chr(92), '/')})")
+    return LibraryEntry(file_name=file_name, source=source, source_path=str(path) if path else None,
+                        properties=own.over(defaults), own=own, variants=tuple(variants), component=component,
+                        line=el.sourceline or 0)
+
+
+def _check_entries(r: Reader, libraries: list[LibraryEntry]) -> None:
+    """Libraries built twice under one fileName, and libraries without a Title."""
     seen: dict[str, int] = {}
     for lib in libraries:
         if lib.file_name and lib.file_name.lower() in seen:
-            r.error(lib.line, f"fileName '{lib.file_name}' is built twice (first at line {seen[lib.file_name.lower()]})")
+            first = seen[lib.file_name.lower()]
+            r.error(lib.line, f"fileName '{lib.file_name}' is built twice (first at line {first})")
         seen.setdefault(lib.file_name.lower(), lib.line)
         if not lib.properties.title:
             r.warn(lib.line, f"Library '{lib.file_name}' has no Title")
-    return LibraryCompiler(path=file, defaults=defaults, libraries=tuple(libraries))
 
 
 def read_resource(root: etree._Element, file: str, diagnostics: list[Diagnostic]) -> LibraryResource:

@@ -7,7 +7,6 @@ was a matrix, Euler angles or a quaternion) so that saving an unchanged model ch
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Iterator, Union

@@ -19,7 +19,8 @@ JOINT_VELOCITY = {True: math.radians(90.0), False: 0.5}  # a joint's default spe
 
 BOUNDS = {  # kind of value -> (largest magnitude in SI, what it means, for messages)
     "length": (MAX_LENGTH, "1 km, the most a model may span"),
-    "angle": (MAX_ANGLE, f"{MAX_ANGLE:g} rad (about {MAX_ANGLE / (2 * math.pi):,.0f} turns), the most a joint may turn"),
+    "angle": (MAX_ANGLE, f"{MAX_ANGLE:g} rad (about {MAX_ANGLE / (2 * math.pi):,.0f} turns), the most a joint may "
+                         "turn"),
 }
 
 

@@ -128,7 +128,7 @@ def _limits(mech: Mechanism, out: _Out) -> None:
             out.error(j.line, f"active joint '{j.name}' has no Limit")
     if mech.home is None:
         return
-    for i, (j, v) in enumerate(zip(mech.active_joints, mech.home)):
+    for j, v in zip(mech.active_joints, mech.home):
         lim = mech.limit(j.name)
         if lim is not None and lim.min <= lim.max and not lim.min <= v <= lim.max:
             f = mech.joint_factor(j)

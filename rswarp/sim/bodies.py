@@ -160,8 +160,7 @@ class DeviceBodies:
     def _make(self, scalar):
         import warp as wp
 
-        from ..kernels.types import bodies_struct
-        from ..kernels.types import types_of
+        from ..kernels.types import bodies_struct, types_of
 
         S, V3, M33, M34, _ = types_of(scalar)
         bodies, tree = self.bodies.bodies, self.tree
@@ -202,7 +201,8 @@ class DeviceBodies:
         if grid is None:
             from ..kernels.types import WITNESSES
 
-            s.cell_start, s.cell_col = arr(np.full(pairs, -1, np.int32), wp.int32), arr(np.full(2 * pairs, -1, np.int32), wp.int32)
+            s.cell_start = arr(np.full(pairs, -1, np.int32), wp.int32)
+            s.cell_col = arr(np.full(2 * pairs, -1, np.int32), wp.int32)
             s.cell_res = arr(np.ones(2 * pairs, np.int32), wp.int32)
             s.witness = arr(np.full((WITNESSES, 2), -1, np.int32), wp.vec2i)
             lo = scale = np.zeros(2 * pairs)

@@ -10,15 +10,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, model_error
 from ..geometry.cable import CableRest, cable_rest
-from ..kernels.cable import BEND, BEND_AT, STATS, STRETCH, TENSION, TWIST, cable_kernel
+from ..kernels.cable import BEND, BEND_AT, MAX_PARTICLES, STATS, STRETCH, TENSION, TWIST, cable_kernel
 from ..kernels.cable_contact import CableParams
 from ..kernels.types import Chain
 from ..kinematics.chain import mechanism_chain
 from ..rsxml.model import Cable, Mechanism, iter_parts
-from .cable_solver import (DENSITY, GRAVITY, MAX_SPEED, POISSON, REACH, YOUNGS_MODULUS, CableOptions, CableSolver,
-                           LinkMeshes)
+from .cable_solver import (
+    DENSITY,
+    GRAVITY,
+    MAX_SPEED,
+    POISSON,
+    REACH,
+    YOUNGS_MODULUS,
+    CableOptions,
+    CableSolver,
+    LinkMeshes,
+)
 from .launch import Launcher, init_warp
 
 ATTACHED_FREE = 4.0  # radii (plus a segment) of cable beside an attachment that may lie on its link
@@ -193,6 +202,13 @@ class ParticleChain(CableSolver):
         self.launcher.load(self.kernel)
         self._meshes = [None] * self.n_links  # Warp keeps a mesh's BVH only while the Mesh lives
         self.params = self._params(model, meshes, options.damping, options.floor)
+
+    @classmethod
+    def check(cls, mech: Mechanism, cable: Cable, options: CableOptions) -> None:
+        arrays = chain_arrays(mech, cable, density=options.density)
+        if arrays.particles > MAX_PARTICLES:
+            raise model_error(mech, f"cable '{cable.name}' would take {arrays.particles} particles, over the "
+                                    f"{MAX_PARTICLES} a kernel holds: raise its maxSegmentLength", cable.line)
 
     def _params(self, model: ChainArrays, meshes: LinkMeshes, damping: float, floor: float | None) -> CableParams:
         wp = init_warp()

@@ -11,10 +11,14 @@ from .cable_solver import CableOptions, CableSolver, LinkMeshes
 CABLE_MODELS: dict[str, type[CableSolver]] = {ParticleChain.kind: ParticleChain}
 
 
-def make_solver(mech: Mechanism, cable: Cable, options: CableOptions, meshes: LinkMeshes | None) -> CableSolver:
-    """The solver of one cable as ``options`` asks for it."""
+def cable_model(options: CableOptions) -> type[CableSolver]:
+    """The model ``options`` names."""
     try:
-        model = CABLE_MODELS[options.cable_model]
+        return CABLE_MODELS[options.cable_model]
     except KeyError:
         raise InputError(f"no cable model '{options.cable_model}' (models: {', '.join(CABLE_MODELS)})") from None
-    return model(mech, cable, options, meshes)
+
+
+def make_solver(mech: Mechanism, cable: Cable, options: CableOptions, meshes: LinkMeshes | None) -> CableSolver:
+    """The solver of one cable as ``options`` asks for it."""
+    return cable_model(options)(mech, cable, options, meshes)

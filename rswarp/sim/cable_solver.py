@@ -14,6 +14,7 @@ from typing import Any, ClassVar, Mapping
 import numpy as np
 
 from ..errors import MeshNotFoundError
+from ..geometry.cable import cable_rest
 from ..geometry.meshes import link_mesh
 from ..rsxml.model import Cable, Mechanism
 
@@ -107,6 +108,12 @@ class CableSolver(ABC):
         self.name, self.radius = cable.name, float(cable.radius)
         self.links = (*mech.graph.links, "floor")
         self.allowed_bend_radius = allowed_bend_radius(cable, options)
+
+    @classmethod
+    def check(cls, mech: Mechanism, cable: Cable, options: CableOptions) -> None:
+        """The error (at the cable's line) a run of this cable would give, found without compiling
+        or allocating anything: its rest shape, by default."""
+        cable_rest(mech, cable)
 
     @abstractmethod
     def state(self, envs: int) -> Any:

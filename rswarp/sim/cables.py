@@ -21,7 +21,7 @@ import numpy as np
 from ..errors import InputError
 from ..kinematics.trajectory import Trajectory, assign, minimum_jerk
 from ..rsxml.model import Mechanism
-from .cable_models import make_solver
+from .cable_models import cable_model, make_solver
 from .cable_results import MAX_VALUES_BYTES, CablePiece, CableResult, CableTally, RunningExtremes, values_bytes
 from .cable_solver import CableOptions, link_meshes
 from .engine import Job, run_batch
@@ -69,10 +69,10 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
                          f"a run takes 1 to {MAX_FRAMES}")
     job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
     meshes = link_meshes(mech) if options.contact else None
+    for c in mech.cables:  # a cable the model cannot take fails here, before anything is built or scheduled
+        cable_model(options).check(mech, c, options)
     if cluster is not None:
         _check_cut_run(mech, envs, frames)
-        for c in mech.cables:  # a cable rswarp cannot model fails here, before anything is scheduled
-            make_solver(mech, c, dataclasses.replace(options, contact=False), None)
     tools = None if cluster is not None else job.solvers(mech, options, meshes)
     tally = run_batch(job, mech, tools=tools, cluster=cluster, progress=progress)
     cables, recorded_q = tally.results()

@@ -116,7 +116,8 @@ class Checker:
         self.bodies = bodies
         self.chain = chain = mechanism_chain(mech)
         # the per-configuration flag of closed loops: on the host, or the device for Newton-solved ones
-        self.loops_close = Kinematics(mech, device).loops_close if len(chain.newton_rows) else partial(loops_close, chain)
+        self.loops_close = Kinematics(mech, device).loops_close if len(chain.newton_rows) else \
+            partial(loops_close, chain)
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
@@ -145,7 +146,8 @@ class Checker:
         q = np.ascontiguousarray(q, np.float32)
         hit = np.empty((len(q), self.pair_count), np.uint8)
         gap = np.empty((len(q), self.pair_count), np.float32)
-        self.launcher.launch(self._collide, len(q), params=[self._device.struct(init_warp().float32)], inputs=[q], outputs=[hit, gap])
+        self.launcher.launch(self._collide, len(q), params=[self._device.struct(init_warp().float32)], inputs=[q],
+                             outputs=[hit, gap])
         return hit.astype(bool), gap
 
     def distances(self, q: np.ndarray, pairs: np.ndarray) -> np.ndarray:
@@ -320,7 +322,8 @@ class CollisionTally:
             self._nearest(p, other.near_gap[p], other.near_index[p], other.near_q[p])
 
 
-def _clearances(checker: Checker, sweep: CollisionTally, seen: np.ndarray) -> dict[int, tuple[float, np.ndarray, float]]:
+def _clearances(checker: Checker, sweep: CollisionTally,
+                seen: np.ndarray) -> dict[int, tuple[float, np.ndarray, float]]:
     """For each pair never seen colliding: (smallest exact clearance among its nearest samples, where,
     a floor below which no sample comes: the exact values and the bound of the samples not measured)."""
     free = [p for p in range(checker.pair_count) if sweep.counts[p] == 0 and not seen[p]]
@@ -338,8 +341,8 @@ def _clearances(checker: Checker, sweep: CollisionTally, seen: np.ndarray) -> di
     return out
 
 
-def _result(mech, bodies: CollisionBodies, sweep: CollisionTally, clear: dict, default, always, seen, rounds, home, padding,
-            seed) -> Collisions:
+def _result(mech, bodies: CollisionBodies, sweep: CollisionTally, clear: dict, default, always, seen, rounds, home,
+            padding, seed) -> Collisions:
     pairs = []
     for p, (a, b) in enumerate(bodies.pairs):
         reason = "Default" if default[p] else "Always" if always[p] else \

@@ -271,7 +271,8 @@ class Grids:
 
     def _histogram(self, a: np.ndarray, b: np.ndarray, ia: int, ib: int) -> np.ndarray:
         r, c = self.radius, self.base
-        return np.histogram2d(a, b, bins=VIEW_BINS, range=[[c[ia] - r, c[ia] + r], [c[ib] - r, c[ib] + r]])[0].astype(np.int64)
+        box = [[c[ia] - r, c[ia] + r], [c[ib] - r, c[ib] + r]]
+        return np.histogram2d(a, b, bins=VIEW_BINS, range=box)[0].astype(np.int64)
 
 
 def voxels_per_side(radius: float, resolution: float) -> int:
@@ -437,7 +438,7 @@ def _radius(exact: Float64Points, lower: np.ndarray, upper: np.ndarray, seed: in
             continue
         d = np.nan_to_num(np.linalg.norm(pts - exact.j1_point, axis=1), nan=-np.inf)
         starts = q[np.argsort(d)[-4:]]
-        value, _ = _refine(lambda x: float(np.linalg.norm(exact.points(x)[which][0] - exact.j1_point)),
+        value, _ = _refine(lambda x, which=which: float(np.linalg.norm(exact.points(x)[which][0] - exact.j1_point)),
                            starts, lower, upper)
         best = max(best, value)
     return best * 1.02 + 0.01
