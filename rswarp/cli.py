@@ -10,6 +10,7 @@ import importlib
 import inspect
 import os
 import sys
+import traceback
 
 from .errors import InputError, RsxmlError, one_line
 from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit
@@ -163,11 +164,11 @@ def main(argv: list[str] | None = None) -> int:
         return 143
     except BrokenPipeError:
         return 0
-    except Exception as exc:  # a bug, not bad input
+    except Exception as exc:  # a bug, not bad input: exit 2, with its traceback under --debug
         if args.debug or os.environ.get("RSWARP_DEBUG"):
-            raise
-        print(f"rswarp: internal error: {type(exc).__name__}: {exc} (rerun with --debug for the traceback)",
-              file=sys.stderr)
+            traceback.print_exc()
+        print(f"rswarp: internal error: {type(exc).__name__}: {one_line(str(exc))} (rerun with --debug for the "
+              "traceback)", file=sys.stderr)
         return 2
 
 

@@ -4,6 +4,7 @@ turns these into exit 1; any other exception is an internal error (exit 2)."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 
@@ -15,11 +16,41 @@ class Diagnostic:
     line: int
     message: str
     severity: str = "error"  # "error" or "warning"
+    repeats: int = 1  # the problems this line stands for (a summary of many alike)
 
     def __str__(self) -> str:
         where = f"{self.file}:{self.line}" if self.line else self.file
         prefix = "warning: " if self.severity == "warning" else ""
         return one_line(f"{where}: {prefix}{self.message}")
+
+
+MAX_ALIKE = 20  # problems of one kind a file reports one by one; the rest are counted in one line
+_NAMES = re.compile(r"<[^<>]*>|'[^']*'|\"[^\"]*\"|-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+class Diagnostics(list):
+    """A file's problems as they are found, at most MAX_ALIKE of a kind (a message with its names
+    and numbers left out): a file of millions of unknown elements costs a few lines and a count,
+    not millions of objects. ``finish`` adds the line that counts the rest of each kind."""
+
+    def __init__(self):
+        super().__init__()
+        self._alike: dict[tuple[str, str, str], list] = {}
+
+    def append(self, d: Diagnostic) -> None:
+        kind = (d.file, d.severity, _NAMES.sub("~", d.message))
+        seen = self._alike.setdefault(kind, [0, d])
+        seen[0] += 1
+        if seen[0] <= MAX_ALIKE:
+            super().append(d)
+
+    def finish(self) -> "Diagnostics":
+        for (file, severity, _), (n, first) in self._alike.items():
+            if n > MAX_ALIKE:
+                super().append(Diagnostic(file, 0, f"{n - MAX_ALIKE} more like: {first.message}", severity,
+                                          n - MAX_ALIKE))
+        self._alike = {}
+        return self
 
 
 _CONTROL = {c: f"\\x{c:02x}" for c in (*range(32), 127)} | {10: "\\n", 13: "\\r", 9: "\\t"}

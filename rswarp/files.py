@@ -1,16 +1,15 @@
 """Files in and out, safely. Inputs: only regular files, never more than a size limit (a FIFO or
-``/dev/zero`` named as a model must not hang or eat memory). Outputs: written atomically (a temporary
-file or folder beside the target, then a rename), so a reader never sees half a file or a mixed
-set, an interrupted write leaves nothing behind, and a failure the user can fix (a read-only
-folder, a name too long, a folder where a file should go) is an ``InputError`` naming the path."""
+``/dev/zero`` named as a model must not hang or eat memory), read without allocating the limit.
+Outputs: written atomically (a temporary file beside the target, then a rename, ``commit``), so a
+reader never sees half a file, an interrupted write leaves nothing behind (SIGTERM included), and a
+failure the user can fix (a read-only folder, a name too long, a folder where a file should go) is
+an ``InputError`` naming the path. Output folders and the files rswarp owns: ``outputs``."""
 
 from __future__ import annotations
 
 import contextlib
 import contextvars
-import errno
 import os
-import shutil
 import signal
 import stat
 import tempfile
@@ -71,7 +70,9 @@ def read_regular(path: str | Path) -> bytes:
     """The bytes of a regular file of at most ``max_file_size()`` bytes; ``OSError`` otherwise."""
     fd, size = open_regular(path)
     with os.fdopen(fd, "rb") as fh:
-        data = fh.read(max_file_size() + 1)  # the file may grow between fstat and read
+        data = fh.read(size + 1)  # what fstat saw, and a byte more: the file may grow while being read
+        if len(data) > size:
+            data += fh.read(max_file_size() + 1 - len(data))
     if len(data) > max_file_size():
         raise OSError(f"the file grew past the {_size_text(max_file_size())} limit while being read")
     return data
@@ -98,8 +99,8 @@ def atomic_write(path: str | Path, data: bytes) -> None:
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
-        _usual_mode(tmp)
-        os.replace(tmp, path)
+        usual_mode(tmp)
+        commit(tmp, path)
     except OSError as exc:
         Path(tmp).unlink(missing_ok=True)
         raise output_error(path, exc) from None
@@ -108,7 +109,7 @@ def atomic_write(path: str | Path, data: bytes) -> None:
         raise
 
 
-def _usual_mode(path: str | Path) -> None:
+def usual_mode(path: str | Path) -> None:
     """mkstemp/mkdtemp make 0600/0700; a saved output gets the mode a plain create would give."""
     umask = os.umask(0)
     os.umask(umask)
@@ -143,95 +144,46 @@ class Terminated(BaseException):
     """SIGTERM arrived while writing: raised so that every ``finally`` and ``with`` cleans up."""
 
 
+_terminated = threading.Event()  # SIGTERM arrived during a write; set by the handler
+
+
 @contextlib.contextmanager
 def cleanup_on_terminate() -> Iterator[None]:
-    """For the block, SIGTERM raises ``Terminated`` (SIGINT already raises KeyboardInterrupt), so
-    temporary files are removed before the process ends. Only the main thread can set handlers;
-    elsewhere the block runs unchanged."""
+    """For the block, SIGTERM means stop: it is noted, and the next ``commit`` (or the block's end)
+    raises ``Terminated`` instead of renaming anything into place, so every ``finally`` and
+    ``with`` removes its temporary files and nothing half-done is kept. The handler itself raises
+    nothing: an exception raised inside native code (pxr importing a module of its own, say) would
+    be printed and swallowed there. Only the main thread can set handlers; elsewhere the block runs
+    unchanged."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-
-    def handler(signum, frame):
-        raise Terminated()
-
-    previous = signal.signal(signal.SIGTERM, handler)
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: _terminated.set())
+    outermost = previous in (signal.SIG_DFL, signal.SIG_IGN, None) or not callable(previous) or \
+        getattr(previous, "__qualname__", "").split(".")[0] != "cleanup_on_terminate"
     try:
         yield
+        stop_if_terminated()
     finally:
         signal.signal(signal.SIGTERM, previous)
+        if outermost and _terminated.is_set():
+            _terminated.clear()  # the run ends here, whatever else failed: as terminated
+            raise Terminated()
+
+
+def stop_if_terminated() -> None:
+    """Raise ``Terminated`` if SIGTERM arrived during a write, even one swallowed on its way."""
+    if _terminated.is_set():
+        raise Terminated()
+
+
+def commit(src: str | Path, dst: str | Path) -> None:
+    """Rename a finished temporary file or folder into place, unless SIGTERM arrived meanwhile."""
+    stop_if_terminated()
+    os.replace(src, dst)
 
 
 def _remove_empty(folders: list[Path]) -> None:
     for f in folders:  # deepest first
         with contextlib.suppress(OSError):
             f.rmdir()
-
-
-@contextlib.contextmanager
-def atomic_folder(out: str | Path, owned: tuple[str, ...]) -> Iterator[Path]:
-    """A temporary folder to write a set of files into; on success it replaces ``out`` as a whole.
-
-    ``out`` may be missing, empty, or a folder that holds only files named in ``owned`` (an earlier
-    run's set): it is swapped out and then removed. A folder holding anything else is refused, so
-    no file the user owns is ever deleted."""
-    out = Path(out)
-    check_replaceable(out, owned)
-    with cleanup_on_terminate(), new_folders(out):
-        try:
-            tmp = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".tmp", dir=_folder(out)))
-        except OSError as exc:
-            raise output_error(out, exc) from None
-        try:
-            yield tmp
-            _usual_mode(tmp)
-            _swap_in(tmp, out)
-        except OSError as exc:
-            raise output_error(out, exc) from None
-        finally:
-            shutil.rmtree(tmp, ignore_errors=True)
-
-
-def check_replaceable(out: Path, owned: tuple[str, ...]) -> None:
-    """``InputError`` unless ``out`` is missing, or a folder holding only files named in ``owned``."""
-    try:
-        if not out.exists():
-            return
-        if not out.is_dir():
-            raise InputError(f"{out}: is a file, not a folder")
-        foreign = sorted(p.name for p in out.iterdir() if p.name not in owned)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot use this folder: {exc.strerror or exc}") from None
-    if foreign:
-        raise InputError(f"{out}: holds files rswarp did not write ({', '.join(foreign[:3])}"
-                         f"{', ...' if len(foreign) > 3 else ''}); name a new or empty folder")
-
-
-def _swap_in(tmp: Path, out: Path) -> None:
-    """Rename ``tmp`` to ``out``; an existing ``out`` (checked to be ours) is renamed aside first."""
-    if not out.exists():
-        os.replace(tmp, out)
-        return
-    old = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".old", dir=_folder(out)))
-    os.replace(out, old / out.name)
-    try:
-        os.replace(tmp, out)
-    except BaseException:
-        os.replace(old / out.name, out)
-        raise
-    finally:
-        shutil.rmtree(old, ignore_errors=True)
-
-
-def merge_folder(src: Path, out: Path) -> None:
-    """Move the files of ``src`` into ``out``: the whole folder in one rename when ``out`` is
-    missing, else file by file (each an atomic replace), so files in ``out`` that ``src`` does not
-    name are kept and two writers racing for the same ``out`` both succeed."""
-    try:
-        os.rename(src, out)
-        return
-    except OSError as exc:
-        if exc.errno not in (errno.EEXIST, errno.ENOTEMPTY):
-            raise
-    for f in sorted(src.iterdir()):
-        os.replace(f, out / f.name)

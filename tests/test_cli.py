@@ -108,7 +108,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
     assert (tmp_path / "IRB2600_12_165__01-collisions" / "collision_matrix.srdf").is_file()
     assert (tmp_path / "meshes" / "IRB2600_12_165__01" / "Link6.stl").is_file()  # each robot its own meshes
     assert sorted(p.name for p in (tmp_path / "library").iterdir()) == [
-        "IRB1300_11_90__01.usdz", "IRB2600_12_165__01.png", "IRB2600_12_165__01.usdz"]
+        ".rswarp.json", "IRB1300_11_90__01.usdz", "IRB2600_12_165__01.png", "IRB2600_12_165__01.usdz"]
     assert "== rswarp build IRB2600_12_165.xml: 1 of 1 built" in out and "1 with a preview" in out
     assert main(["demo", "--json", "--out", str(tmp_path)]) == 0
     doc = json.loads(capsys.readouterr().out)

@@ -41,8 +41,8 @@ def test_one_asset_per_library_and_variant_and_a_failure_reported(built):
     assert [(r.library, r.status) for r in build.results] == [
         ("IRB9_1_1__01.rslib", "built"), ("IRB9_1_1__01.rslib:Near", "built"),
         ("IRB9_1_1_FLIPPED__01.rslib", "built"), ("IRB9_missing.rslib", "failed")]
-    assert sorted(p.name for p in out.iterdir()) == [  # nothing of the failure
-        "IRB9_1_1_FLIPPED__01.png", "IRB9_1_1_FLIPPED__01.usdz", "IRB9_1_1_NEAR__01.png", "IRB9_1_1_NEAR__01.usdz",
+    assert sorted(p.name for p in out.iterdir()) == [  # nothing of the failure; the manifest of what was written
+        ".rswarp.json", "IRB9_1_1_FLIPPED__01.png", "IRB9_1_1_FLIPPED__01.usdz", "IRB9_1_1_NEAR__01.png", "IRB9_1_1_NEAR__01.usdz",
         "IRB9_1_1__01.png", "IRB9_1_1__01.usdz"]
     assert zipfile.ZipFile(out / "IRB9_1_1__01.usdz").read("IRB9_1_1__01.thumbnail.png") == \
         (out / "IRB9_1_1__01.png").read_bytes()
@@ -124,7 +124,7 @@ def test_component_layout_is_a_folder_per_asset(tmp_path):
     build = build_library(CELL, tmp_path, layout="component", size=16)
     folder = tmp_path / "IRB9_1_1__01"
     assert sorted(p.name for p in folder.iterdir()) == [
-        "IRB9_1_1__01.thumbnail.png", "IRB9_1_1__01.usda", "IRB9_1_1__01_Payload"]
+        ".rswarp.json", "IRB9_1_1__01.thumbnail.png", "IRB9_1_1__01.usda", "IRB9_1_1__01_Payload"]
     assert build.results[0].output == str(folder)
 
 

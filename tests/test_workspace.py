@@ -100,7 +100,7 @@ def test_sweep_command(tmp_path, capsys):
     assert main(["sweep", str(examples.IRB2600ID), "--samples", "3000", "--out", str(out), "--resolution", "50"]) == 0
     text = capsys.readouterr().out
     assert "reach (J1 axis to wrist centre): 1999.9 mm" in text
-    assert sorted(p.name for p in out.iterdir()) == ["report.json", "side.png", "top.png", "workspace.npz"]
+    assert sorted(p.name for p in out.iterdir()) == [".rswarp.json", "report.json", "side.png", "top.png", "workspace.npz"]
     assert (out / "side.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     report = json.loads((out / "report.json").read_text())
     assert report["voxel_resolution"] == pytest.approx(0.05) and report["samples"] == 3000

@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import InputError, MeshNotFoundError
 from ..geometry import DEFAULT_DENSITY, mass_properties, part_mesh
 from ..geometry.convex import METHODS, Convex, convex_pieces, halfspaces, overlap
+from ..options import checked
 from ..rsxml.model import Mechanism
 from ..rsxml.units import JOINT_VELOCITY
 from .frames import link_origins, link_poses
@@ -51,17 +52,10 @@ class PhysicsOptions:
     def __post_init__(self):
         if self.collision not in METHODS:
             raise InputError(f"collision must be one of {', '.join(METHODS)}, not {self.collision!r}")
-        for name in ("density", "mass", "drive_hz", "effort", "velocity"):
-            _check(name, getattr(self, name), strict=True)
-        _check("armature", self.armature, strict=False)
-
-
-def _check(name: str, value, strict: bool) -> None:
-    if value is None:
-        return
-    ok = math.isfinite(value) and (value > 0 if strict else value >= 0)
-    if not ok:
-        raise InputError(f"{name} must be a finite number {'>' if strict else '>='} 0, not {value:g}")
+        if self.drive_hz is not None and not self.drive_hz > 0:
+            raise InputError(f"drive_hz must be > 0 (None: no drives), not {self.drive_hz:g}")
+        for name in ("density", "mass", "drive_hz", "armature", "effort", "velocity"):
+            checked(name.replace("_", "-"), getattr(self, name))
 
 
 @dataclass(frozen=True)

@@ -32,8 +32,9 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from ..errors import InputError, model_error
-from ..files import cleanup_on_terminate, merge_folder, new_folders
+from ..files import cleanup_on_terminate, commit, new_folders
 from ..kinematics.loops import UnsolvedLoop, loops, passive_map
+from ..outputs import merge_folder
 from ..rsxml.model import Mechanism
 from ..transforms import matrix_euler_zyx
 from .frames import link_origins
@@ -219,7 +220,6 @@ def to_urdf(mech: Mechanism, path: str | Path, physics: PhysicsOptions | RobotPh
     Everything is written into a temporary folder beside the target first; then the meshes are
     moved into ``meshes/`` (files already there that this export does not write are kept) and the
     URDF is renamed into place last, so a reader never sees a URDF naming a missing mesh."""
-    import os
 
     path = Path(path)
     if mesh_paths not in MESH_PATHS:
@@ -246,8 +246,8 @@ def to_urdf(mech: Mechanism, path: str | Path, physics: PhysicsOptions | RobotPh
             with new_folders(folder / files.prefix):  # meshes/ made if missing, removed again on failure
                 merge_folder(tmp / MESHES, folder / files.prefix)
         if own_srdf:
-            os.replace(tmp / srdf.name, srdf)
-        os.replace(tmp / path.name, path)
+            commit(tmp / srdf.name, srdf)
+        commit(tmp / path.name, path)
     return warnings
 
 

@@ -5,7 +5,6 @@ beside the target, then moved into place."""
 
 from __future__ import annotations
 
-import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,7 +12,8 @@ from pathlib import Path
 from pxr import Sdf, Usd, UsdMedia, UsdPhysics, UsdUtils
 
 from ..errors import InputError
-from ..files import cleanup_on_terminate, merge_folder
+from ..files import cleanup_on_terminate, commit
+from ..outputs import merge_folder
 from . import USD_SUFFIXES
 from .physics import PhysicsOptions, RobotPhysics
 from .usd import build_stage
@@ -71,8 +71,8 @@ def to_usd(model, path: str | Path, *, layout: str = "flat", physics: PhysicsOpt
             if layout == "component":
                 merge_folder(tmp / f"{path.stem}_Payload", folder / f"{path.stem}_Payload")
             if thumbnail:
-                os.replace(thumbnail, folder / thumbnail.name)
-        os.replace(tmp / path.name, path)
+                commit(thumbnail, folder / thumbnail.name)
+        commit(tmp / path.name, path)
         return warnings
 
 

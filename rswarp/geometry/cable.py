@@ -15,10 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import model_error
+from ..rsxml.cable_spans import LENGTH_TOLERANCE, cable_spans
 from ..rsxml.model import Cable, Mechanism
 
 SAMPLES = 256  # points per span to measure a bowed span's length
-LENGTH_TOLERANCE = 1e-9  # relative: a desired length this close to the polyline's is taut
 
 
 @dataclass(frozen=True)
@@ -40,23 +40,15 @@ class CableRest:
 
 
 def cable_rest(mech: Mechanism, cable: Cable) -> CableRest:
-    """The rest shape of ``cable``; ``RsxmlError`` at the cable's line where it has fewer than two
-    control points or a desired length shorter than the polyline through them."""
-    pts = np.array([cp.position for cp in cable.control_points], float)
-    if len(pts) < 2:
-        raise model_error(mech, f"cable '{cable.name}' needs two control points or more", cable.line)
-    chords = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-    if (chords <= 0).any():
-        raise model_error(mech, f"cable '{cable.name}' has two control points at one place", cable.line)
-    polyline = float(chords.sum())
-    length = polyline if cable.desired_length is None else float(cable.desired_length)
-    if length < polyline * (1 - LENGTH_TOLERANCE):
-        f = mech.length_factor
-        raise model_error(mech, f"cable '{cable.name}': desiredLength {length / f:g} is shorter than the path "
-                                f"through its control points ({polyline / f:.6g})", cable.line)
-    span_lengths = chords + chords / polyline * (length - polyline)
-    spans = [_bowed(a, b, want) for a, b, want in zip(pts[:-1], pts[1:], span_lengths)]
-    return _cut(cable.name, spans, span_lengths, cable.max_segment_length)
+    """The rest shape of ``cable``; ``RsxmlError`` at the cable's line where its numbers do not make
+    a cable (``rswarp.rsxml.cable_spans``)."""
+    try:
+        spans = cable_spans(cable, mech.length_factor)
+    except ValueError as exc:
+        raise model_error(mech, str(exc), cable.line) from None
+    pts = spans.points
+    bowed = [_bowed(a, b, want) for a, b, want in zip(pts[:-1], pts[1:], spans.lengths)]
+    return _cut(cable.name, bowed, spans.lengths, spans.segments)
 
 
 def _bowed(a: np.ndarray, b: np.ndarray, length: float) -> np.ndarray:
@@ -94,12 +86,12 @@ def _arc(points: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
 
 
-def _cut(name: str, spans: list[np.ndarray], lengths: np.ndarray, max_segment: float) -> CableRest:
-    """Each span (sampled points, its exact length) in equal segments no longer than
-    ``max_segment``; the control points are kept as points of the discretization."""
+def _cut(name: str, spans: list[np.ndarray], lengths: np.ndarray, segments: np.ndarray) -> CableRest:
+    """Each span (sampled points, its exact length) in its equal segments; the control points are
+    kept as points of the discretization."""
     out, rest, anchors = [spans[0][:1]], [], [0]
-    for pts, span_length in zip(spans, lengths):
-        n = max(1, int(np.ceil(span_length / max_segment - 1e-9)))
+    for pts, span_length, n in zip(spans, lengths, segments):
+        n = int(n)
         along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
         at = np.linspace(0.0, along[-1], n + 1)[1:]
         out.append(np.stack([np.interp(at, along, pts[:, c]) for c in range(3)], axis=1))

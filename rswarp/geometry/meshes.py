@@ -8,6 +8,8 @@ with a mesh of the same stem (case-insensitive).
 from __future__ import annotations
 
 import hashlib
+import io
+import os
 from collections import OrderedDict
 from functools import lru_cache
 from pathlib import Path
@@ -91,13 +93,41 @@ def _digest(path: str, mtime_ns: int, size: int) -> str:
     return hashlib.sha256(read_regular(path)).hexdigest()
 
 
+def _guarded_resolver(path: str):
+    """A trimesh resolver that reads the files a mesh names (glTF buffers and images, an OBJ's
+    materials) as rswarp reads any input: regular files only, within the size limit, so a name of
+    a FIFO cannot hang a load and a name of a huge file cannot fill memory."""
+    from trimesh.resolvers import FilePathResolver
+
+    class GuardedResolver(FilePathResolver):
+        def get(self, name: str) -> bytes:
+            for candidate in (name.strip(), name.strip().lstrip("/"), os.path.split(name)[-1]):
+                try:
+                    found = self.absolute(candidate)
+                except ValueError:
+                    continue
+                if found.exists():
+                    try:
+                        return read_regular(found)
+                    except OSError as exc:
+                        raise ValueError(f"'{name}', which it names: {exc}") from None
+            self.absolute(name)  # a name that escapes the mesh's folder says so
+            raise FileNotFoundError(name)
+
+    return GuardedResolver(path)
+
+
 def _parse(path: str, suffix: str):
-    """The mesh in a file (already read once, so known to be a regular file within the limits)."""
+    """The mesh in a file, read as every input is (``read_regular``), with the files it names."""
     import trimesh  # imported on first use: kinematics never needs it
 
     kind = suffix.lstrip(".")
     try:
-        mesh = trimesh.load(path, force="mesh")  # process=True merges STL vertices
+        data = read_regular(path)
+    except OSError as exc:
+        raise ValueError(f"cannot read it: {exc.strerror or exc}") from None
+    try:  # process=True merges STL vertices
+        mesh = trimesh.load(io.BytesIO(data), file_type=kind, resolver=_guarded_resolver(path), force="mesh")
     except Exception as exc:  # trimesh raises many types (even ImportError) for broken files
         detail = "" if isinstance(exc, ImportError) else f" ({one_line(str(exc))[:120]})"
         raise ValueError(f"not a readable {kind} file{detail}") from None

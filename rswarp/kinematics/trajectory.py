@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import Diagnostic, InputError, RsxmlError
 from ..files import read_regular
+from ..options import checked
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
 from ..rsxml.units import JOINT_VELOCITY, format_number
@@ -26,20 +27,29 @@ MAX_ROWS = 10_000_000  # rows of one trajectory file: memory stays bounded
 
 @dataclass(frozen=True)
 class Trajectory:
-    """Joint values over time: ``times`` (T,) seconds, increasing; ``q`` (T, dof) SI."""
+    """Joint values over time: ``times`` (T,) seconds, increasing; ``q`` (T, dof) SI; between rows
+    linear, or with ``smooth`` minimum-jerk moves at rest at every row (random motion, kept as its
+    waypoints: memory does not grow with the duration)."""
 
     source: str
     times: np.ndarray
     q: np.ndarray
+    smooth: bool = False
+    until: float | None = None  # where it ends, if before its last row (random motion, cut at its length)
 
     @property
     def duration(self) -> float:
-        return float(self.times[-1])
+        return float(self.times[-1]) if self.until is None else self.until
 
     def at(self, t) -> np.ndarray:
-        """``(len(t), dof)`` joint values at times ``t``, linearly interpolated; held at the ends."""
+        """``(len(t), dof)`` joint values at times ``t``; held at the ends."""
         t = np.atleast_1d(np.asarray(t, float))
-        return np.stack([np.interp(t, self.times, self.q[:, c]) for c in range(self.q.shape[1])], axis=1)
+        if self.smooth and len(self.times) > 1:
+            return _moves(self.times, self.q, np.clip(t, self.times[0], self.times[-1]))
+        out = np.empty((len(t), self.q.shape[1]))
+        for c in range(self.q.shape[1]):
+            out[:, c] = np.interp(t, self.times, self.q[:, c])
+        return out
 
 
 def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
@@ -47,18 +57,20 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
     a bad cell, a time that does not increase, or a joint value outside its limits."""
     path = Path(path)
     try:
-        text = read_regular(path).decode("utf-8-sig")
+        data = read_regular(path)
+        text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise RsxmlError(Diagnostic(str(path), 0, f"not UTF-8 text: {exc.reason} at byte {exc.start}")) from None
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise _error(path, line, f"not UTF-8 text: {exc.reason} at byte {exc.start}") from None
     except OSError as exc:
         raise InputError(f"{path}: {exc.strerror or exc}") from None
     names = ["time"] + [j.name for j in mech.active_joints]
     rows = csv.reader(io.StringIO(text, newline=""))
-    header = next(rows, None)
+    header = _next(rows, path)
     if header is None or [h.strip() for h in header] != names:
         raise _error(path, 1, f"the header must be '{','.join(names)}' (the active joints in file order)")
     times, values = [], []
-    for row in rows:
+    while (row := _next(rows, path)) is not None:
         line = rows.line_num
         if not any(cell.strip() for cell in row):
             continue  # blank lines are allowed (a trailing newline, spacing)
@@ -72,6 +84,15 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
     if not times:
         raise _error(path, 1, "no rows: a trajectory needs at least one time")
     return Trajectory(str(path), np.array(times), np.array(values))
+
+
+def _next(rows, path: Path) -> list[str] | None:
+    """The next row of a CSV reader, None at the end; what the csv module refuses (a field over
+    its limit, a stray quote) is the file's error at its line."""
+    try:
+        return next(rows, None)
+    except csv.Error as exc:
+        raise _error(path, rows.line_num, f"not a CSV row: {exc}") from None
 
 
 def _row(path: Path, line: int, row: list[str], mech: Mechanism, width: int) -> tuple[float, np.ndarray]:
@@ -99,13 +120,15 @@ def _error(path: Path, line: int, message: str) -> RsxmlError:
     return RsxmlError(Diagnostic(str(path), line, message))
 
 
-def random_trajectory(mech: Mechanism, seconds: float, seed: int, velocity: np.ndarray | None = None,
-                      samples_per_second: int = 100) -> Trajectory:
+def random_trajectory(mech: Mechanism, seconds: float, seed: int, velocity: np.ndarray | None = None) -> Trajectory:
     """Smooth random motion within the limits: minimum-jerk moves between random waypoints, each
     move as long as its largest joint step needs at ``velocity`` (rad/s or m/s per joint; default
-    the export's velocity limits), so no joint goes faster. Reproducible for ``seed``."""
-    if not seconds > 0:
-        raise InputError("a random trajectory needs a positive duration")
+    the export's velocity limits), so no joint goes faster. Reproducible for ``seed``; kept as its
+    waypoints (a mechanism without joints stands still)."""
+    checked("seconds", seconds)
+    source = f"random (seed {seed})"
+    if not mech.dof:
+        return Trajectory(source, np.array([0.0, seconds]), np.zeros((2, 0)), smooth=True)
     lower, upper = mech.bounds()
     if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
         raise InputError("every active joint needs finite limits for a random trajectory")
@@ -120,8 +143,7 @@ def random_trajectory(mech: Mechanism, seconds: float, seed: int, velocity: np.n
         duration = max(float(np.max(1.875 * np.abs(nxt - knots_q[-1]) / vmax)), 0.2)
         knots_t.append(knots_t[-1] + duration)
         knots_q.append(nxt)
-    times = np.linspace(0.0, seconds, max(2, int(round(seconds * samples_per_second)) + 1))
-    return Trajectory(f"random (seed {seed})", times, _moves(np.array(knots_t), np.array(knots_q), times))
+    return Trajectory(source, np.array(knots_t), np.array(knots_q), smooth=True, until=float(seconds))
 
 
 def _velocities(mech: Mechanism) -> np.ndarray:

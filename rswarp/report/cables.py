@@ -10,14 +10,16 @@ from typing import Callable
 
 import numpy as np
 
-from ..files import atomic_folder, atomic_write, check_replaceable
+from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
-from ..kinematics.trajectory import run_trajectories
+from ..kinematics.trajectory import RANDOM_SECONDS, run_trajectories
+from ..options import checked
+from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..sim.cable_results import CableResult
 from ..sim.cable_solver import DENSITY, FRAME_RATE, SUBSTEPS, CableOptions, link_meshes
-from ..sim.cables import CableRun, simulate_cables
+from ..sim.cables import CableRun, run_frames, simulate_cables
 from ..sim.engine import cluster_for
 from .output import Output, Warn, ignore, json_bytes, json_safe
 
@@ -35,10 +37,13 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
     unit."""
     mech, _ = load_mechanism(path)
     check_cable_folder(out)
-    trajectories = run_trajectories(mech, trajectory, random, envs, seconds, seed)
     options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, cable_model=cable_model,
                            min_bend_radius=mech.si_length(min_bend_radius), floor=mech.si_length(floor),
                            record=0 if usd else -1, device=device)
+    checked("envs", envs)
+    if seconds is not None or random:  # bounded before any trajectory is made
+        run_frames(seconds or RANDOM_SECONDS, options)
+    trajectories = run_trajectories(mech, trajectory, random, envs, seconds, seed)
     run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
                           cluster=cluster_for(ray, device))
     for w in run.warnings:
@@ -86,10 +91,14 @@ def _cable_dict(c: CableResult, run: CableRun) -> dict:
 
 
 def _summary(c: CableResult) -> dict:
+    """The answers over the environments that ran to the end (None where none did)."""
     ok = c.status == "ok"
-    return {"stopped": int((~ok).sum()), "too_tight": int(c.too_tight.sum()), "taut": int((c.stretch >= TAUT).sum()),
-            "touching": int(c.touching.sum()), "least_bend_radius_m": _least(c.min_bend_radius),
-            "peak_tension_N": float(np.max(c.peak_tension)), "greatest_twist_rad": float(np.max(c.max_twist))}
+    done = np.nonzero(ok)[0]
+    most = (lambda a: float(np.max(a[done])) if len(done) else None)  # noqa: E731
+    return {"stopped": int((~ok).sum()), "finished": int(ok.sum()), "too_tight": int(c.too_tight[ok].sum()),
+            "taut": int((c.stretch[ok] >= TAUT).sum()), "touching": int(c.touching[ok].sum()),
+            "least_bend_radius_m": _least(c.min_bend_radius[ok]), "peak_tension_N": most(c.peak_tension),
+            "greatest_twist_rad": most(c.max_twist)}
 
 
 def _env_dict(c: CableResult, e: int, run: CableRun) -> dict:
@@ -125,26 +134,15 @@ def cables_text(run: CableRun, files: dict) -> str:
 
 
 def _cable_lines(c: CableResult) -> list[str]:
-    n = c.envs
+    """The cable's answers over the environments that ran to the end; those that stopped are
+    reported as stopped, never as answers."""
     lines = [f"{c.name}: {c.length:.3f} m, radius {c.radius * 1000:g} mm"]
-    taut = np.nonzero(c.stretch >= TAUT)[0]
-    lines.append(f"  long enough: {n - len(taut)} of {n}" + (
-        f"; pulled straight in {_envs(taut)} (attachments {c.stretch.max():.1%} of the length apart)" if len(taut) else
-        f" (attachments at most {c.stretch.max():.1%} of the length apart)"))
-    e = int(np.nanargmin(np.where(np.isfinite(c.min_bend_radius), c.min_bend_radius, np.inf)))
-    tight = np.nonzero(c.too_tight)[0]
-    lines.append(f"  bend radius: least {c.min_bend_radius[e]:.3f} m (environment {e}, t = {c.min_bend_time[e]:.2f} s, "
-                 f"{c.min_bend_at[e]:.3f} m along); allowed {c.allowed_bend_radius:.3f} m: too tight in "
-                 f"{len(tight)} of {n}")
-    e = int(np.argmax(c.peak_tension))
-    lines.append(f"  peak tension: {c.peak_tension[e]:.3g} N (environment {e}, t = {c.peak_tension_time[e]:.2f} s)"
-                 + ("; taut runs: the tension is the solver's, an inextensible cable has no stiffness to bound it"
-                    if len(taut) else ""))
-    lines += _contact_lines(c)
-    e = int(np.argmax(c.max_twist))
-    lines.append(f"  twist: greatest {np.degrees(c.max_twist[e]):.1f} deg between the clamps (environment {e}; "
-                 f"torque {c.torsion_stiffness * c.max_twist[e] / c.length:.3g} N m)")
+    done = np.nonzero(c.status == "ok")[0]
     stopped = np.nonzero(c.status != "ok")[0]
+    if len(done):
+        lines += _answer_lines(c, done)
+    else:
+        lines.append(f"  no answers: every environment stopped before the end ({c.envs} of {c.envs})")
     for e in stopped[:5]:
         lines.append(f"  environment {e} {c.status[e]}")
     if len(stopped) > 5:
@@ -152,21 +150,48 @@ def _cable_lines(c: CableResult) -> list[str]:
     return lines
 
 
-def _contact_lines(c: CableResult) -> list[str]:
+def _answer_lines(c: CableResult, done: np.ndarray) -> list[str]:
+    """Long enough, bend radius, tension, contact and twist over the environments ``done``."""
+    n = f"{len(done)}" + (f" (of {c.envs}; the others stopped)" if len(done) < c.envs else "")
+    taut = done[c.stretch[done] >= TAUT]
+    most = c.stretch[done].max()
+    lines = [f"  long enough: {len(done) - len(taut)} of {n}" + (
+        f"; pulled straight in {_envs(taut)} (attachments {most:.1%} of the length apart)" if len(taut) else
+        f" (attachments at most {most:.1%} of the length apart)")]
+    bend = np.where(np.isfinite(c.min_bend_radius[done]), c.min_bend_radius[done], np.inf)
+    e = int(done[np.argmin(bend)])
+    tight = done[c.too_tight[done]]
+    where = f" (environment {e}, t = {c.min_bend_time[e]:.2f} s, {c.min_bend_at[e]:.3f} m along)" \
+        if np.isfinite(c.min_bend_radius[e]) else " (straight throughout)"
+    lines.append(f"  bend radius: least {c.min_bend_radius[e]:.3f} m{where}; allowed {c.allowed_bend_radius:.3f} m: "
+                 f"too tight in {len(tight)} of {n}")
+    e = int(done[np.argmax(c.peak_tension[done])])
+    lines.append(f"  peak tension: {c.peak_tension[e]:.3g} N (environment {e}, t = {c.peak_tension_time[e]:.2f} s)"
+                 + ("; taut runs: the tension is the solver's, an inextensible cable has no stiffness to bound it"
+                    if len(taut) else ""))
+    lines += _contact_lines(c, done)
+    e = int(done[np.argmax(c.max_twist[done])])
+    lines.append(f"  twist: greatest {np.degrees(c.max_twist[e]):.1f} deg between the clamps (environment {e}; "
+                 f"torque {c.torsion_stiffness * c.max_twist[e] / c.length:.3g} N m)")
+    return lines
+
+
+def _contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
     out = []
     for j, name in enumerate(c.links):
-        col = c.clearance[:, j]
-        if not np.isfinite(col).any():
+        col = c.clearance[done, j]
+        reached = col < np.inf  # -inf too: a link or floor the cable is wholly inside of
+        if not reached.any():
             continue
-        e = int(np.nanargmin(np.where(np.isfinite(col), col, np.inf)))
-        touching = np.nonzero(np.isfinite(c.contact_time[:, j]))[0]
-        text = f"  {name}: least clearance {col[e] * 1000:.1f} mm (environment {e}, " \
+        e = int(done[np.argmin(np.where(reached, col, np.inf))])
+        touching = done[np.isfinite(c.contact_time[done, j])]
+        text = f"  {name}: least clearance {c.clearance[e, j] * 1000:.1f} mm (environment {e}, " \
                f"t = {c.clearance_time[e, j]:.2f} s, {c.clearance_at[e, j]:.3f} m along)"
         if len(touching):
             first = touching[np.argmin(c.contact_time[touching, j])]
-            text += f"; touches in {len(touching)} of {c.envs}, first environment {first} at t = " \
+            text += f"; touches in {len(touching)} of {len(done)}, first environment {first} at t = " \
                     f"{c.contact_time[first, j]:.2f} s"
-        if col[e] < -2 * c.radius - c.length / 4:  # deeper than any contact push leaves it
+        if c.clearance[e, j] < -2 * c.radius - c.length / 4:  # deeper than any contact push leaves it
             text += " (carried inside by the robot: the trajectory goes through it)"
         out.append(text)
     return out or ["  clearance: nothing within reach of the cable"]

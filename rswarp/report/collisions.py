@@ -11,7 +11,8 @@ from typing import Callable
 import numpy as np
 
 from ..export.srdf import srdf_text
-from ..files import atomic_folder, atomic_write, check_replaceable
+from ..files import atomic_write
+from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number

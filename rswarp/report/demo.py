@@ -105,7 +105,8 @@ def demo_library(path: Path, out: Path, say: Callable[[str], None]) -> dict:
 
 def _check_text(name: str, report: Report) -> str:
     lines = [f"== rswarp check {name}", *(str(d) for d in report.all_diagnostics),
-             f"{'OK' if report.ok else 'FAILED'}: {len(report.errors)} errors, {len(report.warnings)} warnings",
+             f"{'OK' if report.ok else 'FAILED'}: {sum(d.repeats for d in report.errors)} errors, "
+             f"{sum(d.repeats for d in report.warnings)} warnings",
              f"== rswarp info {name}", report_text(report) if report.model is not None else "(nothing to show)", ""]
     return "\n".join(lines)
 

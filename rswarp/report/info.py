@@ -125,7 +125,7 @@ def report_dict(report: Report) -> dict:
 
 
 def _diag(d) -> dict:
-    return {"file": d.file, "line": d.line, "message": d.message}
+    return {"file": d.file, "line": d.line, "message": d.message} | ({"repeats": d.repeats} if d.repeats > 1 else {})
 
 
 # -- text --------------------------------------------------------------------------------------------
@@ -285,7 +285,7 @@ def check_dict(reports: list[Report]) -> dict:
 
 def check_verdict(r: Report) -> str:
     """``rswarp check``'s line per file: OK or FAILED, with the counts of problems."""
-    ne, nw = len(r.errors), len(r.warnings)
+    ne, nw = (sum(d.repeats for d in found) for found in (r.errors, r.warnings))
     return one_line(f"{r.path}: {'OK' if r.ok else 'FAILED'} ({r.kind}; {ne} error{'s' * (ne != 1)}, "
                     f"{nw} warning{'s' * (nw != 1)})")
 

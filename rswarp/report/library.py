@@ -16,7 +16,9 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import InputError, MeshError, RsxmlError, one_line
-from ..files import atomic_folder, atomic_write, new_folders
+from ..files import atomic_write, new_folders, output_error, read_regular
+from ..options import checked
+from ..outputs import atomic_folder, claim, record
 from ..rsxml.documents import Report, check
 from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource, resolve_relative
 from .output import Output
@@ -70,6 +72,7 @@ def build_library(path: str | Path, out: str | Path | None = None, layout: str =
     """Build every asset of the LibraryCompiler file ``path`` into ``out`` (default: beside it)."""
     if layout not in LAYOUTS:
         raise InputError(f"layout must be {' or '.join(LAYOUTS)}, not {layout!r}")
+    checked("size", size)
     report = check(path)
     if report.kind != "LibraryCompiler" or not isinstance(report.model, LibraryCompiler):
         raise RsxmlError(report.errors or [_not_library(report)])
@@ -77,12 +80,13 @@ def build_library(path: str | Path, out: str | Path | None = None, layout: str =
     _raise_file_errors(report, lib)
     out = Path(out) if out is not None else Path(lib.path).parent
     targets = library_targets(lib)
+    clashes = output_clashes(report.path, targets)
     results, existed = [], out.exists()
     with new_folders(out / "asset"):
         if progress:
             progress(0, len(targets))
         for k, target in enumerate(targets):
-            results.append(_build_one(report, target, out, layout, size, device))
+            results.append(_build_one(report, target, out, layout, size, device, clashes.get(k)))
             if progress:
                 progress(k + 1, len(targets))
     if not existed and not any(r.status == "built" for r in results):
@@ -95,6 +99,24 @@ def run_build(path: str, out: str | None = None, layout: str = "usdz", size: int
     """``rswarp build``: every asset of a LibraryCompiler file; exit 1 if any failed."""
     build = build_library(path, out, layout=layout, size=size, device=device, progress=progress)
     return Output(build.report(), build_text(build), 0 if build.ok else 1)
+
+
+def output_clashes(path: str, targets: list[Target]) -> dict[int, str]:
+    """Why a target cannot be built, where its output is no file name or lands on an earlier
+    target's (names that differ as text but name the same file: ``a.rslib``, ``A.usdz``,
+    ``sub\\a.rslib``): by the target's index. Its output is its name's asset and its preview."""
+    out, first = {}, {}
+    for k, t in enumerate(targets):
+        line = getattr(t.variant, "line", 0) or t.entry.line
+        key = t.name.casefold()
+        if t.name in ("", ".", "..") or "/" in t.name or "\\" in t.name:
+            out[k] = f"{path}:{line}: fileName '{t.name}' names no file"
+        elif key in first:
+            kind, at = first[key]
+            out[k] = f"{path}:{line}: its asset '{t.name}' is the asset of the {kind} at line {at} too"
+        else:
+            first[key] = ("Variant" if t.variant is not None else "Library", line)
+    return out
 
 
 def library_targets(lib: LibraryCompiler) -> list[Target]:
@@ -151,17 +173,22 @@ def _model(report: Report, target: Target):
     return entry.component
 
 
-def _build_one(report: Report, target: Target, out: Path, layout: str, size: int, device: str) -> Built:
+def _build_one(report: Report, target: Target, out: Path, layout: str, size: int, device: str,
+               clash: str | None = None) -> Built:
     started = time.perf_counter()
-    label = target.entry.file_name + (f":{target.variant.name}" if target.variant else "")
+    label = target.entry.file_name + (f":{target.variant.name or target.name}" if target.variant else "")
     title = target.properties.title
     diags = _target_diagnostics(report, target)
-    errors = [d for d in diags if d.severity == "error"]
+    errors = [str(d) for d in diags if d.severity == "error"] + ([clash] if clash else [])
     warnings = [str(d) for d in diags if d.severity == "warning"]
     if errors:
-        return Built(label, title, None, 0, time.perf_counter() - started, "failed", str(errors[0]), tuple(warnings))
+        return Built(label, title, None, 0, time.perf_counter() - started, "failed", errors[0], tuple(warnings))
     try:
         output, written, more = _write_asset(report, target, out, layout, size, device)
+    except OSError as exc:  # the asset's own output cannot be written: this asset fails, not the build
+        exc = output_error(getattr(exc, "filename", None) or out, exc)
+        return Built(label, title, None, 0, time.perf_counter() - started, "failed",
+                     one_line(f"{report.path}:{target.entry.line}: {exc}"), tuple(warnings))
     except (RsxmlError, InputError, MeshError, ValueError) as exc:
         where = f"{report.path}:{target.entry.line}: " if not str(exc).startswith(report.path) else ""
         return Built(label, title, None, 0, time.perf_counter() - started, "failed", one_line(f"{where}{exc}"),
@@ -183,10 +210,13 @@ def _write_asset(report: Report, target: Target, out: Path, layout: str, size: i
     asset = AssetInfo(info=_asset_info(target, file), layer_data={"rswarp:library": _metadata(report, target, model)},
                       thumbnail=thumbnail)
     if layout == "usdz":
-        output = out / f"{target.name}.usdz"
+        output, preview = out / f"{target.name}.usdz", out / f"{target.name}.png"
+        for path in (output, preview):
+            claim(path)  # a file of the user's in the way fails this asset, and is left alone
         warnings += to_usd(model, output, layout="flat", asset=asset)
         if thumbnail is not None:  # the preview inside the package, and beside it to look at
-            atomic_write(out / f"{target.name}.png", thumbnail)
+            atomic_write(preview, thumbnail)
+        record(out, [p.name for p in (output, preview) if p.exists()])
         return output, output.stat().st_size, warnings
     output = out / target.name
     owned = (f"{target.name}.usda", f"{target.name}_Payload", f"{target.name}.thumbnail.png")
@@ -245,7 +275,7 @@ def _thumbnail(report: Report, target: Target, mech, size: int, device: str, war
     if image is None:
         return None
     if image.source:
-        return _given_picture(report, target, image.source)
+        return _given_picture(report, target, image.source, size)
     if not image.generate:
         return None
     from ..sim.preview import View, home_scene, png, render
@@ -274,21 +304,34 @@ def _home_poses(mech, warnings: list[str]):
         return None
 
 
-def _given_picture(report: Report, target: Target, source: str) -> bytes:
-    """``Image source``: the picture beside the library file, as PNG."""
+MAX_PICTURE_PIXELS = 64 << 20  # an Image source larger than this (8192 x 8192) is refused before decoding
+
+
+def _given_picture(report: Report, target: Target, source: str, size: int) -> bytes:
+    """``Image source``: the picture beside the library file, read as every input is, scaled to fit
+    the preview size, as PNG. A picture of more than MAX_PICTURE_PIXELS is refused before it is
+    decoded (a small file can hold a decompression bomb)."""
     import io
+    import warnings
 
     from PIL import Image, UnidentifiedImageError
 
+    where = f"{report.path}:{target.entry.line}: Image source '{source}'"
     path = resolve_relative(Path(report.path).parent, source)
     if path is None:
-        raise InputError(f"{report.path}:{target.entry.line}: Image source '{source}' not found")
+        raise InputError(f"{where} not found")
     try:
-        with Image.open(path) as im:
-            buf = io.BytesIO()
-            im.convert("RGBA").save(buf, format="PNG")
-    except (OSError, UnidentifiedImageError) as exc:
-        raise InputError(f"{report.path}:{target.entry.line}: Image source '{source}': not a picture ({exc})") from None
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", Image.DecompressionBombWarning)  # our cap speaks first, once
+            with Image.open(io.BytesIO(read_regular(path))) as im:
+                if im.width * im.height > MAX_PICTURE_PIXELS:
+                    raise InputError(f"{where}: {im.width} x {im.height} pixels, over the {MAX_PICTURE_PIXELS:,} a "
+                                     "preview takes")
+                im.thumbnail((size, size))
+                buf = io.BytesIO()
+                im.convert("RGBA").save(buf, format="PNG")
+    except (OSError, UnidentifiedImageError, Image.DecompressionBombError, Image.DecompressionBombWarning) as exc:
+        raise InputError(f"{where}: not a picture rswarp takes ({one_line(str(exc))})") from None
     return buf.getvalue()
 
 
@@ -296,8 +339,8 @@ def build_text(build: LibraryBuild) -> str:
     """The summary table, then each failure and warning on its own line."""
     rows = [("library", "title", "output", "size", "time", "status")]
     for r in build.results:
-        rows.append((r.library, (r.title or "")[:40], r.output or "-", size_text(r.size) if r.output else "-",
-                     f"{r.seconds:.1f} s", r.status))
+        rows.append((_cut(r.library, 48), (r.title or "")[:40], _cut(r.output or "-", 64),
+                     size_text(r.size) if r.output else "-", f"{r.seconds:.1f} s", r.status))
     widths = [max(len(row[i]) for row in rows) for i in range(6)]
     lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
     for r in build.results:
@@ -306,6 +349,11 @@ def build_text(build: LibraryBuild) -> str:
     built = sum(r.status == "built" for r in build.results)
     lines.append(f"{built} of {len(build.results)} built into {build.out}")
     return "\n".join(lines)
+
+
+def _cut(text: str, width: int) -> str:
+    """``text`` within ``width`` characters, its middle left out (a table column stays readable)."""
+    return text if len(text) <= width else f"{text[:width // 2 - 1]}...{text[-(width - width // 2 - 2):]}"
 
 
 def size_text(n: int) -> str:

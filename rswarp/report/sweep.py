@@ -10,8 +10,9 @@ from typing import Callable
 
 import numpy as np
 
-from ..files import atomic_folder, atomic_write, check_replaceable
+from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
+from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number

@@ -11,7 +11,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import Diagnostic, RsxmlError
+from ..errors import Diagnostic, Diagnostics, RsxmlError
 from ..files import file_size_limit
 from .library import (
     LibraryCompiler,
@@ -91,7 +91,7 @@ class _Checker:
         self.open: set[str] = set()  # libraries being checked: a source among them is a cycle
 
     def check(self, file: str, depth: int) -> Report:
-        diags: list[Diagnostic] = []
+        diags = Diagnostics()
         try:
             root = parse_xml(file)
         except RsxmlError as exc:
@@ -105,16 +105,16 @@ class _Checker:
                 subs = self._sources(lib, diags, depth)
             finally:
                 self.open.discard(key)
-            return Report(file, kind, lib, tuple(diags), subs)
+            return Report(file, kind, lib, tuple(diags.finish()), subs)
         if ns == NS_RESOURCE and kind == "LibraryResource":
-            return Report(file, kind, read_resource(root, file, diags), tuple(diags))
+            return Report(file, kind, read_resource(root, file, diags), tuple(diags.finish()))
         model = read_component_root(root, file, diags)
         if isinstance(model, Mechanism):
             validate_mechanism(model, file, diags)
         elif isinstance(model, SmartComponent):
             validate_smart_component(model, file, diags)
             model = self._describe(model, Path(file).parent, diags)
-        return Report(file, kind, model, tuple(diags))
+        return Report(file, kind, model, tuple(diags.finish()))
 
     def _source(self, lib: LibraryCompiler, entry, diags: list[Diagnostic], depth: int) -> tuple[Report | None, bool]:
         """The report of one Library source (None: not checkable), and whether this is its first check."""

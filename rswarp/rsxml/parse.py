@@ -1,9 +1,12 @@
 """Safe XML and number parsing for the RSXML family.
 
 The document is parsed with entities, DTDs and network off, from a regular file within the size
-limit; whether it declares or uses entities is decided on the parsed document (its DTD and nodes),
-so every encoding is judged alike and a comment that mentions ``<!ENTITY`` is harmless. Numbers are
-plain ASCII decimals, as RobotStudio writes them.
+limit. No DTD may supply, remove or change a value: a DOCTYPE that declares anything (an element,
+an attribute list with its defaults, an entity, a notation) is refused at its line, and so is a
+reference to any entity but XML's five, in content or in an attribute value, where a parser would
+drop it without a word. Both are decided on the document's text decoded in its own encoding, with
+comments and CDATA sections left out, so every encoding is judged alike and a comment that mentions
+``<!ENTITY`` is harmless. Numbers are plain ASCII decimals, as RobotStudio writes them.
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ def number(text: str) -> float:
 def _parser(recover: bool = False) -> etree.XMLParser:
     return etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=False, load_dtd=False,
                            dtd_validation=False, remove_pis=True, remove_comments=False,  # kept for save
+                           remove_blank_text=True,  # whitespace between elements costs a node each
                            recover=recover)
 
 
@@ -62,6 +66,7 @@ def parse_xml(path: str | Path) -> etree._Element:
             raise RsxmlError(Diagnostic(file, line, "entity expansion too large: entities are refused")) from None
         raise RsxmlError(Diagnostic(file, line, f"XML syntax error: {msg}")) from None
     _refuse_entities(root, data, file)
+    _refuse_dtd(data, root.getroottree().docinfo.encoding, file)
     return root
 
 
@@ -88,6 +93,32 @@ def _refuse_entities(root: etree._Element | None, data: bytes, file: str) -> Non
     for node in root.iter(etree.Entity):
         raise RsxmlError(Diagnostic(file, node.sourceline or 0,
                                     f"entity reference {node.text} to an external DTD: entities are refused"))
+
+
+PREDEFINED = frozenset({"amp", "lt", "gt", "quot", "apos"})
+_HIDDEN = re.compile(r"<!--.*?-->|<!\[CDATA\[.*?\]\]>", re.S)  # text that holds no markup
+_SUBSET = re.compile(r"<!DOCTYPE\b[^\[>]*\[(.*?)\]\s*>", re.S)
+_REFERENCE = re.compile(r"&([A-Za-z_:][-\w.:]*);")
+
+
+def _refuse_dtd(data: bytes, encoding: str | None, file: str) -> None:
+    """A DOCTYPE that declares anything, or a reference to an entity XML does not predefine, is an
+    error at its line: no DTD supplies, removes or changes a value."""
+    try:
+        text = codecs.decode(data, encoding or "utf-8")
+    except (LookupError, ValueError):
+        return  # the parser read it: it is the encoding lxml reports; nothing else to judge by
+    text = _HIDDEN.sub(lambda m: "\n" * m.group(0).count("\n"), text)  # keep the line count
+    subset = _SUBSET.search(text)
+    if subset and re.search(r"<!|%", subset.group(1)):
+        line = text.count("\n", 0, subset.start()) + 1
+        raise RsxmlError(Diagnostic(file, line, "the DOCTYPE declares elements, attributes or entities: DTDs are "
+                                                "refused, so that no DTD supplies or changes a value"))
+    for m in _REFERENCE.finditer(text):
+        if m.group(1) not in PREDEFINED:
+            line = text.count("\n", 0, m.start()) + 1
+            raise RsxmlError(Diagnostic(file, line, f"entity reference &{m.group(1)}; is not one of XML's own: "
+                                                    "entities are refused"))
 
 
 def _declaration_line(data: bytes, encoding: str | None, name: str) -> int:

@@ -6,6 +6,7 @@ import re
 from collections import Counter
 
 from ..errors import Diagnostic
+from .cable_spans import cable_spans
 from .model import KINEMATICS_FLAGS, KNOWN_ATTRIBUTE_KEYS, MECHANISM_TYPES, Mechanism, SmartComponent, iter_parts
 from .units import format_number
 
@@ -76,6 +77,11 @@ def validate_mechanism(mech: Mechanism, file: str, diagnostics: list[Diagnostic]
         for p in c.control_points:
             if p.attached_to is not None and p.attached_to not in links | part_names:
                 out.error(p.line, f"ControlPoint attachedTo '{p.attached_to}' is not a link or part")
+        if c.radius > 0 and c.max_segment_length > 0:  # else the reader said why already
+            try:
+                cable_spans(c, mech.length_factor)
+            except ValueError as exc:
+                out.error(c.line, str(exc))
     _attributes(mech, out)
 
 

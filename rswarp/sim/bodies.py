@@ -66,11 +66,11 @@ def placed_environments(mech: Mechanism, specs: list[str]) -> tuple[Environment,
     out = []
     for spec in specs:
         path, at, where = spec.rpartition("@")
+        usage = f"--env '{spec}': give MESH@x,y,z, a mesh file and three numbers in the file's length unit"
         try:
             xyz = [number(v) for v in where.split(",")]
-        except ValueError:
-            xyz = []
-        usage = f"--env '{spec}': give MESH@x,y,z, a mesh file and three numbers in the file's length unit"
+        except ValueError as exc:
+            raise InputError(f"{usage} ({exc})" if at and path else usage) from None
         if not at or not path or len(xyz) != 3:
             raise InputError(usage)
         pose = np.eye(4)
@@ -97,6 +97,7 @@ def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ())
         if mesh is None:
             continue
         bodies.append(_body(name, int(k), mesh, np.eye(4), warnings))
+        _within_reach(bodies[-1], f"link '{name}'")
     if not bodies:
         raise InputError(f"{mech.path or mech.name}: no link has a mesh: there is nothing to test for collisions")
     links = [b.name for b in bodies]
@@ -104,6 +105,7 @@ def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ())
         if env.name in {b.name for b in bodies}:
             raise InputError(f"environment mesh '{env.name}' has the name of another body; rename its file")
         bodies.append(_body(env.name, -1, _environment_mesh(mech, env), env.pose, warnings))
+        _within_reach(bodies[-1], f"{env.path}: the environment mesh")
     adjacent = graph.adjacent_pairs(has_geometry=links)
     pairs = [(i, j) for i in range(len(links)) for j in range(i + 1, len(links))
              if frozenset((links[i], links[j])) not in adjacent]
@@ -117,6 +119,18 @@ def _body(name: str, link: int, mesh, pose: np.ndarray, warnings: list[str]) -> 
                         "winding number")
     return Body(name, link, np.asarray(mesh.vertices, np.float64), np.asarray(mesh.faces, np.int64),
                 bool(mesh.is_watertight), np.asarray(pose, np.float64))
+
+
+def _within_reach(body: Body, what: str) -> None:
+    """A body placed within ``MAX_LENGTH`` of the origin, with triangles: anything else is not a
+    cell's geometry, and float32 kernels could not judge it exactly."""
+    if not len(body.faces):
+        raise InputError(f"{what} has no triangles")
+    placed = body.vertices @ body.pose[:3, :3].T + body.pose[:3, 3]
+    if not np.all(np.isfinite(placed)) or np.abs(placed).max() > MAX_LENGTH:
+        far = float(np.nanmax(np.abs(np.where(np.isfinite(placed), placed, np.inf))))
+        raise InputError(f"{what} reaches {far:.3g} m from the origin; a cell lies within {MAX_LENGTH:g} m "
+                         "(the bound of every length rswarp reads)")
 
 
 def _environment_mesh(mech: Mechanism, env: Environment):
@@ -164,8 +178,12 @@ class DeviceBodies:
 
         S, V3, M33, M34, _ = types_of(scalar)
         bodies, tree = self.bodies.bodies, self.tree
-        # boxes and spheres grown by a hair: rounding to float32 must never shrink them
-        grow = 1e-6 * (np.abs(tree.center).max() + 1.0)
+        # boxes and spheres grown by a hair, each body by its own size and place: rounding to
+        # float32 must never shrink them, and a far or huge body must not swell the others' boxes
+        # (which would make every walk visit every node pair)
+        body_grow = np.array([1e-6 * (np.abs(b.vertices).max(initial=0.0) + np.abs(b.pose[:3, 3]).max() + 1.0)
+                              for b in bodies])
+        grow = np.repeat(body_grow, np.diff(np.append(self.roots, len(tree.center))))[:, None]
         centre, radius = zip(*self.spheres)
         s = bodies_struct(scalar)()
         arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
@@ -174,7 +192,7 @@ class DeviceBodies:
         s.root = arr(self.roots, wp.int32)
         s.mesh = arr(np.array([m.id for m in self.meshes], np.uint64), wp.uint64)
         s.watertight = arr(np.array([b.watertight for b in bodies], np.int32), wp.int32)
-        s.center, s.radius = arr(np.array(centre), V3), arr(np.array(radius) * (1 + 1e-6) + grow, S)
+        s.center, s.radius = arr(np.array(centre), V3), arr(np.array(radius) * (1 + 1e-6) + body_grow, S)
         counts = np.array([len(p) for p in self.points], np.int32)
         s.point_start = arr(np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32), wp.int32)
         s.point_count = arr(counts, wp.int32)

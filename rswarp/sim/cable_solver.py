@@ -7,15 +7,17 @@ chosen by ``CableOptions.cable_model`` from the registry in ``cable_models``.
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import Any, ClassVar, Mapping
 
 import numpy as np
 
-from ..errors import MeshNotFoundError
+from ..errors import InputError, MeshNotFoundError
 from ..geometry.cable import cable_rest
 from ..geometry.meshes import link_mesh
+from ..options import checked
 from ..rsxml.model import Cable, Mechanism
 
 DENSITY = 1200.0  # kg/m^3: a hose
@@ -63,6 +65,13 @@ class CableOptions:
     cable_model: str = "chain"  # the model of ``cable_models.CABLE_MODELS``
     device: str = "cpu"
     threads: int | None = None
+
+    def __post_init__(self):
+        for name, value in (("frame-rate", self.frame_rate), ("substeps", self.substeps), ("density", self.density),
+                            ("min-bend-radius", self.min_bend_radius), ("floor", self.floor)):
+            checked(name, value)
+        if not (self.iterations >= 1 and math.isfinite(self.damping) and self.damping >= 0 and self.bend_factor > 0):
+            raise InputError("iterations must be at least 1, damping finite and >= 0, bend_factor > 0")
 
 
 @dataclass(frozen=True)

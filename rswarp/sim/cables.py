@@ -20,6 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..kinematics.trajectory import Trajectory, assign, minimum_jerk
+from ..options import checked
 from ..rsxml.model import Mechanism
 from .cable_models import cable_model, make_solver
 from .cable_results import MAX_VALUES_BYTES, CablePiece, CableResult, CableTally, RunningExtremes, values_bytes
@@ -27,7 +28,6 @@ from .cable_solver import CableOptions, link_meshes
 from .engine import Job, run_batch
 
 SETTLE_MOVE, SETTLE_HOLD, SETTLE_DAMPING = 0.5, 0.5, 10.0  # s, s, 1/s
-MAX_ENVS = 1 << 16  # environments of one run: its state and per-frame results stay bounded
 MAX_FRAMES = 1_000_000  # frames of one run (4.6 h at 60 fps)
 
 
@@ -60,13 +60,9 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if not trajectories:
         raise InputError("no trajectory to follow")
-    if not 1 <= envs <= MAX_ENVS:
-        raise InputError(f"--envs must be between 1 and {MAX_ENVS}, got {envs}")
+    checked("envs", envs)
     seconds = max(t.duration for t in trajectories) if seconds is None else float(seconds)
-    frames = int(round(seconds * options.frame_rate))
-    if not 1 <= frames <= MAX_FRAMES:
-        raise InputError(f"{seconds:g} s at {options.frame_rate:g} frames per second is {frames} frames; "
-                         f"a run takes 1 to {MAX_FRAMES}")
+    frames = run_frames(seconds, options)
     job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
     meshes = link_meshes(mech) if options.contact else None
     for c in mech.cables:  # a cable the model cannot take fails here, before anything is built or scheduled
@@ -79,6 +75,18 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     times = np.arange(1, frames + 1) / options.frame_rate
     return CableRun(mech.name, cables, times, tuple(t.source for t in trajectories), job.who, recorded_q, options,
                     meshes.warnings if meshes else ())
+
+
+def run_frames(seconds: float, options: CableOptions) -> int:
+    """The frames of a run of ``seconds`` (``InputError`` unless 1 to MAX_FRAMES, settling
+    included): checked before any trajectory is made or any state allocated."""
+    checked("seconds", seconds)
+    frames = int(round(seconds * options.frame_rate))
+    settle = int(round((SETTLE_MOVE + SETTLE_HOLD) * options.frame_rate))
+    if not 1 <= frames <= MAX_FRAMES - settle:
+        raise InputError(f"{seconds:g} s at {options.frame_rate:g} frames per second is {frames} frames and "
+                         f"{settle} more to settle; a run takes 1 to {MAX_FRAMES} in all")
+    return frames
 
 
 def _check_cut_run(mech: Mechanism, envs: int, frames: int) -> None:

@@ -24,6 +24,7 @@ from ..errors import InputError, model_error
 from ..kernels.types import WITNESSES
 from ..kinematics.chain import loops_close, mechanism_chain
 from ..kinematics.kinematics import Kinematics
+from ..options import checked
 from ..rsxml.model import Mechanism
 from .bodies import CollisionBodies, DeviceBodies, Environment, collision_bodies
 from .engine import Job, run_batch
@@ -165,10 +166,8 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     """Sweep ``samples`` random configurations within the joint limits for collisions between the
     links (and with the environment meshes), and compute the collision matrix; ``cluster`` (a
     ``rswarp.Cluster`` or a Ray address) runs the sweep's samples as tasks on Ray."""
-    if samples < 1:
-        raise InputError("samples must be at least 1")
-    if not (np.isfinite(padding) and padding >= 0):
-        raise InputError("the padding must be a finite distance >= 0")
+    checked("samples", samples)
+    checked("padding", padding)
     lower, upper = _limits(mech)
     bodies = collision_bodies(mech, tuple(environment))
     checker = Checker(mech, bodies, padding, device, threads)

@@ -210,7 +210,8 @@ def connect(cluster: Cluster):
                     warnings.simplefilter("ignore")
                     ray.init(address=cluster.address, **quiet)
             except (ConnectionError, RuntimeError, ValueError) as exc:
-                raise InputError(f"cannot reach the Ray cluster at '{cluster.address}': {exc}") from None
+                said = next((line.strip() for line in str(exc).splitlines() if line.strip()), type(exc).__name__)
+                raise InputError(f"cannot reach the Ray cluster at '{cluster.address}': {said}") from None
     return ray
 
 

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import InputError, model_error
 from ..kinematics.kinematics import Kinematics
+from ..options import checked
 from ..rsxml.model import Mechanism
 from .engine import Job, run_batch
 
@@ -378,10 +379,8 @@ def workspace(mech: Mechanism, samples: int = 100_000, seed: int = 0, method: st
               progress: Callable[[float, float], None] | None = None, cluster=None) -> Workspace:
     """Sweep ``samples`` joint configurations within the limits and measure the workspace;
     ``cluster`` (a ``rswarp.Cluster`` or a Ray address) runs the samples as tasks on Ray."""
-    if samples < 1:
-        raise InputError("samples must be at least 1")
-    if not resolution > 0:
-        raise InputError("the voxel resolution must be positive")
+    checked("samples", samples)
+    checked("resolution", resolution)
     if method not in METHODS:
         raise InputError(f"unknown sampling method '{method}' (random, sobol or grid)")
     kin = kinematics or Kinematics(mech)
