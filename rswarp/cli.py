@@ -58,7 +58,8 @@ COMMANDS = {
     "build": ("library:run_build", "asset", "build the assets of a LibraryCompiler XML: USD with metadata and a "
                                             "preview", ("json", "device")),
     "cable": ("cables:run_cables", "environment", "cable (dress-pack) dynamics in many environments, each robot on "
-                                                  "its own trajectory: tension, bend radius, clearance, slack, twist",
+                                                  "its own trajectory: slack, bend radius, tension, clamp loads, "
+                                                  "twist and torque, contact and wear",
               ("json", "device", "ray", "seed", "out")),
     "demo": ("demo:demo_output", None, "run rswarp on the bundled example robots", ("json",)),
 }

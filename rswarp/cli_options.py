@@ -9,7 +9,7 @@ import argparse
 from .export.physics import DRIVE_HZ
 from .geometry.mass import DEFAULT_DENSITY
 from .options import argument
-from .sim.cable_solver import DENSITY, FRAME_RATE, SUBSTEPS
+from .sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
 
 LENGTH = "in the file's length unit"
 
@@ -107,14 +107,21 @@ def cable(p: argparse.ArgumentParser) -> None:
     floor = p.add_mutually_exclusive_group()
     floor.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
     floor.add_argument("--no-floor", dest="floor", action="store_const", const=None, help="no floor")
+    p.add_argument("--env", dest="environment", action="append", default=[], metavar="MESH@x,y,z",
+                   help=f"a mesh placed in the world ({LENGTH}) that the cables meet; repeat for more")
     p.add_argument("--density", type=argument("density"), default=DENSITY, help=f"kg/m^3 (default {DENSITY:g}, a hose)")
+    p.add_argument("--poisson", type=argument("poisson"), default=POISSON,
+                   help=f"Poisson's ratio of the cable's material, 0 to 0.5 (default {POISSON:g}, rubber: G = E/3)")
+    p.add_argument("--friction", type=argument("friction"), default=FRICTION,
+                   help=f"Coulomb friction coefficient of the cables on everything (default {FRICTION:g}: rubber on "
+                        "painted metal)")
     p.add_argument("--frame-rate", type=argument("frame-rate"), default=FRAME_RATE,
                    help=f"results per simulated second (default {FRAME_RATE:g})")
     p.add_argument("--substeps", type=argument("substeps"), default=SUBSTEPS,
                    help=f"steps per frame (default {SUBSTEPS})")
-    p.add_argument("--cable-model", default="chain", metavar="MODEL",
-                   help="how the cables are simulated: a model of rswarp.sim.cable_models (default chain: "
-                        "particles, inextensible, bent by XPBD)")
+    p.add_argument("--cable-model", default="rod", metavar="MODEL",
+                   help="how the cables are simulated: a model of rswarp.sim.cable_models (default rod: "
+                        "discrete Cosserat rods)")
 
 
 def demo(p: argparse.ArgumentParser) -> None:

@@ -77,6 +77,8 @@ BOUNDS: dict[str, Bound] = {
     "min-bend-radius": _length(0.0, strict=True),
     "floor": _length(-math.inf),
     "density": Bound(0.0, 1e5, strict=True, unit="kg/m^3", why="denser than any material: osmium is 22 590"),
+    "poisson": Bound(0.0, 0.5, why="an isotropic material's Poisson ratio: 0.5 is incompressible"),
+    "friction": Bound(0.0, 10.0, why="a hose on metal is 0.3 to 0.8; past 10 it is glue, not friction"),
     "mass": Bound(0.0, 1e6, strict=True, unit="kg", why="the heaviest robots weigh a few tonnes"),
     "drive-hz": Bound(0.0, 1000.0, unit="Hz", why="a drive faster than the 1 ms steps that simulate it is none"),
     "armature": Bound(0.0, 1e6, unit="kg m^2"),

@@ -1,5 +1,5 @@
-"""Cable runs (issue "Cable dynamics in parallel environments"): contact with link meshes and the
-floor, tension against the catenary, the IRB 2600ID's hose over wrist sweeps, blow-ups that stop
+"""Cable runs (issues "Cable dynamics in parallel environments", "Cables as Cosserat rods"): contact
+with link meshes and the floor, the IRB 2600ID's hose over wrist sweeps, blow-ups that stop
 one environment only, results identical on one core or many, and the ``rswarp cable`` command."""
 
 from __future__ import annotations
@@ -8,12 +8,11 @@ import json
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
 
 import rswarp
 from rswarp.cli import main
+from rswarp.errors import RsxmlError
 from rswarp.kinematics.trajectory import Trajectory
-from rswarp.sim.cable_chain import ParticleChain
 from rswarp.sim.cables import CableOptions, simulate_cables
 
 from conftest import DATA
@@ -26,47 +25,38 @@ def held(q, seconds: float, name: str = "held") -> Trajectory:
 
 
 def test_hose_rests_on_a_moving_link_mesh():
-    """A lift raises a block under the hanging hose: the hose's middle ends on the block's top
-    (z = 0.9 m plus the 10 mm radius, within 1 mm), the contact is reported on the lift's link at
-    the time and place it happened, and the hose beside it, unraised, sags freely to the catenary."""
+    """A lift raises a block under the hanging wire: the wire's middle ends on the block's top
+    (z = 0.9 m plus the 2 mm radius, within 0.5 mm; near the edges its stiffness lifts it a few
+    millimetres), the contact is reported on the lift's link at the time and place it happened,
+    and the wire beside it, unraised, hangs free."""
     mech = rswarp.load(DATA / "cables" / "draped.rsxml")
     lift = Trajectory("lift", np.array([0.0, 2.0, 6.0]), np.array([[0.0], [0.4], [0.4]]))
     run = simulate_cables(mech, [lift, held([0.0], 6.0)], envs=2, options=CableOptions(damping=3.0))
     c = run.cables[0]
     assert list(c.status) == ["ok", "ok"]
     lifted, still = c.final_points
-    over = np.abs(lifted[:, 0] - 0.5) < 0.1
-    assert over.sum() >= 5 and np.abs(lifted[over, 2] - 0.91).max() < 1e-3
+    middle, over = np.abs(lifted[:, 0] - 0.5) < 0.05, np.abs(lifted[:, 0] - 0.5) < 0.1
+    assert middle.sum() >= 3 and np.abs(lifted[middle, 2] - 0.902).max() < 5e-4
+    assert lifted[over, 2].min() > 0.9015 and lifted[over, 2].max() < 0.91
     j = c.links.index("Lift")
     assert abs(c.clearance[0, j]) < 1e-3 and 0.5 < c.contact_time[0, j] < 2.0
-    assert abs(c.contact_at[0, j] - 0.6) < 0.1  # the middle of the 1.2 m hose touches first
-    assert np.isnan(c.contact_time[1]).all() and c.clearance[1, j] > 0.15
-    cat = brentq(lambda a: 2 * a * np.sinh(0.5 / a) - 1.2, 0.05, 10.0)
-    assert 1.0 - still[:, 2].min() == pytest.approx(cat * (np.cosh(0.5 / cat) - 1), rel=0.01)
+    assert abs(c.contact_at[0, j] - 0.6) < 0.1  # the middle of the 1.2 m wire touches first
+    assert c.peak_normal[0] > 0 and c.peak_normal_at[0] == pytest.approx(0.6, abs=0.15)
+    assert np.isnan(c.contact_time[1]).all() and c.clearance[1, j] > 0.15 and still[:, 2].min() < 0.75
 
 
-def test_floor_holds_the_hose_up():
-    """Lowered so that the catenary would pass 0.1 m below the floor, the hose lies on it: no point
-    below the radius, contact with the floor reported."""
-    mech = rswarp.load(DATA / "cables" / "catenary.rsxml")
-    run = simulate_cables(mech, [held([0.0], 4.0)], envs=1,
-                          options=CableOptions(floor=0.8, contact=False, damping=3.0))
-    hang = run.cables[0]
-    assert hang.final_points[0][:, 2].min() == pytest.approx(0.805, abs=5e-4)
-    assert hang.clearance[0, -1] == pytest.approx(0.0, abs=5e-4) and np.isfinite(hang.contact_time[0, -1])
-
-
-def test_catenary_support_tension():
-    """Settled, the hung hose pulls on its supports with w c cosh(D / 2c), within 2 %."""
-    mech = rswarp.load(DATA / "cables" / "catenary.rsxml")
-    chain = ParticleChain(mech, mech.cables[0], CableOptions(substeps=20, damping=3.0))
-    state = chain.state(1)
-    zero = np.zeros((1, 20, 1), np.float32)
-    for _ in range(480):
-        chain.step(state, zero, 1 / 60)
-    c = brentq(lambda a: 2 * a * np.sinh(0.5 / a) - 1.2, 0.05, 10.0)
-    w = 9.81 * 1200 * np.pi * 0.005 ** 2
-    assert chain.statistics(state)["tension"][0] == pytest.approx(w * c * np.cosh(0.5 / c), rel=0.02)
+def test_floor_holds_the_hose_up(tmp_path):
+    """Lowered so that the catenary would pass 94 mm below the floor, the wire lies on it: no point
+    below its radius, contact with the floor reported. A cable routed through the floor from the
+    start is an error at its line."""
+    mech = rswarp.load(DATA / "cables" / "floor.rsxml")
+    down = Trajectory("down", np.array([0.0, 2.0, 5.0]), np.array([[0.0], [0.3], [0.3]]))
+    hang = simulate_cables(mech, [down], envs=1, options=CableOptions(damping=3.0)).cables[0]
+    assert hang.final_points[0][:, 2].min() == pytest.approx(0.002, abs=5e-4)
+    assert hang.clearance[0, -2] == pytest.approx(0.0, abs=5e-4) and np.isfinite(hang.contact_time[0, -2])
+    assert hang.links[-2] == "floor" and list(hang.status) == ["ok"]
+    with pytest.raises(RsxmlError, match=r"floor.rsxml:11: cable 'Hang' starts 0.107 m into the floor"):
+        simulate_cables(mech, [down], envs=1, options=CableOptions(floor=0.3))
 
 
 def wrist_sweeps(seconds: float = 3.0) -> list[Trajectory]:
@@ -94,7 +84,7 @@ def test_irb2600id_hose_over_wrist_sweeps():
     assert hose.min_bend_radius[0] > 5.0 and hose.min_bend_radius[2] > 5.0
     assert 0.02 < hose.min_bend_radius[1] < 0.6665 / (np.pi / 2)
     assert list(hose.too_tight) == [False, True, False]
-    assert not hose.touching.any() and hose.clearance[:, -1].min() > 1.0
+    assert not hose.touching.any() and hose.clearance[:, hose.links.index("floor")].min() > 1.0
     assert hose.max_twist[0] < 0.01 and hose.max_twist[2] < 0.01
     assert any("no mesh" in w for w in run.warnings)
 
@@ -109,12 +99,14 @@ def test_identical_on_one_core_or_many():
 
 
 def test_a_blow_up_stops_that_environment_only():
-    """J1 jumping half a turn in a millisecond flings the arm's hose past 100 m/s: that
-    environment stops with a message naming the time and the cause; the other runs on."""
+    """J1 jumping half a turn in a millisecond flings the arm's hose (past 100 m/s, or through
+    itself): that environment stops with a message naming the time and the cause; the other runs
+    on."""
     mech = rswarp.load(DATA / "cables" / "catenary.rsxml")
     jump = Trajectory("jump", np.array([0.0, 0.5, 0.501, 2.0]), np.array([[0.0], [0.0], [np.pi], [np.pi]]))
     c = simulate_cables(mech, [jump, held([0.0], 2.0)], envs=2).cables[1]
-    assert c.status[0].startswith("stopped at t = 0.5") and "100 m/s" in c.status[0]
+    assert c.status[0].startswith("stopped at t = 0.5")
+    assert "100 m/s" in c.status[0] or "the trajectory drives it through" in c.status[0]
     assert c.status[1] == "ok" and np.isfinite(c.final_points[1]).all()
 
 
@@ -130,7 +122,7 @@ def test_cable_command_writes_its_report(tmp_path, capsys):
     env = doc["cables"][0]["environments"][1]
     points = np.array(env["final_points"])
     assert points.shape == (15, 3) and env["status"] == "ok" and env["trajectory"] == str(csv)
-    assert points[0] == pytest.approx([0.5385, 0.0, 1.495], abs=1e-4)
+    assert points[0] == pytest.approx([0.5385, 0.0, 1.495], abs=5e-4)  # the clamp, as stiff as the hose
     for name in ("tension.png", "bend_radius.png", "clearance.png"):
         assert (out / name).read_bytes()[:4] == b"\x89PNG"
     from pxr import Usd, UsdGeom
@@ -169,3 +161,18 @@ def test_a_playback_stage_first_leaves_exports_whole(tmp_path):
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert "NewtonJointAPI" in (tmp_path / "r.usda").read_text()
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--poisson", "0.7"], "argument --poisson: must be at most 0.5"),
+    (["--poisson", "-0.1"], "argument --poisson: must be a finite number >= 0"),
+    (["--friction", "-1"], "argument --friction: must be a finite number >= 0"),
+    (["--density", "0"], "argument --density: must be a finite number > 0"),
+])
+def test_bad_rod_parameters_are_one_line(tmp_path, capsys, args, says):
+    """A Poisson ratio outside [0, 0.5], negative friction, a density not above zero: one line,
+    exit 1, nothing written. (E and radius are the file's: ``tests/test_bad.py``.)"""
+    out = tmp_path / "run"
+    assert main(["cable", str(DATA / "cables" / "catenary.rsxml"), "--random", "--out", str(out), *args]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and says in err[0] and not out.exists()

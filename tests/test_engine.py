@@ -12,7 +12,7 @@ import numpy as np
 import rswarp
 from rswarp.cli import main
 from rswarp.sim import cable_models
-from rswarp.sim.cable_chain import ParticleChain
+from rswarp.sim.cable_rod import CosseratRod
 from rswarp.sim.engine import Job, run_batch, spans
 
 from conftest import DATA
@@ -78,19 +78,19 @@ def test_a_job_runs_its_items_once_with_one_progress_count():
 
 
 def test_a_second_cable_model_runs_untouched(monkeypatch, tmp_path, capsys):
-    """A second model registered by name (here the chain again, under another name) runs through
-    simulate_cables, the report and the command line, and gives the chain's results."""
-    copy = type("ChainAgain", (ParticleChain,), {"kind": "chain-again"})
-    monkeypatch.setitem(cable_models.CABLE_MODELS, "chain-again", copy)
+    """A second model registered by name (here the rod again, under another name) runs through
+    simulate_cables, the report and the command line, and gives the rod's results."""
+    copy = type("RodAgain", (CosseratRod,), {"kind": "rod-again"})
+    monkeypatch.setitem(cable_models.CABLE_MODELS, "rod-again", copy)
     csv = tmp_path / "j5.csv"
     csv.write_text("time,J1,J2,J3,J4,J5,J6\n0,0,0,0,0,0,0\n1,0,0,0,0,60,0\n")
     docs = []
-    for model in ("chain", "chain-again"):
+    for model in ("rod", "rod-again"):
         out = tmp_path / model
         assert main(["cable", str(ID), "--envs", "2", "--trajectory", str(csv), "--out", str(out),
                      "--cable-model", model, "--json"]) == 0
         docs.append(json.loads(capsys.readouterr().out))
-    assert docs[1].pop("cable_model") == "chain-again" and docs[0].pop("cable_model") == "chain"
+    assert docs[1].pop("cable_model") == "rod-again" and docs[0].pop("cable_model") == "rod"
     for doc in docs:
         doc.pop("files")
     assert docs[0] == docs[1]
@@ -99,4 +99,4 @@ def test_a_second_cable_model_runs_untouched(monkeypatch, tmp_path, capsys):
 def test_an_unknown_cable_model_is_one_line(tmp_path, capsys):
     assert main(["cable", str(ID), "--random", "--out", str(tmp_path / "k"), "--cable-model", "rope"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["rswarp: no cable model 'rope' (models: chain)"] and not (tmp_path / "k").exists()
+    assert err == ["rswarp: no cable model 'rope' (models: rod)"] and not (tmp_path / "k").exists()

@@ -9,6 +9,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, Callable
 
+import numpy as np
+
 Warn = Callable[[str], None]  # one line for people, on stderr at the command line
 
 
@@ -26,7 +28,12 @@ class Output:
 
 
 def json_safe(value):
-    """``value`` with every non-finite float as None: JSON has no NaN, and a reader must not choke."""
+    """``value`` with every non-finite float as None (JSON has no NaN, and a reader must not choke),
+    NumPy arrays as lists and NumPy numbers as Python's."""
+    if isinstance(value, np.ndarray):
+        return json_safe(value.tolist())
+    if isinstance(value, np.generic):
+        value = value.item()
     if isinstance(value, float):
         return value if math.isfinite(value) else None
     if isinstance(value, dict):

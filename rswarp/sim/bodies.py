@@ -102,15 +102,22 @@ def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ())
         raise InputError(f"{mech.path or mech.name}: no link has a mesh: there is nothing to test for collisions")
     links = [b.name for b in bodies]
     for env in environment:
-        if env.name in {b.name for b in bodies}:
-            raise InputError(f"environment mesh '{env.name}' has the name of another body; rename its file")
-        bodies.append(_body(env.name, -1, _environment_mesh(mech, env), env.pose, warnings))
-        _within_reach(bodies[-1], f"{env.path}: the environment mesh")
+        bodies.append(environment_body(mech, env, {b.name for b in bodies}, warnings))
     adjacent = graph.adjacent_pairs(has_geometry=links)
     pairs = [(i, j) for i in range(len(links)) for j in range(i + 1, len(links))
              if frozenset((links[i], links[j])) not in adjacent]
     pairs += [(i, j) for j in range(len(links), len(bodies)) for i in range(len(links))]
     return CollisionBodies(tuple(bodies), tuple(pairs), adjacent, tuple(warnings))
+
+
+def environment_body(mech: Mechanism, env: Environment, taken: set[str], warnings: list[str] | None = None) -> Body:
+    """An environment mesh as a body in the world; an InputError where its name is ``taken`` (a
+    link's or another mesh's), or it is unreadable, empty or out of reach."""
+    if env.name in taken:
+        raise InputError(f"environment mesh '{env.name}' has the name of another body; rename its file")
+    body = _body(env.name, -1, _environment_mesh(mech, env), env.pose, [] if warnings is None else warnings)
+    _within_reach(body, f"{env.path}: the environment mesh")
+    return body
 
 
 def _body(name: str, link: int, mesh, pose: np.ndarray, warnings: list[str]) -> Body:

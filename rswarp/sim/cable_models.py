@@ -4,11 +4,11 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..rsxml.model import Cable, Mechanism
-from .cable_chain import ParticleChain
-from .cable_solver import CableOptions, CableSolver, LinkMeshes
+from ..rsxml.model import Mechanism
+from .cable_rod import CosseratRod
+from .cable_solver import CableOptions, CableSolver, ContactMeshes
 
-CABLE_MODELS: dict[str, type[CableSolver]] = {ParticleChain.kind: ParticleChain}
+CABLE_MODELS: dict[str, type[CableSolver]] = {CosseratRod.kind: CosseratRod}
 
 
 def cable_model(options: CableOptions) -> type[CableSolver]:
@@ -19,6 +19,6 @@ def cable_model(options: CableOptions) -> type[CableSolver]:
         raise InputError(f"no cable model '{options.cable_model}' (models: {', '.join(CABLE_MODELS)})") from None
 
 
-def make_solver(mech: Mechanism, cable: Cable, options: CableOptions, meshes: LinkMeshes | None) -> CableSolver:
-    """The solver of one cable as ``options`` asks for it."""
-    return cable_model(options)(mech, cable, options, meshes)
+def make_solver(mech: Mechanism, options: CableOptions, meshes: ContactMeshes | None) -> CableSolver:
+    """The solver of the mechanism's cables as ``options`` asks for it."""
+    return cable_model(options)(mech, options, meshes)

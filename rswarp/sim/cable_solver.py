@@ -1,6 +1,7 @@
-"""The seam between a cable run and the model that simulates one cable. A cable model implements
-``CableSolver``: its state (many environments, kept on the device), its step (one frame of
-substeps, the robot's joints given per substep), and its per-frame statistics by name, as host
+"""The seam between a cable run and the model that simulates a mechanism's cables. A cable model
+implements ``CableSolver``: its state (many environments of every cable, kept on the device, so
+cables can meet each other), its step (one frame of substeps, the robot's joints given per
+substep), its per-frame statistics per cable by name, and its totals (the wear map), as host
 arrays in SI units. Runs, results, reports, playback and Ray read only this interface; a model is
 chosen by ``CableOptions.cable_model`` from the registry in ``cable_models``.
 """
@@ -15,19 +16,21 @@ from typing import Any, ClassVar, Mapping
 import numpy as np
 
 from ..errors import InputError, MeshNotFoundError
-from ..geometry.cable import cable_rest
 from ..geometry.meshes import link_mesh
 from ..options import checked
 from ..rsxml.model import Cable, Mechanism
+from .bodies import Environment, environment_body
 
 DENSITY = 1200.0  # kg/m^3: a hose
 POISSON = 0.5  # rubber: incompressible, so G = E / 3
-YOUNGS_MODULUS = 5e7  # Pa, where the file gives none: a rubber-like dress-pack hose
+FRICTION = 0.4  # Coulomb's coefficient of a rubber hose on painted metal, dry (0.3 to 0.6)
+SLIP = 1.0e-3  # m/s: a contact sliding slower than this grips (the static regime)
 GRAVITY = (0.0, 0.0, -9.81)
 MAX_SPEED = 100.0  # m/s: a point of a robot's hose faster than this has blown up
 REACH = 0.25  # m: clearances are measured up to this far; farther reads as +inf
 FRAME_RATE = 60.0  # frames per second: results are sampled per frame, substeps between
-SUBSTEPS = 10  # per frame: 1.7 ms steps
+SUBSTEPS = 4  # per frame: 4.2 ms steps
+ITERATIONS = 2  # Gauss-Newton iterations per substep
 BEND_FACTOR = 10.0  # the least allowed bend radius, in diameters, unless given
 
 # An environment's status: running, or why it stopped (a model may add codes of its own).
@@ -35,16 +38,36 @@ RUNNING, NOT_FINITE, RUNAWAY = 0, 1, 2
 FAILURES = {NOT_FINITE: "positions became NaN or infinite",
             RUNAWAY: f"a point passed {MAX_SPEED:g} m/s (runaway energy)"}
 
-# The statistics every model gives per frame, by name: (envs,) arrays unless said, float64, SI.
+# What a model gives per cable and frame, by name: (envs,) float64 arrays unless said, SI; an arc
+# is metres along the cable from its first control point (NaN: nowhere).
 STATISTICS = {
     "status": "int: RUNNING, or the code of why the environment stopped (values below are then unread)",
-    "tension": "N: the greatest axial force along the cable over the frame",
+    "tension": "N: the greatest axial force along the cable over the frame (E A times its stretch)",
+    "tension_at": "arc where it was greatest",
     "bend_radius": "m: the least bend radius over the frame (+inf: straight)",
-    "bend_at": "m of arc from the first control point where it was least (NaN: none)",
-    "twist": "rad: the twist between the clamped ends at the frame's end, in (-pi, pi]",
+    "bend_at": "arc where it was least",
+    "twist": "rad: the twist between the first and last clamps at the frame's end (0 with fewer than two)",
+    "twist_rate": "rad/m: the greatest twist per metre over the frame",
+    "torque": "N m: the greatest torque the cable carries about itself over the frame",
+    "torque_at": "arc where it was greatest",
     "stretch": "the greatest straight distance between consecutive attachments over their cable length",
-    "clearance": "(envs, links + 1) m: the least clearance to each link, then the floor (+inf: beyond reach)",
-    "clearance_at": "(envs, links + 1) m of arc where it was least",
+    "normal_force": "N: the greatest normal force on a segment's contact over the frame (0: none)",
+    "sliding_speed": "m/s: the fastest a touching segment slid over the frame",
+    "contact_at": "arc of the greatest normal force",
+    "clearance": "(envs, slots) m: the least clearance to each slot (+inf: beyond reach)",
+    "clearance_at": "(envs, slots) arc where it was least",
+    "clamp_force": "(envs, attachments, 3) N: the force the cable pulls each attachment's link with, at the "
+                   "frame's end (world axes)",
+    "clamp_moment": "(envs, attachments, 3) N m: the moment about the control point, likewise",
+    "clamp_force_peak": "(envs, attachments) N: the greatest force over the frame",
+    "clamp_moment_peak": "(envs, attachments) N m: the greatest moment over the frame",
+}
+# What a model sums per cable since ``reset_totals``: the wear map, per segment.
+TOTALS = {
+    "contact_time": "(envs, segments) s in contact with anything",
+    "peak_normal": "(envs, segments) N: the greatest normal force on the segment",
+    "wear": "(envs, segments, slots) J: normal force times sliding distance, per slot touched (Archard)",
+    "bend_cycles": "(envs, segments) times the segment bent tighter than the allowed radius and back",
 }
 
 
@@ -54,37 +77,44 @@ class CableOptions:
 
     frame_rate: float = FRAME_RATE
     substeps: int = SUBSTEPS
-    iterations: int = 2  # solver iterations per substep, as the model uses them
+    iterations: int = ITERATIONS  # solver iterations per substep, as the model uses them
     damping: float = 1.0  # 1/s: velocities decay as exp(-damping t)
     density: float = DENSITY
+    poisson: float = POISSON
+    friction: float = FRICTION
     bend_factor: float = BEND_FACTOR
     min_bend_radius: float | None = None  # m; default bend_factor x the diameter
     floor: float | None = 0.0  # z of the floor (m); None: no floor
     contact: bool = True  # against the link meshes
+    environment: tuple[Environment, ...] = ()  # meshes placed in the world
     record: int = -1  # the environment whose shapes are kept for playback (--usd); -1: none
-    cable_model: str = "chain"  # the model of ``cable_models.CABLE_MODELS``
+    cable_model: str = "rod"  # the model of ``cable_models.CABLE_MODELS``
     device: str = "cpu"
     threads: int | None = None
 
     def __post_init__(self):
         for name, value in (("frame-rate", self.frame_rate), ("substeps", self.substeps), ("density", self.density),
+                            ("poisson", self.poisson), ("friction", self.friction),
                             ("min-bend-radius", self.min_bend_radius), ("floor", self.floor)):
             checked(name, value)
-        if not (self.iterations >= 1 and math.isfinite(self.damping) and self.damping >= 0 and self.bend_factor > 0):
-            raise InputError("iterations must be at least 1, damping finite and >= 0, bend_factor > 0")
+        if not (1 <= self.iterations <= 100 and math.isfinite(self.damping) and self.damping >= 0
+                and self.bend_factor > 0):
+            raise InputError("iterations must be 1 to 100, damping finite and >= 0, bend_factor > 0")
 
 
 @dataclass(frozen=True)
-class LinkMeshes:
-    """The link meshes a cable may touch, in each link's zero-position frame (metres); None for a
-    link without geometry. ``warnings``: links whose mesh files are missing (no contact with them)."""
+class ContactMeshes:
+    """The meshes a cable may touch (metres): per link, in its zero-position frame (None for a link
+    without geometry), then the environment's, each (name, vertices, faces, 4x4 pose in the world).
+    ``warnings``: links whose mesh files are missing (no contact with them)."""
 
-    meshes: tuple
-    warnings: tuple[str, ...]
+    links: tuple
+    environment: tuple = ()
+    warnings: tuple[str, ...] = ()
 
 
-def link_meshes(mech: Mechanism) -> LinkMeshes:
-    """Every link's parts as one mesh, as ``rswarp.geometry.meshes.link_mesh`` reads them."""
+def contact_meshes(mech: Mechanism, environment: tuple[Environment, ...] = ()) -> ContactMeshes:
+    """Every link's parts as one mesh (``rswarp.geometry.meshes.link_mesh``), and the environment's."""
     out, missing = [], []
     for name in mech.graph.links:
         try:
@@ -98,31 +128,49 @@ def link_meshes(mech: Mechanism) -> LinkMeshes:
     if len(missing) > 1:
         warnings.append(f"{len(missing) - 1} more link(s) without their mesh files, not touched either: "
                         + ", ".join(name for name, _ in missing[1:]))
-    return LinkMeshes(tuple(out), tuple(warnings))
+    placed, taken = [], {*mech.graph.links, "floor", "cables"}
+    for env in environment:
+        body = environment_body(mech, env, taken)
+        taken.add(body.name)
+        placed.append((body.name, body.vertices, body.faces, body.pose))
+    return ContactMeshes(tuple(out), tuple(placed), tuple(warnings))
+
+
+@dataclass(frozen=True)
+class CableInfo:
+    """One cable as its model sees it: its name, length and radius (m), the least bend radius it is
+    held to, its stiffness (E A in N, E I and G J in N m^2), the arc (m from its first control
+    point) of each point ``points`` gives and of each segment's middle (the wear map's places),
+    and its attachments, named."""
+
+    name: str
+    length: float
+    radius: float
+    allowed_bend_radius: float
+    axial_stiffness: float
+    bending_stiffness: float
+    torsion_stiffness: float
+    arc: np.ndarray
+    segments: np.ndarray
+    attachments: tuple[str, ...]
 
 
 class CableSolver(ABC):
-    """One cable of a mechanism in many environments. ``links`` names the clearance slots (the
-    links, then the floor); ``arc`` is the arc length (m, from the first control point) of each
-    point ``points`` gives; ``failures`` says why an environment stopped, by status code."""
+    """Every cable of a mechanism in many environments. ``cables`` describes each; ``slots`` names
+    what a cable can touch, in the order of every per-slot array (the links, the environment's
+    meshes, then "floor" and "cables": any cable, itself included); ``failures`` says why an
+    environment stopped, by status code."""
 
     kind: ClassVar[str]  # the name that chooses this model (CableOptions.cable_model)
-    failures: ClassVar[Mapping[int, str]] = FAILURES
+    failures: Mapping[int, str] = FAILURES
 
-    length: float  # m, along the cable
-    torsion_stiffness: float  # GJ, N m^2
-    arc: np.ndarray  # (N,) m
-
-    def __init__(self, mech: Mechanism, cable: Cable, options: CableOptions):
-        self.name, self.radius = cable.name, float(cable.radius)
-        self.links = (*mech.graph.links, "floor")
-        self.allowed_bend_radius = allowed_bend_radius(cable, options)
+    cables: tuple[CableInfo, ...]
+    slots: tuple[str, ...]
 
     @classmethod
-    def check(cls, mech: Mechanism, cable: Cable, options: CableOptions) -> None:
-        """The error (at the cable's line) a run of this cable would give, found without compiling
-        or allocating anything: its rest shape, by default."""
-        cable_rest(mech, cable)
+    @abstractmethod
+    def check(cls, mech: Mechanism, options: CableOptions) -> None:
+        """The error (at a cable's line) a run would give, found without compiling or allocating."""
 
     @abstractmethod
     def state(self, envs: int) -> Any:
@@ -137,12 +185,20 @@ class CableSolver(ABC):
         """Velocities decay as exp(-damping t) from now on (settling uses more)."""
 
     @abstractmethod
-    def statistics(self, state) -> dict[str, np.ndarray]:
-        """The last frame's ``STATISTICS``, by name, as host arrays."""
+    def statistics(self, state) -> list[dict[str, np.ndarray]]:
+        """The last frame's ``STATISTICS``, per cable, by name, as host arrays."""
 
     @abstractmethod
-    def points(self, state, env: int | None = None) -> np.ndarray:
-        """The cable's points now: (N, 3) of environment ``env``, or (envs, N, 3) of all, metres."""
+    def reset_totals(self, state) -> None:
+        """Start the ``TOTALS`` afresh (after settling)."""
+
+    @abstractmethod
+    def totals(self, state) -> list[dict[str, np.ndarray]]:
+        """The ``TOTALS`` since ``reset_totals``, per cable, as host arrays."""
+
+    @abstractmethod
+    def points(self, state, cable: int, env: int | None = None) -> np.ndarray:
+        """Cable ``cable``'s points now: (N, 3) of environment ``env``, or (envs, N, 3) of all, metres."""
 
 
 def allowed_bend_radius(cable: Cable, options: CableOptions) -> float:

@@ -4,7 +4,7 @@ following its own joint trajectory kinematically, and what a dress-pack designer
 the cable is long enough, its twist, and its final shape.
 
 A run is a client of the batch engine: its items are environments, a task runs some of them with
-one ``CableSolver`` per cable (the model ``CableOptions.cable_model`` names). Each run starts from
+one ``CableSolver`` for all the mechanism's cables (the model ``CableOptions.cable_model`` names). Each run starts from
 the rest shape at the zero position (where the file gives the control points): the robot moves to
 the trajectory's start in SETTLE_MOVE seconds and holds for SETTLE_HOLD while the cable settles
 under more damping; results count from the trajectory's t = 0.
@@ -22,9 +22,12 @@ from ..errors import InputError
 from ..kinematics.trajectory import Trajectory, assign, minimum_jerk
 from ..options import checked
 from ..rsxml.model import Mechanism
+from .bodies import Environment
+from .cable_extremes import RunningExtremes
 from .cable_models import cable_model, make_solver
-from .cable_results import MAX_VALUES_BYTES, CablePiece, CableResult, CableTally, RunningExtremes, values_bytes
-from .cable_solver import CableOptions, link_meshes
+from .cable_results import CableResult
+from .cable_solver import CableOptions, CableSolver, contact_meshes
+from .cable_tally import MAX_VALUES_BYTES, CablePiece, CableTally, values_bytes
 from .engine import Job, run_batch
 
 SETTLE_MOVE, SETTLE_HOLD, SETTLE_DAMPING = 0.5, 0.5, 10.0  # s, s, 1/s
@@ -64,12 +67,11 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     seconds = max(t.duration for t in trajectories) if seconds is None else float(seconds)
     frames = run_frames(seconds, options)
     job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
-    meshes = link_meshes(mech) if options.contact else None
-    for c in mech.cables:  # a cable the model cannot take fails here, before anything is built or scheduled
-        cable_model(options).check(mech, c, options)
+    cable_model(options).check(mech, options)  # a cable the model cannot take fails before anything is built
+    meshes = contact_meshes(mech, options.environment)
     if cluster is not None:
         _check_cut_run(mech, envs, frames)
-    tools = None if cluster is not None else job.solvers(mech, options, meshes)
+    tools = None if cluster is not None else make_solver(mech, options, meshes)
     tally = run_batch(job, mech, tools=tools, cluster=cluster, progress=progress)
     cables, recorded_q = tally.results()
     times = np.arange(1, frames + 1) / options.frame_rate
@@ -130,40 +132,39 @@ class CableJob(Job):
                                    who=tuple(renumber[self.who[e - self.first]] for e in span), first=span.start)
 
     def tools_key(self) -> tuple:
-        return (dataclasses.replace(self.options, record=-1, threads=None),)
+        env = tuple((e.name, e.path, e.pose.tobytes()) for e in self.options.environment)
+        return (dataclasses.replace(self.options, record=-1, threads=None, environment=()), env)
 
-    def tools(self, model, device: str, threads: int | None) -> list:
-        options = dataclasses.replace(self.options, device=device, threads=threads)
-        meshes = model.cached(("link meshes",), lambda: link_meshes(model.mech)) if options.contact else None
-        return self.solvers(model.mech, options, meshes)
+    def files(self) -> tuple[str, ...]:
+        return tuple(e.path for e in self.options.environment)
 
-    @staticmethod
-    def solvers(mech: Mechanism, options: CableOptions, meshes) -> list:
-        return [make_solver(mech, c, options, meshes) for c in mech.cables]
+    def tools(self, model, device: str, threads: int | None) -> CableSolver:
+        env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.options.environment)
+        options = dataclasses.replace(self.options, device=device, threads=threads, environment=env)
+        meshes = model.cached(("contact meshes", env), lambda: contact_meshes(model.mech, env))
+        return make_solver(model.mech, options, meshes)
 
     def empty(self) -> CableTally:
         return CableTally(self.envs, self.frames, self.cables)
 
-    def run(self, solvers: list, tally: CableTally, span: range, tick) -> None:
+    def run(self, solver: CableSolver, tally: CableTally, span: range, tick) -> None:
         """Environments ``span``: settled, stepped ``frames`` frames, gathered into one piece."""
         whole = len(span) == self.envs
         record = self.options.record - span.start if span.start <= self.options.record < span.stop else -1
         who = np.asarray([self.who[e - self.first] for e in span])
         schedule = _Schedule(self.trajectories, who, self.options)
-        runs = [_CableEnvs(s, len(span), self.frames, self.options, record, values=not whole) for s in solvers]
-        _settle(runs, schedule, self.options)
+        run = _CableEnvs(solver, len(span), self.frames, self.options, record, values=not whole)
+        _settle(run, schedule, self.options)
         recorded_q = []
         for f in range(self.frames):
             t0 = f / self.options.frame_rate
             qs = schedule.frame(t0)
-            for r in runs:
-                r.step(qs, t0 + 1 / self.options.frame_rate)
-            if record >= 0:  # the played-back environment's joints, thinned like its cables
+            run.step(qs, t0 + 1 / self.options.frame_rate)
+            if record >= 0:  # the played-back environment's joints (playback thins them like its cables)
                 recorded_q.append(qs[record, -1])
             tick(len(span) / self.frames)
-        results = tuple(r.result() for r in runs)
-        values = None if whole else tuple(r.extremes.values for r in runs)
-        tally.add(CablePiece(span.start, results, values, np.asarray(recorded_q)))
+        values = None if whole else tuple(x.values for x in run.extremes)
+        tally.add(CablePiece(span.start, run.results(), values, np.asarray(recorded_q)))
 
 
 class _Schedule:
@@ -196,30 +197,39 @@ class _Schedule:
         return (self.start[:, None, :] * blend[None, :, None]).astype(np.float32)
 
 
-def _settle(runs: list["_CableEnvs"], schedule: _Schedule, options: CableOptions) -> None:
+def _settle(run: "_CableEnvs", schedule: _Schedule, options: CableOptions) -> None:
     frames = int(round((SETTLE_MOVE + SETTLE_HOLD) * options.frame_rate))
-    for r in runs:
-        r.solver.set_damping(SETTLE_DAMPING)
+    run.solver.set_damping(SETTLE_DAMPING)
     for f in range(frames):
-        qs = schedule.settling(f / options.frame_rate)
-        for r in runs:
-            r.solver.step(r.state, qs, 1 / options.frame_rate)
-    for r in runs:
-        r.solver.set_damping(options.damping)
-        r.extremes.start(r.state)
+        run.solver.step(run.state, schedule.settling(f / options.frame_rate), 1 / options.frame_rate)
+    run.solver.set_damping(options.damping)
+    run.start()
 
 
 class _CableEnvs:
-    """One cable's environments in a task: its solver's state and what is gathered frame by frame."""
+    """A task's environments of every cable: the solver's state and, per cable, what is gathered
+    frame by frame."""
 
-    def __init__(self, solver, envs: int, frames: int, options: CableOptions, record: int, values: bool):
-        self.solver, self.options = solver, options
-        self.state = solver.state(envs)
-        self.extremes = RunningExtremes(solver, envs, len(solver.links), frames, record, values)
+    def __init__(self, solver: CableSolver, envs: int, frames: int, options: CableOptions, record: int,
+                 values: bool):
+        self.solver, self.options, self.record = solver, options, record
+        self.state, self.envs = solver.state(envs), envs
+        self.extremes = [RunningExtremes(info, len(solver.slots), envs, frames, record, values)
+                         for info in solver.cables]
+
+    def start(self) -> None:
+        """After settling: twists counted and the wear map summed from here."""
+        self.solver.reset_totals(self.state)
+        for x, stats in zip(self.extremes, self.solver.statistics(self.state)):
+            x.start(stats)
 
     def step(self, qs: np.ndarray, t: float) -> None:
         self.solver.step(self.state, qs, 1 / self.options.frame_rate)
-        self.extremes.add(self.state, t)
+        last = self.envs - 1
+        for c, (x, stats) in enumerate(zip(self.extremes, self.solver.statistics(self.state))):
+            x.add(stats, t, lambda c=c: self.solver.points(self.state, c, min(self.record, last)))
 
-    def result(self) -> CableResult:
-        return self.extremes.result(self.solver.allowed_bend_radius, self.solver.links, self.state)
+    def results(self) -> tuple[CableResult, ...]:
+        totals = self.solver.totals(self.state)
+        return tuple(x.result(self.solver.slots, self.solver.failures, self.solver.points(self.state, c), totals[c])
+                     for c, x in enumerate(self.extremes))

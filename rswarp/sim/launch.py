@@ -101,9 +101,9 @@ class Launcher:
 
     A kernel's parameters are, in order: ``params`` (model constants, passed as given), then the
     batch ``inputs`` and ``outputs`` whose first axis is the batch, each cut per chunk: host NumPy
-    arrays (typed as the kernel declares) or Warp arrays on the launcher's device. A per-item
-    ``scratch`` array goes between them when the kernel needs one (``scratch`` is its width; its
-    type is the kernel's)."""
+    arrays (typed as the kernel declares) or Warp arrays on the launcher's device. Per-item
+    ``scratch`` arrays go between them when the kernel needs them (``scratch`` is a width, or one
+    per array; their types are the kernel's)."""
 
     def __init__(self, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
         self.device = warp_device(device)
@@ -117,19 +117,20 @@ class Launcher:
         init_warp().load_module(kernel.module, device=self.device)
 
     def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence = (), outputs: Sequence = (),
-               scratch: int | None = None) -> None:
+               scratch: int | Sequence[int] | None = None) -> None:
         """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk)."""
         args = kernel.adj.args
         first = len(params)
         in_types = [args[first + k].type.dtype for k in range(len(inputs))]
-        last = first + len(inputs) + (scratch is not None)
-        scratch_type = args[last - 1].type.dtype if scratch is not None else None
+        widths = () if scratch is None else (scratch,) if isinstance(scratch, int) else tuple(scratch)
+        last = first + len(inputs) + len(widths)
+        scratch_types = [args[first + len(inputs) + k].type.dtype for k in range(len(widths))]
         out_types = [args[last + k].type.dtype for k in range(len(outputs))]
 
         def run(lo: int, hi: int) -> None:
             ins = [self._view(a[lo:hi], t) for a, t in zip(inputs, in_types)]
             outs = [self._target(a[lo:hi], t) for a, t in zip(outputs, out_types)]
-            extra = [self._scratch(hi - lo, scratch, scratch_type)] if scratch is not None else []
+            extra = [self._scratch(hi - lo, w, t, k) for k, (w, t) in enumerate(zip(widths, scratch_types))]
             init_warp().launch(kernel, dim=hi - lo, inputs=[*params, *ins, *extra], outputs=outs, device=self.device)
             if not self.device.is_cpu:
                 for host, dev in zip(outputs, outs):
@@ -151,13 +152,13 @@ class Launcher:
         read what it updates, copied back after the launch; a Warp array on this device as it is."""
         return self._view(host, dtype)
 
-    def _scratch(self, n: int, width: int, dtype):
+    def _scratch(self, n: int, width: int, dtype, slot: int = 0):
         """A per-thread (n, width) work array, grown as needed and reused."""
         have = getattr(self._local, "scratch", {})
-        arr = have.get(dtype)
+        arr = have.get((dtype, slot))
         if arr is None or arr.shape[0] < n or arr.shape[1] != width:
-            arr = init_warp().empty((max(n, 1), width), dtype=dtype, device=self.device)
-            have[dtype] = arr
+            arr = init_warp().empty((max(n, 1), max(width, 1)), dtype=dtype, device=self.device)
+            have[(dtype, slot)] = arr
             self._local.scratch = have
         return arr
 

@@ -1,0 +1,151 @@
+"""Cables as discrete Cosserat rods, as device code: one environment per thread, every cable of the
+mechanism in it, each a chain of rigid segments (a centre and a quaternion, its material frame)
+joined by elastic joints that stretch and shear (E A, kappa G A), bend (E I) and twist (G J).
+
+Each substep: the link poses (given per substep, so the kernel serves every mechanism) carry the
+clamps; contacts are found and linearized; implicit Euler is solved by Gauss-Newton iterations,
+each a direct block-tridiagonal solve (``rod_step``); what the substep did is measured
+(``rod_measure``) and committed. An environment that blows up stops, frozen, with its status set.
+Each frame reports, per cable, the greatest tension, the least bend radius, the twist, twist rate
+and torque, the stretch between attachments, the contacts' greatest normal force and sliding
+speed, the least clearance to every slot, and each clamp's load; the wear map grows in place."""
+
+import warp as wp
+
+from .cache import cached, module_name
+from .rod_gather import capsule_pairs, surfaces, swept
+from .rod_measure import frame_end, measure
+from .rod_step import commit, iterate, predict
+from .rod_types import (
+    BEND,
+    BEND_AT,
+    BIG,
+    CONTACT_AT,
+    CRUSHED,
+    F64,
+    LOADS,
+    M44,
+    RUNNING,
+    STATS,
+    TENSION_AT,
+    TORQUE_AT,
+    V3,
+    BodyWork,
+    Contact,
+    Factor,
+    Q,
+    RodParams,
+)
+
+AT_NONE = -1.0  # an "at" column where nothing was found
+
+
+@wp.func
+def _start_frame(params: RodParams, e: int, stats_out: wp.array3d(dtype=F64), clear_out: wp.array3d(dtype=F64),
+                 at_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64)):
+    for c in range(stats_out.shape[1]):
+        for i in range(STATS):
+            stats_out[e, c, i] = F64(0.0)
+        stats_out[e, c, BEND] = F64(BIG)
+        stats_out[e, c, TENSION_AT] = F64(AT_NONE)
+        stats_out[e, c, BEND_AT] = F64(AT_NONE)
+        stats_out[e, c, TORQUE_AT] = F64(AT_NONE)
+        stats_out[e, c, CONTACT_AT] = F64(AT_NONE)
+        for j in range(clear_out.shape[2]):
+            clear_out[e, c, j] = F64(BIG)
+            at_out[e, c, j] = F64(AT_NONE)
+    for a in range(load_out.shape[1]):
+        for i in range(LOADS):
+            load_out[e, a, i] = F64(0.0)
+
+
+@wp.func
+def _contacts(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
+              q_s: wp.array2d(dtype=Q), work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact),
+              count: wp.array2d(dtype=wp.int32), row: int, clear_out: wp.array3d(dtype=F64),
+              at_out: wp.array3d(dtype=F64)):
+    """The substep's contacts at its start (pose rows s and s + 1 before and after it)."""
+    for k in range(params.half.shape[0]):
+        count[row, k] = 0
+    for k in range(params.half.shape[0]):
+        ahead = params.margin + swept(params, work, x_s, q_s, e, row, k)
+        surfaces(params, poses, e, s, s + 1, k, x_s[e, k], q_s[e, k], ahead, 1, contacts, count, row, clear_out,
+                 at_out)
+    capsule_pairs(params, work, x_s, q_s, e, params.margin, 1, contacts, count, row, clear_out, at_out)
+
+
+@wp.func
+def _clearances(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
+                q_s: wp.array2d(dtype=Q), work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact),
+                count: wp.array2d(dtype=wp.int32), row: int, clear_out: wp.array3d(dtype=F64),
+                at_out: wp.array3d(dtype=F64)):
+    """The frame's end: every clearance within ``reach``."""
+    for k in range(params.half.shape[0]):
+        surfaces(params, poses, e, s, s, k, x_s[e, k], q_s[e, k], params.reach, 0, contacts, count, row,
+                 clear_out, at_out)
+    capsule_pairs(params, work, x_s, q_s, e, params.reach, 0, contacts, count, row, clear_out, at_out)
+
+
+@cached
+def rod_kernel():
+    """``step``: one frame of every environment, in as many substeps as ``poses`` (envs, substeps +
+    1, links: each link's pose at the frame's start, then at each substep's end) has rows after
+    the first; the state and the wear map are updated in place and the frame's statistics
+    written. One kernel serves every mechanism."""
+
+    @wp.kernel(enable_backward=False, module=module_name("rod"))
+    def step(
+        # Model:
+        params: RodParams,
+        dt: F64,
+        iterations: int,
+        # In:
+        poses: wp.array3d(dtype=M44),
+        # Scratch:
+        work: wp.array2d(dtype=BodyWork),
+        factor: wp.array2d(dtype=Factor),
+        contacts: wp.array2d(dtype=Contact),
+        count: wp.array2d(dtype=wp.int32),
+        # Out (the state, read and updated in place):
+        x_out: wp.array2d(dtype=V3),
+        q_out: wp.array2d(dtype=Q),
+        v_out: wp.array2d(dtype=V3),
+        w_out: wp.array2d(dtype=V3),
+        status_out: wp.array(dtype=wp.int32),
+        # Out (the wear map, accumulated in place):
+        wear_time_out: wp.array2d(dtype=F64),
+        wear_peak_out: wp.array2d(dtype=F64),
+        wear_out: wp.array3d(dtype=F64),
+        below_out: wp.array2d(dtype=wp.int32),
+        cycles_out: wp.array2d(dtype=wp.int32),
+        # Out (the frame's statistics):
+        stats_out: wp.array3d(dtype=F64),
+        clear_out: wp.array3d(dtype=F64),
+        at_out: wp.array3d(dtype=F64),
+        load_out: wp.array3d(dtype=F64),
+    ):
+        e = wp.tid()
+        if status_out[e] != RUNNING:
+            return
+        row = e  # this thread's rows of the scratch arrays
+        _start_frame(params, e, stats_out, clear_out, at_out, load_out)
+        substeps = poses.shape[1] - 1
+        h = dt / F64(substeps)
+        for s in range(substeps):
+            predict(params, x_out, q_out, v_out, w_out, e, work, row, h)
+            _contacts(params, poses, e, s, x_out, q_out, work, contacts, count, row, clear_out, at_out)
+            for _ in range(iterations):
+                iterate(params, poses, e, s + 1, h, work, factor, contacts, count, row)
+            crushed = measure(params, poses, e, s + 1, h, work, contacts, count, row, stats_out, load_out,
+                              wear_time_out, wear_peak_out, wear_out, below_out, cycles_out)
+            if crushed >= 0:
+                status_out[e] = CRUSHED + crushed
+                return
+            failed = commit(params, work, row, h, x_out, q_out, v_out, w_out, e)
+            if failed != RUNNING:
+                status_out[e] = failed
+                return
+        frame_end(params, poses, e, substeps, x_out, q_out, stats_out)
+        _clearances(params, poses, e, substeps, x_out, q_out, work, contacts, count, row, clear_out, at_out)
+
+    return step

@@ -1,0 +1,184 @@
+"""Small float64 algebra for the rod: rotations as quaternions and rotation vectors, 3x3 blocks of
+6x6 matrices, and the 6x6 Cholesky factorization and triangular solves the block-tridiagonal
+solve is made of."""
+
+import warp as wp
+
+from .rod_types import F64, M33, M66, TINY, V3, V6, Q
+
+
+@wp.func
+def skew(v: V3) -> M33:
+    """[v]x: skew(v) @ u = v x u."""
+    return M33(F64(0.0), -v[2], v[1], v[2], F64(0.0), -v[0], -v[1], v[0], F64(0.0))
+
+
+@wp.func
+def rotation(w: V3) -> Q:
+    """The unit quaternion of the rotation vector ``w`` (axis times angle)."""
+    angle = wp.length(w)
+    if angle < F64(1.0e-9):
+        return wp.normalize(Q(F64(0.5) * w[0], F64(0.5) * w[1], F64(0.5) * w[2], F64(1.0)))
+    s = wp.sin(F64(0.5) * angle) / angle
+    return Q(s * w[0], s * w[1], s * w[2], wp.cos(F64(0.5) * angle))
+
+
+@wp.func
+def rotation_vector(q: Q) -> V3:
+    """The rotation vector of ``q``, of the shorter way round (angle in [0, pi])."""
+    v = V3(q[0], q[1], q[2])
+    w = q[3]
+    if w < F64(0.0):
+        v = -v
+        w = -w
+    s = wp.length(v)
+    if s < F64(1.0e-9):
+        return F64(2.0) * v
+    return (F64(2.0) * wp.atan2(s, w) / s) * v
+
+
+@wp.func
+def turned(q: Q, w: V3) -> Q:
+    """``q`` turned further by the world-frame rotation vector ``w``."""
+    return wp.normalize(rotation(w) * q)
+
+
+@wp.func
+def relative(a: Q, b: Q) -> Q:
+    """a* b with a non-negative real part: b's frame in a's, the shorter way."""
+    r = wp.quat_inverse(a) * b
+    if r[3] < F64(0.0):
+        r = Q(-r[0], -r[1], -r[2], -r[3])
+    return r
+
+
+@wp.func
+def diag3(a: F64, b: F64, c: F64) -> M33:
+    return M33(a, F64(0.0), F64(0.0), F64(0.0), b, F64(0.0), F64(0.0), F64(0.0), c)
+
+
+@wp.func
+def axial(a: F64, b: F64, t: V3) -> M33:
+    """a I + (b - a) t t^T: a stiffness or inertia of a across unit axis t and b along it."""
+    return diag3(a, a, a) + (b - a) * wp.outer(t, t)
+
+
+@wp.func
+def blocks(m11: M33, m12: M33, m21: M33, m22: M33) -> M66:
+    """The 6x6 matrix [[m11, m12], [m21, m22]]."""
+    out = M66()
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = m11[i, j]
+            out[i, j + 3] = m12[i, j]
+            out[i + 3, j] = m21[i, j]
+            out[i + 3, j + 3] = m22[i, j]
+    return out
+
+
+@wp.func
+def pair(a: V3, b: V3) -> V6:
+    return V6(a[0], a[1], a[2], b[0], b[1], b[2])
+
+
+@wp.func
+def top(v: V6) -> V3:
+    return V3(v[0], v[1], v[2])
+
+
+@wp.func
+def bottom(v: V6) -> V3:
+    return V3(v[3], v[4], v[5])
+
+
+@wp.func
+def add_outer(m: M66, a: V6, k: F64) -> M66:
+    """m + k a a^T."""
+    out = m
+    for i in range(6):
+        for j in range(6):
+            out[i, j] = out[i, j] + k * a[i] * a[j]
+    return out
+
+
+@wp.func
+def cholesky(a: M66) -> M66:
+    """The lower factor L of a = L L^T (a symmetric positive definite; a pivot that is not, from a
+    body that nothing holds, is floored at TINY so the solve stays finite)."""
+    lo = M66()
+    for j in range(6):
+        s = a[j, j]
+        for k in range(j):
+            s = s - lo[j, k] * lo[j, k]
+        d = wp.sqrt(wp.max(s, F64(TINY)))
+        lo[j, j] = d
+        for i in range(j + 1, 6):
+            t = a[i, j]
+            for k in range(j):
+                t = t - lo[i, k] * lo[j, k]
+            lo[i, j] = t / d
+    return lo
+
+
+@wp.func
+def forward(lo: M66, b: V6) -> V6:
+    """L^-1 b."""
+    y = V6()
+    for i in range(6):
+        t = b[i]
+        for k in range(i):
+            t = t - lo[i, k] * y[k]
+        y[i] = t / lo[i, i]
+    return y
+
+
+@wp.func
+def backward(lo: M66, y: V6) -> V6:
+    """L^-T y."""
+    x = V6()
+    for ii in range(6):
+        i = 5 - ii
+        t = y[i]
+        for k in range(i + 1, 6):
+            t = t - lo[k, i] * x[k]
+        x[i] = t / lo[i, i]
+    return x
+
+
+@wp.func
+def forward_columns(lo: M66, b: M66) -> M66:
+    """L^-1 B, column by column."""
+    out = M66()
+    for c in range(6):
+        for i in range(6):
+            t = b[i, c]
+            for k in range(i):
+                t = t - lo[i, k] * out[k, c]
+            out[i, c] = t / lo[i, i]
+    return out
+
+
+@wp.func
+def gram(w: M66) -> M66:
+    """W^T W (symmetric: each entry computed once)."""
+    out = M66()
+    for i in range(6):
+        for j in range(i, 6):
+            t = F64(0.0)
+            for k in range(6):
+                t = t + w[k, i] * w[k, j]
+            out[i, j] = t
+            out[j, i] = t
+    return out
+
+
+@wp.func
+def transposed_times(w: M66, y: V6) -> V6:
+    """W^T y."""
+    out = V6()
+    for i in range(6):
+        t = F64(0.0)
+        for k in range(6):
+            t = t + w[k, i] * y[k]
+        out[i] = t
+    return out

@@ -1,0 +1,220 @@
+"""What the rod reports, as device functions for ``rswarp.kernels.rod``: after each substep, the
+greatest axial force (E A times the stretch at each joint, in newtons) and where, the least bend
+radius and where, the twist rate and the torque the rod carries, each clamp's load, and the
+contacts' normal forces and sliding, summed into the wear map (time in contact, peak normal force,
+normal force times sliding distance per slot, bending cycles below the allowed radius); at a
+frame's end, the twist between each cable's clamped ends and the stretch between its
+attachments."""
+
+import warp as wp
+
+from .rod_contact import contact_outcome
+from .rod_joint import axis_of, joint_forces, joint_strain, twist_angle
+from .rod_step import attachment_pose
+from .rod_types import (
+    BEND,
+    BEND_AT,
+    BIG,
+    CONTACT_AT,
+    F64,
+    FORCE,
+    FORCE_PEAK,
+    M44,
+    MAX_CONTACTS,
+    MOMENT,
+    MOMENT_PEAK,
+    NORMAL,
+    SLIDING,
+    STRETCH,
+    TENSION,
+    TENSION_AT,
+    TINY,
+    TORQUE,
+    TORQUE_AT,
+    TWIST,
+    TWIST_RATE,
+    V3,
+    V6,
+    BodyWork,
+    Contact,
+    Q,
+    RodParams,
+)
+
+
+@wp.func
+def bend_radius(ta: V3, tb: V3, length: F64) -> F64:
+    """The bend radius of a turn from tangent ta to tb over ``length``: l / (2 tan(angle / 2)),
+    the discrete curvature of elastic rods; BIG when straight."""
+    s = wp.length(wp.cross(ta, tb))
+    if s < F64(TINY):
+        return F64(BIG)
+    return length * (F64(1.0) + wp.dot(ta, tb)) / (F64(2.0) * s)
+
+
+@wp.func
+def _joint(stats_out: wp.array3d(dtype=F64), e: int, c: int, gap: V3, rot: V3, rel: Q, k: V6,
+           ta: V3, tb: V3, length: F64, arc: F64) -> F64:
+    """One joint's tension, bend and twist into its cable's frame extremes; its bend radius."""
+    tension = k[2] * gap[2]
+    if tension > stats_out[e, c, TENSION]:
+        stats_out[e, c, TENSION] = tension
+        stats_out[e, c, TENSION_AT] = arc
+    radius = bend_radius(ta, tb, length)
+    if radius < stats_out[e, c, BEND]:
+        stats_out[e, c, BEND] = radius
+        stats_out[e, c, BEND_AT] = arc
+    torque = wp.abs(k[5] * rot[2])
+    if k[5] > F64(0.0):
+        if torque > stats_out[e, c, TORQUE]:
+            stats_out[e, c, TORQUE] = torque
+            stats_out[e, c, TORQUE_AT] = arc
+        stats_out[e, c, TWIST_RATE] = wp.max(stats_out[e, c, TWIST_RATE], wp.abs(twist_angle(rel)) / length)
+    return radius
+
+
+@wp.func
+def _load(load_out: wp.array3d(dtype=F64), e: int, a: int, force: V3, moment: V3):
+    load_out[e, a, FORCE_PEAK] = wp.max(load_out[e, a, FORCE_PEAK], wp.length(force))
+    load_out[e, a, MOMENT_PEAK] = wp.max(load_out[e, a, MOMENT_PEAK], wp.length(moment))
+    for i in range(3):
+        load_out[e, a, FORCE + i] = force[i]
+        load_out[e, a, MOMENT + i] = moment[i]
+
+
+@wp.func
+def _attachments(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, k: int, b: BodyWork,
+                 stats_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64)) -> F64:
+    """Body k's clamps: their joints' strain into the extremes, and the load each puts on its link
+    (the force and moment the cable pulls it with, about the control point). The least bend radius
+    at them."""
+    c = params.cable[k]
+    half = params.half[k]
+    least = F64(BIG)
+    for a in range(params.attach_first[k], params.attach_first[k + 1]):
+        p, f = attachment_pose(params, poses, e, s, a)
+        k6 = params.attach_stiff[a]
+        clamped = k6[5] > F64(0.0)
+        if params.attach_end[a] > F64(0.0):
+            gap, rot, rel = joint_strain(b.x, b.q, half, p, f, F64(0.0))
+            fb, tb, lever = joint_forces(b.x, b.q, half, p, f, F64(0.0), k6)
+            _load(load_out, e, a, fb, tb)
+            if clamped:
+                least = wp.min(least, _joint(stats_out, e, c, gap, rot, rel, k6, axis_of(b.q), axis_of(f), half,
+                                             params.arc[k] + F64(2.0) * half))
+        else:
+            gap, rot, rel = joint_strain(p, f, F64(0.0), b.x, b.q, -half)
+            fb, tb, lever = joint_forces(p, f, F64(0.0), b.x, b.q, -half, k6)
+            _load(load_out, e, a, -fb, -tb - wp.cross(lever, fb))
+            if clamped:
+                least = wp.min(least, _joint(stats_out, e, c, gap, rot, rel, k6, axis_of(f), axis_of(b.q), half,
+                                             params.arc[k]))
+        if not clamped:  # a ball joint: the stretch only
+            tension = k6[2] * gap[2]
+            if tension > stats_out[e, c, TENSION]:
+                stats_out[e, c, TENSION] = tension
+                stats_out[e, c, TENSION_AT] = params.arc[k] + (F64(1.0) + params.attach_end[a]) * half
+    return least
+
+
+@wp.func
+def _wear(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
+          count: wp.array2d(dtype=wp.int32), row: int, h: F64, e: int, stats_out: wp.array3d(dtype=F64),
+          wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
+          wear_out: wp.array3d(dtype=F64)) -> int:
+    """Body k's contacts at the step's end: normal force and sliding into the wear map. The slot a
+    contact is crushed into, or -1."""
+    c = params.cable[k]
+    total = F64(0.0)
+    crushed = int(-1)
+    for i in range(count[row, k]):
+        ct = contacts[row, k * MAX_CONTACTS + i]
+        force, slide, crush = contact_outcome(ct, b.x, b.q, params.contact_stiff[k])
+        if crush:
+            crushed = ct.slot
+        if force > F64(0.0):
+            total = total + force
+            wear_out[e, k, ct.slot] = wear_out[e, k, ct.slot] + force * slide
+            stats_out[e, c, SLIDING] = wp.max(stats_out[e, c, SLIDING], slide / h)
+            if force > stats_out[e, c, NORMAL]:
+                stats_out[e, c, NORMAL] = force
+                stats_out[e, c, CONTACT_AT] = ct.arc
+    if total > F64(0.0):
+        wear_time_out[e, k] = wear_time_out[e, k] + h
+        wear_peak_out[e, k] = wp.max(wear_peak_out[e, k], total)
+    return crushed
+
+
+@wp.func
+def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
+            work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
+            row: int, stats_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64),
+            wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
+            wear_out: wp.array3d(dtype=F64), below_out: wp.array2d(dtype=wp.int32),
+            cycles_out: wp.array2d(dtype=wp.int32)) -> int:
+    """The substep's strains, loads and contacts at its end, into the frame's extremes and the wear
+    map; a body's bend (its tighter joint) crossing back above the allowed radius is a cycle. The
+    slot a cable was crushed into, or -1."""
+    bodies = params.half.shape[0]
+    crushed = int(-1)
+    before = F64(BIG)  # the bend radius at the current body's start joint
+    for k in range(bodies):
+        b = work[row, k]
+        c = params.cable[k]
+        after = F64(BIG)
+        if k + 1 < bodies:
+            if params.stiff[k][2] > F64(0.0):
+                nb = work[row, k + 1]
+                gap, rot, rel = joint_strain(b.x, b.q, params.half[k], nb.x, nb.q, -params.half[k + 1])
+                after = _joint(stats_out, e, c, gap, rot, rel, params.stiff[k], axis_of(b.q), axis_of(nb.q),
+                               params.half[k] + params.half[k + 1], params.arc[k + 1])
+        least = wp.min(wp.min(before, after), _attachments(params, poses, e, s, k, b, stats_out, load_out))
+        below = int(0)
+        if least < params.allowed[c]:
+            below = 1
+        if below_out[e, k] == 1 and below == 0:
+            cycles_out[e, k] = cycles_out[e, k] + 1
+        below_out[e, k] = below
+        slot = _wear(params, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out, wear_out)
+        if slot >= 0:
+            crushed = slot
+        before = after
+    return crushed
+
+
+@wp.func
+def twist_between(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, c: int,
+                  x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q)) -> F64:
+    """The twist (rad) between cable c's clamped ends: each joint's turn about the cable, summed
+    from the first clamp to the last; 0 unless both ends are clamped."""
+    a = params.clamp_a[c]
+    z = params.clamp_b[c]
+    if a < 0 or z < 0:
+        return F64(0.0)
+    first = params.attach_body[a]
+    last = params.attach_body[z]
+    pa, fa = attachment_pose(params, poses, e, s, a)
+    pz, fz = attachment_pose(params, poses, e, s, z)
+    gap, rot, rel = joint_strain(pa, fa, F64(0.0), x_s[e, first], q_s[e, first], -params.half[first])
+    total = twist_angle(rel)
+    for k in range(first, last):
+        gap, rot, rel = joint_strain(x_s[e, k], q_s[e, k], params.half[k], x_s[e, k + 1], q_s[e, k + 1],
+                                     -params.half[k + 1])
+        total = total + twist_angle(rel)
+    gap, rot, rel = joint_strain(x_s[e, last], q_s[e, last], params.half[last], pz, fz, F64(0.0))
+    return total + twist_angle(rel)
+
+
+@wp.func
+def frame_end(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
+              q_s: wp.array2d(dtype=Q), stats_out: wp.array3d(dtype=F64)):
+    """Each cable's twist between its clamps and the greatest straight distance between two
+    consecutive attachments over the cable's length between them."""
+    for c in range(params.cable_first.shape[0] - 1):
+        stats_out[e, c, TWIST] = twist_between(params, poses, e, s, c, x_s, q_s)
+        stats_out[e, c, STRETCH] = F64(0.0)
+    for i in range(params.pair_a.shape[0]):
+        pa, fa = attachment_pose(params, poses, e, s, params.pair_a[i])
+        pb, fb = attachment_pose(params, poses, e, s, params.pair_b[i])
+        c = params.pair_cable[i]
+        stats_out[e, c, STRETCH] = wp.max(stats_out[e, c, STRETCH], wp.length(pb - pa) / params.pair_length[i])

@@ -1,0 +1,131 @@
+"""The Cosserat rod's types, declared once: the model struct the rod kernel reads (``RodParams``),
+the per-body and per-contact work records it keeps in scratch, and the column layouts of what it
+writes out. Everything is float64: a stiff rod's tension is a strain of 1e-4 on positions of
+metres, which float32 cannot hold to a percent."""
+
+import warp as wp
+
+F64 = wp.float64
+V3 = wp.vec3d
+Q = wp.quatd
+M33 = wp.mat33d
+M44 = wp.mat44d  # a link's pose
+M66 = wp.types.matrix((6, 6), F64)
+V6 = wp.types.vector(6, F64)
+
+BIG = 1.0e30  # "nothing within reach"
+TINY = 1.0e-12
+MAX_CONTACTS = 4  # per body and substep: the deepest are kept
+
+# an environment's state; CRUSHED + slot: the robot pressed a cable into that slot half its radius deep
+RUNNING, NOT_FINITE, RUNAWAY, CRUSHED = 0, 1, 2, 3
+
+# the columns of a cable's statistics per frame (``stats_out[e, cable, :]``)
+(TENSION, TENSION_AT, BEND, BEND_AT, TWIST, TWIST_RATE, TORQUE, TORQUE_AT, STRETCH, NORMAL, SLIDING,
+ CONTACT_AT) = range(12)
+STATS = 12
+# the columns of an attachment's load per frame (``load_out[e, attachment, :]``): the greatest force
+# and moment over the frame's substeps, then the force and moment vectors at its end (world axes)
+FORCE_PEAK, MOMENT_PEAK, FORCE, MOMENT = 0, 1, 2, 5
+LOADS = 8
+
+
+@wp.struct
+class RodParams:
+    """Every cable of one mechanism as one set of rigid segments (bodies), cable after cable (SI).
+
+    Per body: its half length, mass and inertia (about its cross-section axes, then its own axis),
+    radius, cable, arc of its start along its cable, the stiffness of the joint to the next body in
+    that body's frame (kappa G A, kappa G A, E A, E I, E I, G J, each over the joint's length; all
+    zero where the next body is another cable's), the contact stiffness of its surface, and
+    ``touch[k, j]``: body k may touch link j (it is not beside its own attachment to j).
+    Per attachment (a control point held by a link), sorted by body: the body, which end (+1: its
+    end, -1: its start), the link, the point and frame at the zero position (world), the joint's
+    stiffness as above (rotation zero for a ball joint); ``attach_first[k]`` indexes body k's.
+    Per cable: its bodies (``cable_first``), its clamped ends for the twist (attachment indices, -1:
+    none), consecutive attachments for the stretch (``pair_*``).
+    Per mesh a rod may touch (the links', then the environment's, fixed in the world): its
+    ``wp.Mesh`` in its zero-position frame (id 0: none), a bounding sphere, the link that carries it
+    (-1: the world) and its fixed pose."""
+
+    half: wp.array(dtype=F64)
+    mass: wp.array(dtype=F64)
+    inertia: wp.array(dtype=wp.vec2d)
+    radius: wp.array(dtype=F64)
+    cable: wp.array(dtype=wp.int32)
+    arc: wp.array(dtype=F64)
+    stiff: wp.array(dtype=V6)
+    contact_stiff: wp.array(dtype=F64)
+    touch: wp.array2d(dtype=wp.int32)
+    allowed: wp.array(dtype=F64)  # per cable: the least bend radius allowed (bending cycles count below it)
+
+    attach_body: wp.array(dtype=wp.int32)
+    attach_end: wp.array(dtype=F64)
+    attach_link: wp.array(dtype=wp.int32)
+    attach_point: wp.array(dtype=V3)
+    attach_frame: wp.array(dtype=Q)
+    attach_stiff: wp.array(dtype=V6)
+    attach_first: wp.array(dtype=wp.int32)
+
+    cable_first: wp.array(dtype=wp.int32)
+    clamp_a: wp.array(dtype=wp.int32)
+    clamp_b: wp.array(dtype=wp.int32)
+    pair_a: wp.array(dtype=wp.int32)  # attachment indices
+    pair_b: wp.array(dtype=wp.int32)
+    pair_cable: wp.array(dtype=wp.int32)
+    pair_length: wp.array(dtype=F64)
+
+    mesh: wp.array(dtype=wp.uint64)
+    sphere: wp.array(dtype=wp.vec4d)
+    mesh_link: wp.array(dtype=wp.int32)
+    mesh_pose: wp.array(dtype=M44)
+
+    gravity: V3
+    damping: F64  # 1/s
+    friction: F64  # Coulomb's coefficient
+    slip: F64  # m/s: below this sliding speed a contact grips (the static regime)
+    floor: F64  # z of the floor
+    margin: F64  # contact query distance beyond the radii, per substep
+    reach: F64  # clearance query distance beyond the radius, per frame
+    max_speed: F64  # a point faster than this has blown up
+
+
+@wp.struct
+class BodyWork:
+    """One body in one substep: the iterate (position, orientation) and the predicted pose that
+    inertia and gravity draw it to."""
+
+    x: V3
+    q: Q
+    x_pred: V3
+    q_pred: Q
+
+
+@wp.struct
+class Factor:
+    """One body's rows of the block-tridiagonal factorization: the Cholesky factor L_k of its
+    pivot block D_k, W_k = L_k^-1 B_k (B_k its coupling to the next body), and L_k^-1 y_k."""
+
+    lo: M66
+    w: M66
+    y: V6
+
+
+@wp.struct
+class Contact:
+    """One contact of one body for a substep, linearized at its start: the touched slot (a mesh, the
+    floor, or the cables), the point on the body (body frame) and where it was (world), the
+    displacement it should follow (the surface's over the substep; against another body, the
+    mean of the two), the normal (world), the gap this body closes (all of it against a surface,
+    half against another body), the depth at which the contact gives way (``squash``), the normal
+    force at the start (N: the friction's bound) and the arc of the point along its cable."""
+
+    slot: wp.int32
+    r: V3
+    p_old: V3
+    target: V3
+    n: V3
+    gap: F64
+    give: F64
+    force: F64
+    arc: F64

@@ -1,0 +1,123 @@
+"""The lines ``rswarp cable`` prints per cable: over the environments that ran to the end, the worst
+of each answer a dress-pack designer asks (long enough? bent too tight? pulled how hard, and where?
+what must each clamp hold? twisted? touching what, how hard, and where does it wear?), and which
+environments stopped and why."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..sim.cable_results import CableResult, worst_wear
+
+
+def cable_lines(c: CableResult, taut: float) -> list[str]:
+    """The cable's answers; environments that stopped are reported as stopped, never as answers."""
+    lines = [f"{c.name}: {c.length:.3f} m, radius {c.radius * 1000:g} mm (E A {c.axial_stiffness:.3g} N, "
+             f"E I {c.bending_stiffness:.3g} N m^2, G J {c.torsion_stiffness:.3g} N m^2)"]
+    done = np.nonzero(c.status == "ok")[0]
+    stopped = np.nonzero(c.status != "ok")[0]
+    if len(done):
+        lines += _answers(c, done, taut)
+    else:
+        lines.append(f"  no answers: every environment stopped before the end ({c.envs} of {c.envs})")
+    for e in stopped[:5]:
+        lines.append(f"  environment {e} {c.status[e]}")
+    if len(stopped) > 5:
+        lines.append(f"  ... and {len(stopped) - 5} more stopped")
+    return lines
+
+
+def _answers(c: CableResult, done: np.ndarray, taut: float) -> list[str]:
+    n = f"{len(done)}" + (f" (of {c.envs}; the others stopped)" if len(done) < c.envs else "")
+    return [_length_line(c, done, n, taut), _bend_line(c, done, n), _tension_line(c, done), *_clamp_lines(c, done),
+            _twist_line(c, done), *_contact_lines(c, done), _wear_line(c, done)]
+
+
+def _length_line(c: CableResult, done: np.ndarray, n: str, taut: float) -> str:
+    straight = done[c.stretch[done] >= taut]
+    most = c.stretch[done].max()
+    return f"  long enough: {len(done) - len(straight)} of {n}" + (
+        f"; pulled straight in {_envs(straight)} (attachments {most:.1%} of the length apart)" if len(straight) else
+        f" (attachments at most {most:.1%} of the length apart)")
+
+
+def _bend_line(c: CableResult, done: np.ndarray, n: str) -> str:
+    bend = np.where(np.isfinite(c.min_bend_radius[done]), c.min_bend_radius[done], np.inf)
+    e = int(done[np.argmin(bend)])
+    tight = done[c.too_tight[done]]
+    where = f" (environment {e}, t = {c.min_bend_time[e]:.2f} s, {c.min_bend_at[e]:.3f} m along)" \
+        if np.isfinite(c.min_bend_radius[e]) else " (straight throughout)"
+    cycles = c.bend_cycles[done].sum(axis=1)
+    repeat = f"; bent past it and back up to {cycles.max()} times (environment {int(done[np.argmax(cycles)])})" \
+        if cycles.max() > 0 else ""
+    return (f"  bend radius: least {c.min_bend_radius[e]:.3f} m{where}; allowed {c.allowed_bend_radius:.3f} m: "
+            f"too tight in {len(tight)} of {n}{repeat}")
+
+
+def _tension_line(c: CableResult, done: np.ndarray) -> str:
+    e = int(done[np.argmax(c.peak_tension[done])])
+    if not c.peak_tension[e] > 0:
+        return "  tension: none (the cable is slack or pushed along its length throughout)"
+    return (f"  peak tension: {c.peak_tension[e]:.3g} N, E A x stretch (environment {e}, t = "
+            f"{c.peak_tension_time[e]:.2f} s, {c.peak_tension_at[e]:.3f} m along)")
+
+
+def _clamp_lines(c: CableResult, done: np.ndarray) -> list[str]:
+    out = []
+    for a, name in enumerate(c.attachments):
+        e = int(done[np.argmax(c.clamp_force[done, a])])
+        m = int(done[np.argmax(c.clamp_moment[done, a])])
+        out.append(f"  {name} holds up to {c.clamp_force[e, a]:.3g} N (environment {e}, t = "
+                   f"{c.clamp_force_time[e, a]:.2f} s) and {c.clamp_moment[m, a]:.3g} N m (environment {m})")
+    return out
+
+
+def _twist_line(c: CableResult, done: np.ndarray) -> str:
+    e = int(done[np.argmax(c.max_torque[done])])
+    t = int(done[np.argmax(c.max_twist[done])])
+    clamps = f"greatest {np.degrees(c.max_twist[t]):.1f} deg between the end clamps (environment {t}); " \
+        if c.max_twist[t] > 0 else ""
+    at = f", {c.max_torque_at[e]:.3f} m along" if np.isfinite(c.max_torque_at[e]) else ""
+    return (f"  twist: {clamps}up to {np.degrees(c.max_twist_rate[done].max()):.1f} deg/m; torque up to "
+            f"{c.max_torque[e]:.3g} N m (environment {e}{at})")
+
+
+def _contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
+    out = []
+    for j, name in enumerate(c.links):
+        col = c.clearance[done, j]
+        reached = col < np.inf  # -inf too: a link or floor the cable is wholly inside of
+        if not reached.any():
+            continue
+        e = int(done[np.argmin(np.where(reached, col, np.inf))])
+        touching = done[np.isfinite(c.contact_time[done, j])]
+        text = f"  {name}: least clearance {c.clearance[e, j] * 1000:.1f} mm (environment {e}, " \
+               f"t = {c.clearance_time[e, j]:.2f} s, {c.clearance_at[e, j]:.3f} m along)"
+        if len(touching):
+            first = touching[np.argmin(c.contact_time[touching, j])]
+            text += f"; touches in {len(touching)} of {len(done)}, first environment {first} at t = " \
+                    f"{c.contact_time[first, j]:.2f} s"
+        if c.clearance[e, j] < -2 * c.radius - c.length / 4:  # deeper than any contact push leaves it
+            text += " (carried inside by the robot: the trajectory goes through it)"
+        out.append(text)
+    e = int(done[np.argmax(c.peak_normal[done])])
+    if c.peak_normal[e] > 0:
+        out.append(f"  contact force: up to {c.peak_normal[e]:.3g} N on a segment (environment {e}, t = "
+                   f"{c.peak_normal_time[e]:.2f} s, {c.peak_normal_at[e]:.3f} m along); sliding up to "
+                   f"{c.max_sliding_speed[done].max():.3g} m/s")
+    return out or ["  clearance: nothing within reach of the cable"]
+
+
+def _wear_line(c: CableResult, done: np.ndarray) -> str:
+    worst = worst_wear(c, done)
+    if worst is None:
+        return "  wear: nothing slid while pressed"
+    e, s, j = worst
+    return (f"  wear: worst segment {c.segments[s]:.3f} m along (environment {e}) rubs on {c.links[j]}: "
+            f"{c.segment_wear[e, s]:.3g} J of normal force x sliding, {c.wear_contact_time[e, s]:.2f} s in contact, "
+            f"up to {c.wear_peak_normal[e, s]:.3g} N")
+
+
+def _envs(idx: np.ndarray) -> str:
+    shown = ", ".join(str(i) for i in idx[:8])
+    return f"environment(s) {shown}" + (f" and {len(idx) - 8} more" if len(idx) > 8 else "")

@@ -1,0 +1,275 @@
+"""The Cosserat rod cable model (``rswarp.kernels.rod``): every cable of a mechanism as rigid
+segments joined by elastic joints (stretch, shear, bend, twist), clamped, ball-jointed or free at
+its control points, in contact with links, the environment, the floor and each other, with
+friction. Here: the kernel's model struct made from a ``RodLayout``, and ``CosseratRod``, the
+``CableSolver`` that steps many environments on the shared launcher, its state kept on the device.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import model_error
+from ..kinematics.kinematics import Kinematics
+from ..rsxml.model import Mechanism
+from .cable_solver import (
+    FAILURES,
+    GRAVITY,
+    MAX_SPEED,
+    REACH,
+    SLIP,
+    CableInfo,
+    CableOptions,
+    CableSolver,
+    ContactMeshes,
+    allowed_bend_radius,
+)
+from .launch import Launcher, init_warp
+from .rod_layout import RodLayout, rod_layout
+
+CRUSHED = 3  # the kernel's status CRUSHED + slot (``rswarp.kernels.rod_types``)
+NO_FLOOR = -1.0e6  # m: the floor's height where there is none
+UNMEASURED = 1.0e29  # the kernel's "nothing within reach" (BIG) reads as +inf
+CHUNK = 64  # environments per CPU launch: each one's scratch stays in cache
+
+
+@dataclass
+class RodState:
+    """Many environments of every cable, as Warp arrays on the solver's device: each segment's
+    centre, orientation, velocity and angular velocity (envs, bodies), status (envs,), the wear map
+    (``wear_*``, ``below``, ``cycles``), the last frame's statistics; and on the host, the joints at
+    the end of the last frame (envs, dof)."""
+
+    x: object
+    q: object
+    v: object
+    w: object
+    status: object
+    wear_time: object
+    wear_peak: object
+    wear: object
+    below: object
+    cycles: object
+    stats: object
+    clear: object
+    clear_at: object
+    load: object
+    joints: np.ndarray
+
+
+class CosseratRod(CableSolver):
+    """Frames of many environments of a mechanism's cables as discrete Cosserat rods."""
+
+    kind = "rod"
+
+    def __init__(self, mech: Mechanism, options: CableOptions = CableOptions(), meshes: ContactMeshes | None = None):
+        from ..kernels.rod import rod_kernel
+
+        self.layout = layout = rod_layout(mech, options.density, options.poisson)
+        _above_floor(mech, layout, options.floor)
+        self.options, self.dof = options, mech.dof
+        meshes = meshes or ContactMeshes((None,) * len(mech.graph.links))
+        self.slots = (*mech.graph.links, *(m[0] for m in meshes.environment), "floor", "cables")
+        self.cables = tuple(_info(c, layout, allowed_bend_radius(cable, options))
+                            for c, cable in zip(layout.cables, mech.cables))
+        self.failures = FAILURES | {CRUSHED + j: f"the robot pressed a cable into {_what(name)} half its radius "
+                                                 "deep: the trajectory drives it through" for j, name in
+                                    enumerate(self.slots)}
+        self.kinematics = Kinematics(mech) if mech.dof else None
+        self.links = len(mech.graph.links)
+        self.kernel = rod_kernel()
+        self.launcher = Launcher(options.device, chunk=CHUNK, threads=options.threads)
+        self.launcher.load(self.kernel)
+        self._meshes: list = []  # Warp keeps a mesh's BVH only while the Mesh lives
+        self.params = self._params(layout, meshes, options)
+
+    @classmethod
+    def check(cls, mech: Mechanism, options: CableOptions) -> None:
+        _above_floor(mech, rod_layout(mech, options.density, options.poisson), options.floor)
+
+    def _params(self, layout: RodLayout, meshes: ContactMeshes, options: CableOptions):
+        from ..kernels.rod_types import RodParams
+
+        wp = init_warp()
+        dev = self.launcher.device
+        arr = lambda a, dtype: wp.array(np.ascontiguousarray(a), dtype=dtype, device=dev)  # noqa: E731
+        v6 = wp.types.vector(6, wp.float64)
+        p = RodParams()
+        for name in ("half", "mass", "radius", "arc", "contact_stiff", "attach_end"):
+            setattr(p, name, arr(getattr(layout, name), wp.float64))
+        for name in ("cable", "attach_body", "attach_link", "attach_first", "cable_first"):
+            setattr(p, name, arr(np.asarray(getattr(layout, name), np.int32), wp.int32))
+        p.inertia = arr(layout.inertia, wp.vec2d)
+        p.stiff, p.attach_stiff = arr(layout.stiff, v6), arr(layout.attach_stiff.reshape(-1, 6), v6)
+        p.touch = wp.array(layout.touch, dtype=wp.int32, device=dev)
+        p.attach_point, p.attach_frame = arr(layout.attach_point, wp.vec3d), arr(layout.attach_frame, wp.quatd)
+        p.allowed = arr([c.allowed_bend_radius for c in self.cables], wp.float64)
+        p.clamp_a, p.clamp_b = (arr(a, wp.int32) for a in layout.clamps())
+        pair_a, pair_b, pair_cable, pair_length = layout.pairs()
+        p.pair_a, p.pair_b, p.pair_cable = arr(pair_a, wp.int32), arr(pair_b, wp.int32), arr(pair_cable, wp.int32)
+        p.pair_length = arr(pair_length, wp.float64)
+        self._mesh_arrays(p, meshes)
+        p.gravity = wp.vec3d(*GRAVITY)
+        p.damping, p.friction, p.slip = float(options.damping), float(options.friction), SLIP
+        p.floor = NO_FLOOR if options.floor is None else float(options.floor)
+        p.margin, p.reach, p.max_speed = float(2 * layout.half.max()), REACH, MAX_SPEED
+        return p
+
+    def _mesh_arrays(self, p, meshes: ContactMeshes) -> None:
+        """The link meshes (when ``contact``), then the environment's, as Warp meshes with bounding
+        spheres in their own frames."""
+        wp = init_warp()
+        dev = self.launcher.device
+        links = meshes.links if self.options.contact else (None,) * len(meshes.links)
+        entries = [(m, j, np.eye(4)) for j, m in enumerate(links)] + [((v, f), -1, pose) for _, v, f, pose in
+                                                                    meshes.environment]
+        ids, spheres = np.zeros(len(entries), np.uint64), np.zeros((len(entries), 4))
+        for j, (m, _, _) in enumerate(entries):
+            if m is not None:
+                mesh = wp.Mesh(points=wp.array(m[0].astype(np.float32), dtype=wp.vec3, device=dev),
+                               indices=wp.array(m[1].astype(np.int32).ravel(), dtype=wp.int32, device=dev))
+                self._meshes.append(mesh)
+                ids[j] = mesh.id
+                centre = (m[0].min(axis=0) + m[0].max(axis=0)) / 2
+                spheres[j] = (*centre, np.linalg.norm(m[0] - centre, axis=1).max())
+        p.mesh = wp.array(ids, dtype=wp.uint64, device=dev)
+        p.sphere = wp.array(spheres, dtype=wp.vec4d, device=dev)
+        p.mesh_link = wp.array(np.array([j for _, j, _ in entries], np.int32), dtype=wp.int32, device=dev)
+        p.mesh_pose = wp.array(np.array([pose for _, _, pose in entries], np.float64).reshape(-1, 4, 4),
+                               dtype=wp.mat44d, device=dev)
+
+    def state(self, envs: int) -> RodState:
+        from ..kernels.rod_types import LOADS, STATS
+
+        wp = init_warp()
+        dev = self.launcher.device
+        lay = self.layout
+        rep = lambda a, dtype: wp.array(np.ascontiguousarray(np.repeat(a[None], envs, axis=0)), dtype=dtype,  # noqa
+                                        device=dev)
+        zeros = lambda shape, dtype=wp.float64: wp.zeros(shape, dtype=dtype, device=dev)  # noqa: E731
+        b, c, slots = lay.bodies, len(lay.cables), len(self.slots)
+        return RodState(rep(lay.x, wp.vec3d), rep(lay.q, wp.quatd), zeros((envs, b), wp.vec3d),
+                        zeros((envs, b), wp.vec3d), zeros(envs, wp.int32), zeros((envs, b)), zeros((envs, b)),
+                        zeros((envs, b, slots)), zeros((envs, b), wp.int32), zeros((envs, b), wp.int32),
+                        zeros((envs, c, STATS)), zeros((envs, c, slots)), zeros((envs, c, slots)),
+                        zeros((envs, max(len(lay.attach_body), 1), LOADS)), np.zeros((envs, self.dof)))
+
+    def set_damping(self, damping: float) -> None:
+        self.params.damping = float(damping)
+
+    def step(self, state: RodState, qs: np.ndarray, dt: float) -> None:
+        from ..kernels.rod_types import MAX_CONTACTS
+
+        envs = state.x.shape[0]
+        qs = np.asarray(qs, np.float64)
+        if qs.ndim != 3 or qs.shape[:2] != (envs, self.options.substeps):
+            raise ValueError(f"qs must have shape ({envs}, {self.options.substeps}, dof), got {qs.shape}")
+        poses = self._poses(state.joints, qs)
+        bodies = self.layout.bodies
+        self.launcher.launch(self.kernel, envs, params=[self.params, float(dt), int(self.options.iterations)],
+                             inputs=[poses], scratch=(bodies, bodies, bodies * MAX_CONTACTS, bodies),
+                             outputs=[state.x, state.q, state.v, state.w, state.status, state.wear_time,
+                                      state.wear_peak, state.wear, state.below, state.cycles, state.stats,
+                                      state.clear, state.clear_at, state.load])
+        state.joints = qs[:, -1].copy()
+
+    def _poses(self, start: np.ndarray, qs: np.ndarray) -> np.ndarray:
+        """(envs, substeps + 1, links, 4, 4): every link's pose at the frame's start and at each
+        substep's end (float64 forward kinematics)."""
+        envs, subs = qs.shape[:2]
+        if self.kinematics is None:
+            return np.ascontiguousarray(np.broadcast_to(np.eye(4), (envs, subs + 1, self.links, 4, 4)))
+        q = np.concatenate([start[:, None], qs], axis=1).reshape(envs * (subs + 1), -1)
+        return self.kinematics.fk64(q).reshape(envs, subs + 1, self.links, 4, 4)
+
+    def statistics(self, state: RodState) -> list[dict[str, np.ndarray]]:
+        from ..kernels import rod_types as t
+
+        stats, clear, at, load = (a.numpy() for a in (state.stats, state.clear, state.clear_at, state.load))
+        status = state.status.numpy().copy()
+        out = []
+        for c in range(len(self.cables)):
+            s = stats[:, c]
+            own = list(self.layout.cables[c].attachments)
+            loads = load[:, own] if own else np.zeros((len(status), 0, t.LOADS))
+            out.append({
+                "status": status, "tension": s[:, t.TENSION], "tension_at": _at(s[:, t.TENSION_AT]),
+                "bend_radius": _far(s[:, t.BEND]), "bend_at": _at(s[:, t.BEND_AT]), "twist": s[:, t.TWIST],
+                "twist_rate": s[:, t.TWIST_RATE], "torque": s[:, t.TORQUE], "torque_at": _at(s[:, t.TORQUE_AT]),
+                "stretch": s[:, t.STRETCH], "normal_force": s[:, t.NORMAL], "sliding_speed": s[:, t.SLIDING],
+                "contact_at": _at(s[:, t.CONTACT_AT]), "clearance": _far(clear[:, c]), "clearance_at": _at(at[:, c]),
+                "clamp_force": loads[:, :, t.FORCE:t.FORCE + 3], "clamp_moment": loads[:, :, t.MOMENT:t.MOMENT + 3],
+                "clamp_force_peak": loads[:, :, t.FORCE_PEAK], "clamp_moment_peak": loads[:, :, t.MOMENT_PEAK]})
+        return out
+
+    def reset_totals(self, state: RodState) -> None:
+        for a in (state.wear_time, state.wear_peak, state.wear, state.cycles):
+            a.zero_()
+
+    def totals(self, state: RodState) -> list[dict[str, np.ndarray]]:
+        time, peak, wear, cycles = (a.numpy() for a in (state.wear_time, state.wear_peak, state.wear, state.cycles))
+        out = []
+        for c in self.layout.cables:
+            own = slice(c.first, c.first + c.segments)
+            out.append({"contact_time": time[:, own].copy(), "peak_normal": peak[:, own].copy(),
+                        "wear": wear[:, own].copy(), "bend_cycles": cycles[:, own].astype(np.int64)})
+        return out
+
+    def points(self, state: RodState, cable: int, env: int | None = None) -> np.ndarray:
+        c = self.layout.cables[cable]
+        own = slice(c.first, c.first + c.segments)
+        x = state.x.numpy()[:, own] if env is None else state.x[env].numpy()[None, own]
+        q = state.q.numpy()[:, own] if env is None else state.q[env].numpy()[None, own]
+        half = self.layout.half[own][None, :, None]
+        axis = _axes(q)
+        nodes = np.concatenate([x[:, :1] - half[:, :1] * axis[:, :1], x + half * axis], axis=1)
+        return nodes if env is None else nodes[0]
+
+    def frames(self, state: RodState, cable: int, env: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """(centres (S, 3), frames (S, 3, 3): each segment's material axes as columns) of one
+        environment's cable, for checks that read the material frame (twist, writhe)."""
+        c = self.layout.cables[cable]
+        own = slice(c.first, c.first + c.segments)
+        return state.x[env].numpy()[own], _matrices(state.q[env].numpy()[own])
+
+
+def _above_floor(mech: Mechanism, layout: RodLayout, floor: float | None) -> None:
+    """A cable whose rest shape passes through the floor cannot be held up by it: an error at its line."""
+    if floor is None:
+        return
+    for c, cable in zip(layout.cables, mech.cables):
+        depth = floor - (c.points[:, 2] - c.section.radius).min()
+        if depth > c.section.radius / 2:
+            raise model_error(mech, f"cable '{cable.name}' starts {depth:.3g} m into the floor (z = {floor:g} m): "
+                                    "route it above the floor, or give a lower --floor", cable.line)
+
+
+def _what(slot: str) -> str:
+    return {"floor": "the floor", "cables": "a cable"}.get(slot, f"'{slot}'")
+
+
+def _info(c, layout: RodLayout, allowed: float) -> CableInfo:
+    return CableInfo(c.name, c.length, c.section.radius, allowed, c.section.axial, c.section.bending,
+                     c.section.torsion, c.arc.copy(), c.centres, c.labels)
+
+
+def _matrices(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices of quaternions (..., 4) as (x, y, z, w)."""
+    x, y, z, w = np.moveaxis(q, -1, 0)
+    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+                     np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+                     np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1)], -2)
+
+
+def _axes(q: np.ndarray) -> np.ndarray:
+    return _matrices(q)[..., :, 2]
+
+
+def _far(a: np.ndarray) -> np.ndarray:
+    return np.where(a > UNMEASURED, np.inf, a)
+
+
+def _at(a: np.ndarray) -> np.ndarray:
+    return np.where(a < 0, np.nan, a)
