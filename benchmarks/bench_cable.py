@@ -92,44 +92,61 @@ def initial_points(ref, segments: int) -> np.ndarray:
 # -- ours -------------------------------------------------------------------------------------------
 
 
-def ours(segments: int, envs: int, settle: float, timed: float, ref) -> dict:
+def _rod(xml: str, **options):
+    """Our Cosserat rod solver for one RSXML text (``CableOptions`` given)."""
     import rswarp
-    from rswarp.sim.cable_chain import ParticleChain
-    from rswarp.sim.cable_solver import FRAME_RATE, SUBSTEPS, CableOptions
+    from rswarp.sim.cable_rod import CosseratRod
+    from rswarp.sim.cable_solver import CableOptions
 
-    xml = f"""<?xml version="1.0"?>
-<Mechanism xmlns="urn:abb-robotics-robotstudio-graphiccomponent" type="Other" name="Hose" lengthUnit="mm"
-           angleUnit="deg">
-  <Links baseLink="Base"><Part name="Base"/></Links>
-  <AdditionalComponents>
-    <Cable radius="{RADIUS * 1000}" maxSegmentLength="{LENGTH * 1000 / segments + 1e-6}" name="Hose"
-           desiredLength="{LENGTH * 1000}" youngsModulus="{E}">
-      <ControlPoints>
-        <ControlPoint attachedTo="Base" position="0, 0, {HEIGHT * 1000}"/>
-        <ControlPoint attachedTo="Base" position="{SPAN * 1000}, 0, {HEIGHT * 1000}"/>
-      </ControlPoints>
-    </Cable>
-  </AdditionalComponents>
-  <Joints/>
-</Mechanism>"""
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "hose.rsxml"
+        path = Path(tmp) / "bench.rsxml"
         path.write_text(xml)
         mech = rswarp.load(path)
-    chain = ParticleChain(mech, mech.cables[0], CableOptions(substeps=SUBSTEPS, damping=1.0))
-    assert len(chain.arrays.rest) == segments, (len(chain.arrays.rest), segments)
-    state = chain.state(envs)
-    state.x.numpy()[:] = initial_points(ref, segments)[None]  # the peers start from the reference too
-    zero = np.zeros((envs, SUBSTEPS, 0), np.float32)
-    frame = 1 / FRAME_RATE
-    for _ in range(int(settle * FRAME_RATE)):
-        chain.step(state, zero, frame)
+    return CosseratRod(mech, CableOptions(**options))
+
+
+def _steps(solver, state, seconds: float, joints=lambda t: ()) -> float:
+    """Frames of ``seconds``; the CPU seconds they took."""
+    from rswarp.sim.cable_solver import FRAME_RATE
+
+    envs, subs, frame = state.x.shape[0], solver.options.substeps, 1 / FRAME_RATE
     cpu = time.process_time()
-    for _ in range(int(timed * FRAME_RATE)):
-        chain.step(state, zero, frame)
-    cpu = time.process_time() - cpu
-    sag, shape = accuracy(chain.points(state, 0), ref)
-    return {"cpu": cpu / timed / envs, "sag": sag, "shape": shape, "step": f"{1e3 * frame / SUBSTEPS:.2f} ms"}
+    for f in range(int(round(seconds * FRAME_RATE))):
+        t = (f + (np.arange(subs) + 1) / subs) * frame
+        q = np.array([[joints(u) for u in t]] * envs, np.float64).reshape(envs, subs, solver.dof)
+        solver.step(state, q, frame)
+    return time.process_time() - cpu
+
+
+def _cable(name: str, radius: float, seg: float, youngs: float, points: str, length: float | None = None,
+           joints: str = "", links: str = "", limits: str = "") -> str:
+    extra = f' desiredLength="{length * 1000}"' if length else ""
+    return f"""<?xml version="1.0"?>
+<Mechanism xmlns="urn:abb-robotics-robotstudio-graphiccomponent" type="Other" name="{name}" lengthUnit="mm"
+           angleUnit="deg">
+  <Links baseLink="Base"><Part name="Base"/>{links}</Links>
+  <AdditionalComponents>
+    <Cable radius="{radius * 1000}" maxSegmentLength="{seg * 1000 + 1e-6}" name="Rod"{extra} youngsModulus="{youngs}">
+      <ControlPoints>{points}</ControlPoints>
+    </Cable>
+  </AdditionalComponents>
+  <Joints>{joints}</Joints>
+  {limits}
+</Mechanism>"""
+
+
+def ours(segments: int, envs: int, settle: float, timed: float, ref) -> dict:
+    """The hanging hose, from its rest route (the peers start from the reference shape)."""
+    points = (f'<ControlPoint attachedTo="Base" position="0, 0, {HEIGHT * 1000}"/>'
+              f'<ControlPoint attachedTo="Base" position="{SPAN * 1000}, 0, {HEIGHT * 1000}"/>')
+    solver = _rod(_cable("Hose", RADIUS, LENGTH / segments, E, points, LENGTH), damping=1.0, floor=None)
+    assert solver.layout.cables[0].segments == segments
+    state = solver.state(envs)
+    _steps(solver, state, settle)
+    cpu = _steps(solver, state, timed)
+    sag, shape = accuracy(solver.points(state, 0, 0), ref)
+    subs = solver.options.substeps
+    return {"cpu": cpu / timed / envs, "sag": sag, "shape": shape, "step": f"{1e3 / 60 / subs:.2f} ms"}
 
 
 # -- Newton -----------------------------------------------------------------------------------------
@@ -220,6 +237,111 @@ def mujoco_cable(segments: int, envs: int, settle: float, timed: float, ref) -> 
     return out
 
 
+# -- PyElastica ------------------------------------------------------------------------------------
+
+
+def elastica_rod(pts, radius, youngs, nu=0.5, pinned=True, clamp_start=False, clamp_end=False, twist=0.0,
+                 gravity=True, settle=3.0, timed=1.0, damping=1.0):
+    """PyElastica's Cosserat rod through ``pts`` (its frames by parallel transport; the last turned
+    ``twist`` about the axis), ends pinned or clamped, stepped with its PositionVerlet at a tenth of
+    the axial wave's crossing time of a segment: (rod, CPU-s per simulated s, step)."""
+    import elastica as ea
+
+    class Sim(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping, ea.CallBacks):
+        pass
+
+    sim = Sim()
+    n = len(pts) - 1
+    tang = np.diff(pts, axis=0)
+    lens = np.linalg.norm(tang, axis=1)
+    tang /= lens[:, None]
+    d1 = np.cross([0.0, 0.0, 1.0] if abs(tang[0][2]) < 0.9 else [1.0, 0, 0], tang[0])
+    d1 /= np.linalg.norm(d1)
+    dirs = np.zeros((3, 3, n))
+    for k in range(n):
+        a = d1 - np.dot(d1, tang[k]) * tang[k]
+        a /= np.linalg.norm(a)
+        dirs[0, :, k], dirs[1, :, k], dirs[2, :, k] = a, np.cross(tang[k], a), tang[k]
+        d1 = a
+    if twist:
+        c, s = np.cos(twist), np.sin(twist)
+        a, b = dirs[0, :, -1].copy(), dirs[1, :, -1].copy()
+        dirs[0, :, -1], dirs[1, :, -1] = c * a + s * b, -s * a + c * b
+    rod = ea.CosseratRod.straight_rod(n, pts[0], tang[0], dirs[0, :, 0], lens.sum(), radius, RHO, youngs_modulus=youngs,
+                                      shear_modulus=youngs / (2 * (1 + nu)), position=pts.T.copy(), directors=dirs)
+    sim.append(rod)
+    dt = 0.1 * lens.min() / np.sqrt(youngs / RHO)
+    pos_idx = tuple(i for i, on in ((0, clamp_start or pinned), (-1, clamp_end or pinned)) if on)
+    dir_idx = tuple(i for i, on in ((0, clamp_start), (-1, clamp_end)) if on)
+    sim.constrain(rod).using(ea.FixedConstraint, constrained_position_idx=pos_idx, constrained_director_idx=dir_idx)
+    if gravity:
+        sim.add_forcing_to(rod).using(ea.GravityForces, acc_gravity=np.array([0.0, 0.0, -9.81]))
+    sim.dampen(rod).using(ea.AnalyticalLinearDamper, damping_constant=damping, time_step=dt)
+    sim.finalize()
+    stepper = ea.PositionVerlet()
+    t = 0.0
+    for _ in range(int(settle / dt)):
+        t = stepper.step(sim, t, dt)
+    cpu = time.process_time()
+    for _ in range(int(timed / dt)):
+        t = stepper.step(sim, t, dt)
+    cpu = time.process_time() - cpu
+    return rod, cpu / timed, dt
+def elastica_hose(segments: int, envs: int, settle: float, timed: float, ref) -> dict:
+    rod, cpu, dt = elastica_rod(initial_points(ref, segments), RADIUS, E, settle=settle, timed=timed)
+    sag, shape = accuracy(rod.position_collection.T, ref)
+    note = "per environment (one rod per simulator)" if envs > 1 else ""
+    return {"cpu": cpu, "sag": sag, "shape": shape, "step": f"{1e3 * dt:.4f} ms", "note": note}
+
+
+# -- the cantilever and the twisted rod -----------------------------------------------------------------
+
+BEAM_L, BEAM_R, BETA5_E = 0.5, 0.01, 5.885e7 / 5  # q L^3 / EI = 5 at 1200 kg/m^3
+TWIST_E, TWIST_PHI = 5e8, np.pi / 2
+CASE_ENVS = 256
+
+
+def cantilever(settle: float, timed: float, envs: int) -> list[tuple[str, dict]]:
+    """Tip drop / L against the elastica's 0.49591, 40 segments."""
+    seg = BEAM_L / 40
+    points = ('<ControlPoint attachedTo="Base" position="0, 0, 1000" direction="1, 0, 0"/>'
+              f'<ControlPoint position="{BEAM_L * 1000}, 0, 1000"/>')
+    solver = _rod(_cable("Beam", BEAM_R, seg, BETA5_E, points), damping=5.0, floor=None)
+    state = solver.state(envs)
+    _steps(solver, state, settle)
+    cpu = _steps(solver, state, timed) / timed / envs
+    ours = {"cpu": cpu, "error": (1 - solver.points(state, 0, 0)[-1, 2]) / BEAM_L / 0.49591 - 1}
+    pts = np.stack([np.linspace(0, BEAM_L, 41), np.zeros(41), np.ones(41)], axis=1)
+    rod, cpu, _ = elastica_rod(pts, BEAM_R, BETA5_E, pinned=False, clamp_start=True, settle=settle, timed=timed,
+                               damping=5.0)
+    return [("rswarp", ours),
+            ("PyElastica", {"cpu": cpu, "error": (1 - rod.position_collection[2, -1]) / BEAM_L / 0.49591 - 1})]
+
+
+def twisted(settle: float, timed: float, envs: int) -> list[tuple[str, dict]]:
+    """A vertical rod clamped at both ends, its head turned a quarter turn: torque against G J Phi /
+    L, 20 segments."""
+    gj = TWIST_E / 3 * np.pi * BEAM_R ** 4 / 2
+    want = gj * TWIST_PHI / BEAM_L
+    points = ('<ControlPoint attachedTo="Base" position="0, 0, 1000" direction="0, 0, 1"/>'
+              f'<ControlPoint attachedTo="Head" position="0, 0, {1000 + BEAM_L * 1000}" direction="0, 0, 1"/>')
+    joint = ('<Joint name="Turn" parent="Base" child="Head" type="Rotational" active="true" point1="0,0,0" '
+             'point2="0,0,1"/>')
+    xml = _cable("Twist", BEAM_R, BEAM_L / 20, TWIST_E, points, joints=joint, links='<Part name="Head"/>',
+                 limits='<Limits><Limit joint="Turn" min="-180" max="180"/></Limits>')
+    solver = _rod(xml, damping=5.0, floor=None)
+    state = solver.state(envs)
+    turn = lambda t: (TWIST_PHI * min(t, 1.0),)  # noqa: E731
+    _steps(solver, state, settle, turn)
+    cpu = _steps(solver, state, timed, lambda t: (TWIST_PHI,)) / timed / envs
+    ours = {"cpu": cpu, "error": solver.statistics(state)[0]["torque"][0] / want - 1}
+    pts = np.stack([np.zeros(21), np.zeros(21), np.linspace(1.0, 1.0 + BEAM_L, 21)], axis=1)
+    rod, cpu, _ = elastica_rod(pts, BEAM_R, TWIST_E, pinned=False, clamp_start=True, clamp_end=True, twist=TWIST_PHI,
+                               gravity=False, settle=min(settle, 0.5), timed=timed, damping=20.0)
+    torque = float(np.abs(rod.internal_couple[2]).mean())
+    return [("rswarp", ours), ("PyElastica", {"cpu": cpu, "error": torque / want - 1})]
+
+
 def whole_run(envs: int = 256, seconds: float = 10.0) -> None:
     """The issue's target on the bundled IRB 2600ID: ``simulate_cables`` for ``envs`` random
     trajectories of ``seconds`` (its kernel compiled first, by a one-frame run), wall and CPU time."""
@@ -250,16 +372,26 @@ def main() -> None:
     ref = elastica()
     print(f"hanging hose: catenary sag {catenary_sag() * 1000:.1f} mm, elastica (reference) sag "
           f"{(HEIGHT - ref[1][:, 1].min()) * 1000:.1f} mm")
-    print(f"{'segments':>8} {'envs':>5} {'solver':>8} {'step':>8} {'CPU-s/sim-s/env':>16} {'sag vs catenary':>16} "
+    print(f"{'segments':>8} {'envs':>5} {'solver':>10} {'step':>9} {'CPU-s/sim-s/env':>16} {'sag vs catenary':>16} "
           f"{'shape error':>12}")
     rows = []
     for segments in (20, 40):
+        alone = elastica_hose(segments, 1, settle, timed, ref)  # one rod per simulator: cost per env
         for envs in (1, 64, 256):
-            for name, fn in (("rswarp", ours), ("Newton", newton_rod), ("MuJoCo", mujoco_cable)):
+            per_env = dict(alone, note="per environment" if envs > 1 else "")
+            for name, fn in (("rswarp", ours), ("Newton", newton_rod), ("MuJoCo", mujoco_cable),
+                             ("PyElastica", lambda *_, r=per_env: r)):
                 r = fn(segments, envs, settle, timed, ref)
                 rows.append((segments, envs, name, r))
-                print(f"{segments:>8} {envs:>5} {name:>8} {r['step']:>8} {r['cpu']:>16.5f} {r['sag']:>+16.2%} "
+                print(f"{segments:>8} {envs:>5} {name:>10} {r['step']:>9} {r['cpu']:>16.5f} {r['sag']:>+16.2%} "
                       f"{r['shape']:>12.2%} {r.get('note', '')}", flush=True)
+    for title, case in (("self-weight cantilever, beta = 5: tip drop against the elastica's 0.49591 L", cantilever),
+                        ("clamped rod twisted a quarter turn: torque against G J Phi / L", twisted)):
+        print(f"\n{title} (ours: {CASE_ENVS} environments)")
+        results = case(settle, timed, CASE_ENVS)
+        for name, r in results:
+            print(f"{name:>10} {r['cpu']:>16.5f} CPU-s/sim-s/env {r['error']:>+10.3%}")
+        print(f"{'ratio':>10} {results[1][1]['cpu'] / results[0][1]['cpu']:>16.1f}x")
     best = {(s, e): min(r["cpu"] for s2, e2, n, r in rows if (s2, e2) == (s, e) and n != "rswarp")
             for s, e, _, _ in rows}
     print("\nratio (best peer's CPU cost / ours):")
