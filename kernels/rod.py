@@ -86,6 +86,28 @@ def _clearances(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int,
     capsule_pairs(params, work, x_s, q_s, e, params.reach, 0, contacts, count, row, clear_out, at_out)
 
 
+@wp.func
+def _substep(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64, iterations: int,
+             work: wp.array2d(dtype=BodyWork), factor: wp.array2d(dtype=Factor), contacts: wp.array2d(dtype=Contact),
+             count: wp.array2d(dtype=wp.int32), row: int, x_out: wp.array2d(dtype=V3), q_out: wp.array2d(dtype=Q),
+             v_out: wp.array2d(dtype=V3), w_out: wp.array2d(dtype=V3), wear_time_out: wp.array2d(dtype=F64),
+             wear_peak_out: wp.array2d(dtype=F64), wear_out: wp.array3d(dtype=F64),
+             below_out: wp.array2d(dtype=wp.int32), cycles_out: wp.array2d(dtype=wp.int32),
+             stats_out: wp.array3d(dtype=F64), clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64),
+             load_out: wp.array3d(dtype=F64)) -> int:
+    """Substep ``s``: predict, find contacts, iterate, measure and commit. RUNNING, or why the
+    environment stops (nothing committed then)."""
+    predict(params, x_out, q_out, v_out, w_out, e, work, row, h)
+    _contacts(params, poses, e, s, x_out, q_out, work, contacts, count, row, clear_out, at_out)
+    for _ in range(iterations):
+        iterate(params, poses, e, s + 1, h, work, factor, contacts, count, row)
+    crushed = measure(params, poses, e, s + 1, h, work, contacts, count, row, stats_out, load_out, wear_time_out,
+                      wear_peak_out, wear_out, below_out, cycles_out)
+    if crushed >= 0:
+        return CRUSHED + crushed
+    return commit(params, work, row, h, x_out, q_out, v_out, w_out, e)
+
+
 @cached
 def rod_kernel():
     """``step``: one frame of every environment, in as many substeps as ``poses`` (envs, substeps +
@@ -132,18 +154,11 @@ def rod_kernel():
         substeps = poses.shape[1] - 1
         h = dt / F64(substeps)
         for s in range(substeps):
-            predict(params, x_out, q_out, v_out, w_out, e, work, row, h)
-            _contacts(params, poses, e, s, x_out, q_out, work, contacts, count, row, clear_out, at_out)
-            for _ in range(iterations):
-                iterate(params, poses, e, s + 1, h, work, factor, contacts, count, row)
-            crushed = measure(params, poses, e, s + 1, h, work, contacts, count, row, stats_out, load_out,
-                              wear_time_out, wear_peak_out, wear_out, below_out, cycles_out)
-            if crushed >= 0:
-                status_out[e] = CRUSHED + crushed
-                return
-            failed = commit(params, work, row, h, x_out, q_out, v_out, w_out, e)
-            if failed != RUNNING:
-                status_out[e] = failed
+            status = _substep(params, poses, e, s, h, iterations, work, factor, contacts, count, row, x_out, q_out,
+                              v_out, w_out, wear_time_out, wear_peak_out, wear_out, below_out, cycles_out, stats_out,
+                              clear_out, at_out, load_out)
+            if status != RUNNING:
+                status_out[e] = status
                 return
         frame_end(params, poses, e, substeps, x_out, q_out, stats_out)
         _clearances(params, poses, e, substeps, x_out, q_out, work, contacts, count, row, clear_out, at_out)

@@ -7,13 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cable_results import MAX_RECORDED, SERIES, CableResult, Series, spread
+from .cable_results import MAX_RECORDED, SERIES, VALUE, CableResult, Series, spread
 from .cable_solver import RUNNING, CableInfo
 
 
 class RunningExtremes:
     """Running extremes of one cable's environments. Per frame: the spread of each of SERIES across
-    them, or with ``values`` every environment's value (frames, len(SERIES), envs) float32: a piece
+    them, or with ``values`` every environment's value (frames, len(SERIES), envs) ``VALUE``: a piece
     of a cut run keeps these, and the tally takes the spread of all environments."""
 
     def __init__(self, info: CableInfo, slots: int, envs: int, frames: int, record: int, values: bool = False):
@@ -33,7 +33,7 @@ class RunningExtremes:
         self.final_force, self.final_moment = np.zeros((envs, a, 3)), np.zeros((envs, a, 3))
         self.failed_t, self.failed_why = nan(envs), np.zeros(envs, np.int32)
         self.series: dict[str, list] = {key: [] for key in SERIES}
-        self.values = np.empty((frames, len(SERIES), envs), np.float32) if values else None
+        self.values = np.empty((frames, len(SERIES), envs), VALUE) if values else None
         self.record, self.stride = record, max(1, -(-frames // MAX_RECORDED))
         self.recorded: list[np.ndarray] = []
         self.frame = 0

@@ -11,6 +11,9 @@ import numpy as np
 MAX_RECORDED = 20_000  # frames kept for playback; longer runs keep every k-th frame
 
 SERIES = ("tension", "bend", "gap", "torque")
+# a cut run keeps every environment's per-frame values as the model gives them (float64), so the
+# spread it takes at the end is the one a whole run takes
+VALUE = np.float64
 
 
 @dataclass(frozen=True)

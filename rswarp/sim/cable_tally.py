@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .cable_results import PER_ENV, SERIES, CableResult, Series, spread
+from .cable_results import PER_ENV, SERIES, VALUE, CableResult, Series, spread
 
 MAX_VALUES_BYTES = 16 << 30  # a cut run's per-frame values, kept in a file: 16 GiB at most
 FRAME_BLOCK = 1024  # frames read back at a time to take their spread
@@ -18,7 +18,7 @@ FRAME_BLOCK = 1024  # frames read back at a time to take their spread
 
 def values_bytes(envs: int, frames: int, cables: int) -> int:
     """The size of a cut run's file of per-frame values (checked against MAX_VALUES_BYTES first)."""
-    return frames * len(SERIES) * envs * 4 * cables
+    return frames * len(SERIES) * envs * np.dtype(VALUE).itemsize * cables
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,7 @@ class CableTally:
         self._folder = tempfile.TemporaryDirectory(prefix="rswarp-cables-")
         self.fields = [{k: np.empty((self.envs, *getattr(r, k).shape[1:]), getattr(r, k).dtype) for k in PER_ENV}
                        for r in piece.results]
-        self.values = [np.lib.format.open_memmap(Path(self._folder.name) / f"values{c}.npy", "w+", np.float32,
+        self.values = [np.lib.format.open_memmap(Path(self._folder.name) / f"values{c}.npy", "w+", VALUE,
                                                  (self.frames, len(SERIES), self.envs)) for c in range(self.cables)]
 
     def results(self) -> tuple[tuple[CableResult, ...], np.ndarray]:
