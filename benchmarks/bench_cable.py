@@ -1,5 +1,5 @@
-"""Cable dynamics: ours against Newton's rod (``ModelBuilder.add_rod``, ``SolverVBD``) and
-MuJoCo's cable plugin (``mujoco.elasticity.cable``) on one hanging hose, in one process.
+"""Cable dynamics: our Cosserat rod against Newton's rod (``add_rod``, ``SolverVBD``), MuJoCo's
+cable plugin and PyElastica, in one process: a hanging hose, a cantilever and a twisted rod.
 
 The hose: span 1 m, length 1.2 m, radius 2.5 cm, E 5e7 Pa, density 1200 kg/m^3, both ends pinned
 at one height; 20 and 40 segments; 1, 64 and 256 environments. Figures:
@@ -276,7 +276,7 @@ def elastica_rod(pts, radius, youngs, nu=0.5, pinned=True, clamp_start=False, cl
     sim.constrain(rod).using(ea.FixedConstraint, constrained_position_idx=pos_idx, constrained_director_idx=dir_idx)
     if gravity:
         sim.add_forcing_to(rod).using(ea.GravityForces, acc_gravity=np.array([0.0, 0.0, -9.81]))
-    sim.dampen(rod).using(ea.AnalyticalLinearDamper, damping_constant=damping, time_step=dt)
+    sim.dampen(rod).using(ea.AnalyticalLinearDamper, uniform_damping_constant=damping, time_step=dt)
     sim.finalize()
     stepper = ea.PositionVerlet()
     t = 0.0

@@ -15,7 +15,7 @@ import warp as wp
 from .cache import cached, module_name
 from .rod_gather import capsule_pairs, surfaces, swept
 from .rod_measure import frame_end, measure
-from .rod_step import commit, iterate, predict
+from .rod_step import commit, free_start, iterate, predict
 from .rod_types import (
     BEND,
     BEND_AT,
@@ -38,6 +38,7 @@ from .rod_types import (
 )
 
 AT_NONE = -1.0  # an "at" column where nothing was found
+STEP_TOLERANCE = 1e-6  # m: an iteration that moves no segment's surface further has converged
 
 
 @wp.func
@@ -90,22 +91,27 @@ def _clearances(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int,
 def _substep(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64, iterations: int,
              work: wp.array2d(dtype=BodyWork), factor: wp.array2d(dtype=Factor), contacts: wp.array2d(dtype=Contact),
              count: wp.array2d(dtype=wp.int32), row: int, x_out: wp.array2d(dtype=V3), q_out: wp.array2d(dtype=Q),
-             v_out: wp.array2d(dtype=V3), w_out: wp.array2d(dtype=V3), wear_time_out: wp.array2d(dtype=F64),
+             v_out: wp.array2d(dtype=V3), w_out: wp.array2d(dtype=V3), a_out: wp.array2d(dtype=V3),
+             wear_time_out: wp.array2d(dtype=F64),
              wear_peak_out: wp.array2d(dtype=F64), wear_out: wp.array3d(dtype=F64),
              below_out: wp.array2d(dtype=wp.int32), cycles_out: wp.array2d(dtype=wp.int32),
              stats_out: wp.array3d(dtype=F64), clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64),
              load_out: wp.array3d(dtype=F64)) -> int:
     """Substep ``s``: predict, find contacts, iterate, measure and commit. RUNNING, or why the
     environment stops (nothing committed then)."""
-    predict(params, x_out, q_out, v_out, w_out, e, work, row, h)
+    predict(params, x_out, q_out, v_out, w_out, a_out, e, work, row, h)
     _contacts(params, poses, e, s, x_out, q_out, work, contacts, count, row, clear_out, at_out)
+    free_start(params, work, count, row)
     for _ in range(iterations):
-        iterate(params, poses, e, s + 1, h, work, factor, contacts, count, row)
+        # Newton's step length bounds what is left of the error: a step under STEP_TOLERANCE ends
+        # the substep's iterations (a cable at rest takes one; a moving or rubbing one, all)
+        if iterate(params, poses, e, s + 1, h, work, factor, contacts, count, row) < F64(STEP_TOLERANCE):
+            break
     crushed = measure(params, poses, e, s + 1, h, work, contacts, count, row, stats_out, load_out, wear_time_out,
                       wear_peak_out, wear_out, below_out, cycles_out)
     if crushed >= 0:
         return CRUSHED + crushed
-    return commit(params, work, row, h, x_out, q_out, v_out, w_out, e)
+    return commit(params, work, row, h, x_out, q_out, v_out, w_out, a_out, e)
 
 
 @cached
@@ -133,6 +139,7 @@ def rod_kernel():
         q_out: wp.array2d(dtype=Q),
         v_out: wp.array2d(dtype=V3),
         w_out: wp.array2d(dtype=V3),
+        a_out: wp.array2d(dtype=V3),
         status_out: wp.array(dtype=wp.int32),
         # Out (the wear map, accumulated in place):
         wear_time_out: wp.array2d(dtype=F64),
@@ -155,8 +162,8 @@ def rod_kernel():
         h = dt / F64(substeps)
         for s in range(substeps):
             status = _substep(params, poses, e, s, h, iterations, work, factor, contacts, count, row, x_out, q_out,
-                              v_out, w_out, wear_time_out, wear_peak_out, wear_out, below_out, cycles_out, stats_out,
-                              clear_out, at_out, load_out)
+                              v_out, w_out, a_out, wear_time_out, wear_peak_out, wear_out, below_out, cycles_out,
+                              stats_out, clear_out, at_out, load_out)
             if status != RUNNING:
                 status_out[e] = status
                 return

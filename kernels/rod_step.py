@@ -60,16 +60,32 @@ def attachment_pose(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: 
 
 @wp.func
 def predict(params: RodParams, x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), v_s: wp.array2d(dtype=V3),
-            w_s: wp.array2d(dtype=V3), e: int, work: wp.array2d(dtype=BodyWork), row: int, h: F64):
+            w_s: wp.array2d(dtype=V3), a_s: wp.array2d(dtype=V3), e: int, work: wp.array2d(dtype=BodyWork), row: int,
+            h: F64):
     """Where each body would go unhindered (its velocity and gravity): the pose the step is drawn
-    to, and its first iterate."""
+    to. The first iterate goes on at the body's last acceleration instead of gravity's (as VBD's
+    adaptive start does): a cable at rest or swinging freely starts at its solution, and the first
+    step's length tells (``iterate``). Bodies in contact start again at ``free_start``."""
     for k in range(params.half.shape[0]):
         b = BodyWork()
-        b.x_pred = x_s[e, k] + h * v_s[e, k] + (h * h) * params.gravity
+        b.x = x_s[e, k] + h * v_s[e, k]
+        b.x_pred = b.x + (h * h) * params.gravity
+        b.x = b.x + (h * h) * a_s[e, k]
         b.q_pred = turned(q_s[e, k], h * w_s[e, k])
-        b.x = b.x_pred
         b.q = b.q_pred
         work[row, k] = b
+
+
+@wp.func
+def free_start(params: RodParams, work: wp.array2d(dtype=BodyWork), count: wp.array2d(dtype=wp.int32), row: int):
+    """A body in contact starts its iterations in free flight: its lagged friction (``contact_terms``)
+    then meets the slip from above, and converges in the iterations given, where a start at the
+    last acceleration holds a sliding body stuck for several substeps."""
+    for k in range(params.half.shape[0]):
+        if count[row, k] > 0:
+            b = work[row, k]
+            b.x = b.x_pred
+            work[row, k] = b
 
 
 @wp.func
@@ -117,8 +133,9 @@ def _contacts(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype
 @wp.func
 def iterate(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
             work: wp.array2d(dtype=BodyWork), factor: wp.array2d(dtype=Factor), contacts: wp.array2d(dtype=Contact),
-            count: wp.array2d(dtype=wp.int32), row: int):
-    """One Gauss-Newton iteration on every body at once (pose row ``s`` holds the clamps)."""
+            count: wp.array2d(dtype=wp.int32), row: int) -> F64:
+    """One Gauss-Newton iteration on every body at once (pose row ``s`` holds the clamps); returns
+    how far it moved a segment's surface at most (m), for the caller's convergence test."""
     bodies = params.half.shape[0]
     carry_d = M66()  # B_{k-1}^T D_{k-1}^-1 B_{k-1}
     carry_r = V6()  # B_{k-1}^T z_{k-1}
@@ -158,20 +175,24 @@ def iterate(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
         carry_d = gram(f.w)
         carry_r = transposed_times(f.w, f.y)
     delta = V6()
+    moved = F64(0.0)
     for kk in range(bodies):
         k = bodies - 1 - kk
         f = factor[row, k]
         delta = backward(f.lo, f.y - f.w * delta)
+        moved = wp.max(moved, wp.length(top(delta)) + wp.length(bottom(delta)) * (params.half[k] + params.radius[k]))
         b = work[row, k]
         b.x = b.x + top(delta)
         b.q = turned(b.q, bottom(delta))
         work[row, k] = b
+    return moved
 
 
 @wp.func
 def commit(params: RodParams, work: wp.array2d(dtype=BodyWork), row: int, h: F64, x_s: wp.array2d(dtype=V3),
-           q_s: wp.array2d(dtype=Q), v_s: wp.array2d(dtype=V3), w_s: wp.array2d(dtype=V3), e: int) -> int:
-    """The step's poses and damped velocities into the state, unless one is not finite or a
+           q_s: wp.array2d(dtype=Q), v_s: wp.array2d(dtype=V3), w_s: wp.array2d(dtype=V3), a_s: wp.array2d(dtype=V3),
+           e: int) -> int:
+    """The step's poses, damped velocities and accelerations into the state, unless one is not finite or a
     segment's surface moves faster than ``max_speed``: then the state stays and the failure is
     returned."""
     keep = wp.exp(-params.damping * h)
@@ -186,7 +207,9 @@ def commit(params: RodParams, work: wp.array2d(dtype=BodyWork), row: int, h: F64
             return RUNAWAY
     for k in range(params.half.shape[0]):
         b = work[row, k]
-        v_s[e, k] = (b.x - x_s[e, k]) / h * keep
+        v = (b.x - x_s[e, k]) / h * keep
+        a_s[e, k] = (v - v_s[e, k]) / h
+        v_s[e, k] = v
         w_s[e, k] = rotation_vector(b.q * wp.quat_inverse(q_s[e, k])) / h * keep
         x_s[e, k] = b.x
         q_s[e, k] = b.q

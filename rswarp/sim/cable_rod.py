@@ -38,7 +38,7 @@ CHUNK = 64  # environments per CPU launch: each one's scratch stays in cache
 @dataclass
 class RodState:
     """Many environments of every cable, as Warp arrays on the solver's device: each segment's
-    centre, orientation, velocity and angular velocity (envs, bodies), status (envs,), the wear map
+    centre, orientation, velocity, angular velocity and last acceleration (envs, bodies), status (envs,), the wear map
     (``wear_*``, ``below``, ``cycles``), the last frame's statistics; and on the host, the joints at
     the end of the last frame (envs, dof)."""
 
@@ -46,6 +46,7 @@ class RodState:
     q: object
     v: object
     w: object
+    a: object
     status: object
     wear_time: object
     wear_peak: object
@@ -150,11 +151,12 @@ class CosseratRod(CableSolver):
                                         device=dev)
         zeros = lambda shape, dtype=wp.float64: wp.zeros(shape, dtype=dtype, device=dev)  # noqa: E731
         b, c, slots = lay.bodies, len(lay.cables), len(self.slots)
-        return RodState(rep(lay.x, wp.vec3d), rep(lay.q, wp.quatd), zeros((envs, b), wp.vec3d),
-                        zeros((envs, b), wp.vec3d), zeros(envs, wp.int32), zeros((envs, b)), zeros((envs, b)),
-                        zeros((envs, b, slots)), zeros((envs, b), wp.int32), zeros((envs, b), wp.int32),
-                        zeros((envs, c, STATS)), zeros((envs, c, slots)), zeros((envs, c, slots)),
-                        zeros((envs, max(len(lay.attach_body), 1), LOADS)), np.zeros((envs, self.dof)))
+        vec = lambda: zeros((envs, b), wp.vec3d)  # noqa: E731
+        return RodState(rep(lay.x, wp.vec3d), rep(lay.q, wp.quatd), vec(), vec(), vec(), zeros(envs, wp.int32),
+                        zeros((envs, b)), zeros((envs, b)), zeros((envs, b, slots)), zeros((envs, b), wp.int32),
+                        zeros((envs, b), wp.int32), zeros((envs, c, STATS)), zeros((envs, c, slots)),
+                        zeros((envs, c, slots)), zeros((envs, max(len(lay.attach_body), 1), LOADS)),
+                        np.zeros((envs, self.dof)))
 
     def set_damping(self, damping: float) -> None:
         self.params.damping = float(damping)
@@ -170,7 +172,7 @@ class CosseratRod(CableSolver):
         bodies = self.layout.bodies
         self.launcher.launch(self.kernel, envs, params=[self.params, float(dt), int(self.options.iterations)],
                              inputs=[poses], scratch=(bodies, bodies, bodies * MAX_CONTACTS, bodies),
-                             outputs=[state.x, state.q, state.v, state.w, state.status, state.wear_time,
+                             outputs=[state.x, state.q, state.v, state.w, state.a, state.status, state.wear_time,
                                       state.wear_peak, state.wear, state.below, state.cycles, state.stats,
                                       state.clear, state.clear_at, state.load])
         state.joints = qs[:, -1].copy()
