@@ -121,8 +121,10 @@ class _Progress:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=total, desc=self.label, unit=self.unit, unit_scale=self.unit == "sample",
-                            file=sys.stderr, mininterval=0.5, bar_format=None if total == int(total) else
+            scaled = self.unit == "sample"  # counts in the millions: tqdm's 1.00M
+            whole = "{l_bar}{bar}| {n:.0f}/{total:.0f} {unit}s [{elapsed}<{remaining}]"  # done may be fractional
+            self.bar = tqdm(total=total, desc=self.label, unit=self.unit, unit_scale=scaled, file=sys.stderr,
+                            mininterval=0.5, bar_format=None if scaled else whole if total == int(total) else
                             "{l_bar}{bar}| {percentage:.0f}% [{elapsed}<{remaining}]")
         self.bar.update(done - self.bar.n)
         if done >= total:
