@@ -48,7 +48,9 @@ MESH_PATHS = ("absolute", "relative")
 
 
 def _f(x: float) -> str:
-    return f"{float(x):.9g}"
+    """14 significant digits: 9 turned pi/2 by 3e-9 rad; 17 would print the rounding left in
+    derived values (a mimic's -1 as -0.9999999999999992)."""
+    return f"{float(x):.14g}"
 
 
 def _origin(m: np.ndarray) -> str:

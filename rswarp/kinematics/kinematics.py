@@ -13,6 +13,7 @@ from ..kernels import fk as fk_kernels
 from ..kernels import walk
 from ..rsxml.model import Mechanism
 from ..sim.launch import DEFAULT_CHUNK, Launcher, init_warp
+from . import ik, ik_numeric, ik_planar
 from .chain import loops_close, mechanism_chain
 from .loops import passive_values
 
@@ -40,6 +41,7 @@ class Kinematics:
                                     f"{fk_kernels.MAX_UNROLLED_LINKS} links; this one has {len(self.links)}", j.line)
         self._flanges = tuple((self.graph.link_index(f.link), f.pose.matrix()) for f in mech.flanges)
         self._wrist = self._wrist_constants()
+        self._arm_links = tuple(self.graph.link_index(j.child) for j in self.graph.active)
         self._kernels: dict = {}
         self._kernels_for(np.float32)  # compiled (or loaded from Warp's cache) now, not mid-batch
 
@@ -132,10 +134,82 @@ class Kinematics:
         """(link index, 4x4 zero-position pose) of a flange (the first when ``name`` is None)."""
         return self._flanges[self._flange_index(name)]
 
+    def ik(self, poses, conf=None):
+        """Inverse kinematics of ``(N, 4, 4)`` flange poses (the first flange, metres), float32.
+
+        With no ``conf``: every solution, an ``IKSolutions`` (the 8 closed-form branches of an arm,
+        q4 and q6 turned into their limits nearest zero; ``ik.turns`` adds the other turns). With
+        ``conf`` ((4,) or (N, 4): cf1, cf4, cf6, cfx): ``(q (N, dof), found (N,))``, the solution
+        with that configuration data, NaN where none has it. See docs/kinematics.md."""
+        return self._ik(poses, conf, np.float32)
+
+    def ik64(self, poses, conf=None):
+        """As ``ik`` in float64."""
+        return self._ik(poses, conf, np.float64)
+
+    def confdata(self, q) -> np.ndarray:
+        """``(N, 4)`` int ABB configuration data (cf1, cf4, cf6, cfx) of joint values ``q``; a
+        palletizer's cf4 is 0 and its cfx has no axis 5 (``ik_planar.confdata``)."""
+        form = self._ik_form()
+        q = self._q(q, np.float64)
+        if isinstance(form, ik.ArmConstants):
+            return ik.confdata(form, q, self.fk64(q), self._arm_links)
+        if isinstance(form, ik_planar.PlanarArm):
+            link, m = self.flange_frame()
+            return ik_planar.confdata(form, q, (self.fk64(q)[:, link] @ m)[:, :3, 3])
+        raise model_error(self.mech, f"'{self.mech.name}' is neither a 6-axis arm with a spherical wrist nor a "
+                                     "palletizer: it has no ABB configuration data")
+
+    @property
+    def ik_method(self) -> str:
+        """"arm" or "palletizer" (closed forms) or "numerical"."""
+        form = self._ik_form()
+        return "arm" if isinstance(form, ik.ArmConstants) else "palletizer" if form is not None else "numerical"
+
     def close(self) -> None:
         self.launcher.close()
 
     # -- plumbing ----------------------------------------------------------------------------------
+    def _ik(self, poses, conf, dtype):
+        poses = np.ascontiguousarray(poses, dtype).reshape(-1, 4, 4)
+        sol = self._solve(self._ik_form(), poses, dtype)
+        if conf is None:
+            return sol
+        form = self._ik_form()
+        if isinstance(form, ik.ArmConstants):
+            sol = ik.turns(sol, *self.mech.bounds())
+        elif isinstance(form, ik_planar.PlanarArm):
+            sol = ik.turns(sol, *self.mech.bounds(), axes=(form.last,), conf_columns=(2,))
+        return ik.pick(sol, conf)
+
+    def _solve(self, form, poses, dtype):
+        if isinstance(form, ik.ArmConstants):
+            return ik.closed_form(self.launcher, form, poses, dtype)
+        if isinstance(form, ik_planar.PlanarArm):
+            return ik_planar.solve(form, poses, *self.mech.bounds(), self.dof)
+        return ik_numeric.solve(self, poses.astype(np.float64))
+
+    def _ik_form(self):
+        """The closed form that fits the mechanism (found on first use, and proven on its own forward
+        kinematics: each of 16 configurations is among the solutions of its pose), or None."""
+        if not hasattr(self, "_form"):
+            self._form = None
+            if self.mech.flanges and not self.newton_loops:
+                link, m = self.flange_frame()
+                for form in (ik.arm_constants(self.mech), ik_planar.planar_arm(self.chain, link, m)):
+                    if form is not None and self._proven(form):
+                        self._form = form
+                        break
+        return self._form
+
+    def _proven(self, form) -> bool:
+        lower, upper = self.mech.bounds()
+        q = np.random.default_rng(0).uniform(np.maximum(lower, -np.pi), np.minimum(upper, np.pi), (16, self.dof))
+        link, m = self.flange_frame()
+        sol = self._solve(form, self.fk64(q)[:, link] @ m, np.float64)
+        near = np.abs(np.angle(np.exp(1j * (sol.q - q[:, None])))).max(axis=-1) < 1e-6
+        return bool(np.all(np.any(near & sol.ok, axis=1)))
+
     def _wrist_constants(self):
         joints = self.graph.wrist_joints
         if joints is None:

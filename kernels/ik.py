@@ -1,0 +1,323 @@
+"""Closed-form inverse kinematics of a 6-axis arm whose axes 2 and 3 are parallel and whose wrist
+axes 4, 5 and 6 meet in a point (every ABB serial 6-axis robot), as device code: one pose per
+thread, all eight branches (shoulder, elbow, wrist flip) with their ABB configuration data.
+
+Product of exponentials on the axes at the zero position (world): the wrist centre fixes q1
+(rotations about J2 and J3 keep its component along their common axis), then q3 and q2 (two
+parallel axes: a triangle in the arm's plane), then q4, q5, q6 (three axes through one point:
+Paden-Kahan subproblems 2 and 1). The arm's constants are folded into the code per robot."""
+
+from typing import NamedTuple
+
+import numpy as np
+import warp as wp
+
+from .cache import cached, module_name
+from .types import types_of
+
+BRANCHES = 8  # shoulder (front, back) x elbow (up, down) x wrist (flip or not): index 4 s + 2 e + w
+CONF = 4  # cf1, cf4, cf6, cfx
+# |sin q5| below this (float64, float32): the wrist is singular, q4 is held at 0 and q6 takes the
+# turn; above the rounding noise of q5's own computation, which a square root amplifies
+SINGULAR_Q5 = {8: 1e-7, 4: 1e-3}
+OK, NO_REACH, NO_LIMITS, SHOULDER, SAME = 0, 1, 2, 3, 4  # a branch's status (SAME: the singular wrist's flip)
+
+
+class ArmConstants(NamedTuple):
+    """An arm's axes at the zero position (world, metres), as the kernel folds them in."""
+
+    w1: tuple
+    p1: tuple
+    w2: tuple
+    p2: tuple
+    s3: float  # w3 . w2: +1 or -1
+    p3: tuple
+    w4: tuple
+    w5: tuple
+    w6: tuple
+    c0: tuple  # the wrist centre
+    cf: tuple  # the wrist centre in the flange frame
+    rm: tuple  # the flange's zero-position rotation, row-major 3x3
+    h0: tuple  # the arm's horizontal direction at zero: the wrist centre's, across J1
+    side0: float  # the side of the J2-J3 line the wrist centre is on at zero (+1 or -1)
+    lo: tuple  # joint limits (rad)
+    hi: tuple
+
+    def digest(self) -> str:
+        import hashlib
+
+        return hashlib.sha256(repr(tuple(self)).encode()).hexdigest()[:16]
+
+
+def _plane(w2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors spanning the plane across ``w2``, right-handed about it."""
+    helper = np.array([1.0, 0.0, 0.0]) if abs(w2[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    ea = np.cross(w2, helper)
+    ea /= np.linalg.norm(ea)
+    return ea, np.cross(w2, ea)
+
+
+@cached
+def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
+    """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
+    8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
+    turn nearest zero), configuration data and status (OK or why not)."""
+    S, V3, M33, _, M44 = types_of(scalar)
+    V2 = wp.types.vector(2, scalar)
+    c = {k: np.asarray(v, float) for k, v in arm._asdict().items()}
+    ea, eb = _plane(c["w2"])
+    to2 = lambda v: (float(ea @ v), float(eb @ v))  # noqa: E731
+    a2 = np.subtract(to2(c["p3"]), to2(c["p2"]))  # J2 axis to J3 axis, in the arm's plane
+    b2 = np.subtract(to2(c["c0"]), to2(c["p3"]))  # J3 axis to the wrist centre
+    la, lb = float(np.hypot(*a2)), float(np.hypot(*b2))
+    turn0 = float(np.arctan2(a2[1], a2[0]) - np.arctan2(b2[1], b2[0]))
+    d0 = float(c["w2"] @ c["c0"] - c["w2"] @ c["p1"])
+    n6 = np.cross(c["w6"], c["w5"])
+    n6 /= np.linalg.norm(n6)  # a direction across J6 at zero
+    n45 = np.cross(c["w4"], c["w5"])
+    c45, c56 = float(c["w4"] @ c["w5"]), float(c["w5"] @ c["w6"])
+    det = 1.0 - c45 * c45
+    g2 = float(n45 @ n45)
+    vec = lambda v: V3(*(S(float(x)) for x in v))  # noqa: E731
+    W1, P1, W2, P2, P3, W4, W5, W6, CF, H0 = (vec(c[k]) for k in ("w1", "p1", "w2", "p2", "p3", "w4", "w5", "w6",
+                                                                   "cf", "h0"))
+    N6, N45 = vec(n6), vec(n45)
+    EA, EB = vec(ea), vec(eb)
+    rmt = c["rm"].reshape(3, 3).T
+    K6, KN = vec(rmt @ c["w6"]), vec(rmt @ n6)  # axis 6 and the direction across it, in the flange frame
+    LO = [float(x) for x in c["lo"]]
+    HI = [float(x) for x in c["hi"]]
+    S3, SIDE0, TURN0, D0 = (S(float(x)) for x in (arm.s3, arm.side0, turn0, d0))
+    C45, C56, C4556, C45X2, DET, G2 = (S(float(x)) for x in (c45, c56, c45 * c56, 2.0 * c45, det, g2))
+    LSUM, LPROD = S(la * la + lb * lb), S(2.0 * la * lb)
+    SINGULAR = S(SINGULAR_Q5[wp.types.type_size_in_bytes(scalar)])
+    A2, B2 = V2(S(float(a2[0])), S(float(a2[1]))), V2(S(float(b2[0])), S(float(b2[1])))
+    CT0, ST0 = S(float(np.cos(turn0))), S(float(np.sin(turn0)))
+    P2D = V2(S(to2(c["p2"])[0]), S(to2(c["p2"])[1]))
+    TAU = S(2.0 * np.pi)
+    PI = S(np.pi)
+    QUARTER = S(0.5 * np.pi)
+
+    Q6 = wp.types.vector(6, scalar)
+    LO_A = Q6(*(S(x) for x in LO))
+    HI_A = Q6(*(S(x) for x in HI))
+
+    FLIP = bool(abs(c45) < 1e-12 and abs(c56) < 1e-12 and np.linalg.norm(np.cross(c["w4"], c["w6"])) < 1e-12)
+    # a joint whose limits span more than (-pi, pi] may need a whole turn to fit them
+    TURNS = [bool(LO[j] < -np.pi or HI[j] > np.pi) for j in range(6)]
+
+    @wp.func
+    def rot(w: V3, ca: S, sa: S, v: V3) -> V3:
+        """v turned about the unit axis w by the angle of cosine ca and sine sa (Rodrigues)."""
+        return v * ca + wp.cross(w, v) * sa + w * (wp.dot(w, v) * (S(1.0) - ca))
+
+    @wp.func
+    def rmat(w: V3, ca: S, sa: S) -> M33:
+        return wp.identity(n=3, dtype=S) * ca + wp.skew(w) * sa + wp.outer(w, w) * (S(1.0) - ca)
+
+    @wp.func
+    def turn_about(w: V3, p: V3, q: V3):
+        """(angle, cos, sin) of the turn of p onto q about the unit axis w (Paden-Kahan subproblem 1)."""
+        pp = p - w * wp.dot(w, p)
+        qq = q - w * wp.dot(w, q)
+        y = wp.dot(w, wp.cross(pp, qq))
+        x = wp.dot(pp, qq)
+        r = wp.sqrt(x * x + y * y)
+        if r == S(0.0):
+            return S(0.0), S(1.0), S(0.0)
+        return wp.atan2(y, x), x / r, y / r
+
+    @wp.func
+    def into(x: S, lo: S, hi: S) -> S:
+        """x (in (-pi, pi]) turned by whole turns into [lo, hi], the turn nearest zero; x itself when
+        none fits."""
+        best = x
+        if x < lo or x > hi:
+            if x + TAU >= lo and x + TAU <= hi:
+                best = x + TAU
+            elif x - TAU >= lo and x - TAU <= hi:
+                best = x - TAU
+        return best
+
+    @wp.func
+    def fit(q: Q6) -> Q6:
+        out = q
+        for j in range(6):
+            if wp.static(TURNS[j]):
+                out[j] = into(q[j], LO_A[j], HI_A[j])
+        return out
+
+    @wp.func
+    def quadrant(x: S) -> int:
+        return int(wp.floor(x / QUARTER))
+
+    @wp.func
+    def branch_out(i: int, b: int, q: Q6, arm_conf: int, status: int,
+                   q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
+                   status_out: wp.array2d(dtype=wp.int8)):
+        st = status
+        for j in range(6):
+            q_out[i, b, j] = q[j]
+            if st == OK and (q[j] < LO_A[j] or q[j] > HI_A[j]):
+                st = NO_LIMITS
+        conf_out[i, b, 0] = wp.int8(quadrant(q[0]))
+        conf_out[i, b, 1] = wp.int8(quadrant(q[3]))
+        conf_out[i, b, 2] = wp.int8(quadrant(q[5]))
+        cfx = arm_conf
+        if q[4] < S(0.0):
+            cfx += 1
+        conf_out[i, b, 3] = wp.int8(cfx)
+        status_out[i, b] = wp.int8(st)
+
+    @wp.func
+    def half_turn(x: S) -> S:
+        """x + pi, in (-pi, pi]."""
+        out = x + PI
+        if out > PI:
+            out = out - TAU
+        return out
+
+    @wp.func
+    def wrist(i: int, b: int, q1: S, q2: S, q3: S, v: V3, vn: V3, arm_conf: int, status: int,
+              q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
+              status_out: wp.array2d(dtype=wp.int8)):
+        """The two wrist branches (b, b + 1) of one arm solution, given where R4 R5 R6 must take
+        axis 6 (``v``) and the direction across it (``vn``): q4, q5 by Paden-Kahan subproblem 2,
+        q6 by subproblem 1."""
+        alpha = (wp.dot(W4, v) - C4556) / DET
+        beta = (C56 - C45 * wp.dot(W4, v)) / DET
+        g = (S(1.0) - alpha * alpha - beta * beta - C45X2 * alpha * beta) / G2
+        g = wp.sqrt(wp.max(g, S(0.0)))
+        if wp.static(FLIP):
+            # an orthogonal wrist with axes 4 and 6 in line at zero: the flip is (q4 + pi, -q5, q6 + pi)
+            z = W4 * alpha + W5 * beta + N45 * g
+            q5, c5, s5 = turn_about(W5, W6, z)
+            q4 = S(0.0)
+            c4 = S(1.0)
+            s4 = S(0.0)
+            twin = status
+            if wp.abs(s5) > SINGULAR:
+                q4, c4, s4 = turn_about(W4, z, v)
+            else:  # the wrist straight: q5 is 0 (what is left is rounding), q4 held at 0
+                q5 = S(0.0)
+                c5 = S(1.0)
+                s5 = S(0.0)
+                if twin == OK:
+                    twin = SAME  # the flip is the same pose: one solution
+            q6, c6, s6 = turn_about(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))  # R6 N6 = R5^T R4^T vn
+            branch_out(i, b, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf, status, q_out, conf_out, status_out)
+            branch_out(i, b + 1, fit(Q6(q1, q2, q3, half_turn(q4), -q5, half_turn(q6))), arm_conf, twin, q_out,
+                       conf_out, status_out)
+        else:
+            for f in range(2):
+                z = W4 * alpha + W5 * beta + N45 * (g * (S(1.0) - S(2.0) * S(float(f))))
+                q5, c5, s5 = turn_about(W5, W6, z)
+                q4 = S(0.0)
+                c4 = S(1.0)
+                s4 = S(0.0)
+                st = status
+                if wp.abs(s5) > SINGULAR:
+                    q4, c4, s4 = turn_about(W4, z, v)
+                else:
+                    q5 = S(0.0)
+                    c5 = S(1.0)
+                    s5 = S(0.0)
+                    if f == 1 and st == OK:
+                        st = SAME
+                q6, c6, s6 = turn_about(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))
+                branch_out(i, b + f, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf, st, q_out, conf_out, status_out)
+
+    @wp.func
+    def wrapped(x: S) -> S:
+        """x into (-pi, pi]."""
+        out = x
+        if out > PI:
+            out = out - TAU
+        elif out <= -PI:
+            out = out + TAU
+        return out
+
+    @wp.func
+    def elbows(i: int, b: int, q1: S, yd: V2, d2: S, cg: S, behind1: bool, u6: V3, un: V3, status: int,
+               q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
+               status_out: wp.array2d(dtype=wp.int8)):
+        """The elbow-up and elbow-down arms (branches b..b + 3) of one q1: q3 from the triangle of
+        the J2 axis, the J3 axis and the wrist centre (``cg``: its angle's cosine), then q2."""
+        sg = wp.sqrt(S(1.0) - cg * cg)
+        gamma = wp.acos(cg)
+        for e in range(2):
+            sign_e = S(1.0) - S(2.0) * S(float(e))
+            phi3 = gamma * sign_e + TURN0
+            zc = cg * CT0 - sign_e * sg * ST0  # cos(phi3), with TURN0's cos and sin
+            zs = sign_e * sg * CT0 + cg * ST0
+            z = A2 + V2(zc * B2[0] - zs * B2[1], zs * B2[0] + zc * B2[1])
+            cross = z[0] * yd[1] - z[1] * yd[0]
+            dot = wp.dot(z, yd)
+            q2 = wp.atan2(cross, dot)
+            n = wp.max(d2, S(1e-30))
+            c2 = dot / n  # |z| = |yd|: the turn's cos and sin without another transcendental
+            s2 = cross / n
+            # behind the lower arm: the wrist centre on the other side of the J2-J3 line than at zero
+            ra = V2(c2 * A2[0] - s2 * A2[1], s2 * A2[0] + c2 * A2[1])
+            arm_conf = int(0)
+            if behind1:
+                arm_conf += 4
+            if (ra[0] * yd[1] - ra[1] * yd[0]) * SIDE0 < S(0.0):
+                arm_conf += 2
+            c23 = c2 * zc - s2 * zs  # R2 R3 = R(w2, q2 + phi3)
+            s23 = s2 * zc + c2 * zs
+            wrist(i, b + 2 * e, q1, q2, wrapped(S3 * phi3), rot(W2, c23, -s23, u6), rot(W2, c23, -s23, un),
+                  arm_conf, status, q_out, conf_out, status_out)
+
+    @wp.kernel(enable_backward=False, module=module_name("ik", arm, str(scalar)))
+    def ik(
+        # In: flange poses (world, metres)
+        poses: wp.array(dtype=M44),
+        # Out: per branch, joints, configuration data and status
+        q_out: wp.array3d(dtype=scalar),
+        conf_out: wp.array3d(dtype=wp.int8),
+        status_out: wp.array2d(dtype=wp.int8),
+    ):
+        i = wp.tid()
+        m = poses[i]
+        rt = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
+        wc = rt * CF + V3(m[0, 3], m[1, 3], m[2, 3])
+        t6 = rt * K6  # where R1..R6 must take axis 6 and the direction across it
+        tn = rt * KN
+        u = wc - P1
+        u_par = W1 * wp.dot(W1, u)
+        a = wp.dot(W2, u - u_par)
+        bb = -wp.dot(W2, wp.cross(W1, u))
+        rho = wp.sqrt(a * a + bb * bb)
+        shoulder = OK
+        ratio = S(0.0)
+        if rho < S(1e-9):
+            shoulder = SHOULDER  # the wrist centre on axis 1: q1 is free
+            rho = S(1.0)
+        else:
+            ratio = (D0 - wp.dot(W2, u_par)) / rho
+            if wp.abs(ratio) > S(1.0):
+                shoulder = NO_REACH
+                ratio = wp.clamp(ratio, S(-1.0), S(1.0))
+        phi = wp.atan2(bb, a)
+        spread = wp.acos(ratio)
+        cs = wp.sqrt(S(1.0) - ratio * ratio)
+        for s in range(2):
+            sign = S(1.0) - S(2.0) * S(float(s))
+            q1 = wrapped(phi + sign * spread)
+            c1 = (a * ratio - bb * sign * cs) / rho  # cos(phi + sign spread)
+            s1 = (bb * ratio + a * sign * cs) / rho
+            y = P1 + rot(W1, c1, -s1, u)
+            yd = V2(wp.dot(EA, y), wp.dot(EB, y)) - P2D
+            d2 = wp.dot(yd, yd)
+            cg = (d2 - LSUM) / LPROD
+            st = shoulder
+            if st == OK and wp.abs(cg) > S(1.0):
+                st = NO_REACH
+            cg = wp.clamp(cg, S(-1.0), S(1.0))
+            behind1 = wp.dot(u, rot(W1, c1, s1, H0)) < S(0.0)
+            u6 = rot(W1, c1, -s1, t6)  # R1^T
+            un = rot(W1, c1, -s1, tn)
+            elbows(i, 4 * s, q1, yd, d2, cg, behind1, u6, un, st, q_out, conf_out, status_out)
+
+    return ik

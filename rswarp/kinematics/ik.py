@@ -1,0 +1,160 @@
+"""Inverse kinematics of one mechanism: flange poses to joint values, every solution, with ABB's
+configuration data (cf1, cf4, cf6, cfx).
+
+An arm with axes 2 and 3 parallel and axes 4, 5 and 6 meeting in a point is solved in closed form
+(``kernels/ik.py``), from the RSXML axes alone: ``arm_constants`` finds that shape, and proves the
+closed form on the mechanism's own forward kinematics before it is used. Any other mechanism is
+solved numerically (``ik_numeric``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kernels.ik import BRANCHES, CONF, NO_LIMITS, NO_REACH, OK, SAME, SHOULDER, ArmConstants
+from ..rsxml.model import Mechanism
+
+PARALLEL = 1e-9  # |w2 x w3| below this: axes 2 and 3 are parallel
+MEETS = 1e-7  # m: wrist axes closer than this meet in a point
+NO_LIMIT = 1e30  # rad: a joint with no limit (a finite stand-in the device code can fold in)
+WHY = {OK: "", NO_REACH: "out of reach", NO_LIMITS: "outside the joint limits",
+       SHOULDER: "the wrist centre on axis 1 (a shoulder singularity)", SAME: "the singular wrist's twin"}
+
+
+@dataclass(frozen=True)
+class IKSolutions:
+    """Every solution of N flange poses: ``q`` (N, S, dof) joint values (rad, m), ``conf`` (N, S,
+    4) ABB configuration data, ``status`` (N, S) 0 for a solution, else why not (``WHY``), and
+    whether they came from the numerical solver. For the closed form, S = 8 branches, index
+    4·shoulder + 2·elbow + wrist; ``turns`` adds the whole turns of axes 4 and 6."""
+
+    q: np.ndarray
+    conf: np.ndarray
+    status: np.ndarray
+    numerical: bool = False
+
+    @property
+    def ok(self) -> np.ndarray:
+        return self.status == OK
+
+
+def _axes(mech: Mechanism):
+    """(unit axes, points) of the six active joints if they are revolute and in one serial chain."""
+    graph = mech.graph
+    joints = graph.active
+    if len(joints) != 6 or not all(j.revolute for j in joints) or graph.closing:
+        return None
+    for a, b in zip(joints, joints[1:]):
+        if b.parent != a.child:
+            return None
+    return np.array([j.axis for j in joints]), np.array([j.point1 for j in joints], float)
+
+
+def _nearest(p, u, q, v) -> tuple[np.ndarray, float]:
+    """The point of line (q, v) nearest line (p, u), and the lines' distance (u, v unit, not
+    parallel)."""
+    n = np.cross(u, v)
+    d = q - p
+    t = np.dot(np.cross(d, u), n) / np.dot(n, n)
+    point = q + t * v
+    return point, abs(np.dot(d, n)) / np.linalg.norm(n)
+
+
+def arm_constants(mech: Mechanism) -> ArmConstants | None:
+    """The closed form's constants when the mechanism is a 6-axis arm of that shape (axes 2 and 3
+    parallel, 4, 5 and 6 through one point, a flange); None otherwise."""
+    axes = _axes(mech)
+    if axes is None or not mech.flanges:
+        return None
+    w, p = axes
+    if np.linalg.norm(np.cross(w[1], w[2])) > PARALLEL:
+        return None
+    if min(np.linalg.norm(np.cross(w[i], w[j])) for i, j in ((0, 1), (3, 4), (4, 5))) < 1e-6:
+        return None
+    c0, gap = _nearest(p[3], w[3], p[4], w[4])
+    if gap > MEETS or np.linalg.norm(np.cross(c0 - p[5], w[5])) > MEETS:
+        return None
+    m = mech.flanges[0].pose.matrix()
+    cf = m[:3, :3].T @ (c0 - m[:3, 3])
+    h = (c0 - p[0]) - np.dot(c0 - p[0], w[0]) * w[0]
+    if np.linalg.norm(h) < 1e-9:  # the wrist centre on axis 1 at zero: the arm's direction across it
+        h = np.cross(w[1], w[0])
+    h0 = h / np.linalg.norm(h)
+    side = np.dot(w[1], np.cross(p[2] - p[1], c0 - p[1]))
+    lo, hi = (np.clip(np.nan_to_num(b, nan=0.0, posinf=NO_LIMIT, neginf=-NO_LIMIT), -NO_LIMIT, NO_LIMIT)
+              for b in mech.bounds())
+    t = lambda v: tuple(float(x) for x in np.ravel(v))  # noqa: E731
+    return ArmConstants(w1=t(w[0]), p1=t(p[0]), w2=t(w[1]), p2=t(p[1]), s3=float(np.sign(np.dot(w[1], w[2]))),
+                        p3=t(p[2]), w4=t(w[3]), w5=t(w[4]), w6=t(w[5]), c0=t(c0), cf=t(cf), rm=t(m[:3, :3]),
+                        h0=t(h0), side0=1.0 if side >= 0 else -1.0, lo=t(lo), hi=t(hi))
+
+
+def quadrant(q) -> np.ndarray:
+    """ABB's cf1, cf4, cf6: quadrant k holds [k·90°, (k+1)·90°); negative ones count down from -1."""
+    return np.floor(np.asarray(q) / (0.5 * np.pi)).astype(np.int32)
+
+
+def turns(sol: IKSolutions, lower: np.ndarray, upper: np.ndarray, axes: tuple[int, ...] = (3, 5),
+          conf_columns: tuple[int, ...] = (1, 2)) -> IKSolutions:
+    """Every solution with the whole turns (-2..2) of ``axes`` (an arm's 4 and 6) that fit their
+    limits: S grows 5-fold per axis, the turns that do not fit marked outside the limits, and the
+    configuration data's ``conf_columns`` (cf4, cf6) follow the axes' quadrants."""
+    q, status, conf = sol.q, sol.status, sol.conf
+    for axis, column in zip(axes, conf_columns):
+        n, s, dof = q.shape
+        base = np.mod(q[..., axis] + np.pi, 2 * np.pi) - np.pi
+        q = np.repeat(q[:, :, None], 5, axis=2)
+        q[..., axis] = base[:, :, None] + np.arange(-2, 3) * 2.0 * np.pi
+        q = q.reshape(n, s * 5, dof)
+        status = np.repeat(status, 5, axis=1)
+        conf = np.repeat(conf, 5, axis=1)
+        conf[..., column] = quadrant(q[..., axis])
+    inside = np.all((q >= lower) & (q <= upper), axis=-1)
+    status = np.where((status == OK) & ~inside, NO_LIMITS, status).astype(sol.status.dtype)
+    return IKSolutions(q, conf, status, sol.numerical)
+
+
+def pick(sol: IKSolutions, conf) -> tuple[np.ndarray, np.ndarray]:
+    """(q (N, dof), found (N,)): for each pose, the solution with configuration ``conf`` ((4,) or
+    (N, 4)); NaN and False where none has it."""
+    want = np.broadcast_to(np.asarray(conf, np.int32), (sol.q.shape[0], CONF))
+    match = sol.ok & np.all(sol.conf == want[:, None, :], axis=-1)
+    found = match.any(axis=1)
+    first = np.argmax(match, axis=1)
+    q = sol.q[np.arange(len(first)), first].copy()
+    q[~found] = np.nan
+    return q, found
+
+
+
+
+def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype) -> IKSolutions:
+    """The closed form's eight branches of ``poses`` on the launcher's device."""
+    from ..kernels.ik import arm_ik_kernel
+    from ..sim.launch import init_warp
+
+    wp = init_warp()
+    kernel = arm_ik_kernel(arm, wp.float32 if dtype == np.float32 else wp.float64)
+    n = len(poses)
+    q = np.empty((n, BRANCHES, 6), dtype)
+    conf = np.empty((n, BRANCHES, CONF), np.int8)  # small codes: a quarter of the memory traffic
+    status = np.empty((n, BRANCHES), np.int8)
+    launcher.launch(kernel, n, inputs=[poses], outputs=[q, conf, status])
+    return IKSolutions(q, conf, status)
+
+
+def confdata(arm: ArmConstants, q: np.ndarray, poses: np.ndarray, links: tuple[int, ...]) -> np.ndarray:
+    """(N, 4) cf1, cf4, cf6, cfx of joint values ``q`` (float64), from their link poses ``poses``
+    (N, links, 4, 4) and the links the six joints move (``links``)."""
+    def at(link: int, point) -> np.ndarray:
+        m = poses[:, link]
+        return m[:, :3, :3] @ np.asarray(point) + m[:, :3, 3]
+
+    wc = at(links[5], arm.c0)
+    r1 = poses[:, links[0], :3, :3]
+    behind1 = np.einsum("ni,ni->n", wc - np.asarray(arm.p1), r1 @ np.asarray(arm.h0)) < 0
+    p2, p3 = at(links[1], arm.p2), at(links[2], arm.p3)
+    side = np.einsum("ni,ni->n", r1 @ np.asarray(arm.w2), np.cross(p3 - p2, wc - p2)) * arm.side0
+    cfx = 4 * behind1 + 2 * (side < 0) + (q[:, 4] < 0)
+    return np.stack([quadrant(q[:, 0]), quadrant(q[:, 3]), quadrant(q[:, 5]), cfx.astype(np.int32)], axis=1)
