@@ -61,6 +61,10 @@ COMMANDS = {
                                                   "its own trajectory: slack, bend radius, tension, clamp loads, "
                                                   "twist and torque, contact and wear",
               ("json", "device", "ray", "seed", "out")),
+    "program": ("program:run_program", "sample", "run a RAPID routine through the robot: targets by inverse "
+                                                 "kinematics with their confdata, the trajectory, and its joint "
+                                                 "limits, collisions, floor and singularities",
+                ("json", "device", "ray")),
     "demo": ("demo:demo_output", None, "run rswarp on the bundled example robots", ("json",)),
 }
 

@@ -89,6 +89,18 @@ def build(p: argparse.ArgumentParser) -> None:
                    help="preview image width and height in pixels (default 512)")
 
 
+def program(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="ROBOT")
+    p.add_argument("module", metavar="MODULE", help="a RAPID module: .mod, .modx, .prg or .sys")
+    p.add_argument("--routine", default="main", help="the routine to run (default main)")
+    p.add_argument("--csv", metavar="CSV", help="write the trajectory as the CSV rswarp cable --trajectory reads")
+    p.add_argument("--env", dest="environment", action="append", default=[], metavar="MESH@x,y,z",
+                   help=f"a mesh placed in the world ({LENGTH}), checked against every link; repeat for more")
+    p.add_argument("--collision-matrix", metavar="SRDF",
+                   help="skip the link pairs this SRDF disables (rswarp collisions writes one)")
+    p.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
+
+
 def cable(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", metavar="FILE")
     p.add_argument("--envs", type=argument("envs"), default=16, help="parallel environments (default 16)")
@@ -97,7 +109,11 @@ def cable(p: argparse.ArgumentParser) -> None:
                      help="joint trajectory, time,<joint>,... in the file's units; repeat for more (assigned "
                           "round-robin)")
     how.add_argument("--random", action="store_true",
-                     help="smooth random trajectories within the limits, one per environment (seeded by --seed)")
+                     help="random programs, one per environment (seeded by --seed): smooth moves within the limits "
+                          "that keep the robot clear of itself and of the floor")
+    how.add_argument("--program", metavar="MODULE",
+                     help="a RAPID module whose routine (--routine) every environment runs (rswarp program)")
+    p.add_argument("--routine", default="main", help="with --program: the routine to run (default main)")
     p.add_argument("--seconds", type=argument("seconds"),
                    help="simulated time (default: the longest trajectory; 10 with --random)")
     p.add_argument("--usd", action="store_true",

@@ -99,11 +99,16 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
     assert "== IRB1300_11_90__01: flange at home" in out and "reach 901.9 mm" in out
     assert "reach 1999.9 mm" in out and "reach 1.6533 m" in out and "reach 2396.2 mm (J1 axis to flange" in out
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["meshes", "library", "IRB2600_12_165__01-collisions",
-                                                                 "IRB2600ID_8_200__03-cables"] + [
+                                                                 "IRB2600ID_8_200__03-cables", ".rswarp.json",
+                                                                 "IRB2600_12_165__01-pick_place.csv",
+                                                                 "IRB2600_12_165__01-service.csv"] + [
         f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01", "IRB9460_110_240__01")
         for e in ("urdf", "srdf", "usdc")])
     assert "matrix disables 6 adjacent, 1 default, 0 always" in out
-    assert "cables (16 random trajectories, 4 s)" in out and "bend radius: least" in out
+    assert "cables (16 random programs, free of the floor and the robot itself, 4 s)" in out
+    assert "bend radius: least" in out
+    assert "program pick_place.mod" in out and "program service.mod" in out
+    assert "line 18: 269 mm below the floor" in out  # the service draft's finding
     assert (tmp_path / "IRB2600ID_8_200__03-cables" / "report.json").is_file()
     assert (tmp_path / "IRB2600_12_165__01-collisions" / "collision_matrix.srdf").is_file()
     assert (tmp_path / "meshes" / "IRB2600_12_165__01" / "Link6.stl").is_file()  # each robot its own meshes

@@ -132,7 +132,7 @@ def random_trajectory(mech: Mechanism, seconds: float, seed: int, velocity: np.n
     lower, upper = mech.bounds()
     if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
         raise InputError("every active joint needs finite limits for a random trajectory")
-    vmax = _velocities(mech) if velocity is None else np.asarray(velocity, float)
+    vmax = joint_speed_limits(mech) if velocity is None else np.asarray(velocity, float)
     rng = np.random.default_rng([seed, 0xCAB1E])
     home = np.clip(mech.home_position(), lower, upper)
     knots_t, knots_q = [0.0], [home]
@@ -146,7 +146,7 @@ def random_trajectory(mech: Mechanism, seconds: float, seed: int, velocity: np.n
     return Trajectory(source, np.array(knots_t), np.array(knots_q), smooth=True, until=float(seconds))
 
 
-def _velocities(mech: Mechanism) -> np.ndarray:
+def joint_speed_limits(mech: Mechanism) -> np.ndarray:
     """Each active joint's default speed limit, the exports' too (SI)."""
     return np.array([JOINT_VELOCITY[j.revolute] for j in mech.active_joints])
 

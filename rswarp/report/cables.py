@@ -10,6 +10,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import InputError
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..kinematics.trajectory import RANDOM_SECONDS, run_trajectories
@@ -35,10 +36,12 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
                floor: float | None = 0.0, density: float = DENSITY, poisson: float = POISSON,
                friction: float = FRICTION, environment: list[str] | None = None, frame_rate: float = FRAME_RATE,
                substeps: int = SUBSTEPS, cable_model: str = "rod", device: str = "cpu", ray: str | None = None,
+               program: str | None = None, routine: str = "main",
                progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
-    ones), written into ``out``; ``min_bend_radius``, ``floor`` (None: none) and the ``environment``
-    meshes' places (MESH@x,y,z) in the file's length unit."""
+    ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
+    ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
+    unit."""
     mech, _ = load_mechanism(path)
     check_cable_folder(out)
     options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, poisson=poisson,
@@ -46,9 +49,21 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
                            cable_model=cable_model, min_bend_radius=mech.si_length(min_bend_radius),
                            floor=mech.si_length(floor), record=0 if usd else -1, device=device)
     checked("envs", envs)
+    if not mech.cables:  # before any trajectory is made
+        raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
-    trajectories = run_trajectories(mech, trajectory, random, envs, seconds, seed)
+    if program is not None:
+        from .program import program_trajectory
+
+        trajectories = [program_trajectory(path, program, routine, warn=warn)]
+    elif random:  # random programs: free of the floor (at the run's floor) and of the robot itself
+        from ..sim.random_program import random_programs
+
+        trajectories = random_programs(mech, envs, seconds or RANDOM_SECONDS, seed,
+                                       0.0 if options.floor is None else options.floor)
+    else:
+        trajectories = run_trajectories(mech, trajectory, False, envs, seconds, seed)
     run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
                           cluster=cluster_for(ray, device))
     for w in run.warnings:

@@ -1,5 +1,6 @@
 """``rswarp demo``: check and info on every bundled example, and for each robot its flange at home,
-its reach from a short sweep, its USD and URDF exports, and a cable run where it has cables."""
+its reach from a short sweep, its USD and URDF exports, a cable run where it has cables, and the
+RAPID programs beside it run through it."""
 
 from __future__ import annotations
 
@@ -139,10 +140,28 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
              f"   {collision_line}",
              f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else no_urdf)
              + f": {_physics_line(done[0].physics)}",
-             *_cables(mech, out), ""]
+             *_cables(mech, out), *_programs(mech, out), ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
             "usd": str(usd), "urdf": str(urdf) if len(done) > 1 else None}
+
+
+def _programs(mech: Mechanism, out: Path) -> list[str]:
+    """Each RAPID module beside the robot's file run through it (``rswarp program``), its table
+    and findings, with the demo's collision matrix; its trajectory written as a CSV."""
+    from .program import run_program
+
+    if not mech.path:
+        return []
+    lines = []
+    for module in sorted(Path(mech.path).parent.glob("*.mod")):
+        srdf = out / f"{mech.name}-collisions" / "collision_matrix.srdf"
+        csv = out / f"{mech.name}-{module.stem}.csv"
+        done = run_program(str(mech.path), str(module), csv=str(csv),
+                           collision_matrix=str(srdf) if srdf.exists() else None)
+        lines.append(f"   program {module.name} (rswarp program), trajectory -> {csv}:")
+        lines += [f"     {line}" for line in done.text.splitlines() if not line.startswith("trajectory:")]
+    return lines
 
 
 def _collisions(mech: Mechanism, out: Path) -> tuple[tuple, str]:
@@ -163,19 +182,20 @@ def _collisions(mech: Mechanism, out: Path) -> tuple[tuple, str]:
 
 
 def _cables(mech: Mechanism, out: Path) -> list[str]:
-    """A cable run on random trajectories (``rswarp cable --random``), written to ``out/<name>-cables``."""
+    """A cable run on random programs (``rswarp cable --random``), written to ``out/<name>-cables``."""
     if not mech.cables:
         return []
-    from ..kinematics.trajectory import run_trajectories
     from ..sim.cables import simulate_cables
+    from ..sim.random_program import random_programs
     from .cables import cables_text, write_cables
 
-    trajectories = run_trajectories(mech, None, True, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS, 0)
+    trajectories = random_programs(mech, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS, 0)
     run = simulate_cables(mech, trajectories, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS)
     folder = out / f"{mech.name}-cables"
     doc = write_cables(run, mech, folder)
     text = cables_text(run, {"report": doc["files"]["report"]}).splitlines()
-    return [f"   cables ({DEMO_CABLE_ENVS} random trajectories, {DEMO_CABLE_SECONDS:g} s) -> {folder}",
+    return [f"   cables ({DEMO_CABLE_ENVS} random programs, free of the floor and the robot itself, "
+            f"{DEMO_CABLE_SECONDS:g} s) -> {folder}",
             *(f"   {line}" for line in text[1:-1])]
 
 

@@ -1,0 +1,169 @@
+"""A robot program's trajectory checked in one batch, a client of the batch engine: at every
+sample the joint limits, self-collisions (the collision kernels; pairs a collision matrix
+disables, or that touch at the home position, skipped), the environment meshes, the floor (each
+link's convex hull, or for a robot without meshes its joint and flange points) and the nearness of
+the wrist singularity."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .bodies import Environment, collision_bodies
+from .collisions import Checker
+from .engine import Job, run_batch
+
+CHUNK = 4096  # samples per chunk
+SINGULAR = np.radians(1.0)  # |q5| below this is near the wrist singularity
+
+
+@dataclass
+class ProgramTally:
+    """Per sample: colliding pairs (T, pairs), the lowest point's height (T,), joints outside their
+    limits (T,); filled by chunks, in place."""
+
+    hit: np.ndarray
+    low: np.ndarray
+    outside: np.ndarray
+
+    def merge(self, other: "ProgramTally") -> None:
+        done = ~np.isnan(other.low)
+        self.hit[done], self.low[done], self.outside[done] = other.hit[done], other.low[done], other.outside[done]
+
+
+@dataclass(frozen=True)
+class ProgramTools:
+    checker: Checker | None
+    points: tuple  # per link index: (link, (P, 3) points in its zero-position frame) for the floor
+    kinematics: object
+
+
+@dataclass(frozen=True)
+class ProgramJob(Job):
+    name = "program"
+    unit = "sample"
+
+    q: np.ndarray  # (T, dof) the trajectory's samples
+    lower: np.ndarray
+    upper: np.ndarray
+    environment: tuple[Environment, ...]
+    checked: np.ndarray | None  # (pairs,) the pairs tested, None without meshes
+
+    @property
+    def count(self) -> int:
+        return -(-len(self.q) // CHUNK)
+
+    def task_items(self, cluster) -> int:
+        return max(1, cluster.task_samples // CHUNK)
+
+    def size(self, span: range) -> float:
+        return float(max(0, min(span.stop * CHUNK, len(self.q)) - span.start * CHUNK))
+
+    def local_spans(self) -> list[range]:
+        return [range(k, k + 1) for k in range(self.count)]
+
+    def files(self) -> tuple[str, ...]:
+        return tuple(e.path for e in self.environment)
+
+    def tools_key(self) -> tuple:
+        return tuple((e.name, e.path, e.pose.tobytes()) for e in self.environment)
+
+    def tools(self, model, device: str, threads: int | None) -> ProgramTools:
+        env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.environment)
+        return program_tools(model.mech, env, device, threads)
+
+    def empty(self) -> ProgramTally:
+        pairs = 0 if self.checked is None else len(self.checked)
+        return ProgramTally(np.zeros((len(self.q), pairs), bool), np.full(len(self.q), np.nan),
+                            np.zeros(len(self.q), bool))
+
+    def run(self, tools: ProgramTools, tally: ProgramTally, span: range, tick) -> None:
+        for k in span:
+            rows = slice(k * CHUNK, min((k + 1) * CHUNK, len(self.q)))
+            q = self.q[rows]
+            tally.outside[rows] = np.any((q < self.lower - 1e-9) | (q > self.upper + 1e-9), axis=1)
+            tally.low[rows] = lowest(tools, q)
+            if tools.checker is not None:
+                hit, _ = tools.checker.verdicts(q)
+                tally.hit[rows] = hit & self.checked
+
+
+def program_tools(mech, environment: tuple[Environment, ...], device: str = "cpu", threads: int | None = None,
+                  padding: float = 0.0) -> ProgramTools:
+    """The collision kernels of the links and meshes (none for a robot without link meshes; pairs
+    closer than ``padding`` count as touching), and the points whose height is the floor's check."""
+    from ..kinematics.kinematics import Kinematics
+
+    kin = Kinematics(mech, device, threads=threads)
+    try:
+        bodies = collision_bodies(mech, environment)
+    except InputError:
+        if environment:
+            raise InputError("--env meshes are checked against the links' meshes; this robot has none") from None
+        bodies = None
+    checker = Checker(mech, bodies, padding, device, threads) if bodies is not None else None
+    return ProgramTools(checker, floor_points(mech, bodies), kin)
+
+
+def checked_pairs(mech, tools: ProgramTools, disabled=()) -> np.ndarray | None:
+    """(pairs,) the pairs a program is checked for: all but the ``disabled`` (link1, link2) and
+    those touching at the home position; None without meshes."""
+    if tools.checker is None:
+        return None
+    names = tools.checker.bodies.pair_names()
+    off = {frozenset(p[:2]) for p in disabled}
+    home = tools.checker.verdicts(mech.home_position()[None])[0][0]
+    return np.array([frozenset(n) not in off for n in names], bool) & ~home
+
+
+def floor_points(mech, bodies) -> tuple:
+    """(link, points) whose lowest world height is the robot's: each moving link's convex hull, or
+    its joints' axis points and the flange where no link has a mesh."""
+    import trimesh
+
+    graph = mech.graph
+    level = _level_links(mech)
+    if bodies is not None:
+        return tuple((b.link, np.asarray(trimesh.Trimesh(b.vertices, b.faces, process=False).convex_hull.vertices))
+                     for b in bodies.bodies if b.link >= 0 and b.link not in level)
+    out = [(graph.link_index(j.child), np.array([j.point1], float)) for j in mech.joints
+           if j.child in graph.links and graph.link_index(j.child) not in level]
+    for f in mech.flanges:
+        out.append((graph.link_index(f.link), f.pose.matrix()[None, :3, 3]))
+    return tuple(out)
+
+
+def _level_links(mech) -> set[int]:
+    """The base, and the links only a vertical first axis moves: they stand on the floor, and
+    their heights never change."""
+    graph = mech.graph
+    out = {graph.link_index(graph.base)}
+    first = graph.active[0] if graph.active else None
+    if first is not None and abs(abs(first.axis[2]) - 1.0) < 1e-9 and first.parent == graph.base:
+        out.add(graph.link_index(first.child))
+    return out
+
+
+def lowest(tools: ProgramTools, q: np.ndarray) -> np.ndarray:
+    """(N,) the lowest height (m, world) of the robot at each configuration."""
+    poses = tools.kinematics.fk64(q)
+    low = np.full(len(q), np.inf)
+    for link, pts in tools.points:
+        m = poses[:, link]
+        z = np.einsum("nj,pj->np", m[:, 2, :3], pts) + m[:, 2, 3][:, None]
+        low = np.minimum(low, z.min(axis=1))
+    return low
+
+
+def check_program(mech, q: np.ndarray, environment: tuple[Environment, ...] = (), disabled=(),
+                  device: str = "cpu", threads: int | None = None, cluster=None, progress=None):
+    """(tally, tools) of the trajectory ``q``: ``disabled`` (link1, link2) pairs are not tested, nor
+    those touching at the home position."""
+    tools = program_tools(mech, tuple(environment), device, threads)
+    checked = checked_pairs(mech, tools, disabled)
+    lower, upper = mech.bounds()
+    job = ProgramJob(np.ascontiguousarray(q, np.float64), lower, upper, tuple(environment), checked)
+    return run_batch(job, mech, tools=tools, device=device, threads=threads, cluster=cluster, progress=progress), \
+        tools, checked

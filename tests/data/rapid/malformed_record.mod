@@ -1,0 +1,6 @@
+MODULE Malformed
+  CONST robtarget pA:=[[900,0,900],[0,0,1,0],[0,0,0,0]];
+  PROC main()
+    MoveJ pA, v500, fine, tool0;
+  ENDPROC
+ENDMODULE
