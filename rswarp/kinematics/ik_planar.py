@@ -2,7 +2,8 @@
 about one horizontal direction with angles linear in two active joints (the parallel rods' solved
 loops: ``loops.passive_map``), a flange held level, and a last axis parallel to axis 1 through
 the flange. Every ABB palletizer (IRB 460, 660, 760, 9460) has this shape; up to four branches
-(shoulder front and back, elbow up and down). Host NumPy, vectorized, float64 or float32."""
+(shoulder front and back, elbow up and down). The solve is device code (``kernels/ik_planar.py``);
+this module finds the shape and its constants, and the configuration data."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.ik import CONF, NO_LIMITS, NO_REACH, OK
+from ..kernels.ik import CONF, NO_LIMITS, OK
 from ..kernels.types import REVOLUTE, Chain
 from .ik import IKSolutions, quadrant
 
@@ -114,58 +115,39 @@ def planar_arm(chain: Chain, flange_link: int, flange: np.ndarray) -> PlanarArm 
                      rm=flange[:3, :3], h0=h / max(np.linalg.norm(h), 1e-12))
 
 
-def _rot(w: np.ndarray, c: np.ndarray, s: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Vectors v (N, 3) turned about the unit axis w by angles of cosine c and sine s (N,)."""
-    return v * c[:, None] + np.cross(w, v) * s[:, None] + np.outer(v @ w, w) * (1 - c)[:, None]
+def constants(arm: PlanarArm, dtype) -> tuple:
+    """The flat constants the device code folds in (``kernels.ik_planar``)."""
+    la, lb = float(np.linalg.norm(arm.a)), float(np.linalg.norm(arm.b))
+    n6 = np.cross(arm.w6, arm.w2)
+    t = lambda v: tuple(float(x) for x in np.ravel(v))  # noqa: E731
+    return (("w1", t(arm.w1)), ("p1", t(arm.p1)), ("w2", t(arm.w2)), ("ea", t(arm.plane[0])), ("eb", t(arm.plane[1])),
+            ("w6", t(arm.w6)), ("n6", t(n6 / np.linalg.norm(n6))), ("rm", t(arm.rm)), ("d0", float(arm.d0)),
+            ("w12", float(arm.w1 @ arm.w2)), ("lsum", la * la + lb * lb), ("lprod", 2.0 * la * lb),
+            ("turn0", float(np.arctan2(arm.a[1], arm.a[0]) - np.arctan2(arm.b[1], arm.b[0]))),
+            ("tol", 1e-6 if dtype == np.float64 else 1e-4), ("base", t(arm.base)), ("a", t(arm.a)), ("b", t(arm.b)),
+            ("inverse", t(arm.inverse)), ("first", arm.first), ("last", arm.last), ("arm0", arm.arm[0]),
+            ("arm1", arm.arm[1]))
 
 
-def _wrap(x: np.ndarray) -> np.ndarray:
-    return np.mod(x + np.pi, 2 * np.pi) - np.pi
+def solve(launcher, arm: PlanarArm, poses: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+                 dof: int) -> IKSolutions:
+    """The four branches of each flange pose (N, 4, 4), as device code on the launcher's device;
+    the limits and the configuration data on the host. A flange that is not level is out of
+    reach."""
+    from ..kernels.ik_planar import planar_ik_kernel
+    from ..sim.launch import init_warp
 
-
-def solve(arm: PlanarArm, poses: np.ndarray, lower: np.ndarray, upper: np.ndarray, dof: int) -> IKSolutions:
-    """The four branches of each flange pose (N, 4, 4); orientations the level flange cannot take
-    are out of reach."""
-    poses = np.asarray(poses, np.float64)
+    wp = init_warp()
+    dtype = poses.dtype
+    kernel = planar_ik_kernel(constants(arm, dtype), dof, wp.float32 if dtype == np.float32 else wp.float64)
     n = len(poses)
-    q = np.zeros((n, BRANCHES, dof))
-    status = np.full((n, BRANCHES), OK, np.int8)
-    u = poses[:, :3, 3] - arm.p1
-    par = u @ arm.w1
-    a_, b_ = (u - np.outer(par, arm.w1)) @ arm.w2, -(np.cross(arm.w1, u) @ arm.w2)
-    rho = np.hypot(a_, b_)
-    ratio = (arm.d0 - par * (arm.w1 @ arm.w2)) / np.maximum(rho, 1e-12)
-    far = (np.abs(ratio) > 1) | (rho < 1e-9)
-    phi, spread = np.arctan2(b_, a_), np.arccos(np.clip(ratio, -1, 1))
-    la, lb = np.linalg.norm(arm.a), np.linalg.norm(arm.b)
-    turn0 = np.arctan2(arm.a[1], arm.a[0]) - np.arctan2(arm.b[1], arm.b[0])
-    tol = 1e-6 if poses.dtype == np.float64 else 1e-4
-    for s, sign in enumerate((1.0, -1.0)):
-        q1 = _wrap(phi + sign * spread)
-        y = _rot(arm.w1, np.cos(q1), -np.sin(q1), u) + arm.p1
-        yd = (y - arm.p1) @ arm.plane.T - arm.base
-        d2 = np.einsum("ni,ni->n", yd, yd)
-        cg = (d2 - la * la - lb * lb) / (2 * la * lb)
-        out = far | (np.abs(cg) > 1)
-        for e, sign_e in enumerate((1.0, -1.0)):
-            psi = sign_e * np.arccos(np.clip(cg, -1, 1)) + turn0
-            z = arm.a + np.stack([np.cos(psi) * arm.b[0] - np.sin(psi) * arm.b[1],
-                                  np.sin(psi) * arm.b[0] + np.cos(psi) * arm.b[1]], axis=1)
-            phi_a = np.arctan2(z[:, 0] * yd[:, 1] - z[:, 1] * yd[:, 0], np.einsum("ni,ni->n", z, yd))
-            joints = np.stack([phi_a, phi_a + psi], axis=1) @ arm.inverse.T
-            r6 = _r1t(arm, q1) @ poses[:, :3, :3] @ arm.rm.T  # R1^T R_T R_M^T: a turn about w6
-            off_axis = np.linalg.norm(r6 @ arm.w6 - arm.w6, axis=1) > tol
-            n6 = np.cross(arm.w6, arm.w2)
-            m = r6 @ n6
-            q6 = np.arctan2(np.cross(n6, m) @ arm.w6, m @ n6)
-            k = 2 * s + e
-            q[:, k, arm.first], q[:, k, arm.last] = q1, q6
-            q[:, k, arm.arm[0]], q[:, k, arm.arm[1]] = _wrap(joints[:, 0]), _wrap(joints[:, 1])
-            status[:, k] = np.where(out | off_axis, NO_REACH, OK)
+    q = np.empty((n, BRANCHES, dof), dtype)
+    status = np.empty((n, BRANCHES), np.int8)
+    launcher.launch(kernel, n, inputs=[np.ascontiguousarray(poses)], outputs=[q, status])
     q = _into(q, lower, upper)
     inside = np.all((q >= lower) & (q <= upper), axis=-1)
     status[(status == OK) & ~inside] = NO_LIMITS
-    return IKSolutions(q.astype(poses.dtype), confdata(arm, q, poses[:, None, :3, 3]).astype(np.int8), status)
+    return IKSolutions(q, confdata(arm, q, poses[:, None, :3, 3]).astype(np.int8), status)
 
 
 def confdata(arm: PlanarArm, q: np.ndarray, flange: np.ndarray) -> np.ndarray:
@@ -185,15 +167,6 @@ def confdata(arm: PlanarArm, q: np.ndarray, flange: np.ndarray) -> np.ndarray:
     out[..., 0], out[..., 2] = quadrant(q1), quadrant(q[..., arm.last])
     out[..., 3] = 4 * behind1 + 2 * behind
     return out
-
-
-def _r1t(arm: PlanarArm, q1: np.ndarray) -> np.ndarray:
-    """(N, 3, 3) R1(q1)^T."""
-    c, s = np.cos(q1), np.sin(q1)
-    w = arm.w1
-    skew = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
-    r = c[:, None, None] * np.eye(3) + s[:, None, None] * skew + (1 - c)[:, None, None] * np.outer(w, w)
-    return np.swapaxes(r, 1, 2)
 
 
 def _into(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:

@@ -186,7 +186,7 @@ class Kinematics:
         if isinstance(form, ik.ArmConstants):
             return ik.closed_form(self.launcher, form, poses, dtype)
         if isinstance(form, ik_planar.PlanarArm):
-            return ik_planar.solve(form, poses, *self.mech.bounds(), self.dof)
+            return ik_planar.solve(self.launcher, form, poses, *self.mech.bounds(), self.dof)
         return ik_numeric.solve(self, poses.astype(np.float64))
 
     def _ik_form(self):
