@@ -27,12 +27,12 @@ class Camera:
 
 
 @cached
-def render_kernel():
+def render_kernel(samples: int = SAMPLES):
     """render(mesh, colours, camera, pixel_index, rgba_out): ``rgba_out[i]`` = RGBA (0..1, straight
     alpha: the share of the pixel's rays that hit) of pixel ``pixel_index[i]`` (row-major, top row
-    first)."""
+    first), from ``samples`` rays (1 to 4: the first of the rotated grid's offsets)."""
 
-    @wp.kernel(enable_backward=False, module="rswarp_render")
+    @wp.kernel(enable_backward=False, module=f"rswarp_render_{samples}")
     def render(
         # Model:
         mesh: wp.uint64,
@@ -49,7 +49,7 @@ def render_kernel():
         y = float(k // cam.width)
         colour = wp.vec3(0.0, 0.0, 0.0)
         hits = float(0.0)
-        for s in range(SAMPLES):
+        for s in range(wp.static(samples)):
             # rotated-grid offsets within the pixel: (1/8, 3/8), (5/8, 1/8), (7/8, 5/8), (3/8, 7/8)
             ox = wp.where(s == 0, 0.125, wp.where(s == 1, 0.625, wp.where(s == 2, 0.875, 0.375)))
             oy = wp.where(s == 0, 0.375, wp.where(s == 1, 0.125, wp.where(s == 2, 0.625, 0.875)))
@@ -65,6 +65,6 @@ def render_kernel():
                 hits += 1.0
         if hits > 0.0:
             colour = colour / hits
-        rgba_out[i] = wp.vec4(colour[0], colour[1], colour[2], hits / float(SAMPLES))
+        rgba_out[i] = wp.vec4(colour[0], colour[1], colour[2], hits / float(wp.static(samples)))
 
     return render

@@ -99,6 +99,7 @@ def program(p: argparse.ArgumentParser) -> None:
     p.add_argument("--collision-matrix", metavar="SRDF",
                    help="skip the link pairs this SRDF disables (rswarp collisions writes one)")
     p.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
+    p.add_argument("--video", metavar="FILE", help="also render the motion as a .gif or .mp4, links in collision red")
 
 
 def cable(p: argparse.ArgumentParser) -> None:
@@ -114,6 +115,11 @@ def cable(p: argparse.ArgumentParser) -> None:
     how.add_argument("--program", metavar="MODULE",
                      help="a RAPID module whose routine (--routine) every environment runs (rswarp program)")
     p.add_argument("--routine", default="main", help="with --program: the routine to run (default main)")
+    p.add_argument("--video", metavar="FILE", help="also render the worst environment (or --video-env) as a .gif "
+                                                   "or .mp4: the robot, and the hose coloured by --video-color")
+    p.add_argument("--video-env", type=int, metavar="K", help="the environment --video renders")
+    p.add_argument("--video-color", choices=["bend", "wear"], default="bend",
+                   help="colour the hose by its bend radius against the allowed one (default) or by its wear")
     p.add_argument("--seconds", type=argument("seconds"),
                    help="simulated time (default: the longest trajectory; 10 with --random)")
     p.add_argument("--usd", action="store_true",

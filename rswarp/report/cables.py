@@ -36,7 +36,8 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
                floor: float | None = 0.0, density: float = DENSITY, poisson: float = POISSON,
                friction: float = FRICTION, environment: list[str] | None = None, frame_rate: float = FRAME_RATE,
                substeps: int = SUBSTEPS, cable_model: str = "rod", device: str = "cpu", ray: str | None = None,
-               program: str | None = None, routine: str = "main",
+               program: str | None = None, routine: str = "main", video: str | None = None,
+               video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
                progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
@@ -44,6 +45,10 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
     unit."""
     mech, _ = load_mechanism(path)
     check_cable_folder(out)
+    if video is not None:
+        from .videos import claim_video
+
+        claim_video(video)
     options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, poisson=poisson,
                            friction=friction, environment=placed_environments(mech, environment or []),
                            cable_model=cable_model, min_bend_radius=mech.si_length(min_bend_radius),
@@ -69,7 +74,13 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
     for w in run.warnings:
         warn(w)
     doc = write_cables(run, mech, out, usd=usd)
-    return Output(doc, cables_text(run, doc["files"]))
+    text = cables_text(run, doc["files"])
+    if video is not None:
+        from .videos import cable_video
+
+        doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size)
+        text += f"\nvideo: {video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
+    return Output(doc, text)
 
 
 def check_cable_folder(out: str | Path) -> None:

@@ -17,6 +17,7 @@ from .output import Output
 DEMO_SAMPLES = 20_000
 DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS = 16, 4.0
 DEMO_RAY_TASKS = 4  # collision-sweep chunks run as Ray tasks
+DEMO_VIDEO = 256  # pixels a side of the demo's videos
 
 
 @dataclass
@@ -26,6 +27,7 @@ class Demo:
     reports: list[Report] = field(default_factory=list)
     robots: list[dict] = field(default_factory=list)
     libraries: list[dict] = field(default_factory=list)
+    dresspack: dict = field(default_factory=dict)
     ray: dict = field(default_factory=dict)
 
     @property
@@ -34,7 +36,7 @@ class Demo:
 
     def as_dict(self) -> dict:
         return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots,
-                "libraries": self.libraries, "ray": self.ray}
+                "libraries": self.libraries, "dresspack": self.dresspack, "ray": self.ray}
 
 
 def demo_output(out: str | Path = "rswarp-demo", say: Callable[[str], None] = lambda text: None) -> Output:
@@ -58,8 +60,32 @@ def run_demo(out: str | Path, say: Callable[[str], None] = lambda text: None) ->
             demo.robots.append(demo_robot(report.model, Path(out), say))
         elif report.ok and report.kind == "LibraryCompiler":
             demo.libraries.append(demo_library(path, Path(out) / "library", say))
+    demo.dresspack = demo_dresspack(Path(out), say)
     demo.ray = demo_ray(robots, say)
     return demo
+
+
+def demo_dresspack(out: Path, say: Callable[[str], None]) -> dict:
+    """The IRB 2600's upper-arm dress pack over its pick-and-place program, then over random
+    programs: the answers a dress-pack engineer asks for."""
+    from .. import examples
+    from .cables import run_cables
+
+    path, program = str(examples.IRB2600_DRESSPACK), str(examples.IRB2600_PROGRAM)
+    say(f"== dress pack: {examples.IRB2600_DRESSPACK.name}, a 30 mm process hose from the upper arm over the "
+        "wrist to the tool")
+    runs = {}
+    for label, folder, kwargs in (
+            (f"over {examples.IRB2600_PROGRAM.name} (rswarp cable --program --video)", "dresspack-program",
+             {"envs": 1, "program": program, "video": str(out / "dresspack-program.gif"), "video_size": DEMO_VIDEO}),
+            (f"over {DEMO_CABLE_ENVS} random programs of {DEMO_CABLE_SECONDS:g} s (rswarp cable --random)",
+             "dresspack-random", {"envs": DEMO_CABLE_ENVS, "random": True, "seconds": DEMO_CABLE_SECONDS})):
+        done = run_cables(path, str(out / folder), **kwargs)
+        runs[folder] = done.doc
+        lines = [line for line in done.text.splitlines()[2:] if not line.split(":")[0].endswith(("plot", "report"))]
+        say("\n".join([f"   {label} -> {out / folder}", *(f"   {line}" for line in lines)]))
+    say("")
+    return {"mechanism": examples.IRB2600_DRESSPACK.name, "runs": runs}
 
 
 def demo_ray(robots: list[Mechanism], say: Callable[[str], None]) -> dict:
@@ -157,11 +183,18 @@ def _programs(mech: Mechanism, out: Path) -> list[str]:
     for module in sorted(Path(mech.path).parent.glob("*.mod")):
         srdf = out / f"{mech.name}-collisions" / "collision_matrix.srdf"
         csv = out / f"{mech.name}-{module.stem}.csv"
-        done = run_program(str(mech.path), str(module), csv=str(csv),
-                           collision_matrix=str(srdf) if srdf.exists() else None)
+        video = out / f"{mech.name}-{module.stem}.gif" if module.stem == "service" else None
+        done = run_program(str(mech.path), str(module), csv=str(csv), video=None if video is None else str(video),
+                           video_size=DEMO_VIDEO, collision_matrix=str(srdf) if srdf.exists() else None)
         lines.append(f"   program {module.name} (rswarp program), trajectory -> {csv}:")
         lines += [f"     {line}" for line in done.text.splitlines() if not line.startswith("trajectory:")]
     return lines
+
+
+def _has_mesh(mech: Mechanism, part) -> bool:
+    from ..geometry.meshes import part_mesh_path
+
+    return part_mesh_path(mech, part) is not None
 
 
 def _collisions(mech: Mechanism, out: Path) -> tuple[tuple, str]:
@@ -194,9 +227,14 @@ def _cables(mech: Mechanism, out: Path) -> list[str]:
     folder = out / f"{mech.name}-cables"
     doc = write_cables(run, mech, folder)
     text = cables_text(run, {"report": doc["files"]["report"]}).splitlines()
-    return [f"   cables ({DEMO_CABLE_ENVS} random programs, free of the floor and the robot itself, "
-            f"{DEMO_CABLE_SECONDS:g} s) -> {folder}",
-            *(f"   {line}" for line in text[1:-1])]
+    meshes = any(_has_mesh(mech, part) for link in mech.link_names for part, _ in mech.parts(link) if part.source)
+    bare = "" if meshes else "; no meshes ship with this robot, so its hose meets only the floor"
+    head = (f"   cables ({DEMO_CABLE_ENVS} random programs, free of the floor and the robot itself, "
+            f"{DEMO_CABLE_SECONDS:g} s{bare}) -> {folder}")
+    if not meshes:  # its answers say little: the dress pack below is the example to read
+        keep = [line for line in text[1:-1] if line.strip().startswith(("long enough", "bend radius"))]
+        return [head, *(f"   {line}" for line in keep), "   (the dress pack below is a hose on a robot with meshes)"]
+    return [head, *(f"   {line}" for line in text[1:-1])]
 
 
 def _physics_line(robot) -> str:

@@ -40,7 +40,8 @@ def program_trajectory(path: str, module: str, routine: str = "main", warn: Warn
 
 def run_program(path: str, module: str, routine: str = "main", csv: str | None = None,
                 environment: list[str] | None = None, collision_matrix: str | None = None, floor: float = 0.0,
-                device: str = "cpu", ray: str | None = None, progress=None, warn: Warn = ignore) -> Output:
+                video: str | None = None, video_size: int = 512, device: str = "cpu", ray: str | None = None,
+                progress=None, warn: Warn = ignore) -> Output:
     """``rswarp program``: resolve, build, check and report; ``csv`` writes the trajectory."""
     from ..export.srdf import read_srdf
     from ..sim.engine import cluster_for
@@ -48,6 +49,10 @@ def run_program(path: str, module: str, routine: str = "main", csv: str | None =
     mech, p = program_plan(path, module, routine, device, warn)
     if csv is not None:
         claim(Path(csv))  # a file of the user's is never replaced: refused before any work
+    if video is not None:
+        from .videos import claim_video
+
+        claim_video(video)
     env = placed_environments(mech, environment or [])
     disabled = read_srdf(collision_matrix, mech.link_names) if collision_matrix else ()
     tally, tools, checked = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
@@ -63,6 +68,10 @@ def run_program(path: str, module: str, routine: str = "main", csv: str | None =
                         "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin} for t in p.targets],
            "moves": moves, "skipped": [str(w) for w in p.module.warnings], "csv": csv,
            "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
+    if video is not None:
+        from .videos import program_video
+
+        doc["video"] = program_video(mech, p, tally, names, video, video_size)
     return Output(json_safe(doc), program_text(mech, doc))
 
 
@@ -120,4 +129,6 @@ def program_text(mech, doc: dict) -> str:
     lines += [f"  line {line}: {f}" for line, f in found]
     if doc["csv"]:
         lines.append(f"trajectory: {doc['csv']}")
+    if doc.get("video"):
+        lines.append(f"video: {doc['video']['path']} ({doc['video']['frames']} frames)")
     return "\n".join(lines)

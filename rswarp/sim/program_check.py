@@ -120,18 +120,24 @@ def checked_pairs(mech, tools: ProgramTools, disabled=()) -> np.ndarray | None:
 
 def floor_points(mech, bodies) -> tuple:
     """(link, points) whose lowest world height is the robot's: each moving link's convex hull, or
-    its joints' axis points and the flange where no link has a mesh."""
+    its joints' axis points and the flange where no link has a mesh; and each point where a link
+    holds a cable, a radius lower (the clamp's hose bottom, at zero)."""
     import trimesh
 
     graph = mech.graph
     level = _level_links(mech)
     if bodies is not None:
-        return tuple((b.link, np.asarray(trimesh.Trimesh(b.vertices, b.faces, process=False).convex_hull.vertices))
-                     for b in bodies.bodies if b.link >= 0 and b.link not in level)
-    out = [(graph.link_index(j.child), np.array([j.point1], float)) for j in mech.joints
-           if j.child in graph.links and graph.link_index(j.child) not in level]
-    for f in mech.flanges:
-        out.append((graph.link_index(f.link), f.pose.matrix()[None, :3, 3]))
+        out = [(b.link, np.asarray(trimesh.Trimesh(b.vertices, b.faces, process=False).convex_hull.vertices))
+               for b in bodies.bodies if b.link >= 0 and b.link not in level]
+    else:
+        out = [(graph.link_index(j.child), np.array([j.point1], float)) for j in mech.joints
+               if j.child in graph.links and graph.link_index(j.child) not in level]
+        out += [(graph.link_index(f.link), f.pose.matrix()[None, :3, 3]) for f in mech.flanges]
+    # where a link holds a cable (a tool's clamp, say, beyond the link's mesh): lowered by its radius
+    for cable in mech.cables:
+        for p in cable.control_points:
+            if p.attached_to in graph.links and graph.link_index(p.attached_to) not in level:
+                out.append((graph.link_index(p.attached_to), np.array([p.position], float) - [0.0, 0.0, cable.radius]))
     return tuple(out)
 
 
