@@ -34,14 +34,14 @@ def clamp_distance(mech, cable, q: np.ndarray) -> np.ndarray:
 
 
 def test_the_hose_is_long_enough_over_the_whole_joint_range(hose):
-    """desiredLength (0.95 m) exceeds the greatest clamp distance anywhere in the limits by at
-    least 10 %: the README's rule; the file's comment gives that distance."""
+    """desiredLength (1.05 m) exceeds the greatest clamp distance anywhere in the limits by at
+    least 20 %: the README's rule; the file's comment gives that distance."""
     mech, cable = hose
     lo, hi = mech.bounds()
     q = np.random.default_rng(0).uniform(lo, hi, (100_000, 6))
     far = clamp_distance(mech, cable, q).max()
-    assert 0.80 < far and cable.desired_length >= 1.10 * far
-    assert cable.radius == pytest.approx(0.015) and cable.desired_length == pytest.approx(0.95)
+    assert 0.80 < far and cable.desired_length >= 1.20 * far
+    assert cable.radius == pytest.approx(0.015) and cable.desired_length == pytest.approx(1.05)
 
 
 def test_the_program_run_answers_what_a_dress_pack_engineer_asks(hose, tmp_path):
@@ -59,10 +59,12 @@ def test_the_program_run_answers_what_a_dress_pack_engineer_asks(hose, tmp_path)
     # the clamps hold at least the hose's weight; the tension stays far below a pull of 1 %
     weight = c["length_m"] * 1200.0 * np.pi * cable.radius ** 2 * G
     assert sum(c["summary"]["clamp_force_N"]) >= weight
-    assert 0.0 < env["peak_tension_N"] < 0.01 * c["axial_stiffness_N"]
-    # the hose bends, no tighter than its own radius, and rubs on the forearm (Link4)
+    assert 0.0 <= env["peak_tension_N"] < 0.01 * c["axial_stiffness_N"]
+    # the hose bends, no tighter than its own radius; it hangs over the forearm (Link4), its
+    # nearest link, within a few millimetres and never pressed into it
     assert cable.radius < env["min_bend_radius_m"] < 1.0
-    wear = c["summary"]["worst_wear"]
-    assert wear["on"] == "Link4" and wear["archard_J"] > 0 and wear["contact_time_s"] > 0
+    clear = {k: v["min_clearance_m"] for k, v in env["clearance"].items() if k.startswith("Link")}
+    assert min(clear, key=clear.get) == "Link4"
+    assert -0.5 * cable.radius < clear["Link4"] < 0.02
     # the RelTool move turns J6 by 45 deg: the hose carries a twist of that order between its clamps
     assert np.radians(20) < env["max_twist_rad"] < np.radians(70)
