@@ -178,6 +178,26 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         return out
 
     @wp.func
+    def wrist_angles(z: V3, v: V3, vn: V3):
+        """(q4, q5, q6, singular) of the wrist that turns axis 6 onto ``z`` by q5, ``z`` onto ``v``
+        by q4 and the direction across axis 6 onto ``vn`` by q6. At the singularity (|sin q5| under
+        SINGULAR) the wrist is straight: q5 is 0 (what is left is rounding) and q4 is held at 0."""
+        q5, c5, s5 = turn_about(W5, W6, z)
+        q4 = S(0.0)
+        c4 = S(1.0)
+        s4 = S(0.0)
+        singular = int(1)
+        if wp.abs(s5) > SINGULAR:
+            q4, c4, s4 = turn_about(W4, z, v)
+            singular = 0
+        else:
+            q5 = S(0.0)
+            c5 = S(1.0)
+            s5 = S(0.0)
+        q6, c6, s6 = turn_about(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))  # R6 N6 = R5^T R4^T vn
+        return q4, q5, q6, singular
+
+    @wp.func
     def wrist(i: int, b: int, q1: S, q2: S, q3: S, v: V3, vn: V3, arm_conf: int, status: int,
               q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
               status_out: wp.array2d(dtype=wp.int8)):
@@ -190,41 +210,20 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         g = wp.sqrt(wp.max(g, S(0.0)))
         if wp.static(FLIP):
             # an orthogonal wrist with axes 4 and 6 in line at zero: the flip is (q4 + pi, -q5, q6 + pi)
-            z = W4 * alpha + W5 * beta + N45 * g
-            q5, c5, s5 = turn_about(W5, W6, z)
-            q4 = S(0.0)
-            c4 = S(1.0)
-            s4 = S(0.0)
+            q4, q5, q6, singular = wrist_angles(W4 * alpha + W5 * beta + N45 * g, v, vn)
             twin = status
-            if wp.abs(s5) > SINGULAR:
-                q4, c4, s4 = turn_about(W4, z, v)
-            else:  # the wrist straight: q5 is 0 (what is left is rounding), q4 held at 0
-                q5 = S(0.0)
-                c5 = S(1.0)
-                s5 = S(0.0)
-                if twin == OK:
-                    twin = SAME  # the flip is the same pose: one solution
-            q6, c6, s6 = turn_about(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))  # R6 N6 = R5^T R4^T vn
+            if singular == 1 and twin == OK:
+                twin = SAME  # the flip is the same pose: one solution
             branch_out(i, b, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf, status, q_out, conf_out, status_out)
             branch_out(i, b + 1, fit(Q6(q1, q2, q3, half_turn(q4), -q5, half_turn(q6))), arm_conf, twin, q_out,
                        conf_out, status_out)
         else:
             for f in range(2):
                 z = W4 * alpha + W5 * beta + N45 * (g * (S(1.0) - S(2.0) * S(float(f))))
-                q5, c5, s5 = turn_about(W5, W6, z)
-                q4 = S(0.0)
-                c4 = S(1.0)
-                s4 = S(0.0)
+                q4, q5, q6, singular = wrist_angles(z, v, vn)
                 st = status
-                if wp.abs(s5) > SINGULAR:
-                    q4, c4, s4 = turn_about(W4, z, v)
-                else:
-                    q5 = S(0.0)
-                    c5 = S(1.0)
-                    s5 = S(0.0)
-                    if f == 1 and st == OK:
-                        st = SAME
-                q6, c6, s6 = turn_about(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))
+                if singular == 1 and f == 1 and st == OK:
+                    st = SAME
                 branch_out(i, b + f, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf, st, q_out, conf_out, status_out)
 
     @wp.func
