@@ -7,6 +7,7 @@ Product of exponentials on the axes at the zero position (world): the wrist cent
 parallel axes: a triangle in the arm's plane), then q4, q5, q6 (three axes through one point:
 Paden-Kahan subproblems 2 and 1). The arm's constants are folded into the code per robot."""
 
+from types import SimpleNamespace
 from typing import NamedTuple
 
 import numpy as np
@@ -57,13 +58,12 @@ def _plane(w2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return ea, np.cross(w2, ea)
 
 
-@cached
-def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
-    """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
-    8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
-    turn nearest zero), configuration data and status (OK or why not)."""
-    S, V3, M33, _, M44 = types_of(scalar)
+def _folded(arm: ArmConstants, scalar) -> SimpleNamespace:
+    """The arm's constants as the device code folds them in, in one precision: the axes, the arm's
+    triangle in the plane across J2, the wrist's Paden-Kahan terms, the limits."""
+    S, V3, _, _, _ = types_of(scalar)
     V2 = wp.types.vector(2, scalar)
+    Q6 = wp.types.vector(6, scalar)
     c = {k: np.asarray(v, float) for k, v in arm._asdict().items()}
     ea, eb = _plane(c["w2"])
     to2 = lambda v: (float(ea @ v), float(eb @ v))  # noqa: E731
@@ -71,49 +71,42 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
     b2 = np.subtract(to2(c["c0"]), to2(c["p3"]))  # J3 axis to the wrist centre
     la, lb = float(np.hypot(*a2)), float(np.hypot(*b2))
     turn0 = float(np.arctan2(a2[1], a2[0]) - np.arctan2(b2[1], b2[0]))
-    d0 = float(c["w2"] @ c["c0"] - c["w2"] @ c["p1"])
     n6 = np.cross(c["w6"], c["w5"])
     n6 /= np.linalg.norm(n6)  # a direction across J6 at zero
     n45 = np.cross(c["w4"], c["w5"])
     c45, c56 = float(c["w4"] @ c["w5"]), float(c["w5"] @ c["w6"])
-    det = 1.0 - c45 * c45
-    g2 = float(n45 @ n45)
-    vec = lambda v: V3(*(S(float(x)) for x in v))  # noqa: E731
-    W1, P1, W2, P2, P3, W4, W5, W6, CF, H0 = (vec(c[k]) for k in ("w1", "p1", "w2", "p2", "p3", "w4", "w5", "w6",
-                                                                   "cf", "h0"))
-    N6, N45 = vec(n6), vec(n45)
-    EA, EB = vec(ea), vec(eb)
     rmt = c["rm"].reshape(3, 3).T
-    K6, KN = vec(rmt @ c["w6"]), vec(rmt @ n6)  # axis 6 and the direction across it, in the flange frame
-    LO = [float(x) for x in c["lo"]]
-    HI = [float(x) for x in c["hi"]]
-    S3, SIDE0, TURN0, D0 = (S(float(x)) for x in (arm.s3, arm.side0, turn0, d0))
-    C45, C56, C4556, C45X2, DET, G2 = (S(float(x)) for x in (c45, c56, c45 * c56, 2.0 * c45, det, g2))
-    LSUM, LPROD = S(la * la + lb * lb), S(2.0 * la * lb)
-    SINGULAR = S(SINGULAR_Q5[wp.types.type_size_in_bytes(scalar)])
-    A2, B2 = V2(S(float(a2[0])), S(float(a2[1]))), V2(S(float(b2[0])), S(float(b2[1])))
-    CT0, ST0 = S(float(np.cos(turn0))), S(float(np.sin(turn0)))
-    P2D = V2(S(to2(c["p2"])[0]), S(to2(c["p2"])[1]))
-    TAU = S(2.0 * np.pi)
-    PI = S(np.pi)
-    QUARTER = S(0.5 * np.pi)
+    vec = lambda v: V3(*(S(float(x)) for x in v))  # noqa: E731
+    sca = lambda x: S(float(x))  # noqa: E731
+    return SimpleNamespace(
+        S=S, V3=V3, V2=V2, Q6=Q6, scalar=scalar,
+        W1=vec(c["w1"]), P1=vec(c["p1"]), W2=vec(c["w2"]), W4=vec(c["w4"]), W5=vec(c["w5"]), W6=vec(c["w6"]),
+        CF=vec(c["cf"]), H0=vec(c["h0"]), N6=vec(n6), N45=vec(n45), EA=vec(ea), EB=vec(eb),
+        K6=vec(rmt @ c["w6"]), KN=vec(rmt @ n6),  # axis 6 and the direction across it, in the flange frame
+        S3=sca(arm.s3), SIDE0=sca(arm.side0), TURN0=sca(turn0),
+        C45=sca(c45), C56=sca(c56), C4556=sca(c45 * c56), C45X2=sca(2.0 * c45), DET=sca(1.0 - c45 * c45),
+        G2=sca(n45 @ n45), LSUM=sca(la * la + lb * lb), LPROD=sca(2.0 * la * lb),
+        SINGULAR=sca(SINGULAR_Q5[wp.types.type_size_in_bytes(scalar)]),
+        A2=V2(sca(a2[0]), sca(a2[1])), B2=V2(sca(b2[0]), sca(b2[1])), CT0=sca(np.cos(turn0)),
+        ST0=sca(np.sin(turn0)), P2D=V2(*(sca(x) for x in to2(c["p2"]))),
+        LO=Q6(*(sca(x) for x in c["lo"])), HI=Q6(*(sca(x) for x in c["hi"])),
+        FLIP=bool(abs(c45) < 1e-12 and abs(c56) < 1e-12 and np.linalg.norm(np.cross(c["w4"], c["w6"])) < 1e-12),
+        # a joint whose limits span more than (-pi, pi] may need a whole turn to fit them
+        TURNS=[bool(c["lo"][j] < -np.pi or c["hi"][j] > np.pi) for j in range(6)])
 
-    Q6 = wp.types.vector(6, scalar)
-    LO_A = Q6(*(S(x) for x in LO))
-    HI_A = Q6(*(S(x) for x in HI))
 
-    FLIP = bool(abs(c45) < 1e-12 and abs(c56) < 1e-12 and np.linalg.norm(np.cross(c["w4"], c["w6"])) < 1e-12)
-    # a joint whose limits span more than (-pi, pi] may need a whole turn to fit them
-    TURNS = [bool(LO[j] < -np.pi or HI[j] > np.pi) for j in range(6)]
+@cached
+def angle_funcs(scalar):
+    """The angle helpers of one precision, shared by the arm's and the palletizer's kernels:
+    Rodrigues (``rot``), Paden-Kahan subproblem 1 (``turn_about``), ``wrapped`` into [-pi, pi),
+    ``half_turn``."""
+    S, V3, _, _, _ = types_of(scalar)
+    TAU, PI = S(2.0 * np.pi), S(np.pi)
 
     @wp.func
     def rot(w: V3, ca: S, sa: S, v: V3) -> V3:
         """v turned about the unit axis w by the angle of cosine ca and sine sa (Rodrigues)."""
         return v * ca + wp.cross(w, v) * sa + w * (wp.dot(w, v) * (S(1.0) - ca))
-
-    @wp.func
-    def rmat(w: V3, ca: S, sa: S) -> M33:
-        return wp.identity(n=3, dtype=S) * ca + wp.skew(w) * sa + wp.outer(w, w) * (S(1.0) - ca)
 
     @wp.func
     def turn_about(w: V3, p: V3, q: V3):
@@ -128,8 +121,57 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         return wp.atan2(y, x), x / r, y / r
 
     @wp.func
+    def wrapped(x: S) -> S:
+        """x into [-pi, pi)."""
+        return x - TAU * wp.floor((x + PI) / TAU)
+
+    @wp.func
+    def half_turn(x: S) -> S:
+        """x + pi, into [-pi, pi)."""
+        return wrapped(x + PI)
+
+    return SimpleNamespace(rot=rot, turn_about=turn_about, wrapped=wrapped, half_turn=half_turn)
+
+
+def shoulder_func(scalar, w1, p1, w2, d0: float):
+    """``shoulder(point) -> (phi, spread, cos spread, sin spread's factor rho, status)``: the two q1
+    = phi +- spread that keep ``point``'s component along the turned axis 2 at ``d0`` from p1
+    (rotations about axis 2 and its parallels keep it: Paden-Kahan subproblem 4). SHOULDER where
+    the point is on axis 1 (q1 free), NO_REACH where no q1 does."""
+    S, V3, _, _, _ = types_of(scalar)
+    W1, P1, W2 = (V3(*(S(float(x)) for x in v)) for v in (w1, p1, w2))
+    D0 = S(float(d0))
+
+    @wp.func
+    def shoulder(point: V3):
+        u = point - P1
+        u_par = W1 * wp.dot(W1, u)
+        a = wp.dot(W2, u - u_par)
+        b = -wp.dot(W2, wp.cross(W1, u))
+        rho = wp.sqrt(a * a + b * b)
+        status = OK
+        ratio = S(0.0)
+        if rho < S(1e-9):
+            status = SHOULDER
+            rho = S(1.0)
+        else:
+            ratio = (D0 - wp.dot(W2, u_par)) / rho
+            if wp.abs(ratio) > S(1.0):
+                status = NO_REACH
+                ratio = wp.clamp(ratio, S(-1.0), S(1.0))
+        return wp.atan2(b, a), wp.acos(ratio), ratio, a, b, rho, status
+
+    return shoulder
+
+
+def _limits(k: SimpleNamespace) -> SimpleNamespace:
+    """``fit`` (each joint turned into its limits where a whole turn fits) and ABB's ``quadrant``."""
+    S, Q6, LO, HI, TURNS = k.S, k.Q6, k.LO, k.HI, k.TURNS
+    TAU, QUARTER = S(2.0 * np.pi), S(0.5 * np.pi)
+
+    @wp.func
     def into(x: S, lo: S, hi: S) -> S:
-        """x (in (-pi, pi]) turned by whole turns into [lo, hi], the turn nearest zero; x itself when
+        """x (in [-pi, pi)) turned by whole turns into [lo, hi], the turn nearest zero; x itself when
         none fits."""
         best = x
         if x < lo or x > hi:
@@ -144,12 +186,20 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         out = q
         for j in range(6):
             if wp.static(TURNS[j]):
-                out[j] = into(q[j], LO_A[j], HI_A[j])
+                out[j] = into(q[j], LO[j], HI[j])
         return out
 
     @wp.func
     def quadrant(x: S) -> int:
         return int(wp.floor(x / QUARTER))
+
+    return SimpleNamespace(fit=fit, quadrant=quadrant)
+
+
+def _branch_out(k: SimpleNamespace, lim: SimpleNamespace):
+    """``branch_out``: one branch's joints, configuration data and status (outside the limits
+    where a joint is) into the outputs."""
+    S, Q6, scalar, LO, HI, quadrant = k.S, k.Q6, k.scalar, k.LO, k.HI, lim.quadrant
 
     @wp.func
     def branch_out(i: int, b: int, q: Q6, arm_conf: int, status: int,
@@ -158,7 +208,7 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         st = status
         for j in range(6):
             q_out[i, b, j] = q[j]
-            if st == OK and (q[j] < LO_A[j] or q[j] > HI_A[j]):
+            if st == OK and (q[j] < LO[j] or q[j] > HI[j]):
                 st = NO_LIMITS
         conf_out[i, b, 0] = wp.int8(quadrant(q[0]))
         conf_out[i, b, 1] = wp.int8(quadrant(q[3]))
@@ -169,13 +219,17 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         conf_out[i, b, 3] = wp.int8(cfx)
         status_out[i, b] = wp.int8(st)
 
-    @wp.func
-    def half_turn(x: S) -> S:
-        """x + pi, in (-pi, pi]."""
-        out = x + PI
-        if out > PI:
-            out = out - TAU
-        return out
+    return branch_out
+
+
+def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
+    """``wrist``: the two wrist branches of one arm solution, written out with their configuration
+    data and status."""
+    S, V3, Q6, scalar = k.S, k.V3, k.Q6, k.scalar
+    W4, W5, W6, N6, N45, SINGULAR, FLIP = k.W4, k.W5, k.W6, k.N6, k.N45, k.SINGULAR, k.FLIP
+    C45, C56, C4556, C45X2, DET, G2 = k.C45, k.C56, k.C4556, k.C45X2, k.DET, k.G2
+    rot, turn_about, half_turn, fit = h.rot, h.turn_about, h.half_turn, lim.fit
+    branch_out = _branch_out(k, lim)
 
     @wp.func
     def wrist_angles(z: V3, v: V3, vn: V3):
@@ -226,15 +280,14 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
                     st = SAME
                 branch_out(i, b + f, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf, st, q_out, conf_out, status_out)
 
-    @wp.func
-    def wrapped(x: S) -> S:
-        """x into (-pi, pi]."""
-        out = x
-        if out > PI:
-            out = out - TAU
-        elif out <= -PI:
-            out = out + TAU
-        return out
+    return wrist
+
+
+def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
+    """``elbows``: the elbow-up and elbow-down arms of one q1, each with its two wrists."""
+    S, V3, V2, scalar = k.S, k.V3, k.V2, k.scalar
+    W2, A2, B2, CT0, ST0, TURN0, SIDE0, S3 = k.W2, k.A2, k.B2, k.CT0, k.ST0, k.TURN0, k.SIDE0, k.S3
+    rot, wrapped = h.rot, h.wrapped
 
     @wp.func
     def elbows(i: int, b: int, q1: S, yd: V2, d2: S, cg: S, behind1: bool, u6: V3, un: V3, status: int,
@@ -268,6 +321,23 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
             wrist(i, b + 2 * e, q1, q2, wrapped(S3 * phi3), rot(W2, c23, -s23, u6), rot(W2, c23, -s23, un),
                   arm_conf, status, q_out, conf_out, status_out)
 
+    return elbows
+
+
+@cached
+def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
+    """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
+    8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
+    turn nearest zero), configuration data and status (OK or why not)."""
+    S, V3, M33, _, M44 = types_of(scalar)
+    k = _folded(arm, scalar)
+    h = angle_funcs(scalar)
+    elbows = _elbows(k, h, _wrist(k, h, _limits(k)))
+    shoulder = shoulder_func(scalar, arm.w1, arm.p1, arm.w2, float(np.dot(arm.w2, arm.c0) - np.dot(arm.w2, arm.p1)))
+    rot, wrapped, V2 = h.rot, h.wrapped, k.V2
+    W1, P1, CF, H0, K6, KN, EA, EB = k.W1, k.P1, k.CF, k.H0, k.K6, k.KN, k.EA, k.EB
+    P2D, LSUM, LPROD = k.P2D, k.LSUM, k.LPROD
+
     @wp.kernel(enable_backward=False, module=module_name("ik", arm, str(scalar)))
     def ik(
         # In: flange poses (world, metres)
@@ -284,22 +354,7 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         t6 = rt * K6  # where R1..R6 must take axis 6 and the direction across it
         tn = rt * KN
         u = wc - P1
-        u_par = W1 * wp.dot(W1, u)
-        a = wp.dot(W2, u - u_par)
-        bb = -wp.dot(W2, wp.cross(W1, u))
-        rho = wp.sqrt(a * a + bb * bb)
-        shoulder = OK
-        ratio = S(0.0)
-        if rho < S(1e-9):
-            shoulder = SHOULDER  # the wrist centre on axis 1: q1 is free
-            rho = S(1.0)
-        else:
-            ratio = (D0 - wp.dot(W2, u_par)) / rho
-            if wp.abs(ratio) > S(1.0):
-                shoulder = NO_REACH
-                ratio = wp.clamp(ratio, S(-1.0), S(1.0))
-        phi = wp.atan2(bb, a)
-        spread = wp.acos(ratio)
+        phi, spread, ratio, a, bb, rho, shoulder_status = shoulder(wc)
         cs = wp.sqrt(S(1.0) - ratio * ratio)
         for s in range(2):
             sign = S(1.0) - S(2.0) * S(float(s))
@@ -310,13 +365,12 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
             yd = V2(wp.dot(EA, y), wp.dot(EB, y)) - P2D
             d2 = wp.dot(yd, yd)
             cg = (d2 - LSUM) / LPROD
-            st = shoulder
+            st = shoulder_status
             if st == OK and wp.abs(cg) > S(1.0):
                 st = NO_REACH
-            cg = wp.clamp(cg, S(-1.0), S(1.0))
             behind1 = wp.dot(u, rot(W1, c1, s1, H0)) < S(0.0)
-            u6 = rot(W1, c1, -s1, t6)  # R1^T
-            un = rot(W1, c1, -s1, tn)
-            elbows(i, 4 * s, q1, yd, d2, cg, behind1, u6, un, st, q_out, conf_out, status_out)
+            # R1^T of axis 6's target and the direction across it
+            elbows(i, 4 * s, q1, yd, d2, wp.clamp(cg, S(-1.0), S(1.0)), behind1, rot(W1, c1, -s1, t6),
+                   rot(W1, c1, -s1, tn), st, q_out, conf_out, status_out)
 
     return ik

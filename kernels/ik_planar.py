@@ -7,35 +7,25 @@ import numpy as np
 import warp as wp
 
 from .cache import cached, module_name
-from .ik import NO_REACH, OK
+from .ik import NO_REACH, OK, angle_funcs, shoulder_func
 from .types import types_of
 
 BRANCHES = 4
 
 
-@cached
-def planar_ik_kernel(consts: tuple, dof: int, scalar=wp.float64):
-    """``ik(poses (N, 4, 4)) -> q_out (N, 4, dof), status_out (N, 4)``; ``consts`` the flat
-    constants (``PlanarArm.constants``): each value turned into (-pi, pi], the limits left to the
-    host."""
-    S, V3, M33, _, M44 = types_of(scalar)
-    c = dict(consts)
+def _branch(c: dict, dof: int, scalar, h):
+    """``branch``: one shoulder's elbow branch of a palletizer pose: the two arm angles from the
+    triangle of the arm's two turning parts, the arm joints from them, q6 from the flange's turn
+    (out of reach where the flange is not level)."""
+    S, V3, M33, _, _ = types_of(scalar)
     vec = lambda v: V3(*(S(float(x)) for x in v))  # noqa: E731
-    W1, P1, W2, EA, EB, W6, N6 = (vec(c[k]) for k in ("w1", "p1", "w2", "ea", "eb", "w6", "n6"))
+    W1, EA, EB, W6, N6 = (vec(c[k]) for k in ("w1", "ea", "eb", "w6", "n6"))
     RMT = M33(*(S(float(x)) for x in np.asarray(c["rm"]).reshape(3, 3).T.ravel()))
-    D0, W12, LSUM, LPROD, TURN0, TOL = (S(float(c[k])) for k in ("d0", "w12", "lsum", "lprod", "turn0", "tol"))
+    LSUM, LPROD, TURN0, TOL = (S(float(c[k])) for k in ("lsum", "lprod", "turn0", "tol"))
     BX, BY, AX, AY, BBX, BBY = (S(float(x)) for x in (*c["base"], *c["a"], *c["b"]))
     I00, I01, I10, I11 = (S(float(x)) for x in np.ravel(c["inverse"]))
     FIRST, LAST, ARM0, ARM1 = (int(c[k]) for k in ("first", "last", "arm0", "arm1"))
-    PI, TAU = S(np.pi), S(2.0 * np.pi)
-
-    @wp.func
-    def rot(w: V3, ca: S, sa: S, v: V3) -> V3:
-        return v * ca + wp.cross(w, v) * sa + w * (wp.dot(w, v) * (S(1.0) - ca))
-
-    @wp.func
-    def wrapped(x: S) -> S:
-        return x - TAU * wp.floor((x + PI) / TAU)
+    rot, wrapped = h.rot, h.wrapped
 
     @wp.func
     def branch(i: int, k: int, q1: S, c1: S, s1: S, u: V3, rt: M33, sign_e: S, status: int,
@@ -67,37 +57,41 @@ def planar_ik_kernel(consts: tuple, dof: int, scalar=wp.float64):
         q_out[i, k, ARM1] = wrapped(I10 * phi_a + I11 * phi_b)
         status_out[i, k] = wp.int8(st)
 
+    return branch
+
+
+@cached
+def planar_ik_kernel(consts: tuple, dof: int, scalar=wp.float64):
+    """``ik(poses (N, 4, 4)) -> q_out (N, 4, dof), status_out (N, 4)``; ``consts`` the flat
+    constants (``PlanarArm.constants``): each value turned into [-pi, pi), the limits left to the
+    host."""
+    S, V3, M33, _, M44 = types_of(scalar)
+    c = dict(consts)
+    h = angle_funcs(scalar)
+    branch = _branch(c, dof, scalar, h)
+    shoulder = shoulder_func(scalar, c["w1"], c["p1"], c["w2"], c["d0"])
+    P1 = V3(*(S(float(x)) for x in c["p1"]))
+    wrapped = h.wrapped
+
     @wp.kernel(enable_backward=False, module=module_name("ik_planar", consts, dof, str(scalar)))
     def ik(
         # In: flange poses (world, metres)
         poses: wp.array(dtype=M44),
-        # Out: per branch, joints (turned into (-pi, pi]) and status
+        # Out: per branch, joints (turned into [-pi, pi)) and status
         q_out: wp.array3d(dtype=scalar),
         status_out: wp.array2d(dtype=wp.int8),
     ):
         i = wp.tid()
         mm = poses[i]
         rt = M33(mm[0, 0], mm[0, 1], mm[0, 2], mm[1, 0], mm[1, 1], mm[1, 2], mm[2, 0], mm[2, 1], mm[2, 2])
-        u = V3(mm[0, 3], mm[1, 3], mm[2, 3]) - P1
-        par = wp.dot(u, W1)
-        a = wp.dot(u - W1 * par, W2)
-        b = -wp.dot(wp.cross(W1, u), W2)
-        rho = wp.sqrt(a * a + b * b)
-        status = OK
-        ratio = S(0.0)
-        if rho < S(1e-9):
-            status = NO_REACH
-        else:
-            ratio = (D0 - par * W12) / rho
-            if wp.abs(ratio) > S(1.0):
-                status = NO_REACH
-        phi = wp.atan2(b, a)
-        spread = wp.acos(wp.clamp(ratio, S(-1.0), S(1.0)))
+        point = V3(mm[0, 3], mm[1, 3], mm[2, 3])
+        phi, spread, ratio, a, b, rho, status = shoulder(point)
         for s in range(2):
             q1 = wrapped(phi + spread * (S(1.0) - S(2.0) * S(float(s))))
             c1 = wp.cos(q1)
             s1 = wp.sin(q1)
             for e in range(2):
-                branch(i, 2 * s + e, q1, c1, s1, u, rt, S(1.0) - S(2.0) * S(float(e)), status, q_out, status_out)
+                branch(i, 2 * s + e, q1, c1, s1, point - P1, rt, S(1.0) - S(2.0) * S(float(e)), status, q_out,
+                       status_out)
 
     return ik

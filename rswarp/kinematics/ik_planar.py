@@ -122,7 +122,7 @@ def constants(arm: PlanarArm, dtype) -> tuple:
     t = lambda v: tuple(float(x) for x in np.ravel(v))  # noqa: E731
     return (("w1", t(arm.w1)), ("p1", t(arm.p1)), ("w2", t(arm.w2)), ("ea", t(arm.plane[0])), ("eb", t(arm.plane[1])),
             ("w6", t(arm.w6)), ("n6", t(n6 / np.linalg.norm(n6))), ("rm", t(arm.rm)), ("d0", float(arm.d0)),
-            ("w12", float(arm.w1 @ arm.w2)), ("lsum", la * la + lb * lb), ("lprod", 2.0 * la * lb),
+            ("lsum", la * la + lb * lb), ("lprod", 2.0 * la * lb),
             ("turn0", float(np.arctan2(arm.a[1], arm.a[0]) - np.arctan2(arm.b[1], arm.b[0]))),
             ("tol", 1e-6 if dtype == np.float64 else 1e-4), ("base", t(arm.base)), ("a", t(arm.a)), ("b", t(arm.b)),
             ("inverse", t(arm.inverse)), ("first", arm.first), ("last", arm.last), ("arm0", arm.arm[0]),
