@@ -164,7 +164,7 @@ def collision_kernels(chain: Chain, links, scalar=wp.float32):
 
 def _body_pose(scalar):
     """(body_pose, body_centre): body b's pose, from the chain's poses or its fixed one; and its
-    bounding sphere's centre in the world, from the links' (``centres``) or its fixed pose. Made
+    bounding sphere's centre in the world (a link may carry more than one body). Made
     anew for each kernel module: a generic (``Any``) function shared by modules whose local arrays
     differ in length is specialized for one of them only (a C++ build error in the others)."""
     S, V3, M33, M34, M44 = types_of(scalar)
@@ -179,11 +179,8 @@ def _body_pose(scalar):
         return m.pose[b]
 
     @wp.func
-    def body_centre(m: BodyArrays, centres: Any, b: int) -> V3:
-        k = m.link[b]
-        if k >= 0:
-            return centres[k]
-        return apply(m.pose[b], m.center[b])
+    def body_centre(m: BodyArrays, poses: Any, b: int) -> V3:
+        return apply(body_pose(m, poses, b), m.center[b])
 
     return body_pose, body_centre
 
@@ -217,14 +214,10 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, scalar):
         i = wp.tid()
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
-        centres = wp.zeros(shape=n, dtype=V3)  # each link's bounding-sphere centre, world frame
-        for k in range(m.link.shape[0]):
-            if m.link[k] >= 0:
-                centres[m.link[k]] = apply(poses[m.link[k]], m.center[k])
         for p in range(m.pair_a.shape[0]):
             a = m.pair_a[p]
             b = m.pair_b[p]
-            g = wp.length(body_centre(m, centres, a) - body_centre(m, centres, b)) - m.radius[a] - m.radius[b]
+            g = wp.length(body_centre(m, poses, a) - body_centre(m, poses, b)) - m.radius[a] - m.radius[b]
             if g <= m.padding:
                 g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i), g)
             if g <= m.padding:

@@ -25,6 +25,9 @@ from .rod_types import (
     F64,
     LOADS,
     M44,
+    PINCH_A,
+    PINCH_AT,
+    PINCH_B,
     RUNNING,
     STATS,
     TENSION_AT,
@@ -52,6 +55,9 @@ def _start_frame(params: RodParams, e: int, stats_out: wp.array3d(dtype=F64), cl
         stats_out[e, c, BEND_AT] = F64(AT_NONE)
         stats_out[e, c, TORQUE_AT] = F64(AT_NONE)
         stats_out[e, c, CONTACT_AT] = F64(AT_NONE)
+        stats_out[e, c, PINCH_AT] = F64(AT_NONE)
+        stats_out[e, c, PINCH_A] = F64(-1.0)
+        stats_out[e, c, PINCH_B] = F64(-1.0)
         for j in range(clear_out.shape[2]):
             clear_out[e, c, j] = F64(BIG)
             at_out[e, c, j] = F64(AT_NONE)

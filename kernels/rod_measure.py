@@ -2,7 +2,8 @@
 greatest axial force (E A times the stretch at each joint, in newtons) and where, the least bend
 radius and where, the twist rate and the torque the rod carries, each clamp's load, and the
 contacts' normal forces and sliding, summed into the wear map (time in contact, peak normal force,
-normal force times sliding distance per slot, bending cycles below the allowed radius); at a
+normal force times sliding distance per slot, bending cycles below the allowed radius) and the
+hardest pinch (a segment pressed from opposite sides); at a
 frame's end, the twist between each cable's clamped ends and the stretch between its
 attachments."""
 
@@ -24,6 +25,10 @@ from .rod_types import (
     MOMENT,
     MOMENT_PEAK,
     NORMAL,
+    PINCH,
+    PINCH_A,
+    PINCH_AT,
+    PINCH_B,
     SLIDING,
     STRETCH,
     TENSION,
@@ -146,6 +151,29 @@ def _wear(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Con
 
 
 @wp.func
+def _pinch(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
+           count: wp.array2d(dtype=wp.int32), row: int, e: int, stats_out: wp.array3d(dtype=F64)):
+    """Body k's pinch at the step's end into its cable's extremes: over each pair of its contacts,
+    the lesser normal force times how far their normals oppose (0 for a segment that only rests or
+    leans on things; the lesser force where two surfaces press it from opposite sides), and the
+    pair's slots."""
+    c = params.cable[k]
+    stiffness = params.contact_stiff[k]
+    for i in range(count[row, k]):
+        ci = contacts[row, k * MAX_CONTACTS + i]
+        fi, si, xi = contact_outcome(ci, b.x, b.q, stiffness)
+        for j in range(i + 1, count[row, k]):
+            cj = contacts[row, k * MAX_CONTACTS + j]
+            fj, sj, xj = contact_outcome(cj, b.x, b.q, stiffness)
+            squeeze = wp.min(fi, fj) * wp.max(-wp.dot(ci.n, cj.n), F64(0.0))
+            if squeeze > stats_out[e, c, PINCH]:
+                stats_out[e, c, PINCH] = squeeze
+                stats_out[e, c, PINCH_AT] = F64(0.5) * (ci.arc + cj.arc)
+                stats_out[e, c, PINCH_A] = F64(ci.slot)
+                stats_out[e, c, PINCH_B] = F64(cj.slot)
+
+
+@wp.func
 def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
             work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
             row: int, stats_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64),
@@ -176,6 +204,7 @@ def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
             cycles_out[e, k] = cycles_out[e, k] + 1
         below_out[e, k] = below
         slot = _wear(params, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out, wear_out)
+        _pinch(params, k, b, contacts, count, row, e, stats_out)
         if slot >= 0:
             crushed = slot
         before = after

@@ -20,10 +20,11 @@ MAX_CONTACTS = 4  # per body and substep: the deepest are kept
 # an environment's state; CRUSHED + slot: the robot pressed a cable into that slot half its radius deep
 RUNNING, NOT_FINITE, RUNAWAY, CRUSHED = 0, 1, 2, 3
 
-# the columns of a cable's statistics per frame (``stats_out[e, cable, :]``)
+# the columns of a cable's statistics per frame (``stats_out[e, cable, :]``); PINCH_A and PINCH_B
+# are the slots that pinch the cable hardest, -1 where nothing does
 (TENSION, TENSION_AT, BEND, BEND_AT, TWIST, TWIST_RATE, TORQUE, TORQUE_AT, STRETCH, NORMAL, SLIDING,
- CONTACT_AT) = range(12)
-STATS = 12
+ CONTACT_AT, PINCH, PINCH_AT, PINCH_A, PINCH_B) = range(16)
+STATS = 16
 # the columns of an attachment's load per frame (``load_out[e, attachment, :]``): the greatest force
 # and moment over the frame's substeps, then the force and moment vectors at its end (world axes)
 FORCE_PEAK, MOMENT_PEAK, FORCE, MOMENT = 0, 1, 2, 5

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from rods import FRAME, energy, rod, run
+from rods import FRAME, WEIGHT, energy, rod, run
 
 MU, G = 0.4, 9.81  # the default friction coefficient
 
@@ -62,3 +62,22 @@ def test_attached_points_follow_a_turning_link():
             assert np.linalg.norm(solver.points(state, 1, e)[0] - [0.4 * np.cos(a), 0.4 * np.sin(a), 0.5]) < 1e-4
     ends = solver.points(state, 1)[:, -1]
     assert np.isfinite(ends).all() and ends[0, 1] > 0.1 > -0.1 > ends[1, 1]
+
+
+def test_a_hose_pinched_between_a_link_and_the_plate():
+    """A block lowers onto a hose lying on a plate: resting on the plate, or with the block 2 mm
+    above it, nothing presses the hose from opposite sides (pinch 0: its contacts all push one
+    way); lowered 3 mm into it, the hose is pinched between the block and the plate, harder than
+    its own weight, under the block."""
+    _, solver, state = rod("pinch", envs=3)
+    depth = np.array([0.0, 0.028, 0.033])  # m the block is lowered: its bottom meets the hose at 0.030
+    t = run(solver, state, 0.3)
+    run(solver, state, 0.5, joints=lambda s: (depth * min((s - t) / 0.4, 1.0))[:, None], t0=t)
+    s = solver.statistics(state)[0]
+    assert np.all(s["status"] == 0)
+    assert s["pinch"][0] == 0.0 and s["pinch"][1] == 0.0
+    assert s["normal_force"][0] > 0  # it does rest on the plate
+    weight = WEIGHT * np.pi * 0.01 ** 2 * 0.3
+    assert s["pinch"][2] > weight
+    assert {solver.slots[k] for k in s["pinch_slots"][2]} == {"Press", "Base"}
+    assert 0.05 <= s["pinch_at"][2] <= 0.25  # under the block (x = 400..600 mm; the hose starts at 350)

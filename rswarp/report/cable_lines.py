@@ -10,14 +10,17 @@ import numpy as np
 from ..sim.cable_results import CableResult, worst_wear
 
 
-def cable_lines(c: CableResult, taut: float) -> list[str]:
-    """The cable's answers; environments that stopped are reported as stopped, never as answers."""
+def cable_lines(c: CableResult, taut: float, weight: float, joints: tuple[tuple[str, bool], ...] = ()) -> list[str]:
+    """The cable's answers; environments that stopped are reported as stopped, never as answers. A
+    pinch harder than the cable's whole ``weight`` (N) is the robot's doing, and named with the
+    ``joints`` (name, rotational) the robot was at."""
     lines = [f"{c.name}: {c.length:.3f} m, radius {c.radius * 1000:g} mm (E A {c.axial_stiffness:.3g} N, "
              f"E I {c.bending_stiffness:.3g} N m^2, G J {c.torsion_stiffness:.3g} N m^2)"]
     done = np.nonzero(c.status == "ok")[0]
     stopped = np.nonzero(c.status != "ok")[0]
     if len(done):
         lines += _answers(c, done, taut)
+        lines += _pinch_lines(c, done, weight, joints)
     else:
         lines.append(f"  no answers: every environment stopped before the end ({c.envs} of {c.envs})")
     for e in stopped[:5]:
@@ -106,6 +109,32 @@ def _contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
                    f"{c.peak_normal_time[e]:.2f} s, {c.peak_normal_at[e]:.3f} m along); sliding up to "
                    f"{c.max_sliding_speed[done].max():.3g} m/s")
     return out or ["  clearance: nothing within reach of the cable"]
+
+
+def pinched(c: CableResult, weight: float) -> np.ndarray:
+    """(envs,) whether something pressed the cable from opposite sides harder than its whole weight
+    could: the robot pinching it against itself, the floor, a cable or the cell."""
+    return c.pinch > weight
+
+
+def _pinch_lines(c: CableResult, done: np.ndarray, weight: float, joints) -> list[str]:
+    hard = done[pinched(c, weight)[done]]
+    if not len(hard):
+        most = c.pinch[done].max()
+        return [f"  pinched: never (pressed from opposite sides at most {most:.3g} N, under its own weight "
+                f"{weight:.3g} N)" if most > 0 else "  pinched: never"]
+    e = int(hard[np.argmax(c.pinch[hard])])
+    a, b = (c.links[k] for k in c.pinch_slots[e])
+    what = f"between {a} and {b}" if a != b else f"in {a}"
+    return [f"  pinched {what}: {c.pinch[e]:.3g} N across the hose (environment {e}, t = {c.pinch_time[e]:.2f} s, "
+            f"{c.pinch_at[e]:.3f} m along, robot at {_joints(c.pinch_q[e], joints)}); pinched in {_envs(hard)}"]
+
+
+def _joints(q: np.ndarray, joints) -> str:
+    if not joints:
+        return "its start"
+    return ", ".join(f"{name} {np.degrees(v):.0f} deg" if rot else f"{name} {v * 1000:.0f} mm"
+                     for v, (name, rot) in zip(q, joints))
 
 
 def _wear_line(c: CableResult, done: np.ndarray) -> str:

@@ -23,7 +23,7 @@ from ..sim.cable_results import CableResult, worst_wear
 from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS, CableOptions, contact_meshes
 from ..sim.cables import CableRun, run_frames, simulate_cables
 from ..sim.engine import cluster_for
-from .cable_lines import cable_lines
+from .cable_lines import cable_lines, pinched
 from .cable_plots import PLOT_FILES, cable_plots
 from .output import Output, Warn, ignore, json_bytes, json_safe
 
@@ -66,7 +66,7 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
         from ..sim.random_program import random_programs
 
         trajectories = random_programs(mech, envs, seconds or RANDOM_SECONDS, seed,
-                                       0.0 if options.floor is None else options.floor)
+                                       0.0 if options.floor is None else options.floor, options)
     else:
         trajectories = run_trajectories(mech, trajectory, False, envs, seconds, seed)
     run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
@@ -114,18 +114,18 @@ def cable_report(run: CableRun) -> dict:
         "density_kg_m3": o.density, "poisson": o.poisson, "friction": o.friction, "damping_per_s": o.damping,
         "trajectories": list(run.trajectories), "floor_z_m": o.floor,
         "environment": [e.name for e in o.environment], "warnings": list(run.warnings),
-        "cables": [_cable_dict(c, run) for c in run.cables]})
+        "cables": [_cable_dict(c, w, run) for c, w in zip(run.cables, run.weights)]})
 
 
-def _cable_dict(c: CableResult, run: CableRun) -> dict:
+def _cable_dict(c: CableResult, weight: float, run: CableRun) -> dict:
     return {"name": c.name, "length_m": c.length, "radius_m": c.radius, "allowed_bend_radius_m": c.allowed_bend_radius,
             "axial_stiffness_N": c.axial_stiffness, "bending_stiffness_Nm2": c.bending_stiffness,
             "torsion_stiffness_Nm2": c.torsion_stiffness, "slots": list(c.links), "attachments": list(c.attachments),
-            "segments_at_m": c.segments, "summary": _summary(c),
+            "segments_at_m": c.segments, "weight_N": weight, "summary": _summary(c, weight),
             "environments": [_env_dict(c, e, run) for e in range(c.envs)]}
 
 
-def _summary(c: CableResult) -> dict:
+def _summary(c: CableResult, weight: float) -> dict:
     """The answers over the environments that ran to the end (None where none did)."""
     ok = c.status == "ok"
     done = np.nonzero(ok)[0]
@@ -135,7 +135,8 @@ def _summary(c: CableResult) -> dict:
             "taut": int((c.stretch[ok] >= TAUT).sum()), "touching": int(c.touching[ok].sum()),
             "least_bend_radius_m": _least(c.min_bend_radius[ok]), "peak_tension_N": most(c.peak_tension),
             "greatest_twist_rad": most(c.max_twist), "greatest_torque_Nm": most(c.max_torque),
-            "greatest_normal_force_N": most(c.peak_normal),
+            "greatest_normal_force_N": most(c.peak_normal), "pinched": int(pinched(c, weight)[ok].sum()),
+            "greatest_pinch_N": most(c.pinch),
             "clamp_force_N": [most(c.clamp_force[:, a]) for a in range(len(c.attachments))],
             "clamp_moment_Nm": [most(c.clamp_moment[:, a]) for a in range(len(c.attachments))],
             "worst_wear": None if worst is None else {
@@ -167,12 +168,21 @@ def _env_dict(c: CableResult, e: int, run: CableRun) -> dict:
             "max_torque_Nm": c.max_torque[e], "max_torque_time_s": c.max_torque_time[e],
             "max_torque_at_m": c.max_torque_at[e], "peak_normal_force_N": c.peak_normal[e],
             "peak_normal_force_time_s": c.peak_normal_time[e], "peak_normal_force_at_m": c.peak_normal_at[e],
-            "max_sliding_speed_m_s": c.max_sliding_speed[e], "clamps": clamps,
+            "max_sliding_speed_m_s": c.max_sliding_speed[e], "pinch": _pinch_dict(c, e, run), "clamps": clamps,
             "wear": {"contact_time_s": c.wear_contact_time[e], "peak_normal_force_N": c.wear_peak_normal[e],
                      "archard_J": c.segment_wear[e], "bend_cycles": c.bend_cycles[e],
                      "archard_by_slot_J": {name: c.wear[e, :, j] for j, name in enumerate(c.links)
                                            if np.any(c.wear[e, :, j] > 0)}},
             "clearance": links, "final_points": np.round(c.final_points[e], 6).tolist()}
+
+
+def _pinch_dict(c: CableResult, e: int, run: CableRun) -> dict | None:
+    """The hardest the cable was pressed from opposite sides, by what, and where the robot was."""
+    if not c.pinch[e] > 0:
+        return None
+    return {"force_N": c.pinch[e], "time_s": c.pinch_time[e], "at_m": c.pinch_at[e],
+            "between": [c.links[k] for k in c.pinch_slots[e]],
+            "joints": {name: c.pinch_q[e, i] for i, (name, _) in enumerate(run.joints)}}
 
 
 def _least(values: np.ndarray) -> float | None:
@@ -184,8 +194,8 @@ def cables_text(run: CableRun, files: dict) -> str:
     """The summary a user reads: per cable, the worst environment for each question."""
     lines = [f"{run.mechanism}: {len(run.cables)} cable(s), {run.envs} environment(s), "
              f"{run.times[-1]:g} s at {run.options.frame_rate:g} frames/s"]
-    for c in run.cables:
-        lines += cable_lines(c, TAUT)
+    for c, weight in zip(run.cables, run.weights):
+        lines += cable_lines(c, TAUT, weight, run.joints)
     lines += [f"{k}: {v}" for k, v in files.items()]
     return "\n".join(lines)
 

@@ -84,8 +84,9 @@ def demo_dresspack(out: Path, say: Callable[[str], None]) -> dict:
         runs[folder] = done.doc
         lines = [line for line in done.text.splitlines()[2:] if not line.split(":")[0].endswith(("plot", "report"))]
         say("\n".join([f"   {label} -> {out / folder}", *(f"   {line}" for line in lines)]))
-    say("   note: the random programs keep the robot off itself and the floor, not the hose out of the wrist's "
-        "fold: where one folds the wrist onto the hose, the clamp loads show the pinch (docs/cables.md)\n")
+    say("   (the random programs keep the robot off the floor, off itself and off the hose's clamps and their "
+        "leads; they drive the wrist through its whole range, so the hose bends tighter there than over the "
+        "program: docs/cables.md)\n")
     return {"mechanism": examples.IRB2600_DRESSPACK.name, "runs": runs}
 
 

@@ -81,10 +81,12 @@ def placed_environments(mech: Mechanism, specs: list[str]) -> tuple[Environment,
     return tuple(out)
 
 
-def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ()) -> CollisionBodies:
-    """The links with geometry and the environment meshes; pairs: every two links not joined by a
-    joint (links without geometry contracted away, as MoveIt does), and each environment mesh with
-    every link."""
+def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = (),
+                     leads: tuple[Body, ...] = ()) -> CollisionBodies:
+    """The links with geometry, the environment meshes and the cables' ``leads`` (``hose_leads``);
+    pairs: every two links not joined by a joint (links without geometry contracted away, as
+    MoveIt does), each environment mesh with every link, and each lead with every link but its own
+    and with every environment mesh."""
     graph = mech.graph
     bodies, warnings = [], []
     for k in graph.order:
@@ -107,7 +109,38 @@ def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = ())
     pairs = [(i, j) for i in range(len(links)) for j in range(i + 1, len(links))
              if frozenset((links[i], links[j])) not in adjacent]
     pairs += [(i, j) for j in range(len(links), len(bodies)) for i in range(len(links))]
+    for lead in leads:
+        pairs += [(i, len(bodies)) for i, b in enumerate(bodies) if b.link != lead.link]
+        bodies.append(lead)
     return CollisionBodies(tuple(bodies), tuple(pairs), adjacent, tuple(warnings))
+
+
+def hose_leads(mech: Mechanism, allowed) -> tuple[Body, ...]:
+    """Where a link clamps a cable, the clamp and the cable's lead out of it as a capsule riding on
+    the link: the cable's radius, over sqrt(2 R r), the length in which a cable bent no tighter than
+    its allowed radius R (``allowed(cable)``, m) leaves the clamp's line by less than its radius r.
+    A link inside it presses the cable against its clamp, or bends it tighter than allowed."""
+    import trimesh
+
+    graph, out = mech.graph, []
+    for cable in mech.cables:
+        r = float(cable.radius)
+        length = float(np.sqrt(2 * allowed(cable) * r))
+        points = cable.control_points
+        for i, p in enumerate(points):
+            if p.attached_to not in graph.links or p.direction is None:
+                continue
+            d = p.unit_direction
+            ways = [s for s, far in ((1.0, i < len(points) - 1), (-1.0, i > 0)) if far]
+            for sign in ways:
+                mesh = trimesh.creation.capsule(height=length, radius=r, count=[8, 8])
+                mesh.apply_translation([0.0, 0.0, length / 2])
+                mesh.apply_transform(trimesh.geometry.align_vectors([0.0, 0.0, 1.0], sign * d))
+                mesh.apply_translation(p.position)
+                name = f"{cable.name} clamp on {p.attached_to}" + ("" if len(ways) == 1 else f" ({'+-'[sign < 0]})")
+                out.append(Body(name, graph.link_index(p.attached_to), np.asarray(mesh.vertices, np.float64),
+                                np.asarray(mesh.faces, np.int64), True))
+    return tuple(out)
 
 
 def environment_body(mech: Mechanism, env: Environment, taken: set[str], warnings: list[str] | None = None) -> Body:

@@ -16,7 +16,8 @@ class RunningExtremes:
     them, or with ``values`` every environment's value (frames, len(SERIES), envs) ``VALUE``: a piece
     of a cut run keeps these, and the tally takes the spread of all environments."""
 
-    def __init__(self, info: CableInfo, slots: int, envs: int, frames: int, record: int, values: bool = False):
+    def __init__(self, info: CableInfo, slots: int, envs: int, frames: int, record: int, values: bool = False,
+                 dof: int = 0):
         self.info = info
         nan = lambda *shape: np.full(shape, np.nan)  # noqa: E731
         a = len(info.attachments)
@@ -28,6 +29,8 @@ class RunningExtremes:
         self.twist_prev, self.twist, self.max_twist = np.zeros(envs), np.zeros(envs), np.zeros(envs)
         self.rate, self.torque, self.torque_t, self.torque_at = np.zeros(envs), np.zeros(envs), nan(envs), nan(envs)
         self.normal, self.normal_t, self.normal_at, self.sliding = np.zeros(envs), nan(envs), nan(envs), np.zeros(envs)
+        self.pinch, self.pinch_t, self.pinch_at = np.zeros(envs), nan(envs), nan(envs)
+        self.pinch_slots, self.pinch_q = np.full((envs, 2), -1, np.int64), nan(envs, dof)
         self.force, self.force_t, self.moment, self.moment_t = np.zeros((envs, a)), nan(envs, a), np.zeros((envs, a)), \
             nan(envs, a)
         self.final_force, self.final_moment = np.zeros((envs, a, 3)), np.zeros((envs, a, 3))
@@ -43,9 +46,10 @@ class RunningExtremes:
         self.twist_prev = stats["twist"].copy()
         self.twist = self.twist_prev.copy()
 
-    def add(self, stats: dict, t: float, points=None) -> None:
-        """One frame's statistics at trajectory time ``t``; ``points()`` gives the recorded
-        environment's points when this frame is kept for playback."""
+    def add(self, stats: dict, t: float, q: np.ndarray, points=None) -> None:
+        """One frame's statistics at trajectory time ``t``, the joints ``q`` (envs, dof) at its
+        end; ``points()`` gives the recorded environment's points when this frame is kept for
+        playback."""
         status = stats["status"]
         live = status == RUNNING
         gone = ~live & np.isnan(self.failed_t)
@@ -60,6 +64,7 @@ class RunningExtremes:
         self.rate = np.fmax(self.rate, only("twist_rate"))
         _higher(self.normal, only("normal_force"), t, self.normal_t, self.normal_at, stats["contact_at"])
         self.sliding = np.fmax(self.sliding, only("sliding_speed"))
+        self._pinch(stats, only("pinch"), t, q)
         self._clamps(stats, live, t)
         self._twist(stats["twist"], live)
         row = (tension, bend, gap, torque)
@@ -81,6 +86,13 @@ class RunningExtremes:
         first = (c <= 0) & np.isnan(self.contact_t)
         self.contact_t[first], self.contact_at[first] = t, where[first]
         return c.min(axis=1)
+
+    def _pinch(self, stats: dict, pinch: np.ndarray, t: float, q: np.ndarray) -> None:
+        """The hardest pinch: its force, time, place, the slots pressing, and the robot's joints."""
+        harder = pinch > self.pinch
+        _take(harder, self.pinch, pinch, t, self.pinch_t, self.pinch_at, stats["pinch_at"])
+        self.pinch_slots[harder] = stats["pinch_slots"][harder]
+        self.pinch_q[harder] = q[harder]
 
     def _clamps(self, stats: dict, live: np.ndarray, t: float) -> None:
         _higher(self.force, np.where(live[:, None], stats["clamp_force_peak"], np.nan), t, self.force_t)
@@ -113,6 +125,8 @@ class RunningExtremes:
             stretch_time=self.stretch_t, max_twist=self.max_twist, max_twist_rate=self.rate, max_torque=self.torque,
             max_torque_time=self.torque_t, max_torque_at=self.torque_at, peak_normal=self.normal,
             peak_normal_time=self.normal_t, peak_normal_at=self.normal_at, max_sliding_speed=self.sliding,
+            pinch=self.pinch, pinch_time=self.pinch_t, pinch_at=self.pinch_at, pinch_slots=self.pinch_slots,
+            pinch_q=self.pinch_q,
             clamp_force=self.force, clamp_force_time=self.force_t, clamp_moment=self.moment,
             clamp_moment_time=self.moment_t, final_clamp_force=self.final_force,
             final_clamp_moment=self.final_moment, wear_contact_time=totals["contact_time"],

@@ -79,6 +79,11 @@ class CableResult:
     peak_normal_time: np.ndarray
     peak_normal_at: np.ndarray
     max_sliding_speed: np.ndarray  # m/s, of a touching segment
+    pinch: np.ndarray  # N: the hardest a segment was pressed from opposite sides (0: never)
+    pinch_time: np.ndarray
+    pinch_at: np.ndarray
+    pinch_slots: np.ndarray  # (envs, 2) the slots (``links``) that pressed it, -1 where none
+    pinch_q: np.ndarray  # (envs, dof) the robot's joints then, in radians or metres
     clamp_force: np.ndarray  # (envs, attachments): the greatest force the cable pulls the link with
     clamp_force_time: np.ndarray
     clamp_moment: np.ndarray  # (envs, attachments): the greatest moment about the control point
@@ -122,7 +127,8 @@ class CableResult:
 PER_ENV = ("peak_tension", "peak_tension_time", "peak_tension_at", "min_bend_radius", "min_bend_time", "min_bend_at",
            "clearance", "clearance_time", "clearance_at", "contact_time", "contact_at", "stretch", "stretch_time",
            "max_twist", "max_twist_rate", "max_torque", "max_torque_time", "max_torque_at", "peak_normal",
-           "peak_normal_time", "peak_normal_at", "max_sliding_speed", "clamp_force", "clamp_force_time",
+           "peak_normal_time", "peak_normal_at", "max_sliding_speed", "pinch", "pinch_time", "pinch_at", "pinch_slots",
+           "pinch_q", "clamp_force", "clamp_force_time",
            "clamp_moment", "clamp_moment_time", "final_clamp_force", "final_clamp_moment", "wear_contact_time",
            "wear_peak_normal", "wear", "bend_cycles", "status", "failed_time", "final_points")
 

@@ -201,7 +201,9 @@ class CosseratRod(CableSolver):
                 "bend_radius": _far(s[:, t.BEND]), "bend_at": _at(s[:, t.BEND_AT]), "twist": s[:, t.TWIST],
                 "twist_rate": s[:, t.TWIST_RATE], "torque": s[:, t.TORQUE], "torque_at": _at(s[:, t.TORQUE_AT]),
                 "stretch": s[:, t.STRETCH], "normal_force": s[:, t.NORMAL], "sliding_speed": s[:, t.SLIDING],
-                "contact_at": _at(s[:, t.CONTACT_AT]), "clearance": _far(clear[:, c]), "clearance_at": _at(at[:, c]),
+                "contact_at": _at(s[:, t.CONTACT_AT]), "pinch": s[:, t.PINCH], "pinch_at": _at(s[:, t.PINCH_AT]),
+                "pinch_slots": s[:, [t.PINCH_A, t.PINCH_B]].astype(np.int64), "clearance": _far(clear[:, c]),
+                "clearance_at": _at(at[:, c]),
                 "clamp_force": loads[:, :, t.FORCE:t.FORCE + 3], "clamp_moment": loads[:, :, t.MOMENT:t.MOMENT + 3],
                 "clamp_force_peak": loads[:, :, t.FORCE_PEAK], "clamp_moment_peak": loads[:, :, t.MOMENT_PEAK]})
         return out

@@ -54,6 +54,9 @@ STATISTICS = {
     "normal_force": "N: the greatest normal force on a segment's contact over the frame (0: none)",
     "sliding_speed": "m/s: the fastest a touching segment slid over the frame",
     "contact_at": "arc of the greatest normal force",
+    "pinch": "N: the hardest a segment was pressed from opposite sides over the frame (0: never)",
+    "pinch_at": "arc where it was hardest",
+    "pinch_slots": "(envs, 2) the slots that pressed it (-1: none)",
     "clearance": "(envs, slots) m: the least clearance to each slot (+inf: beyond reach)",
     "clearance_at": "(envs, slots) arc where it was least",
     "clamp_force": "(envs, attachments, 3) N: the force the cable pulls each attachment's link with, at the "
@@ -159,13 +162,14 @@ class CableSolver(ABC):
     """Every cable of a mechanism in many environments. ``cables`` describes each; ``slots`` names
     what a cable can touch, in the order of every per-slot array (the links, the environment's
     meshes, then "floor" and "cables": any cable, itself included); ``failures`` says why an
-    environment stopped, by status code."""
+    environment stopped, by status code; ``dof`` is the mechanism's joints that ``step`` takes."""
 
     kind: ClassVar[str]  # the name that chooses this model (CableOptions.cable_model)
     failures: Mapping[int, str] = FAILURES
 
     cables: tuple[CableInfo, ...]
     slots: tuple[str, ...]
+    dof: int
 
     @classmethod
     @abstractmethod

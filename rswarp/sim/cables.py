@@ -26,7 +26,7 @@ from .bodies import Environment
 from .cable_extremes import RunningExtremes
 from .cable_models import cable_model, make_solver
 from .cable_results import CableResult
-from .cable_solver import CableOptions, CableSolver, contact_meshes
+from .cable_solver import GRAVITY, CableOptions, CableSolver, contact_meshes
 from .cable_tally import MAX_VALUES_BYTES, CablePiece, CableTally, values_bytes
 from .engine import Job, run_batch
 
@@ -46,6 +46,12 @@ class CableRun:
     q: np.ndarray = field(repr=False)  # (frames, dof) the recorded environment's joints; empty without record
     options: CableOptions = CableOptions()
     warnings: tuple[str, ...] = ()
+    joints: tuple[tuple[str, bool], ...] = ()  # the active joints: name, and whether rotational
+
+    @property
+    def weights(self) -> tuple[float, ...]:
+        """N: each cable's whole weight at the run's density, the most its own weight can press it."""
+        return tuple(self.options.density * -GRAVITY[2] * np.pi * c.radius ** 2 * c.length for c in self.cables)
 
     @property
     def envs(self) -> int:
@@ -76,7 +82,7 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     cables, recorded_q = tally.results()
     times = np.arange(1, frames + 1) / options.frame_rate
     return CableRun(mech.name, cables, times, tuple(t.source for t in trajectories), job.who, recorded_q, options,
-                    meshes.warnings if meshes else ())
+                    meshes.warnings if meshes else (), tuple((j.name, j.revolute) for j in mech.active_joints))
 
 
 def run_frames(seconds: float, options: CableOptions) -> int:
@@ -214,7 +220,7 @@ class _CableEnvs:
                  values: bool):
         self.solver, self.options, self.record = solver, options, record
         self.state, self.envs = solver.state(envs), envs
-        self.extremes = [RunningExtremes(info, len(solver.slots), envs, frames, record, values)
+        self.extremes = [RunningExtremes(info, len(solver.slots), envs, frames, record, values, solver.dof)
                          for info in solver.cables]
 
     def start(self) -> None:
@@ -227,7 +233,7 @@ class _CableEnvs:
         self.solver.step(self.state, qs, 1 / self.options.frame_rate)
         last = self.envs - 1
         for c, (x, stats) in enumerate(zip(self.extremes, self.solver.statistics(self.state))):
-            x.add(stats, t, lambda c=c: self.solver.points(self.state, c, min(self.record, last)))
+            x.add(stats, t, qs[:, -1], lambda c=c: self.solver.points(self.state, c, min(self.record, last)))
 
     def results(self) -> tuple[CableResult, ...]:
         totals = self.solver.totals(self.state)

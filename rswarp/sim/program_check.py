@@ -91,14 +91,15 @@ class ProgramJob(Job):
 
 
 def program_tools(mech, environment: tuple[Environment, ...], device: str = "cpu", threads: int | None = None,
-                  padding: float = 0.0) -> ProgramTools:
-    """The collision kernels of the links and meshes (none for a robot without link meshes; pairs
-    closer than ``padding`` count as touching), and the points whose height is the floor's check."""
+                  padding: float = 0.0, leads: tuple = ()) -> ProgramTools:
+    """The collision kernels of the links, meshes and cable ``leads`` (``hose_leads``; none for a
+    robot without link meshes; pairs closer than ``padding`` count as touching), and the points
+    whose height is the floor's check."""
     from ..kinematics.kinematics import Kinematics
 
     kin = Kinematics(mech, device, threads=threads)
     try:
-        bodies = collision_bodies(mech, environment)
+        bodies = collision_bodies(mech, environment, leads)
     except InputError:
         if environment:
             raise InputError("--env meshes are checked against the links' meshes; this robot has none") from None

@@ -1,8 +1,10 @@
 """Random programs a robot could run: waypoints drawn within the limits that are free of the
 robot's own links and of the floor, joined by joint moves whose every sample is free too, checked
-with the collision kernels (``program_check``). A robot without link meshes checks only the
-floor, against its joint and flange points. A cable run over them no longer drives the arm
-through the floor or through itself."""
+with the collision kernels (``program_check``). Where a link clamps a cable, the clamp and the
+cable's lead out of it count as part of the link (``hose_leads``): a move that drives another
+link into them would press the cable against its clamp. A robot without link meshes checks only
+the floor, against its joint and flange points. A cable run over them no longer drives the arm
+through the floor, through itself, or into its own dress pack's clamps."""
 
 from __future__ import annotations
 
@@ -11,6 +13,8 @@ import numpy as np
 from ..errors import InputError
 from ..kinematics.trajectory import WAYPOINT_SPAN, Trajectory, joint_speed_limits
 from ..options import checked
+from .bodies import hose_leads
+from .cable_solver import CableOptions, allowed_bend_radius
 from .program_check import ProgramTools, checked_pairs, lowest, program_tools
 
 CANDIDATES = 8  # waypoints drawn at once; the first whose move is free is taken
@@ -51,8 +55,7 @@ def random_program(mech, seconds: float, seed: int, floor: float = 0.0, tools: P
     if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
         raise InputError("every active joint needs finite limits for a random program")
     if tools is None:
-        tools = program_tools(mech, (), padding=PADDING)
-        pairs = checked_pairs(mech, tools)
+        tools, pairs = _tools(mech, CableOptions())
     vmax = joint_speed_limits(mech)
     rng = np.random.default_rng([seed, 0xCAB1E, 1])
     home = np.clip(mech.home_position(), lower, upper)
@@ -83,9 +86,16 @@ def random_program(mech, seconds: float, seed: int, floor: float = 0.0, tools: P
                       until=float(seconds))
 
 
-def random_programs(mech, envs: int, seconds: float, seed: int, floor: float = 0.0) -> list[Trajectory]:
+def _tools(mech, options: CableOptions) -> tuple[ProgramTools, np.ndarray | None]:
+    """The checks' kernels, the cables' clamps and leads (at ``options``' allowed bend radius)
+    among the bodies, and the pairs checked."""
+    tools = program_tools(mech, (), padding=PADDING, leads=hose_leads(mech, lambda c: allowed_bend_radius(c, options)))
+    return tools, checked_pairs(mech, tools)
+
+
+def random_programs(mech, envs: int, seconds: float, seed: int, floor: float = 0.0,
+                    options: CableOptions = CableOptions()) -> list[Trajectory]:
     """One random program per environment, from seeds ``seed``, ``seed + 1``, ...; the kernels
-    built once for all."""
-    tools = program_tools(mech, (), padding=PADDING)
-    pairs = checked_pairs(mech, tools)
+    built once for all; cable clamps' leads as long as ``options``' allowed bend radius makes them."""
+    tools, pairs = _tools(mech, options)
     return [random_program(mech, seconds, seed + e, floor, tools, pairs) for e in range(envs)]
