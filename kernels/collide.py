@@ -198,7 +198,6 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, scalar):
     pair_verdict, _ = pair_functions(scalar)
     witness_cell, _ = witness_functions(scalar)
     body_pose, body_centre = body
-    _, _, apply, _ = pose_functions(scalar)
     n = max(len(chain.parent), 1)
 
     @wp.kernel(enable_backward=False, module=module)

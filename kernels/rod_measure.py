@@ -42,6 +42,7 @@ from .rod_types import (
     V6,
     BodyWork,
     Contact,
+    Forces,
     Q,
     RodParams,
 )
@@ -126,15 +127,17 @@ def _attachments(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int
 def _wear(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
           count: wp.array2d(dtype=wp.int32), row: int, h: F64, e: int, stats_out: wp.array3d(dtype=F64),
           wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
-          wear_out: wp.array3d(dtype=F64)) -> int:
+          wear_out: wp.array3d(dtype=F64)):
     """Body k's contacts at the step's end: normal force and sliding into the wear map. The slot a
-    contact is crushed into, or -1."""
+    contact is crushed into, or -1, and each contact's normal force."""
     c = params.cable[k]
     total = F64(0.0)
     crushed = int(-1)
+    forces = Forces()
     for i in range(count[row, k]):
         ct = contacts[row, k * MAX_CONTACTS + i]
         force, slide, crush = contact_outcome(ct, b.x, b.q, params.contact_stiff[k])
+        forces[i] = force
         if crush:
             crushed = ct.slot
         if force > F64(0.0):
@@ -147,25 +150,22 @@ def _wear(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Con
     if total > F64(0.0):
         wear_time_out[e, k] = wear_time_out[e, k] + h
         wear_peak_out[e, k] = wp.max(wear_peak_out[e, k], total)
-    return crushed
+    return crushed, forces
 
 
 @wp.func
-def _pinch(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
+def _pinch(params: RodParams, k: int, forces: Forces, contacts: wp.array2d(dtype=Contact),
            count: wp.array2d(dtype=wp.int32), row: int, e: int, stats_out: wp.array3d(dtype=F64)):
-    """Body k's pinch at the step's end into its cable's extremes: over each pair of its contacts,
-    the lesser normal force times how far their normals oppose (0 for a segment that only rests or
-    leans on things; the lesser force where two surfaces press it from opposite sides), and the
-    pair's slots."""
+    """Body k's pinch at the step's end into its cable's extremes: over each pair of its contacts
+    (normal ``forces`` from ``_wear``), the lesser force times how far their normals oppose (0 for
+    a segment that only rests or leans on things; the lesser force where two surfaces press it
+    from opposite sides), and the pair's slots."""
     c = params.cable[k]
-    stiffness = params.contact_stiff[k]
     for i in range(count[row, k]):
         ci = contacts[row, k * MAX_CONTACTS + i]
-        fi, si, xi = contact_outcome(ci, b.x, b.q, stiffness)
         for j in range(i + 1, count[row, k]):
             cj = contacts[row, k * MAX_CONTACTS + j]
-            fj, sj, xj = contact_outcome(cj, b.x, b.q, stiffness)
-            squeeze = wp.min(fi, fj) * wp.max(-wp.dot(ci.n, cj.n), F64(0.0))
+            squeeze = wp.min(forces[i], forces[j]) * wp.max(-wp.dot(ci.n, cj.n), F64(0.0))
             if squeeze > stats_out[e, c, PINCH]:
                 stats_out[e, c, PINCH] = squeeze
                 stats_out[e, c, PINCH_AT] = F64(0.5) * (ci.arc + cj.arc)
@@ -203,8 +203,9 @@ def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
         if below_out[e, k] == 1 and below == 0:
             cycles_out[e, k] = cycles_out[e, k] + 1
         below_out[e, k] = below
-        slot = _wear(params, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out, wear_out)
-        _pinch(params, k, b, contacts, count, row, e, stats_out)
+        slot, forces = _wear(params, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out,
+                             wear_out)
+        _pinch(params, k, forces, contacts, count, row, e, stats_out)
         if slot >= 0:
             crushed = slot
         before = after

@@ -16,6 +16,7 @@ V6 = wp.types.vector(6, F64)
 BIG = 1.0e30  # "nothing within reach"
 TINY = 1.0e-12
 MAX_CONTACTS = 4  # per body and substep: the deepest are kept
+Forces = wp.types.vector(MAX_CONTACTS, wp.float64)  # a body's contacts' normal forces, N
 
 # an environment's state; CRUSHED + slot: the robot pressed a cable into that slot half its radius deep
 RUNNING, NOT_FINITE, RUNAWAY, CRUSHED = 0, 1, 2, 3
