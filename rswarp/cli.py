@@ -108,6 +108,8 @@ def _call(args) -> int:
         print(json_text(out.doc))
     elif out.text:
         print(out.text)
+    for line in out.errors:
+        print(line, file=sys.stderr)
     return out.code
 
 

@@ -91,8 +91,10 @@ def build(p: argparse.ArgumentParser) -> None:
 
 def program(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", metavar="ROBOT")
-    p.add_argument("module", metavar="MODULE", help="a RAPID module: .mod, .modx, .prg or .sys")
-    p.add_argument("--routine", default="main", help="the routine to run (default main)")
+    p.add_argument("programs", nargs="+", metavar="PATH",
+                   help="the RAPID task: module files (.mod, .modx, .prg, .sys), a folder of them (a backup's "
+                        "RAPID/TASK1), or a .pgf program file")
+    _task(p)
     p.add_argument("--csv", metavar="CSV", help="write the trajectory as the CSV rswarp cable --trajectory reads")
     p.add_argument("--env", dest="environment", action="append", default=[], metavar="MESH@x,y,z",
                    help=f"a mesh placed in the world ({LENGTH}), checked against every link; repeat for more")
@@ -100,6 +102,18 @@ def program(p: argparse.ArgumentParser) -> None:
                    help="skip the link pairs this SRDF disables (rswarp collisions writes one)")
     p.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
     p.add_argument("--video", metavar="FILE", help="also render the motion as a .gif or .mp4, links in collision red")
+
+
+def _task(p: argparse.ArgumentParser) -> None:
+    """How a RAPID task runs: its entry routine, its inputs, its main loop's passes, external axes."""
+    p.add_argument("--routine", default="main", help="the routine to run (default main)")
+    p.add_argument("--io", action="append", metavar="NAME=VALUE",
+                   help="an I/O signal's value (default 0 for every signal); repeat for more")
+    p.add_argument("--cycles", type=argument("cycles"), default=1,
+                   help="passes of a main loop that never ends (WHILE TRUE), or runs of the routine (default 1)")
+    p.add_argument("--external-axes", choices=["error", "ignore"], default="error",
+                   help="a target that moves an axis the robot does not have (a track, a positioner): an error "
+                        "(default), or run the robot's own axes with a warning")
 
 
 def cable(p: argparse.ArgumentParser) -> None:
@@ -112,9 +126,10 @@ def cable(p: argparse.ArgumentParser) -> None:
     how.add_argument("--random", action="store_true",
                      help="random programs, one per environment (seeded by --seed): smooth moves within the limits "
                           "that keep the robot clear of itself and of the floor")
-    how.add_argument("--program", metavar="MODULE",
-                     help="a RAPID module whose routine (--routine) every environment runs (rswarp program)")
-    p.add_argument("--routine", default="main", help="with --program: the routine to run (default main)")
+    how.add_argument("--program", nargs="+", metavar="PATH",
+                     help="a RAPID task (module files, a folder, a .pgf) whose routine (--routine) every environment "
+                          "runs (rswarp program)")
+    _task(p)
     p.add_argument("--video", metavar="FILE", help="also render the worst environment (or --video-env) as a .gif "
                                                    "or .mp4: the robot, and the hose coloured by --video-color")
     p.add_argument("--video-env", type=int, metavar="K", help="the environment --video renders")

@@ -84,6 +84,7 @@ BOUNDS: dict[str, Bound] = {
     "armature": Bound(0.0, 1e6, unit="kg m^2"),
     "effort": Bound(0.0, 1e7, strict=True, unit="N m"),
     "velocity": Bound(0.0, 1000.0, strict=True, unit="rad/s"),
+    "cycles": Bound(1, 1000, whole=True, why="passes of a main loop; a cycle's time needs one"),
     "max-file-size": Bound(0.0, 1 << 20, strict=True, unit="MiB", why="1 TiB"),
 }
 

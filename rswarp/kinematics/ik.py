@@ -129,19 +129,26 @@ def pick(sol: IKSolutions, conf) -> tuple[np.ndarray, np.ndarray]:
 
 
 
-def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype) -> IKSolutions:
-    """The closed form's eight branches of ``poses`` on the launcher's device."""
-    from ..kernels.ik import arm_ik_kernel
-    from ..sim.launch import init_warp
-
-    wp = init_warp()
-    kernel = arm_ik_kernel(arm, wp.float32 if dtype == np.float32 else wp.float64)
+def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype, kernel=None) -> IKSolutions:
+    """The closed form's eight branches of ``poses`` on the launcher's device (``kernel``: the
+    arm's, when the caller keeps it; else looked up by the arm's content)."""
+    if kernel is None:
+        kernel = ik_kernel(arm, dtype)
     n = len(poses)
     q = np.empty((n, BRANCHES, 6), dtype)
     conf = np.empty((n, BRANCHES, CONF), np.int8)  # small codes: a quarter of the memory traffic
     status = np.empty((n, BRANCHES), np.int8)
     launcher.launch(kernel, n, inputs=[poses], outputs=[q, conf, status])
     return IKSolutions(q, conf, status)
+
+
+def ik_kernel(arm: ArmConstants, dtype):
+    """The arm's inverse kinematics kernel in one precision."""
+    from ..kernels.ik import arm_ik_kernel
+    from ..sim.launch import init_warp
+
+    wp = init_warp()
+    return arm_ik_kernel(arm, wp.float32 if dtype == np.float32 else wp.float64)
 
 
 def confdata(arm: ArmConstants, q: np.ndarray, poses: np.ndarray, links: tuple[int, ...]) -> np.ndarray:

@@ -170,21 +170,33 @@ class Kinematics:
         self.launcher.close()
 
     # -- plumbing ----------------------------------------------------------------------------------
+    def solutions64(self, poses):
+        """Every solution of ``(N, 4, 4)`` flange poses in float64 with the whole turns of the axes
+        that turn without end (an arm's 4 and 6, a palletizer's last) that fit their limits."""
+        poses = np.ascontiguousarray(poses, np.float64).reshape(-1, 4, 4)
+        return self._turned(self._solve(self._ik_form(), poses, np.float64))
+
     def _ik(self, poses, conf, dtype):
         poses = np.ascontiguousarray(poses, dtype).reshape(-1, 4, 4)
         sol = self._solve(self._ik_form(), poses, dtype)
         if conf is None:
             return sol
+        return ik.pick(self._turned(sol), conf)
+
+    def _turned(self, sol):
         form = self._ik_form()
         if isinstance(form, ik.ArmConstants):
-            sol = ik.turns(sol, *self.mech.bounds())
-        elif isinstance(form, ik_planar.PlanarArm):
-            sol = ik.turns(sol, *self.mech.bounds(), axes=(form.last,), conf_columns=(2,))
-        return ik.pick(sol, conf)
+            return ik.turns(sol, *self.mech.bounds())
+        if isinstance(form, ik_planar.PlanarArm):
+            return ik.turns(sol, *self.mech.bounds(), axes=(form.last,), conf_columns=(2,))
+        return sol
 
     def _solve(self, form, poses, dtype):
         if isinstance(form, ik.ArmConstants):
-            return ik.closed_form(self.launcher, form, poses, dtype)
+            key = ("ik", np.dtype(dtype).str)
+            if key not in self._kernels:
+                self._kernels[key] = ik.ik_kernel(form, dtype)
+            return ik.closed_form(self.launcher, form, poses, dtype, self._kernels[key])
         if isinstance(form, ik_planar.PlanarArm):
             return ik_planar.solve(self.launcher, form, poses, *self.mech.bounds(), self.dof)
         return ik_numeric.solve(self, poses.astype(np.float64))

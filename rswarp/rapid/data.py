@@ -1,15 +1,23 @@
-"""RAPID's motion data as rswarp uses it, in SI: poses (RAPID: mm, quaternion [q1, q2, q3, q4] =
-[w, x, y, z]), tools, work objects, robtargets, jointtargets, speeds and zones; the predefined
-data every controller has (v5 ... v7000, vmax, z0 ... z200, fine, tool0, wobj0, load0); and the
-check that a record has the shape of its type."""
+"""RAPID's motion data as rswarp uses it, in SI, from the interpreter's records: poses (RAPID: mm,
+quaternion [q1, q2, q3, q4] = [w, x, y, z]), tools, work objects, robtargets, jointtargets,
+speeds and zones; each checked as the controller checks it before a move (a quaternion normalized
+within 0.1, numbers finite, speeds positive), a ``Mismatch`` saying what is wrong otherwise."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from .values import Mismatch, Rec
+
 NO_VALUE = 9e9  # RAPID's "not used" (extax, a jointtarget's unused axes)
+UNUSED = 8.9e9  # a value this large is "not used"
+MAX_MM = 1e6  # 1 km, the bound of every length rswarp reads
+MAX_AXIS = 1e5  # degrees or mm of a joint value
+QUAT_SLACK = 0.1  # |q1²+q2²+q3²+q4² - 1| the controller normalizes; beyond, it refuses the orientation
+MAX_SPEED = 1e5  # mm/s or deg/s
 
 
 @dataclass(frozen=True)
@@ -33,9 +41,17 @@ IDENTITY = Pose((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0))
 
 
 @dataclass(frozen=True)
+class Load:
+    mass: float  # kg
+    cog: tuple[float, float, float]  # m, in the tool's frame
+    inertia: tuple[float, float, float]  # kg m², about the axes of moment
+
+
+@dataclass(frozen=True)
 class Tool:
     robhold: bool
     tframe: Pose
+    load: Load | None = None
 
 
 @dataclass(frozen=True)
@@ -49,16 +65,23 @@ class WorkObject:
     def matrix(self) -> np.ndarray:
         return self.uframe.matrix() @ self.oframe.matrix()
 
+    @property
+    def coordinated(self) -> bool:
+        """Moved by a mechanical unit (ufprog FALSE): its frame follows axes rswarp does not have."""
+        return not self.ufprog
+
 
 @dataclass(frozen=True)
 class RobTarget:
     pose: Pose  # the TCP in the work object
     conf: tuple[int, int, int, int]  # cf1, cf4, cf6, cfx
+    extax: tuple[float | None, ...] = (None,) * 6  # mm or degrees; None: not used
 
 
 @dataclass(frozen=True)
 class JointTarget:
-    robax: tuple[float, ...]  # degrees (rotational) or mm (linear), as RAPID writes them
+    robax: tuple[float | None, ...]  # degrees (rotational) or mm (linear), as RAPID writes them; None: 9E9
+    extax: tuple[float | None, ...] = (None,) * 6
 
 
 @dataclass(frozen=True)
@@ -71,113 +94,97 @@ class Speed:
 class Zone:
     fine: bool
     pzone_tcp: float  # m
+    pzone_ori: float = 0.0  # m
+    zone_ori: float = 0.0  # rad
 
 
-# -- shapes --------------------------------------------------------------------------------------
-
-# Each record type: the shape of its aggregate. "n" a number, "b" a bool, "s" a string, an int k a
-# list of k numbers, a tuple a nested record.
-_POSE = (3, 4)
-SHAPES = {
-    "pose": _POSE,
-    "tooldata": ("b", _POSE, ("n", 3, 4, "n", "n", "n")),
-    "wobjdata": ("b", "b", "s", _POSE, _POSE),
-    "robtarget": (3, 4, 4, 6),
-    "jointtarget": (6, 6),
-    "speeddata": 4,
-    "zonedata": ("b", "n", "n", "n", "n", "n", "n"),
-    "loaddata": ("n", 3, 4, "n", "n", "n"),
-    "confdata": 4,
-    "pos": 3,
-    "orient": 4,
-}
-FIELDS = {
-    "tooldata": "[robhold, tframe, tload]",
-    "wobjdata": "[robhold, ufprog, ufmec, uframe, oframe]",
-    "robtarget": "[trans, rot, robconf, extax]",
-    "jointtarget": "[robax, extax]",
-    "speeddata": "[v_tcp, v_ori, v_leax, v_reax]",
-    "zonedata": "[finep, pzone_tcp, pzone_ori, pzone_eax, zone_ori, zone_leax, zone_reax]",
-}
-
-
-def mismatch(value, shape, where: str = "") -> str | None:
-    """Why ``value`` does not have ``shape``, or None."""
-    if shape == "n":
-        return None if isinstance(value, float) else f"{where or 'the value'} must be a number"
-    if shape == "b":
-        return None if isinstance(value, bool) else f"{where or 'the value'} must be TRUE or FALSE"
-    if shape == "s":
-        return None if isinstance(value, str) else f"{where or 'the value'} must be a string"
-    parts = ("n",) * shape if isinstance(shape, int) else shape
-    if not isinstance(value, list) or len(value) != len(parts):
-        return f"{where or 'the record'} must have {len(parts)} parts"
-    for k, (v, s) in enumerate(zip(value, parts)):
-        why = mismatch(v, s, f"{where or 'part'}[{k + 1}]" if where else f"part {k + 1}")
-        if why:
-            return why
-    return None
-
-
-# -- records from checked aggregates ----------------------------------------------------------------
-
-def pose(value) -> Pose:
-    (x, y, z), q = value
-    q = np.asarray(q, float)
-    norm = float(np.linalg.norm(q))
-    unit = tuple(float(v) for v in q / norm) if norm > 0 else (1.0, 0.0, 0.0, 0.0)
-    return Pose((float(x) / 1000.0, float(y) / 1000.0, float(z) / 1000.0), unit)
-
-
-def quaternion_norm(value) -> float:
-    """The norm of a record's quaternion (pose [trans, rot] or robtarget [trans, rot, ...])."""
-    return float(np.linalg.norm(value[1]))
-
-
-def tool(value) -> Tool:
-    return Tool(value[0], pose(value[1]))
-
-
-def work_object(value) -> WorkObject:
-    return WorkObject(value[0], value[1], value[2], pose(value[3]), pose(value[4]))
-
-
-def robtarget(value) -> RobTarget:
-    return RobTarget(pose(value[:2]), tuple(int(round(c)) for c in value[2]))
-
-
-def jointtarget(value) -> JointTarget:
-    return JointTarget(tuple(value[0]))
-
-
-def speed(value) -> Speed:
-    return Speed(value[0] / 1000.0, float(np.radians(value[1])))
-
-
-def zone(value) -> Zone:
-    return Zone(value[0], value[1] / 1000.0)
-
-
-# -- predefined data -----------------------------------------------------------------------------------
-
-def predefined() -> dict[str, tuple[str, object]]:
-    """Name -> (type, aggregate) of the data every controller predefines (RAPID reference:
-    speeddata and zonedata tables; tool0, wobj0 and load0 are the flange, the world and no load)."""
-    out: dict[str, tuple[str, object]] = {}
-    for v in (5, 10, 20, 30, 40, 50, 60, 80, 100, 150, 200, 300, 400, 500, 600, 800, 1000, 1500, 2000, 2500, 3000,
-              4000, 5000, 6000, 7000):
-        out[f"v{v}"] = ("speeddata", [float(v), 500.0, 5000.0, 1000.0])
-    out["vmax"] = ("speeddata", [5000.0, 500.0, 5000.0, 1000.0])
-    out["fine"] = ("zonedata", [True, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-    for z, (tcp, ori, eax, zori) in {0: (0.3, 0.3, 0.3, 0.03), 1: (1, 1, 1, 0.1), 5: (5, 8, 8, 0.8),
-                                     10: (10, 15, 15, 1.5), 15: (15, 23, 23, 2.3), 20: (20, 30, 30, 3.0),
-                                     30: (30, 45, 45, 4.5), 40: (40, 60, 60, 6.0), 50: (50, 75, 75, 7.5),
-                                     60: (60, 90, 90, 9.0), 80: (80, 120, 120, 12.0), 100: (100, 150, 150, 15.0),
-                                     150: (150, 225, 225, 23.0), 200: (200, 300, 300, 30.0)}.items():
-        out[f"z{z}"] = ("zonedata", [False, float(tcp), float(ori), float(eax), float(zori), float(eax), float(zori)])
-    origin = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]]
-    load0 = [0.001, [0.0, 0.0, 0.001], [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0]
-    out["load0"] = ("loaddata", load0)
-    out["tool0"] = ("tooldata", [True, origin, load0])
-    out["wobj0"] = ("wobjdata", [False, True, "", origin, origin])
+def _numbers(values, what: str, bound: float) -> tuple[float, ...]:
+    out = tuple(float(v) for v in values)
+    for v in out:
+        if not math.isfinite(v):
+            raise Mismatch(f"{what} holds {v}: every number must be finite")
+        if abs(v) > bound:
+            raise Mismatch(f"{what} holds {v:g}, beyond {bound:g}")
     return out
+
+
+def quaternion(value: Rec, what: str) -> tuple[float, float, float, float]:
+    """A unit quaternion from an orient, normalized as the controller does; ``Mismatch`` when its
+    squares sum farther than ``QUAT_SLACK`` from 1."""
+    q = _numbers(value.vals, f"the quaternion of {what}", 1e3)
+    n2 = sum(c * c for c in q)
+    if abs(n2 - 1.0) > QUAT_SLACK:
+        raise Mismatch(f"the quaternion of {what} is not normalized: q1²+q2²+q3²+q4² = {n2:.4g} (the controller "
+                       f"accepts 1 ± {QUAT_SLACK:g})")
+    n = math.sqrt(n2)
+    return tuple(c / n for c in q)
+
+
+def pose(value: Rec, what: str) -> Pose:
+    """A pose from a record whose first two components are a pos and an orient."""
+    x, y, z = _numbers(value.vals[0].vals, f"the position of {what}", MAX_MM)
+    return Pose((x / 1000.0, y / 1000.0, z / 1000.0), quaternion(value.vals[1], what))
+
+
+def axes(value: Rec, what: str, bound: float) -> tuple[float | None, ...]:
+    """Axis values (mm or degrees), None for 9E9."""
+    out = []
+    for v in value.vals:
+        v = float(v)
+        if not math.isfinite(v):
+            raise Mismatch(f"{what} holds {v}: every number must be finite")
+        out.append(None if abs(v) >= UNUSED else v)
+        if out[-1] is not None and abs(v) > bound:
+            raise Mismatch(f"{what} holds {v:g}, beyond {bound:g}")
+    return tuple(out)
+
+
+def robtarget(value: Rec, what: str) -> RobTarget:
+    conf = []
+    for c in _numbers(value.vals[2].vals, f"the confdata of {what}", 1e3):
+        if c != round(c):
+            raise Mismatch(f"the confdata of {what} holds {c:g}: cf1, cf4, cf6 and cfx are whole numbers")
+        conf.append(int(round(c)))
+    return RobTarget(pose(value, what), tuple(conf), axes(value.vals[3], f"the extax of {what}", MAX_MM))
+
+
+def jointtarget(value: Rec, what: str) -> JointTarget:
+    return JointTarget(axes(value.vals[0], f"the robax of {what}", MAX_AXIS),
+                       axes(value.vals[1], f"the extax of {what}", MAX_MM))
+
+
+def load(value: Rec, what: str) -> Load:
+    mass, ix, iy, iz = _numbers((value.vals[0],) + value.vals[3:], f"the load of {what}", 1e6)
+    cog = _numbers(value.vals[1].vals, f"the load's centre of gravity of {what}", MAX_MM)
+    if mass < 0 or min(ix, iy, iz) < 0:
+        raise Mismatch(f"the load of {what} has a negative mass or inertia")
+    quaternion(value.vals[2], f"the load's axes of moment of {what}")
+    return Load(mass, tuple(c / 1000.0 for c in cog), (ix, iy, iz))
+
+
+def tool(value: Rec, what: str) -> Tool:
+    return Tool(bool(value.vals[0]), pose(value.vals[1], what), load(value.vals[2], what))
+
+
+def work_object(value: Rec, what: str) -> WorkObject:
+    return WorkObject(bool(value.vals[0]), bool(value.vals[1]), str(value.vals[2]),
+                      pose(value.vals[3], f"{what}.uframe"), pose(value.vals[4], f"{what}.oframe"))
+
+
+def speed(value: Rec, what: str) -> Speed:
+    v_tcp, v_ori, v_leax, v_reax = _numbers(value.vals, what, MAX_SPEED)
+    if not v_tcp > 0 or not v_ori > 0:
+        raise Mismatch(f"{what} has v_tcp {v_tcp:g} mm/s and v_ori {v_ori:g} deg/s: both must be above 0")
+    if v_leax < 0 or v_reax < 0:
+        raise Mismatch(f"{what} has a negative speed for external axes")
+    return Speed(v_tcp / 1000.0, math.radians(v_ori))
+
+
+def zone(value: Rec, what: str) -> Zone:
+    sizes = _numbers(value.vals[1:], what, MAX_MM)
+    if min(sizes) < 0:
+        raise Mismatch(f"{what} has a negative zone size")
+    return Zone(bool(value.vals[0]), sizes[0] / 1000.0, sizes[1] / 1000.0, math.radians(sizes[3]))
+
+
+FINE = Zone(True, 0.0)

@@ -1,6 +1,7 @@
 """Reading a RAPID module file (.mod, .modx, .prg, .sys): bounded bytes, any encoding a controller
-or RobotStudio writes, the ``%%%`` header blanked, then lark's LALR parser on ``rapid.lark``. No
-entity, include or network exists in RAPID; a parse error is ``file:line: message``."""
+or RobotStudio writes, the ``%%%`` header blanked, brackets and signs bounded, then lark's LALR
+parser on ``rapid.lark`` building ``nodes`` as it goes (``build.py``). No entity, include or
+network exists in RAPID; a parse error is ``file:line: message``."""
 
 from __future__ import annotations
 
@@ -9,22 +10,40 @@ import functools
 import re
 from pathlib import Path
 
-from ..errors import Diagnostic, RsxmlError
+import numpy as np
+
 from ..files import read_regular
+from . import nodes
+from .build import DECLARATION, STRING, Builder, literal_regex
+from .errors import fail
 
 SUFFIXES = (".mod", ".modx", ".prg", ".sys")
 MAX_NESTING = 64  # brackets and signs in a row: records nest a few deep; more is not a program
 _HEADER = re.compile(r"\A\s*%%%.*?%%%", re.S)
 _BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"), (codecs.BOM_UTF8, "utf-8-sig"),
          (codecs.BOM_UTF16_LE, "utf-16"), (codecs.BOM_UTF16_BE, "utf-16"))
+_QUOTED = re.compile(STRING + r"|![^\n]*")
+_SIGNS = re.compile(r"(?:[-+]\s*){%d,}" % (MAX_NESTING + 1))
+_OPEN, _CLOSE = np.frombuffer(b"([{", np.uint8), np.frombuffer(b")]}", np.uint8)
 
 
 @functools.lru_cache(maxsize=1)
-def parser():
+def _grammar() -> str:
+    text = (Path(__file__).parent / "rapid.lark").read_text(encoding="utf-8")
+    slash = lambda r: r.replace("/", "\\/")  # noqa: E731
+    return text + f"\nLITAGG.3: /{slash(literal_regex())}/\nLITDECL.5: /{slash(DECLARATION)}/\n"
+
+
+def _parser(path: str):
     from lark import Lark
 
-    grammar = (Path(__file__).parent / "rapid.lark").read_text(encoding="utf-8")
-    return Lark(grammar, parser="lalr", propagate_positions=True, maybe_placeholders=False)
+    return Lark(_grammar(), parser="lalr", maybe_placeholders=False, transformer=Builder(path), cache=False)
+
+
+@functools.lru_cache(maxsize=1)
+def _shared():
+    """One parser, built once (its tables take a while); its builder is told each file's name."""
+    return _parser("")
 
 
 def decode(data: bytes, path: str) -> str:
@@ -35,9 +54,9 @@ def decode(data: bytes, path: str) -> str:
             try:
                 return data.decode(codec)
             except UnicodeDecodeError as exc:
-                raise RsxmlError(Diagnostic(path, 0, f"not valid {codec} text: {exc.reason}")) from None
+                fail(path, 0, f"not valid {codec} text: {exc.reason}")
     if b"\x00" in data:
-        raise RsxmlError(Diagnostic(path, 0, "not a RAPID text file (it holds NUL bytes)"))
+        fail(path, 0, "not a RAPID text file (it holds NUL bytes)")
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:
@@ -50,55 +69,59 @@ def blank_header(text: str) -> str:
 
 
 def check_nesting(text: str, path: str) -> None:
-    """``RsxmlError`` at the line where brackets, or signs in a row, nest deeper than
-    ``MAX_NESTING`` (the parse and the evaluation recurse that deep)."""
-    depth, signs, line, quoted, comment = 0, 0, 1, False, False
-    for ch in text:
-        if ch == "\n":
-            line, comment = line + 1, False
-        if comment or (quoted and ch != '"'):
-            continue
-        if ch == '"':
-            quoted = not quoted
-        elif ch == "!":
-            comment = True
-        elif ch in "([{":
-            depth += 1
-        elif ch in ")]}":
-            depth -= 1
-        if ch in "+-":
-            signs += 1
-        elif not ch.isspace():
-            signs = 0
-        if depth > MAX_NESTING or signs > MAX_NESTING:
-            raise RsxmlError(Diagnostic(path, line, f"nested deeper than {MAX_NESTING}: not a RAPID program rswarp "
-                                                    "reads"))
+    """A ``file:line`` error where brackets, or signs in a row, nest deeper than ``MAX_NESTING``
+    (the evaluation recurses that deep); strings and comments do not count, however they are
+    quoted."""
+    bare = _QUOTED.sub(lambda m: " " * len(m.group()), text)
+    signs = _SIGNS.search(bare)
+    data = np.frombuffer(bare.encode("utf-8", "replace"), np.uint8)
+    depth = np.cumsum(np.isin(data, _OPEN).astype(np.int32) - np.isin(data, _CLOSE).astype(np.int32))
+    deep = np.flatnonzero(depth > MAX_NESTING)
+    places = []
+    if len(deep):
+        places.append(int(np.count_nonzero(data[:deep[0]] == 10)) + 1)
+    if signs:
+        places.append(bare.count("\n", 0, signs.start()) + 1)
+    if places:
+        fail(path, min(places), f"nested deeper than {MAX_NESTING}: not a RAPID program rswarp reads")
 
 
-def parse_text(text: str, path: str):
-    """The lark tree of a module's text; ``RsxmlError`` at the line of a syntax error."""
+def parse_text(text: str, path: str) -> list[nodes.Module]:
+    """The modules of a file's text; ``RsxmlError`` at the line of a syntax error."""
     from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
-    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    text = blank_header(text.replace("\r\n", "\n").replace("\r", "\n"))
     check_nesting(text, path)
+    parser = _shared()
+    parser.options.transformer.path = path
     try:
-        return parser().parse(blank_header(text))
+        modules = parser.parse(text)
     except UnexpectedToken as exc:
-        got = "the end of the file" if exc.token.type == "$END" else repr(str(exc.token))
-        raise RsxmlError(Diagnostic(path, exc.line, f"RAPID syntax: unexpected {got}")) from None
+        got = "the end of the file" if exc.token.type == "$END" else repr(str(exc.token)[:40])
+        fail(path, exc.line, f"RAPID syntax: unexpected {got}")
     except UnexpectedCharacters as exc:
-        raise RsxmlError(Diagnostic(path, exc.line, f"RAPID syntax: unexpected character {exc.char!r}")) from None
+        fail(path, exc.line, f"RAPID syntax: unexpected character {exc.char!r}")
     except (UnexpectedEOF, UnexpectedInput) as exc:
-        raise RsxmlError(Diagnostic(path, getattr(exc, "line", 0) or 0, "RAPID syntax: the module ends early")) \
-            from None
+        fail(path, getattr(exc, "line", 0) or 0, "RAPID syntax: the module ends early")
+    for module in modules:
+        _check_blocks(module, path)
+    return modules
 
 
-def read_tree(path: str | Path):
-    """(tree, text) of a module file."""
+def _check_blocks(module: nodes.Module, path: str) -> None:
+    from .build import MAX_BLOCKS
+
+    for r in module.routines:
+        if r.body.depth > MAX_BLOCKS:
+            fail(path, r.line, f"routine '{r.name}' nests IF, FOR, WHILE and TEST deeper than {MAX_BLOCKS}")
+
+
+def read_file(path: str | Path) -> tuple[list[nodes.Module], str]:
+    """(modules, text) of a module file."""
     path = Path(path)
     try:
         data = read_regular(path)
     except OSError as exc:
-        raise RsxmlError(Diagnostic(str(path), 0, f"cannot read: {exc.strerror or exc}")) from None
+        fail(str(path), 0, f"cannot read: {exc.strerror or exc}")
     text = decode(data, str(path))
     return parse_text(text, str(path)), text

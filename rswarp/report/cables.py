@@ -36,7 +36,8 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
                floor: float | None = 0.0, density: float = DENSITY, poisson: float = POISSON,
                friction: float = FRICTION, environment: list[str] | None = None, frame_rate: float = FRAME_RATE,
                substeps: int = SUBSTEPS, cable_model: str = "rod", device: str = "cpu", ray: str | None = None,
-               program: str | None = None, routine: str = "main", video: str | None = None,
+               program: list[str] | None = None, routine: str = "main", io: list[str] | None = None,
+               cycles: int = 1, external_axes: str = "error", video: str | None = None,
                video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
                progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
@@ -59,9 +60,10 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
     if program is not None:
-        from .program import program_trajectory
+        from .program import program_trajectory, signal_values
 
-        trajectories = [program_trajectory(path, program, routine, warn=warn)]
+        trajectories = [program_trajectory(path, program, routine, warn=warn, io=signal_values(io), cycles=cycles,
+                                           external_axes=external_axes)]
     elif random:  # random programs: free of the floor (at the run's floor) and of the robot itself
         from ..sim.random_program import random_programs
 

@@ -186,7 +186,7 @@ def _programs(mech: Mechanism, out: Path) -> list[str]:
         srdf = out / f"{mech.name}-collisions" / "collision_matrix.srdf"
         csv = out / f"{mech.name}-{module.stem}.csv"
         video = out / f"{mech.name}-{module.stem}.gif" if module.stem == "service" else None
-        done = run_program(str(mech.path), str(module), csv=str(csv), video=None if video is None else str(video),
+        done = run_program(str(mech.path), [str(module)], csv=str(csv), video=None if video is None else str(video),
                            video_size=DEMO_VIDEO, collision_matrix=str(srdf) if srdf.exists() else None)
         lines.append(f"   program {module.name} (rswarp program), trajectory -> {csv}:")
         lines += [f"     {line}" for line in done.text.splitlines() if not line.startswith("trajectory:")]

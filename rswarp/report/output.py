@@ -25,6 +25,7 @@ class Output:
     doc: Any
     text: str
     code: int = 0
+    errors: tuple[str, ...] = ()  # file:line lines for stderr (a report that still has something to show)
 
 
 def json_safe(value):

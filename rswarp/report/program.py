@@ -1,73 +1,107 @@
-"""``rswarp program``: a RAPID routine run through the robot model. Every target resolved (joints,
-configuration, margins), the trajectory built and checked in one batch, a table of the moves with
-their findings, and the trajectory as the CSV that ``rswarp cable --trajectory`` reads."""
+"""``rswarp program``: a RAPID task run through the robot model. Its modules read and run as the
+controller runs them (``rswarp.rapid``), every target resolved, the trajectory built
+(``kinematics.program``) and checked in one batch, a table of the moves with their findings, and
+the trajectory as the CSV that ``rswarp cable --trajectory`` reads."""
 
 from __future__ import annotations
 
-import io
+import io as _io
 from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError, RsxmlError
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
-from ..kinematics.program import Plan, plan
+from ..kinematics.program import Plan, Planner
+from ..kinematics.tcp import frames
 from ..kinematics.trajectory import Trajectory
 from ..outputs import claim, record
-from ..rapid.module import read_module
+from ..rapid.interpret import MAX_CYCLES, Interpreter
+from ..rapid.task import load_task
 from ..rsxml.documents import load_mechanism
 from ..sim.bodies import placed_environments
 from ..sim.program_check import SINGULAR, check_program
 from .output import Output, Warn, ignore, json_safe
+from .program_text import program_text
 
 FLOOR_TOLERANCE = 1e-4  # m: a link this far below the floor counts as touching it
+EXTERNAL_AXES = ("error", "ignore")
 
 
-def program_plan(path: str, module: str, routine: str = "main", device: str = "cpu", warn: Warn = ignore):
-    """(mechanism, plan) of ``routine`` in ``module`` on the robot at ``path``."""
+def signal_values(pairs: list[str] | None) -> dict[str, float]:
+    """``--io NAME=VALUE`` options as a dict; an InputError for one that is not."""
+    out = {}
+    for pair in pairs or []:
+        name, sep, value = pair.partition("=")
+        try:
+            number = float(value)
+        except ValueError:
+            number = float("nan")
+        if not sep or not name.strip().replace("_", "a").isalnum() or not np.isfinite(number):
+            raise InputError(f"--io takes NAME=VALUE (a signal and a number), not '{pair}'")
+        out[name.strip()] = number
+    return out
+
+
+def program_plan(path: str, programs, routine: str = "main", device: str = "cpu", io: dict | None = None,
+                 cycles: int = 1, external_axes: str = "error", warn: Warn = ignore, strict: bool = True):
+    """(mechanism, plan) of ``routine`` of the RAPID task in ``programs`` (module files, folders,
+    .pgf files) on the robot at ``path``; with ``strict`` an RsxmlError lists every target the
+    robot cannot take."""
+    if external_axes not in EXTERNAL_AXES:
+        raise InputError(f"--external-axes must be one of {', '.join(EXTERNAL_AXES)}")
+    if not 1 <= int(cycles) <= MAX_CYCLES:
+        raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {cycles}")
     mech, _ = load_mechanism(path)
-    mod = read_module(module, routine)
-    for w in mod.warnings:
+    task = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
+    planner = Planner(Kinematics(mech, device), external_axes=external_axes)
+    run = Interpreter(task, planner, io, int(cycles)).run(routine)
+    plan = planner.finish(run)
+    for w in (*run.warnings, *planner.notes):
         warn(str(w))
-    return mech, plan(Kinematics(mech, device), mod)
+    if strict and plan.errors:
+        raise RsxmlError(list(plan.errors))
+    return mech, plan
 
 
-def program_trajectory(path: str, module: str, routine: str = "main", warn: Warn = ignore) -> Trajectory:
-    """The routine's joint trajectory, for a cable run (``rswarp cable --program``)."""
-    _, p = program_plan(path, module, routine, warn=warn)
-    return Trajectory(str(module), p.times, p.q)
+def program_trajectory(path: str, programs, routine: str = "main", warn: Warn = ignore, **options) -> Trajectory:
+    """The task's joint trajectory, for a cable run (``rswarp cable --program``)."""
+    _, p = program_plan(path, programs, routine, warn=warn, **options)
+    return Trajectory(", ".join(p.run.files), p.times, p.q)
 
 
-def run_program(path: str, module: str, routine: str = "main", csv: str | None = None,
+def run_program(path: str, programs: list[str], routine: str = "main", csv: str | None = None,
+                io: list[str] | None = None, cycles: int = 1, external_axes: str = "error",
                 environment: list[str] | None = None, collision_matrix: str | None = None, floor: float = 0.0,
                 video: str | None = None, video_size: int = 512, device: str = "cpu", ray: str | None = None,
                 progress=None, warn: Warn = ignore) -> Output:
-    """``rswarp program``: resolve, build, check and report; ``csv`` writes the trajectory."""
+    """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory.
+    Targets the robot cannot take are all reported (exit 1), with the rest of the report."""
     from ..export.srdf import read_srdf
     from ..sim.engine import cluster_for
 
-    mech, p = program_plan(path, module, routine, device, warn)
     if csv is not None:
         claim(Path(csv))  # a file of the user's is never replaced: refused before any work
     if video is not None:
         from .videos import claim_video
 
         claim_video(video)
+    signals = signal_values(io)
+    mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
+                           cycles, external_axes, warn, strict=False)
     env = placed_environments(mech, environment or [])
     disabled = read_srdf(collision_matrix, mech.link_names) if collision_matrix else ()
+    if p.errors:
+        doc = _document(mech, p, None, [], None, csv=None)
+        return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
     tally, tools, checked = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
                                           progress=progress)
     names = tools.checker.bodies.pair_names() if tools.checker is not None else []
-    moves = [_findings(mech, p, m, tally, names, mech.si_length(floor)) for m in p.moves]
     if csv is not None:
         atomic_write(csv, trajectory_csv(mech, p).encode())
         record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])
-    doc = {"robot": mech.name, "module": p.module.name, "routine": p.module.routine,
-           "duration_s": float(p.times[-1]), "samples": len(p.times),
-           "targets": [{"name": t.name, "line": t.line, "joints": t.joints, "conf": t.conf,
-                        "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin} for t in p.targets],
-           "moves": moves, "skipped": [str(w) for w in p.module.warnings], "csv": csv,
-           "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
+    doc = _document(mech, p, tally, names, checked, csv, mech.si_length(floor))
     if video is not None:
         from .videos import program_video
 
@@ -75,32 +109,75 @@ def run_program(path: str, module: str, routine: str = "main", csv: str | None =
     return Output(json_safe(doc), program_text(mech, doc))
 
 
-def _findings(mech, p: Plan, move, tally, names, floor: float) -> dict:
+def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0) -> dict:
+    run = p.run
+    kin = Kinematics(mech)
+    ends = _move_ends(kin, p)
+    cycle = run.cycle
+    return {"robot": mech.name, "files": list(run.files), "routine": run.routine,
+            "duration_s": float(p.times[-1]), "cycle_s": p.cycle_s, "cycles_s": list(p.cycles),
+            "main_loop": f"{cycle.file}:{cycle.line}" if cycle is not None and cycle.endless else None,
+            "samples": len(p.times), "statements": run.statements,
+            "targets": [{"name": t.name, "file": t.file, "line": t.line, "joints": t.joints, "conf": t.conf,
+                         "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin} for t in p.targets],
+            "moves": [_move(mech, p, m, tally, names, floor, ends[k]) for k, m in enumerate(p.moves)],
+            "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
+            "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
+
+
+def _move_ends(kin, p: Plan) -> list:
+    """Each move's end: its joints, and its TCP in its work object (m), or None."""
+    out = []
+    for m in p.moves:
+        row = m.rows[1] - 1
+        mo = m.motion
+        if m.error or mo.kind == "wait" or mo.tool is None:
+            out.append((p.q[row] if m.error is None else None, None))
+            continue
+        fr = frames(kin.mech, mo.tool, mo.wobj)
+        link, offset = kin.flange_frame()
+        tcp = fr.relative(kin.fk64(p.q[row][None])[:, link] @ offset)[0]
+        out.append((p.q[row], tcp[:3, 3]))
+    return out
+
+
+def _move(mech, p: Plan, move, tally, names, floor: float, end) -> dict:
+    m = move.motion
+    out = {"file": m.file, "line": m.line, "routine": m.routine, "chain": list(m.chain), "instruction": m.instruction,
+           "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
+           "joints": end[0], "tcp_m": end[1], "findings": _findings(mech, p, move, tally, names, floor)}
+    if move.error:
+        out["error"] = move.error
+    return out
+
+
+def _findings(mech, p: Plan, move, tally, names, floor: float) -> list[str]:
     a, b = move.rows
     out = list(move.findings)
-    if b > a:
-        rows = slice(a, b)
-        if tally.outside[rows].any():
-            out.append(f"outside the joint limits from t = {p.times[a + np.argmax(tally.outside[rows])]:.2f} s")
-        hits = tally.hit[rows]
-        for k in np.nonzero(hits.any(axis=0))[0]:
-            first = a + int(np.argmax(hits[:, k]))
-            out.append(f"{names[k][0]} hits {names[k][1]} at t = {p.times[first]:.2f} s")
-        low = tally.low[rows]
-        if np.nanmin(low) < floor - FLOOR_TOLERANCE:
-            at = a + int(np.nanargmin(low))
-            out.append(f"{1000 * (floor - np.nanmin(low)):.0f} mm below the floor at t = {p.times[at]:.2f} s")
-        q5 = np.abs(p.q[rows, 4]) if p.q.shape[1] >= 6 else None
-        if q5 is not None and q5.min() < SINGULAR and not any("singularity" in f for f in out):
-            out.append(f"passes {np.degrees(q5.min()):.2f} deg from the wrist singularity (q5 = 0)")
-    return {"line": move.line, "instruction": move.instruction, "target": move.target, "start_s": move.start,
-            "end_s": move.end, "findings": out}
+    if tally is None or b <= a:
+        return out
+    rows = slice(a, b)
+    if tally.outside[rows].any():
+        out.append(f"outside the joint limits from t = {p.times[a + np.argmax(tally.outside[rows])]:.2f} s")
+    hits = tally.hit[rows]
+    for k in np.nonzero(hits.any(axis=0))[0]:
+        first = a + int(np.argmax(hits[:, k]))
+        out.append(f"{names[k][0]} hits {names[k][1]} at t = {p.times[first]:.2f} s")
+    low = tally.low[rows]
+    if np.nanmin(low) < floor - FLOOR_TOLERANCE:
+        at = a + int(np.nanargmin(low))
+        out.append(f"{1000 * (floor - np.nanmin(low)):.0f} mm below the floor at t = {p.times[at]:.2f} s")
+    linear = move.motion.kind in ("linear", "circular")
+    q5 = np.abs(p.q[rows, 4]) if p.q.shape[1] >= 6 and linear else None
+    if q5 is not None and q5.min() < SINGULAR and not any("singularity" in f for f in out):
+        out.append(f"passes {np.degrees(q5.min()):.2f} deg from the wrist singularity (q5 = 0)")
+    return out
 
 
 def trajectory_csv(mech, p: Plan) -> str:
     """``time,<joints>`` in the file's units, one row per sample (what ``--trajectory`` reads)."""
     joints = mech.active_joints
-    buf = io.StringIO()
+    buf = _io.StringIO()
     buf.write(",".join(["time"] + [j.name for j in joints]) + "\n")
     factors = [mech.joint_factor(j) for j in joints]
     for t, q in zip(p.times, p.q):
@@ -112,23 +189,3 @@ def _fixed(v: float) -> str:
     """Six decimals of the file's unit (1e-6 deg or mm), trailing zeros off."""
     text = f"{v:.6f}".rstrip("0").rstrip(".")
     return "0" if text in ("-0", "") else text
-
-
-def program_text(mech, doc: dict) -> str:
-    """The table a robot programmer reads: one row per move, its findings under it."""
-    lines = [f"{doc['robot']}: {doc['module']}.{doc['routine']}, {len(doc['moves'])} steps, "
-             f"{doc['duration_s']:.2f} s (every move stops at its point: zones are not blended)"]
-    rows = [["line", "instruction", "target", "start [s]", "duration [s]", "findings"]]
-    for m in doc["moves"]:
-        rows.append([str(m["line"]), m["instruction"], m["target"], f"{m['start_s']:.2f}",
-                     f"{m['end_s'] - m['start_s']:.2f}", str(len(m["findings"])) if m["findings"] else "-"])
-    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
-    found = [(m["line"], f) for m in doc["moves"] for f in m["findings"]]
-    lines.append(f"findings: {len(found)}" if found else "findings: none")
-    lines += [f"  line {line}: {f}" for line, f in found]
-    if doc["csv"]:
-        lines.append(f"trajectory: {doc['csv']}")
-    if doc.get("video"):
-        lines.append(f"video: {doc['video']['path']} ({doc['video']['frames']} frames)")
-    return "\n".join(lines)

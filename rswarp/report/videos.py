@@ -89,5 +89,5 @@ def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE) -
         hit = tally.hit[r] if tally.hit.shape[1] else np.zeros(0, bool)
         marked.append({graph.link_index(n) for k in np.nonzero(hit)[0] for n in names[k] if n in graph.links})
     frames = render_frames(mech, poses, [], size, marked=marked,
-                           legend=[(GREY, f"{plan.module.name}.{plan.module.routine}"), (RED, "in collision")])
+                           legend=[(GREY, f"{Path(plan.run.files[0]).stem}.{plan.run.routine}"), (RED, "in collision")])
     return _saved(path, frames, VIDEO_FPS)

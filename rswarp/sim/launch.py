@@ -23,6 +23,7 @@ import numpy as np
 from ..errors import InputError
 
 DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
+MIN_SPLIT = 512  # items a CPU chunk holds at least: a smaller batch costs less on one thread than handed out
 GPU_CHUNK = 1 << 20
 
 
@@ -164,7 +165,7 @@ class Launcher:
 
     def _spread(self, n: int, run) -> None:
         if self.device.is_cpu:  # at least one chunk per thread, so small batches use every core too
-            chunk = max(1, min(self.chunk, -(-n // self.threads)))
+            chunk = max(1, min(self.chunk, max(-(-n // self.threads), MIN_SPLIT)))
         else:
             chunk = max(self.chunk, GPU_CHUNK)
         spans = [(lo, min(lo + chunk, n)) for lo in range(0, n, chunk)]

@@ -1,0 +1,99 @@
+"""The joints a RAPID move goes to: a jointtarget's axes, or the inverse kinematics of a robtarget
+picked as the controller picks it (ConfJ/ConfL on: the solution with the target's confdata; off:
+the one nearest where the robot is). A target the robot cannot take is a message for a
+``file:line`` error, never a wrong pose: out of reach, only outside the limits, no solution with
+its confdata, an axis the robot does not have (a track, a positioner, a coordinated work object)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..kernels.ik import NO_LIMITS, OK, SHOULDER
+from ..rapid import data as rd
+from .ik import ArmConstants
+
+EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
+
+
+def external_axes(motion, robot: str) -> str | None:
+    """Why ``motion`` needs axes the robot does not have, or None."""
+    for name, target in zip(motion.names, motion.targets):
+        for axis, value in zip(EXTERNAL, target.extax):
+            if value is not None:
+                return (f"'{name}' puts the external axis {axis} at {value:g}: '{robot}' has no external axes "
+                        "(--external-axes ignore runs the robot's own axes)")
+    if motion.wobj is not None and motion.wobj.coordinated:
+        unit = motion.wobj.ufmec or "a mechanical unit"
+        return (f"the work object is moved by {unit} (ufprog FALSE), an axis '{robot}' does not have "
+                "(--external-axes ignore runs it as a fixed frame)")
+    return None
+
+
+def joint_values(mech, target: rd.JointTarget, name: str) -> tuple[np.ndarray | None, str | None]:
+    """A jointtarget's robax as the active joints' SI values, or why it cannot be."""
+    joints = mech.graph.active
+    if len(joints) > len(target.robax):
+        return None, f"a jointtarget holds 6 axes; '{mech.name}' has {len(joints)}"
+    vals = target.robax[:len(joints)]
+    for j, v in zip(joints, vals):
+        if v is None:
+            return None, f"'{name}' leaves {j.name} unset (9E9)"
+    q = np.array([np.radians(v) if j.revolute else v / 1000.0 for v, j in zip(vals, joints)])
+    return q, outside(mech, q, name)
+
+
+def outside(mech, q: np.ndarray, name: str) -> str | None:
+    """Why joint values ``q`` are outside the joint limits (in the file's units), or None."""
+    from ..rsxml.units import format_number
+
+    lower, upper = mech.bounds()
+    for j, v, lo, hi in zip(mech.graph.active, q, lower, upper):
+        if not lo - 1e-9 <= v <= hi + 1e-9:
+            f = mech.joint_factor(j)
+            return (f"'{name}' puts {j.name} at {format_number(v, f)}, outside its limits "
+                    f"[{format_number(lo, f)}, {format_number(hi, f)}]")
+    return None
+
+
+def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str) -> tuple[np.ndarray | None, str | None]:
+    """The solution of pose ``k`` the controller moves to: with ``checked`` the one with ``conf``
+    (nearest ``q_now`` if several), else the one nearest ``q_now``; or why there is none."""
+    ok = sol.status[k] == OK
+    if not ok.any():
+        return None, unreachable(sol, k, name)
+    cands = sol.q[k]
+    if checked and not sol.numerical:
+        match = ok & np.all(sol.conf[k] == np.asarray(conf, np.int32)[None, :], axis=1)
+        if not match.any():
+            have = sorted({tuple(int(v) for v in c) for c in sol.conf[k][ok]})
+            return None, (f"'{name}' has no solution with confdata {list(conf)}; its solutions have "
+                          f"{', '.join(str(list(c)) for c in have)}")
+        ok = match
+    dist = np.where(ok, np.sum((cands - q_now) ** 2, axis=1), np.inf)
+    return cands[int(np.argmin(dist))].copy(), None
+
+
+def unreachable(sol, k: int, name: str) -> str:
+    status = sol.status[k]
+    if (status == NO_LIMITS).any():
+        return f"'{name}' is reachable only outside the joint limits"
+    if (status == SHOULDER).any():
+        return f"'{name}' puts the wrist centre on axis 1 (a shoulder singularity)"
+    return f"'{name}' is out of reach"
+
+
+def margins(kin, q: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """Per joint configuration (N, dof): the margin to the nearest joint limit (rad or m, negative
+    outside) and, for an arm, how much farther the wrist centre could reach from axis 2 (m)."""
+    lower, upper = kin.mech.bounds()
+    limit = np.min(np.minimum(q - lower, upper - q), axis=1)
+    form = kin._ik_form()
+    if not isinstance(form, ArmConstants) or not len(q):
+        return limit, None
+    w2, p2, p3, c0 = (np.asarray(v) for v in (form.w2, form.p2, form.p3, form.c0))
+    across = lambda v: np.linalg.norm(v - (v @ w2)[..., None] * w2, axis=-1)  # noqa: E731
+    reach = across(p3 - p2) + across(c0 - p3)
+    wrist, _ = kin.wrist_flange64(q)
+    link = kin.graph.link_index(kin.graph.active[1].child)
+    j2 = kin.fk64(q)[:, link]
+    return limit, reach - across(wrist - (j2[:, :3, :3] @ p2 + j2[:, :3, 3]))

@@ -1,0 +1,86 @@
+"""Arguments bound to a routine's parameters as RAPID binds them: required ones in order (or by
+name, ``ToPoint:=p``), optional ones by name (``\\WObj:=w``, a switch ``\\Conc``), a conditional
+one (``\\WObj?wobj``) only when the caller's own optional parameter is present. IN parameters
+get a copy of the value; INOUT, VAR and PERS ones the caller's data itself, or the element or
+component named (``a{2}``, ``p.trans``)."""
+
+from __future__ import annotations
+
+from . import nodes as n
+from .errors import fail
+from .scope import Cell, Part
+from .values import Arr
+
+
+def bind(interp, routine: n.Routine, args: tuple, frame, line: int) -> dict:
+    """The callee's cells by parameter name; ``file:line`` errors for arguments that do not fit."""
+    required = [p for p in routine.params if not p.optional]
+    optional = {p.key: p for p in routine.params if p.optional}
+    given: dict[str, n.Arg] = {}
+    positional = []
+    for a in args:
+        if a.optional:
+            p = optional.get(a.name.lower())
+            if p is None:
+                fail(interp.path, line, f"'{routine.name}' has no optional parameter \\{a.name}")
+            if a.condition is not None and not _present(frame, a.condition):
+                continue
+            given[p.key] = a
+        elif a.name is not None:
+            p = next((q for q in required if q.key == a.name.lower()), None)
+            if p is None:
+                fail(interp.path, line, f"'{routine.name}' has no parameter '{a.name}'")
+            given[p.key] = a
+        else:
+            positional.append(a)
+    missing = [p for p in required if p.key not in given]
+    if len(positional) != len(missing):
+        count = len(positional) + len(required) - len(missing)
+        fail(interp.path, line, f"'{routine.name}' takes {len(required)} argument{'s' * (len(required) != 1)} "
+                                f"({', '.join(p.name for p in required) or 'none'}), given {count}")
+    for p, a in zip(missing, positional):
+        given[p.key] = a
+    groups: dict[int, str] = {}
+    cells = {}
+    for p in routine.params:
+        a = given.get(p.key)
+        if a is not None and p.optional:
+            other = groups.setdefault(p.group, p.name)
+            if other != p.name:
+                fail(interp.path, line, f"\\{other} and \\{p.name} of '{routine.name}' exclude each other")
+        cells[p.key] = _argument(interp, p, a, frame, line) if a is not None else \
+            Cell(None, p.type, "absent", routine.file, routine.line, p.name)
+    return cells
+
+
+def _present(frame, name: str) -> bool:
+    cell = frame.cells.get(name) if frame is not None else None
+    return cell is not None and cell.kind != "absent"
+
+
+def _argument(interp, p: n.Param, a: n.Arg, frame, line: int):
+    """The cell of one parameter."""
+    expr = n.Name(line, a.condition, a.condition) if a.condition is not None else a.expr
+    if p.type.lower() == "switch" or expr is None:
+        if expr is not None and p.type.lower() == "switch":
+            return Cell(True, "switch", "in", interp.path, line, p.name)
+        return Cell(True, p.type, "in", interp.path, line, p.name)
+    if p.mode != "in" and isinstance(expr, n.Name):
+        if interp.undeclared(expr, frame):
+            fail(interp.path, line, f"unknown name '{expr.name}'")
+        holder, path, type_ = interp.target(expr, frame)
+        if holder.kind == "absent":
+            fail(interp.path, line, f"the optional parameter '{expr.name}' is not present")
+        return Part(holder, path, type_, p.name) if path else holder
+    value = interp.ev(expr, frame)
+    if p.dims:
+        if not isinstance(value, Arr) or len(value.dims) != p.dims:
+            fail(interp.path, line, f"'{p.name}' takes an array of {p.dims} dimension{'s' * (p.dims > 1)}")
+        value = value.copy()
+    else:
+        if interp.undeclared(expr, frame) and interp.types.base(p.type) not in ("num", "dnum", "signaldi",
+                                                                                 "signaldo", "signalgi", "signalgo",
+                                                                                 "signalai", "signalao"):
+            fail(interp.path, line, f"unknown name '{expr.name}'")
+        value = interp.coerce(value, p.type, line, f"the argument '{p.name}'")
+    return Cell(value, p.type, "in", interp.path, line, p.name)

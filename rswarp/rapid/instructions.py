@@ -1,0 +1,192 @@
+"""RAPID's built-in instructions: motion (``moves``), waits, the motion settings (ConfJ, ConfL,
+AccSet, VelSet, SingArea), data (Incr, Add, Clear), signals (SetDO and kin, kept in the run's
+signal table), clocks, ExitCycle and CallByVar, and operator input (taken as an answer, with a
+warning). An instruction that cannot change the motion (TPWrite, file and socket I/O,
+interrupts) runs as nothing, silently; one that could and is not modelled (program displacement,
+independent axes, MultiMove) is a warning at its line, as is a procedure nobody declared."""
+
+from __future__ import annotations
+
+from .arguments import Arguments
+from .errors import fail
+from .moves import MOVES, run_move, wait
+from .nodes import written
+from .scope import Cell
+
+# Instructions with no effect on the motion: run as nothing.
+SILENT = set("""tpwrite tperase tpshow errwrite errlog errraise uimsgbox uishow setdo setao setgo set reset pulsedo
+invertdo setdataval open close write writebin writestrbin writeanybin writeblock rewind clearioobuff cleariobuff
+socketcreate socketconnect socketsend socketclose socketbind socketlisten socketaccept idelete isignaldi isignaldo
+isignalai isignalao isignalgi isignalgo itimer iwatch isleep ienable idisable ierror ipers irmqmessage
+triggio triggequip triggint triggcheckio triggrampao triggspeed triggdatareset aliasio gripload
+mechunitload tuneservo tunereset softact softdeact speedrefresh pathresol singarea pathacclim worldacclim
+cirpathmode actunit deactunit storepath restopath clearpath stopmove startmove stopmovereset motionsup
+waitsynctask waitrob waitload waittestandset syncmoveon syncmoveoff syncmoveundo iodisable ioenable setsysdata
+erasemodule startload load unload copyfile removefile makedir removedir opendir closedir readdir
+rmqsendmessage rmqsendwait rmqemptyqueue rmqfindslot rmqgetmessage rmqreadwait sendcmd sendcommand
+egmgetid egmreset textget""".split())
+# Instructions that could change the motion, which rswarp does not model: skipped with a warning.
+UNMODELLED = set("""pdispon pdispset pdispoff eoffson eoffsset eoffsoff moveextj indamove indcmove inddmove
+indrmove indreset corrcon corrwrite corrclear corrdiscon egmrunjoint egmrunpose egmstreamstart
+egmmovel egmmovec egmactjoint egmactpose contacttool skipwarn""".split())
+
+
+def run_instruction(interp, s, frame) -> None:
+    a = Arguments(interp, s.name, s.args, frame, s.line)
+    key = s.key
+    if key in MOVES:
+        run_move(interp, MOVES[key], a, s, frame)
+    elif key in _HANDLERS:
+        _HANDLERS[key](interp, a, s, frame)
+    elif key in SILENT:
+        if key in ("setdo", "setao", "setgo", "set", "reset", "invertdo") and len(a) >= 1:
+            _set_signal(interp, a, key)
+    elif key in UNMODELLED:
+        interp.warn(s.line, f"{s.name} could change the motion and is not modelled: skipped")
+    else:
+        interp.warn(s.line, f"'{s.name}' is neither a routine of the task nor an instruction rswarp knows: skipped")
+
+
+def _set_signal(interp, a: Arguments, key: str) -> None:
+    signal = interp.signal_of(a.node(0), a.frame)
+    if key == "set":
+        signal.set(1.0)
+    elif key == "reset":
+        signal.set(0.0)
+    elif key == "invertdo":
+        signal.set(0.0 if signal.get() else 1.0)
+    elif len(a) >= 2:
+        signal.set(a.number(1))
+
+
+def _waittime(interp, a: Arguments, s, frame) -> None:
+    a.need(1)
+    wait(interp, a.number(0), s, frame)
+
+
+def _wait_signal(interp, a: Arguments, s, frame) -> None:
+    a.need(2)
+    name = written(a.node(0))
+    value, want = interp.signal_of(a.node(0), frame).get(), a.number(1)
+    if value != want:
+        interp.warn(s.line, f"{s.name} {name}, {want:g}: the signal is {value:g} and nothing in the task sets it: "
+                            f"taken as met at once (--io {name}={want:g} sets it)")
+    _time_flag(a)
+
+
+def _wait_until(interp, a: Arguments, s, frame) -> None:
+    a.need(1)
+    if not interp.boolean(a.node(0), frame):
+        interp.warn(s.line, "WaitUntil: the condition is FALSE and nothing in the task makes it TRUE: taken as met "
+                            "at once")
+    _time_flag(a)
+
+
+def _time_flag(a: Arguments) -> None:
+    if a.has("TimeFlag") and a.optional["timeflag"] is not None:
+        from . import nodes as n
+
+        node = a.optional["timeflag"]
+        if isinstance(node, n.Name):
+            holder, path, _ = a.interp.target(node, a.frame)
+            holder.set(False) if not path else None
+
+
+def _conf(key: str):
+    def run(interp, a: Arguments, s, frame) -> None:
+        if a.has("On") == a.has("Off"):
+            fail(interp.path, s.line, f"{s.name} takes \\On or \\Off")
+        interp.state[key] = a.has("On")
+    return run
+
+
+def _accset(interp, a: Arguments, s, frame) -> None:
+    a.need(2)
+    acc, ramp = a.number(0), a.number(1)
+    if not (0 < acc <= 100 and 0 < ramp <= 100):
+        fail(interp.path, s.line, f"AccSet takes an acceleration and a ramp of 1 to 100 %, not {acc:g} and {ramp:g}")
+    interp.state["accel"], interp.state["ramp"] = max(acc, 20.0) / 100.0, max(ramp, 10.0) / 100.0
+
+
+def _velset(interp, a: Arguments, s, frame) -> None:
+    a.need(2)
+    override, vmax = a.number(0), a.number(1)
+    if not (0 < override <= 100 and vmax > 0):
+        fail(interp.path, s.line, f"VelSet takes an override of 1 to 100 % and a top speed above 0, not "
+                                  f"{override:g} and {vmax:g}")
+    interp.state["override"], interp.state["vmax"] = override / 100.0, vmax / 1000.0
+
+
+def _data(op: str):
+    def run(interp, a: Arguments, s, frame) -> None:
+        a.need(1 if op in ("incr", "decr", "clear") else 2)
+        target = a.reference(0)
+        value = target.get()
+        if not isinstance(value, float):
+            fail(interp.path, s.line, f"{s.name} takes a num variable")
+        step = {"incr": 1.0, "decr": -1.0, "clear": -value}.get(op)
+        target.set(value + (a.number(1) if step is None else step))
+    return run
+
+
+def _clock(op: str):
+    def run(interp, a: Arguments, s, frame) -> None:
+        a.need(1)
+        cell = a.reference(0).cell
+        running, total = interp.clocks.get(id(cell), (None, 0.0))
+        if op == "start" and running is None:
+            interp.clocks[id(cell)] = (interp.waited, total)
+        elif op == "stop" and running is not None:
+            interp.clocks[id(cell)] = (None, total + interp.waited - running)
+        elif op == "reset":
+            interp.clocks[id(cell)] = (None, 0.0)
+        cell.set(cell.get())
+    return run
+
+
+def _exit_cycle(interp, a, s, frame) -> None:
+    from .interpret import ExitCycle
+
+    raise ExitCycle()
+
+
+def _call_by_var(interp, a: Arguments, s, frame) -> None:
+    a.need(2)
+    interp.call_named(f"{a.value(0, 'string')}{int(a.number(1))}", (), frame, s.line)
+
+
+def _stop(interp, a: Arguments, s, frame) -> None:
+    interp.warn(s.line, f"{s.name}: the controller stops here until the operator starts it again; the run goes on")
+
+
+def _book_error(interp, a: Arguments, s, frame) -> None:
+    """BookErrNo: a free error number (1 to 90 are the user's) for the errnum variable."""
+    a.need(1)
+    interp.booked = getattr(interp, "booked", 0) + 1
+    a.reference(0).set(float(interp.booked))
+
+
+def _operator(default: float):
+    """TPReadFK, TPReadNum: the operator's answer, which only a running cell has."""
+    def run(interp, a: Arguments, s, frame) -> None:
+        a.need(1, 99)
+        a.reference(0).set(default)
+        interp.warn(s.line, f"{s.name} asks the operator: the answer is taken as {default:g}")
+    return run
+
+
+_HANDLERS = {
+    "waittime": _waittime, "waitdi": _wait_signal, "waitdo": _wait_signal, "waitai": _wait_signal,
+    "waitao": _wait_signal, "waitgi": _wait_signal, "waitgo": _wait_signal, "waituntil": _wait_until,
+    "confj": _conf("conf_j"), "confl": _conf("conf_l"), "accset": _accset, "velset": _velset,
+    "incr": _data("incr"), "decr": _data("decr"), "add": _data("add"), "clear": _data("clear"),
+    "clkstart": _clock("start"), "clkstop": _clock("stop"), "clkreset": _clock("reset"),
+    "exitcycle": _exit_cycle, "callbyvar": _call_by_var, "stop": _stop, "break": _stop, "bookerrno": _book_error,
+    "tpreadfk": _operator(1.0), "tpreadnum": _operator(0.0), "tpreaddnum": _operator(0.0),
+}
+
+
+def clock_read(interp, ref) -> float:
+    cell = ref.cell if not isinstance(ref, Cell) else ref
+    running, total = interp.clocks.get(id(cell), (None, 0.0))
+    return total + (interp.waited - running if running is not None else 0.0)

@@ -1,0 +1,498 @@
+"""A RAPID task run as the controller runs it: the task's data declared and initialized, then the
+entry routine walked statement by statement over the tree parsed once, with a frame of its own
+data per call. Procedures and functions take their arguments as RAPID passes them (by value, or
+by reference for INOUT, VAR and PERS; optional ones, switches, conditional ones), loops and GOTO
+run, and every move or wait becomes a ``Motion`` with its file, line and call chain.
+
+Nothing runs without end: a loop whose condition reads nothing that its pass changed can never
+end (``WHILE TRUE``, a wait for a signal that stays 0): one with moves is the task's main loop and
+runs ``cycles`` passes, one without is taken as ended after a pass; both are reported. A task
+that runs ``MAX_STATEMENTS`` statements, or calls deeper than ``MAX_DEPTH``, stops with a
+``file:line`` error."""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+
+from ..errors import Diagnostic, Diagnostics, RsxmlError
+from . import handlers
+from . import nodes as n
+from .errors import RapidError, fail
+from .expressions import Evaluator
+from .motion import Cycle, Motion, NoRobot, Run
+from .predefined import error_number, predefined
+from .scope import Cell, Frame
+from .task import Task
+from .values import SIGNALS, Arr, Mismatch
+
+MAX_STATEMENTS = 5_000_000  # statements one run executes
+MAX_MOTIONS = 1_000_000  # moves and waits of one run
+MAX_DEPTH = 100  # routine calls nested
+MAX_CYCLES = 1000
+_PENDING = object()  # a module's data not yet initialized (declared later, or in a later module)
+
+
+class Goto(Exception):
+    def __init__(self, label: str, line: int):
+        self.label, self.line = label, line
+
+
+class Returned(Exception):
+    def __init__(self, value):
+        self.value = value
+
+
+class ExitTask(Exception):
+    """EXIT: the task ends."""
+
+
+class ExitCycle(Exception):
+    """ExitCycle: the cycle ends; the next starts from the entry routine."""
+
+
+class Interpreter(Evaluator):
+    """One run of a task. ``io`` sets signals (name -> value); ``robot`` answers CRobT and kin."""
+
+    def __init__(self, task: Task, robot=None, io: dict | None = None, cycles: int = 1):
+        if not 1 <= cycles <= MAX_CYCLES:
+            raise ValueError(f"cycles must be 1 to {MAX_CYCLES}")
+        self.task, self.types, self.robot = task, task.types, robot or NoRobot()
+        self.cycles = cycles
+        self.given = {k.lower() for k in (io or {})}
+        self.used_signals: set[str] = set()
+        self.signals = {k.lower(): Cell(float(v), "signal", "var", "", 0, k) for k, v in (io or {}).items()}
+        self.motions: list[Motion] = []
+        self.warnings = Diagnostics()
+        self._warned: set = set()
+        self.path = task.files[0] if task.files else ""
+        self.statements = 0
+        self.depth = 0
+        self.state = {"conf_j": True, "conf_l": True, "accel": 1.0, "ramp": 1.0, "override": 1.0, "vmax": None,
+                      "tool": None, "wobj": None}
+        self.clocks: dict = {}  # clock cells -> (running since, seconds so far)
+        self.waited = 0.0  # seconds of waits so far (the clocks' time)
+        self.loop_passes: dict = {}
+        self.label_at: dict = {}
+        self.moves = 0  # motions that move (not waits)
+        self.main_loop: tuple | None = None  # (node, file, pass starts)
+        self.pass_index = 0
+        self._pending: dict = {}
+
+    # -- reporting ------------------------------------------------------------------------------
+    def warn(self, line: int, message: str) -> None:
+        key = (self.path, line, message)
+        if key not in self._warned:
+            self._warned.add(key)
+            self.warnings.append(Diagnostic(self.path, line, message, "warning"))
+
+    # -- the run ----------------------------------------------------------------------------------
+    def run(self, routine: str = "main") -> Run:
+        entry = self.task.routine(routine)
+        with _deep_stack():
+            self._declare_all()
+            starts = []
+            for _ in range(self.cycles):
+                starts.append(len(self.motions))
+                try:
+                    self.call(entry, (), None, 0)
+                except ExitCycle:
+                    pass
+                except ExitTask:
+                    break
+                if self.main_loop is not None:
+                    break
+                self.pass_index += 1
+        for name in sorted(self.given - self.used_signals):
+            self.warnings.append(Diagnostic(self.path, 0, f"--io {name}: the task uses no signal of that name",
+                                            "warning"))
+        if self.main_loop is not None:
+            node, file, passes = self.main_loop
+            cycle = Cycle(file, node.line, tuple(p[0] for p in passes) + (len(self.motions),))
+        else:
+            cycle = Cycle(entry.file, entry.line, tuple(starts) + (len(self.motions),), endless=False)
+        return Run(tuple(self.motions), tuple(self.task.notes) + tuple(self.warnings.finish()), cycle,
+                   tuple(self.task.files), entry.name, self.statements)
+
+    # -- data -------------------------------------------------------------------------------------
+    def _declare_all(self) -> None:
+        """A cell for every module's data, the scopes of every module, then each value in order
+        (a value that needs a later one has it made first)."""
+        base = {k: Cell(v, t, s, "", 0, k) for k, (t, s, v) in predefined(self.types).items()}
+        cells: dict[int, Cell] = {}
+        shared: dict[str, Cell] = {}  # a global PERS declared in several modules is one object
+        for sym in self.task.globals.values():
+            if isinstance(sym.node, n.Data):
+                key = sym.node.name.lower()
+                cells[id(sym.node)] = shared.setdefault(key, self._cell(sym.node, sym.module))
+        global_cells = {k: c for k, c in shared.items()}
+        self.scopes = {}
+        for m in self.task.modules:
+            own = {}
+            for d in m.data:
+                c = cells.get(id(d))
+                if c is None:
+                    c = self._cell(d, m) if not (d.storage == "pers" and d.name.lower() in shared and
+                                                 d.scope != "local") else shared[d.name.lower()]
+                    cells[id(d)] = c
+                own[d.name.lower()] = c
+            scope = dict(base)
+            scope.update(global_cells)
+            scope.update(own)
+            self.scopes[m.name.lower()] = _Scope(scope, m, self.task)
+        for m in self.task.modules:
+            for d in m.data:
+                self._initialize(cells[id(d)])
+
+    def _cell(self, d: n.Data, module: n.Module) -> Cell:
+        cell = Cell(_PENDING, d.type, d.storage, module.file, d.line, d.name)
+        self._pending[id(cell)] = (d, module)
+        return cell
+
+    def _initialize(self, cell: Cell):
+        pending = self._pending.pop(id(cell), None)
+        if pending is None:
+            if cell.value is _PENDING:
+                fail(cell.file, cell.line, f"'{cell.name}' is initialized from itself")
+            return cell.value
+        d, module = pending
+        saved = self.path
+        self.path = module.file
+        frame = Frame(None, {}, self.scopes[module.name.lower()])
+        cell.value = self.value_of(d, frame)
+        self.path = saved
+        return cell.value
+
+    def value_of(self, d: n.Data, frame):
+        """The initial value of a declaration."""
+        if d.dims:
+            dims = tuple(self.whole(e, frame, f"a dimension of '{d.name}'") for e in d.dims)
+            init = self.ev(d.init, frame) if d.init is not None else None
+            try:
+                return self.types.array(d.type, dims, init, d.name)
+            except Mismatch as exc:
+                fail(self.path, d.line, str(exc))
+        if d.init is None:
+            return self.types.default(d.type)
+        return self.coerce(self.ev(d.init, frame), d.type, d.line, f"'{d.name}'")
+
+    def name(self, node: n.Name, frame):
+        cell = self.cell(node.key, node.name, frame, node.line)
+        if cell.value is _PENDING:
+            self._initialize(cell)
+        return super().name(node, frame)
+
+    # -- statements -----------------------------------------------------------------------------
+    def body(self, body: n.Body, frame: Frame) -> None:
+        stmts, labels = body.statements, body.labels
+        k, count = 0, len(stmts)
+        while k < count:
+            s = stmts[k]
+            try:
+                self.statement(s, frame)
+            except Goto as g:
+                target = labels.get(g.label)
+                if target is None:
+                    raise
+                if s.__class__ is n.Goto and target < k:  # an unconditional jump back: a loop that cannot end
+                    starts = self.loop_passes.setdefault(id(s), [self.label_at.get(id(stmts[target]), self.mark())])
+                    if self._endless_pass(s, starts):
+                        k += 1
+                        continue
+                    starts.append(self.mark())
+                k = target
+            k += 1
+
+    def statement(self, s, frame: Frame) -> None:
+        self.statements += 1
+        if self.statements > MAX_STATEMENTS:
+            fail(self.path, getattr(s, "line", 0), f"the task ran {MAX_STATEMENTS} statements without ending: a loop "
+                                                   "that never ends?")
+        try:
+            _RUN[s.__class__](self, s, frame)
+        except RapidError as err:
+            if not handlers.takes(self, frame, err):
+                raise
+            handlers.recover(self, lambda again: _RUN[again.__class__](self, again, frame), s, frame, err)
+
+    def _data(self, d: n.Data, frame: Frame) -> None:
+        frame.cells[d.name.lower()] = Cell(self.value_of(d, frame), d.type, d.storage, self.path, d.line, d.name)
+
+    def _assign(self, s: n.Assign, frame: Frame) -> None:
+        holder, path, type_ = self.target(s.target, frame)
+        if holder.kind in ("const", "loop"):
+            what = "the constant" if holder.kind == "const" else "the FOR variable"
+            fail(self.path, s.line, f"cannot assign to {what} '{s.target.name}'")
+        value = self.coerce(self.ev(s.expr, frame), type_, s.line, f"'{n.written(s.target)}'")
+        if isinstance(value, Arr):
+            value = value.copy()
+        from .scope import replace
+
+        holder.set(replace(holder.get(), path, value) if path else value)
+
+    def target(self, node: n.Name, frame: Frame):
+        """(cell, path, type) of an assignment's target or a reference argument."""
+        if node.key not in frame.cells and frame.module.get(node.key) is None:
+            fail(self.path, node.line, f"unknown name '{node.name}'")
+        cell = self.cell(node.key, node.name, frame, node.line)
+        if cell.value is _PENDING:
+            self._initialize(cell)
+        value, type_, path = cell.get(), cell.type, []
+        for s in node.selectors:
+            if s.__class__ is n.Field:
+                fields = self.types.fields(type_) or ()
+                k = next((i for i, (name, _) in enumerate(fields) if name == s.key), None)
+                if k is None:
+                    fail(self.path, node.line, f"'{n.written(node)}': a {self.types.base(type_)} has no component "
+                                               f"'{s.name}'")
+                type_ = fields[k][1]
+                value = value.vals[k]
+            else:
+                k = self.offset(value, s, frame, node)
+                type_ = value.type
+                value = value.items[k]
+            path.append(k)
+        return cell, tuple(path), type_
+
+    def _if(self, s: n.If, frame: Frame) -> None:
+        for condition, body in s.branches:
+            if self.boolean(condition, frame):
+                self.body(body, frame)
+                return
+        if s.otherwise is not None:
+            self.body(s.otherwise, frame)
+
+    def _for(self, s: n.For, frame: Frame) -> None:
+        start = self.number(s.start, frame, "FOR's start")
+        stop = self.number(s.stop, frame, "FOR's end")
+        step = self.number(s.step, frame, "FOR's STEP") if s.step is not None else (1.0 if start <= stop else -1.0)
+        if step == 0:
+            fail(self.path, s.line, "FOR with a STEP of 0 never ends")
+        saved = frame.cells.get(s.key)
+        cell = frame.cells[s.key] = Cell(start, "num", "loop", self.path, s.line, s.var)
+        try:
+            i = start
+            while (i <= stop) if step > 0 else (i >= stop):
+                cell.set(i)
+                self.body(s.body, frame)
+                i += step
+        finally:
+            if saved is None:
+                frame.cells.pop(s.key, None)
+            else:
+                frame.cells[s.key] = saved
+
+    def _while(self, s: n.While, frame: Frame) -> None:
+        before, starts = None, None
+        while True:
+            reads, value = self._reading(s.condition, frame)
+            if not value:
+                return
+            seen = tuple((c, c.stamp) for c in reads)
+            if before is not None and seen == before and self._endless_pass(s, starts, reads):
+                return
+            before = seen
+            if starts is None:
+                starts = self.loop_passes[id(s)] = []
+            starts.append(self.mark())
+            self.body(s.body, frame)
+
+    def _reading(self, condition, frame):
+        """(cells read, value) of a loop's condition; a condition that asks the clock or the robot
+        reads a fresh cell, so it is never taken as unchanging."""
+        outer, self.reads = self.reads, []
+        try:
+            value = self.boolean(condition, frame)
+            reads = self.reads
+        finally:
+            self.reads = outer
+        if outer is not None:
+            outer.extend(reads)
+        return reads, value
+
+    def mark(self) -> tuple[int, int]:
+        """(motions, moves) so far: where a loop's pass starts."""
+        return len(self.motions), self.moves
+
+    def _endless_pass(self, node, starts: list, reads=()) -> bool:
+        """A pass of a loop that cannot end is over: whether to leave the loop now (a loop whose
+        pass made no move at once, the main loop after its cycles)."""
+        if self.moves == starts[-1][1]:
+            names = sorted({c.name for c in reads if c.name})
+            what = f"it reads {', '.join(names[:3])}, which nothing in the task sets" if names else "it reads nothing"
+            self.warn(node.line, f"a loop whose condition never changes ({what}): taken as ended after one pass")
+            return True
+        if self.main_loop is None or self.main_loop[0] is node:
+            self.main_loop = (node, self.path, starts)
+            if len(starts) >= self.cycles:
+                self.warn(node.line, f"the main loop never ends: ran {self.cycles} pass"
+                                     f"{'es' if self.cycles > 1 else ''} (--cycles)")
+                return True
+            self.pass_index = len(starts)
+            return False
+        return True
+
+    def _test(self, s: n.Test, frame: Frame) -> None:
+        value = self.ev(s.expr, frame)
+        for values, body in s.cases:
+            if any(self.operate("=", value, self.ev(v, frame), s.line) for v in values):
+                self.body(body, frame)
+                return
+        if s.default is not None:
+            self.body(s.default, frame)
+
+    def _goto(self, s: n.Goto, frame: Frame) -> None:
+        raise Goto(s.label, s.line)
+
+    def _label(self, s: n.Label, frame: Frame) -> None:
+        self.label_at[id(s)] = self.mark()
+
+    def _return(self, s: n.Return, frame: Frame) -> None:
+        raise Returned(self.ev(s.expr, frame) if s.expr is not None else None)
+
+    def _jump(self, s: n.Jump, frame: Frame) -> None:
+        if s.kind == "exit":
+            raise ExitTask()
+        handlers.jump(self, s, frame)
+
+    def _placeholder(self, s, frame: Frame) -> None:
+        self.warn(s.line, f"{s.text}: a placeholder RobotStudio left for a statement not yet written: skipped")
+
+    # -- calls ----------------------------------------------------------------------------------
+    def _proc_call(self, s: n.ProcCall, frame: Frame) -> None:
+        routine = frame.module.routine(s.key)
+        if routine is not None:
+            if routine.kind != "proc":
+                fail(self.path, s.line, f"'{s.name}' is a {routine.kind.upper()}, not a procedure")
+            self.call(routine, s.args, frame, s.line)
+            return
+        from .instructions import run_instruction
+
+        run_instruction(self, s, frame)
+
+    def _late_call(self, s: n.LateCall, frame: Frame) -> None:
+        name = self.ev(s.expr, frame)
+        if not isinstance(name, str):
+            fail(self.path, s.line, "a late-bound call needs a string naming the procedure")
+        self.call_named(name, s.args, frame, s.line)
+
+    def call_named(self, name: str, args, frame: Frame, line: int) -> None:
+        """The procedure a string names (late binding, CallByVar)."""
+        routine = frame.module.routine(name.lower())
+        if routine is None or routine.kind != "proc":
+            fail(self.path, line, f"no procedure '{name}' in the task")
+        self.call(routine, args, frame, line)
+
+    def function(self, node: n.Call, frame: Frame):
+        routine = frame.module.routine(node.key)
+        if routine is not None:
+            if routine.kind != "func":
+                fail(self.path, node.line, f"'{node.name}' is a {routine.kind.upper()}, not a function")
+            value = self.call(routine, node.args, frame, node.line)
+        else:
+            from .functions import call_function
+
+            value = call_function(self, node, frame)
+        return self.select(value, node.selectors, frame, node) if node.selectors else value
+
+    def call(self, routine: n.Routine, args, frame: Frame | None, line: int):
+        """Run ``routine`` with ``args`` (nodes.Arg) given in ``frame``; a FUNC's value."""
+        from .binding import bind
+
+        if self.depth >= MAX_DEPTH:
+            fail(self.path, line, f"calls nest deeper than {MAX_DEPTH}: a recursion that never ends?")
+        cells = bind(self, routine, args, frame, line) if frame is not None else {}
+        scope = self.scopes[routine.module.lower()]
+        callee = Frame(routine, cells, scope, line, frame)
+        saved = self.path
+        self.depth += 1
+        self.path = routine.file
+        try:
+            self.body(routine.body, callee)
+        except Returned as r:
+            if routine.kind == "func":
+                if r.value is None:
+                    fail(self.path, line, f"FUNC '{routine.name}' returned no value")
+                return self.coerce(r.value, routine.type, line, f"the value of '{routine.name}'")
+            return None
+        except Goto as g:
+            fail(self.path, g.line, f"GOTO {g.label}: no such label in '{routine.name}'")
+        finally:
+            self.depth -= 1
+            self.path = saved
+        if routine.kind == "func":
+            fail(routine.file, routine.line, f"FUNC '{routine.name}' ended without RETURN")
+        return None
+
+    def volatile(self) -> None:
+        """The expression being read asks something that changes by itself (a clock, the robot):
+        a loop's condition that does is never taken as unchanging."""
+        if self.reads is not None:
+            fresh = Cell(None, "volatile", "var")
+            fresh.set(None)
+            self.reads.append(fresh)
+
+    def clock_read(self, ref) -> float:
+        from .instructions import clock_read
+
+        return clock_read(self, ref)
+
+    def emit(self, motion: Motion) -> None:
+        if len(self.motions) >= MAX_MOTIONS:
+            fail(self.path, motion.line, f"the task made {MAX_MOTIONS} moves and waits: a loop that never ends?")
+        self.motions.append(motion)
+        if motion.kind != "wait":
+            self.moves += 1
+
+
+class _Scope(dict):
+    """A module's names: data (its own, then the task's global, then predefined) and routines."""
+
+    def __init__(self, data: dict, module: n.Module, task: Task):
+        super().__init__(data)
+        self.module = module
+        own = task.locals.get(module.name.lower(), {})
+        self._routines = {k: s.node for k, s in task.globals.items() if isinstance(s.node, n.Routine)}
+        self._routines.update({k: s.node for k, s in own.items() if isinstance(s.node, n.Routine)})
+
+    def get(self, key, default=None):
+        found = dict.get(self, key)
+        if found is None:
+            number = error_number(key)
+            if number is not None:
+                found = self[key] = Cell(number, "errnum", "const", "", 0, key)
+        return found if found is not None else default
+
+    def routine(self, key: str):
+        return self._routines.get(key)
+
+
+@contextlib.contextmanager
+def _deep_stack():
+    """Room for MAX_DEPTH calls of nested blocks (each a few Python frames)."""
+    before = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(before, 20_000))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(before)
+
+
+_RUN = {
+    n.Data: Interpreter._data,
+    n.Assign: Interpreter._assign,
+    n.ProcCall: Interpreter._proc_call,
+    n.LateCall: Interpreter._late_call,
+    n.If: Interpreter._if,
+    n.For: Interpreter._for,
+    n.While: Interpreter._while,
+    n.Test: Interpreter._test,
+    n.Goto: Interpreter._goto,
+    n.Label: Interpreter._label,
+    n.Return: Interpreter._return,
+    n.Jump: Interpreter._jump,
+    n.Connect: lambda self, s, frame: self.warn(s.line, f"interrupts are not modelled: TRAP '{s.trap}' never runs"),
+    n.Placeholder: Interpreter._placeholder,
+}
+
+__all__ = ["Interpreter", "RsxmlError", "SIGNALS"]

@@ -1,0 +1,101 @@
+"""What the interpreter hands the program layer, and what it asks of it. Out: a flat list of
+``Motion`` records, one per move or wait, each with its data in SI and where it came from (file,
+line, routine, call chain). In: a ``Robot``, the little the interpreter must know of the
+kinematics to run CRobT, CJointT, CalcJointT and CalcRobT; ``NoRobot`` where there is none."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Protocol, Sequence
+
+from ..errors import Diagnostic
+from . import data as rd
+
+KINDS = ("joint", "linear", "circular", "absolute", "wait")
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One move or wait. ``kind``: joint (MoveJ and its kin), linear (MoveL, TriggL, ArcL, SearchL,
+    ...), circular (MoveC, ...; ``targets`` the circle point, then the end), absolute (MoveAbsJ)
+    or wait (``seconds`` at rest). ``conf``: whether the configuration is checked (ConfJ/ConfL).
+    ``accel`` and ``ramp`` (AccSet), ``override`` and ``vmax`` (VelSet, m/s) scale the timing;
+    ``duration`` is a move's ``\\T``. ``cycle`` counts the passes of the task's main loop."""
+
+    kind: str
+    instruction: str
+    file: str
+    line: int
+    routine: str
+    chain: tuple[str, ...] = ()
+    targets: tuple = ()
+    names: tuple[str, ...] = ()
+    speed: rd.Speed | None = None
+    zone: rd.Zone | None = None
+    tool: rd.Tool | None = None
+    wobj: rd.WorkObject | None = None
+    conf: bool = True
+    accel: float = 1.0
+    ramp: float = 1.0
+    override: float = 1.0
+    vmax: float | None = None
+    duration: float | None = None
+    seconds: float = 0.0
+    cycle: int = 0
+
+
+class Robot(Protocol):
+    """The kinematics a running task asks about, in SI (joint values in rad or m, the robot's
+    active axes in order)."""
+
+    def revolute(self) -> tuple[bool, ...]:
+        """Whether each active axis turns (degrees in RAPID) or slides (mm)."""
+
+    def joints_after(self, motions: Sequence[Motion]) -> tuple[float, ...]:
+        """The joint values where these motions leave the robot (CRobT, CJointT)."""
+
+    def pose(self, joints: Sequence[float], tool: rd.Tool, wobj: rd.WorkObject) -> tuple[rd.Pose, tuple]:
+        """The TCP pose in the work object at ``joints``, and the configuration data there (CalcRobT)."""
+
+    def solve(self, target: rd.RobTarget, tool: rd.Tool, wobj: rd.WorkObject) -> tuple:
+        """(joints that put the TCP on ``target`` with its confdata, None) or (None, why none do)
+        (CalcJointT)."""
+
+
+class NoRobot:
+    """A task run without a robot: the robot-state functions are errors, said at their line."""
+
+    def revolute(self) -> tuple[bool, ...]:
+        return (True,) * 6
+
+    def joints_after(self, motions):
+        raise LookupError("it needs a robot model")
+
+    def pose(self, joints, tool, wobj):
+        raise LookupError("it needs a robot model")
+
+    def solve(self, target, tool, wobj):
+        raise LookupError("it needs a robot model")
+
+
+@dataclass(frozen=True)
+class Cycle:
+    """The task's main loop: where it is, and the motions each pass began at."""
+
+    file: str
+    line: int
+    starts: tuple[int, ...]  # the index of each pass's first motion, then the end
+    endless: bool = True
+
+
+@dataclass(frozen=True)
+class Run:
+    """A task run: its motions, the warnings of what was assumed or skipped, and its cycles."""
+
+    motions: tuple[Motion, ...]
+    warnings: tuple[Diagnostic, ...] = ()
+    cycle: Cycle | None = None
+    files: tuple[str, ...] = ()
+    routine: str = "main"
+    statements: int = 0
+    notes: tuple[str, ...] = field(default=())

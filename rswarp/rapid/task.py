@@ -1,0 +1,178 @@
+"""A RAPID task as the controller loads it: its module files (named one by one, a folder and
+everything under it, a RobotStudio backup's task, or a .pgf program file), parsed once, and its
+names resolved as the controller resolves them. Global data and routines are seen by every module;
+LOCAL ones stay in their module; a name declared twice is an error naming both places (a PERS
+declared in several modules is one object, as on the controller)."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from . import nodes
+from .errors import fail, warning
+from .parse import SUFFIXES, read_file
+from .values import Types
+
+MAX_FILES = 10_000  # module files of one task
+_TASK_FOLDER = re.compile(r"^(TASK\d+|T_ROB\w*)$", re.I)
+
+
+@dataclass
+class Symbol:
+    """A module-level name: its declaration (``nodes.Data`` or ``nodes.Routine``) and module."""
+
+    node: object
+    module: nodes.Module
+
+
+@dataclass
+class Task:
+    """The modules of a task and its names: ``globals`` (data and routines every module sees) and
+    ``locals`` per module (its LOCAL ones)."""
+
+    modules: list[nodes.Module]
+    files: list[str]
+    types: Types
+    globals: dict[str, Symbol] = field(default_factory=dict)
+    locals: dict[str, dict[str, Symbol]] = field(default_factory=dict)
+    notes: list = field(default_factory=list)
+
+    def routine(self, name: str) -> nodes.Routine:
+        """The entry routine: a global (or the only) PROC without parameters; an error for one that
+        is missing (naming the procedures there), and at its line for a FUNC, a TRAP, or one that
+        takes arguments."""
+        key = name.lower()
+        found = self.globals.get(key)
+        if found is None:
+            local = [m[key] for m in self.locals.values() if key in m]
+            found = local[0] if len(local) == 1 else None
+        if found is None or not isinstance(found.node, nodes.Routine):
+            procs = sorted({s.node.name for s in self._all() if isinstance(s.node, nodes.Routine)
+                            and s.node.kind == "proc" and not s.node.params})
+            files = ", ".join(Path(f).name for f in self.files[:3]) + (", ..." if len(self.files) > 3 else "")
+            raise InputError(f"no routine '{name}' in the task of {files} (procedures without parameters: "
+                             f"{', '.join(procs) or 'none'})")
+        r = found.node
+        if r.kind != "proc":
+            fail(r.file, r.line, f"'{r.name}' is a {'FUNC' if r.kind == 'func' else 'TRAP'}: a task runs a PROC")
+        if any(not p.optional for p in r.params):
+            fail(r.file, r.line, f"PROC '{r.name}' takes arguments: a task starts from a PROC without them")
+        return r
+
+    def _all(self):
+        yield from self.globals.values()
+        for names in self.locals.values():
+            yield from names.values()
+
+
+def task_files(paths: list[str | Path]) -> tuple[list[Path], list]:
+    """The module files of ``paths`` (files, folders, .pgf program files) in load order, and notes
+    on what a folder held that is not run."""
+    files: list[Path] = []
+    notes: list = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            files += _folder_files(p, notes)
+        elif p.suffix.lower() == ".pgf":
+            files += _program_file(p)
+        else:
+            files.append(p)
+    seen, out = set(), []
+    for f in files:
+        key = f.resolve() if f.exists() else f
+        if key not in seen:
+            seen.add(key)
+            out.append(f)
+    if len(out) > MAX_FILES:
+        fail(str(paths[0]), 0, f"{len(out)} module files: a task takes at most {MAX_FILES}")
+    return out, notes
+
+
+def _folder_files(folder: Path, notes: list) -> list[Path]:
+    """Every module file under ``folder``; of a backup (RAPID/ and its task folders), the first
+    task's, with a note naming the others."""
+    root = folder / "RAPID" if (folder / "RAPID").is_dir() else folder
+    tasks = sorted((d for d in root.iterdir() if d.is_dir() and _TASK_FOLDER.match(d.name)), key=lambda d: d.name)
+    if tasks:
+        if len(tasks) > 1:
+            notes.append(warning(str(folder), 0, f"the folder holds the tasks {', '.join(t.name for t in tasks)}: "
+                                                 f"running {tasks[0].name} (name another's folder to run it)"))
+        root = tasks[0]
+    files = []
+    for f in sorted(root.rglob("*")):
+        if f.suffix.lower() in SUFFIXES and f.is_file():
+            files.append(f)
+            if len(files) > MAX_FILES:
+                fail(str(folder), 0, f"more than {MAX_FILES} module files under the folder")
+    if not files:
+        fail(str(folder), 0, f"no RAPID module ({', '.join(SUFFIXES)}) under the folder")
+    return files
+
+
+def _program_file(path: Path) -> list[Path]:
+    """The modules a RobotStudio program file (.pgf) names, beside it."""
+    from ..rsxml.parse import local, parse_xml
+
+    root = parse_xml(path)
+    names = [(el.text or "").strip() for el in root.iter() if isinstance(el.tag, str) and local(el) == "Module"]
+    if not names:
+        fail(str(path), 0, "the program file names no <Module>")
+    out = []
+    for name in names:
+        f = path.parent / name.replace("\\", "/")
+        if not f.is_file():
+            fail(str(path), 0, f"the program file names '{name}', which is not beside it")
+        out.append(f)
+    return out
+
+
+def load_task(paths: list[str | Path]) -> Task:
+    """The task made of ``paths``: parsed, its types and names resolved."""
+    files, notes = task_files(paths)
+    modules: list[nodes.Module] = []
+    names: dict[str, nodes.Module] = {}
+    for f in files:
+        for m in read_file(f)[0]:
+            other = names.get(m.name.lower())
+            if other is not None:
+                fail(m.file, m.line, f"a second module '{m.name}': the first is at {other.file}:{other.line}")
+            names[m.name.lower()] = m
+            modules.append(m)
+    task = Task(modules, [str(f) for f in files], Types(), notes=notes)
+    for m in modules:
+        for r in m.records:
+            task.types.add_record(r.name, r.components)
+        for a in m.aliases:
+            task.types.add_alias(a.name, a.type)
+    for m in modules:
+        _declare(task, m)
+    return task
+
+
+def _declare(task: Task, module: nodes.Module) -> None:
+    """The module's data and routines into the task's names, each once."""
+    own: dict[str, Symbol] = {}
+    task.locals[module.name.lower()] = own
+    routines = [nodes.Routine(**{**{f: getattr(r, f) for f in r.__slots__}, "module": module.name})
+                for r in module.routines]
+    for node in (*module.data, *routines):
+        key = node.name.lower()
+        local = node.local if isinstance(node, nodes.Routine) else node.scope == "local"
+        before = own.get(key) or (None if local else task.globals.get(key))
+        if before is not None and not _same_pers(before.node, node):
+            b = before.node
+            where = b.file if isinstance(b, nodes.Routine) else before.module.file
+            fail(module.file, node.line, f"'{node.name}' is declared twice: also at {where}:{b.line}")
+        symbol = Symbol(node, module)
+        own[key] = symbol
+        if not local:
+            task.globals.setdefault(key, symbol)
+    object.__setattr__(module, "routines", tuple(routines))
+
+
+def _same_pers(a, b) -> bool:
+    return (isinstance(a, nodes.Data) and isinstance(b, nodes.Data) and a.storage == b.storage == "pers"
+            and a.type.lower() == b.type.lower())

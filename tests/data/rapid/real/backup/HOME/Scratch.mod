@@ -1,0 +1,6 @@
+MODULE Scratch
+    ! operator's scratch module, not loaded in any task
+    PROC main()
+        WaitTime 99;
+    ENDPROC
+ENDMODULE
