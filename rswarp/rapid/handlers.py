@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from . import nodes as n
 from .errors import RapidError, fail
+from .flow import Returned
 
 MAX_RETRIES = 4  # the controller's "No Of Retry" default
 
@@ -58,8 +59,6 @@ def _handle(interp, frame, err: RapidError) -> str:
         return "trynext"
     finally:
         frame.handling = None
-    from .interpret import Returned
-
     raise Returned(None)  # a handler that ends returns from its routine
 
 

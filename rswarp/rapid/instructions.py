@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from .arguments import Arguments
 from .errors import fail
+from .flow import ExitCycle
 from .moves import MOVES, run_move, wait
 from .nodes import written
 from .scope import Cell
@@ -145,8 +146,6 @@ def _clock(op: str):
 
 
 def _exit_cycle(interp, a, s, frame) -> None:
-    from .interpret import ExitCycle
-
     raise ExitCycle()
 
 

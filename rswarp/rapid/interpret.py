@@ -15,40 +15,26 @@ from __future__ import annotations
 import contextlib
 import sys
 
-from ..errors import Diagnostic, Diagnostics, RsxmlError
+from ..errors import Diagnostic, Diagnostics
 from . import handlers
 from . import nodes as n
+from .binding import bind
 from .errors import RapidError, fail
 from .expressions import Evaluator
+from .flow import ExitCycle, ExitTask, Goto, Returned
+from .functions import call_function
+from .instructions import clock_read, run_instruction
 from .motion import Cycle, Motion, NoRobot, Run
 from .predefined import error_number, predefined
-from .scope import Cell, Frame
+from .scope import Cell, Frame, replace
 from .task import Task
-from .values import SIGNALS, Arr, Mismatch
+from .values import Arr, Mismatch
 
 MAX_STATEMENTS = 5_000_000  # statements one run executes
 MAX_MOTIONS = 1_000_000  # moves and waits of one run
 MAX_DEPTH = 100  # routine calls nested
 MAX_CYCLES = 1000
 _PENDING = object()  # a module's data not yet initialized (declared later, or in a later module)
-
-
-class Goto(Exception):
-    def __init__(self, label: str, line: int):
-        self.label, self.line = label, line
-
-
-class Returned(Exception):
-    def __init__(self, value):
-        self.value = value
-
-
-class ExitTask(Exception):
-    """EXIT: the task ends."""
-
-
-class ExitCycle(Exception):
-    """ExitCycle: the cycle ends; the next starts from the entry routine."""
 
 
 class Interpreter(Evaluator):
@@ -226,8 +212,6 @@ class Interpreter(Evaluator):
         value = self.coerce(self.ev(s.expr, frame), type_, s.line, f"'{n.written(s.target)}'")
         if isinstance(value, Arr):
             value = value.copy()
-        from .scope import replace
-
         holder.set(replace(holder.get(), path, value) if path else value)
 
     def target(self, node: n.Name, frame: Frame):
@@ -366,8 +350,6 @@ class Interpreter(Evaluator):
                 fail(self.path, s.line, f"'{s.name}' is a {routine.kind.upper()}, not a procedure")
             self.call(routine, s.args, frame, s.line)
             return
-        from .instructions import run_instruction
-
         run_instruction(self, s, frame)
 
     def _late_call(self, s: n.LateCall, frame: Frame) -> None:
@@ -390,15 +372,11 @@ class Interpreter(Evaluator):
                 fail(self.path, node.line, f"'{node.name}' is a {routine.kind.upper()}, not a function")
             value = self.call(routine, node.args, frame, node.line)
         else:
-            from .functions import call_function
-
             value = call_function(self, node, frame)
         return self.select(value, node.selectors, frame, node) if node.selectors else value
 
     def call(self, routine: n.Routine, args, frame: Frame | None, line: int):
         """Run ``routine`` with ``args`` (nodes.Arg) given in ``frame``; a FUNC's value."""
-        from .binding import bind
-
         if self.depth >= MAX_DEPTH:
             fail(self.path, line, f"calls nest deeper than {MAX_DEPTH}: a recursion that never ends?")
         cells = bind(self, routine, args, frame, line) if frame is not None else {}
@@ -433,8 +411,6 @@ class Interpreter(Evaluator):
             self.reads.append(fresh)
 
     def clock_read(self, ref) -> float:
-        from .instructions import clock_read
-
         return clock_read(self, ref)
 
     def emit(self, motion: Motion) -> None:
@@ -495,4 +471,3 @@ _RUN = {
     n.Placeholder: Interpreter._placeholder,
 }
 
-__all__ = ["Interpreter", "RsxmlError", "SIGNALS"]
