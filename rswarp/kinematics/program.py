@@ -15,8 +15,8 @@ from ..rapid import data as rd
 from ..rapid.errors import fail
 from ..rapid.motion import Motion, Run
 from ..rsxml.units import JOINT_VELOCITY
+from . import plan_steps, timing
 from . import targets as tg
-from . import timing
 from .ik import ArmConstants
 from .tcp import Frames, frames, pose_of
 
@@ -97,6 +97,7 @@ class Planner:
         self.done = 0
         self.arm = isinstance(kin._ik_form(), ArmConstants)
         self.flange_now = None  # the flange's pose at self.q, where a move left it known
+        self.frames: dict = {}  # (tool, wobj) -> their Frames, or why no robot moves them
 
     # -- what the interpreter asks ------------------------------------------------------------------
     def revolute(self) -> tuple[bool, ...]:
@@ -109,7 +110,7 @@ class Planner:
     def pose(self, joints, tool: rd.Tool, wobj: rd.WorkObject):
         fr = self._frames_or_raise(tool, wobj)
         q = np.asarray(joints, float)[None]
-        relative = fr.relative(self._flange(q))[0]
+        relative = fr.relative(self.flanges(q))[0]
         conf = tuple(int(c) for c in self.kin.confdata(q)[0]) if self.kin.ik_method != "numerical" else (0, 0, 0, 0)
         return pose_of(relative), conf
 
@@ -127,12 +128,12 @@ class Planner:
 
     # -- planning -------------------------------------------------------------------------------------
     def extend(self, motions) -> None:
-        """Plan the motions not planned yet."""
+        """Plan the motions not planned yet (``plan_steps``: in batches, then in order)."""
         new = list(motions[self.done:])
         self.done = len(motions)
-        solved = self._solutions(new)
-        for m, pre in zip(new, solved):
-            self._plan(m, pre)
+        prepared = plan_steps.prepare(self, new)
+        steps = [plan_steps.resolve(self, m, p) for m, p in zip(new, prepared)]
+        plan_steps.time_all(self, steps)
 
     def finish(self, run: Run) -> Plan:
         self.extend(run.motions)
@@ -142,106 +143,46 @@ class Planner:
                        for e in self.errors)
         return Plan(run, self._targets(), tuple(self.moves), times, q, errors, self._cycles(run))
 
-    def _solutions(self, motions: list[Motion]) -> list:
-        """Per motion: (frames, inverse kinematics of its end target) in one batch, or an error."""
-        out, poses, owners = [], [], []
-        for k, m in enumerate(motions):
-            if m.kind in ("wait", "absolute"):
-                out.append(None)
-                continue
-            try:
-                fr = frames(self.mech, m.tool, m.wobj)
-            except ValueError as exc:
-                out.append(str(exc))
-                continue
-            out.append([fr, None])
-            poses.append(fr.flange(m.targets[-1].pose.matrix()[None])[0])
-            owners.append(k)
-        if poses:
-            sol = self.kin.solutions64(np.array(poses))
-            for row, k in enumerate(owners):
-                out[k][1] = (sol, row)
-        return out
+    def time_step(self, s, tcp) -> None:
+        """One resolved step timed, sampled and appended to the trajectory (``tcp``: a joint move's
+        TCP along its probes)."""
+        m = s.motion
+        try:
+            if s.kind == "skip":
+                return self._skip(m, s.why)
+            if s.kind == "wait":
+                t = np.array([m.seconds]) if m.seconds > 0 else np.zeros(0)
+                return self._append(m, t, np.repeat(s.q0[None], len(t), axis=0), [])
+            if s.kind == "joint":
+                t, seg = timing.joint_move(s.q0, s.q1, m, self.speeds, self.rate, tcp)
+                return self._append(m, t, seg, [])
+            if len(s.u) < 2:
+                return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
+            t, seg = timing.path_move(s.u, s.q, s.length, s.turn, m, self.speeds, self.rate)
+        except timing.TooLong as exc:
+            fail(m.file, m.line, f"{m.instruction}: {exc}")
+        self._append(m, t, seg, s.findings + self._end_findings(m, seg, s.end_conf))
 
-    def _plan(self, m: Motion, pre) -> None:
-        ext = tg.external_axes(m, self.mech.name) if m.kind != "wait" else None
-        if ext is not None and self.ignore_external:
-            self.notes.append(Diagnostic(m.file, m.line, f"{ext.split(' (')[0]}: ignored (--external-axes ignore)",
-                                         "warning"))
-        elif ext is not None:
-            return self._skip(m, ext)
-        if isinstance(pre, str):
-            return self._skip(m, pre)
-        if m.kind == "wait":
-            return self._wait(m)
-        if m.kind == "absolute":
-            q1, why = tg.joint_values(self.mech, m.targets[0], m.names[0])
-        else:
-            fr, (sol, row) = pre
-            q1, why = tg.pick(sol, row, m.targets[-1].conf, self.q, m.conf, m.names[-1])
-        if why is not None:
-            return self._skip(m, why)
-        self.targets.setdefault((m.file, m.line, m.names[-1]), (m.names[-1], m.file, m.line, q1))
-        if m.kind in ("absolute", "joint"):
-            fr = None if m.kind == "absolute" else fr
-            try:
-                t, seg, last = timing.joint_move(self._flange, self._world(m), self.q, q1, m, self.speeds,
-                                                 self.rate)
-            except timing.TooLong as exc:
-                fail(m.file, m.line, f"{m.instruction}: {exc}")
-            findings = []
-        else:
-            try:
-                t, seg, findings, last, end_conf = self._cartesian(m, fr)
-            except timing.TooLong as exc:
-                fail(m.file, m.line, f"{m.instruction}: {exc}")
-            except ValueError as exc:
-                return self._skip(m, str(exc))
-            findings += self._end_findings(m, seg, end_conf)
-        self._append(m, t, seg, findings)
-        if len(t):
-            self.flange_now = last
+    def flanges(self, q: np.ndarray) -> np.ndarray:
+        """Flange poses (N, 4, 4) of joint values (N, dof), in one launch."""
+        link, m = self.kin.flange_frame()
+        return self.kin.fk64(np.atleast_2d(q))[:, link] @ m
 
-    def _world(self, m: Motion):
+    def flange_at(self, q: np.ndarray) -> np.ndarray:
+        return self.flanges(q[None])[0]
+
+    def world(self, m: Motion, flanges: np.ndarray) -> np.ndarray:
         """The TCP in the world of flange poses (the flange itself for a stationary tool)."""
         base = self.mech.base_frame.matrix() if self.mech.base_frame is not None else np.eye(4)
         tool = m.tool.tframe.matrix() if m.tool is not None and m.tool.robhold else np.eye(4)
-        return lambda flanges: base @ flanges @ tool
+        return base @ flanges @ tool
 
-    def _cartesian(self, m: Motion, fr: Frames):
-        """(times, q, findings, the flange's pose at the end, the configuration there) of a linear or
-        circular move from where the robot is."""
-        if self.flange_now is None:
-            self.flange_now = self._flange(self.q[None])[0]
-        start = fr.relative(self.flange_now[None])[0]
-        ends = [t.pose.matrix() for t in m.targets]
-        at, length, turn = timing.path(start, ends[-1], ends[0] if m.kind == "circular" else None)
-        still = (np.zeros(0), np.zeros((0, len(self.q))), [], None, None)
-        if length < timing.STILL and turn < timing.STILL:  # already there
-            return still
-        count = int(np.clip(max(length / timing.PROBE_STEP, turn / timing.PROBE_TURN) + 1, timing.MIN_PROBES,
-                            timing.MAX_PROBES))
-        u = np.linspace(0.0, 1.0, count)
-        flanges = fr.flange(at(u))
-        q, stop, why, conf = timing.follow(self.kin, flanges, self.q)
-        findings = []
-        if stop is not None:
-            findings.append(f"cannot follow its {'line' if m.kind == 'linear' else 'circle'}: {why} at "
-                            f"{100.0 * stop / count:.0f} % of the move")
-            u = u[:stop]
-        if len(q) < 2:
-            return (*still[:2], findings, None, None)
-        v_tcp, v_ori = timing.tcp_speeds(m)
-        nominal = min(v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
-        accel = nominal * m.accel / timing.ACCEL_TIME
-        v = timing.speed_curve(u, q, nominal, self.speeds * m.override, accel)
-        at_probe = timing.path_times(u, v)
-        if m.duration is not None and m.duration > at_probe[-1]:
-            at_probe = at_probe * (m.duration / at_probe[-1])
-        t = timing.samples(float(at_probe[-1]), self.rate)
-        along = np.interp(t, at_probe, u)
-        seg = np.stack([np.interp(along, u, q[:, c]) for c in range(q.shape[1])], axis=1)
-        return t, seg, findings, flanges[-1] if stop is None else None, conf
+    def note(self, m: Motion, message: str) -> None:
+        self.notes.append(Diagnostic(m.file, m.line, message, "warning"))
+
+    def remember(self, m: Motion, q: np.ndarray) -> None:
+        """A target the task used, once per place it is written."""
+        self.targets.setdefault((m.file, m.line, m.names[-1]), (m.names[-1], m.file, m.line, q))
 
     def _end_findings(self, m: Motion, seg: np.ndarray, conf) -> list[str]:
         out = []
@@ -255,10 +196,6 @@ class Planner:
                 out.append(f"ends in configuration {list(got)}, not the robtarget's {list(m.targets[-1].conf)} "
                            "(ConfL would stop it)")
         return out
-
-    def _wait(self, m: Motion) -> None:
-        t = np.array([m.seconds]) if m.seconds > 0 else np.zeros(0)
-        self._append(m, t, np.repeat(self.q[None], len(t), axis=0), [])
 
     def _skip(self, m: Motion, why: str) -> None:
         message = f"{m.instruction}: {why}"
@@ -281,12 +218,7 @@ class Planner:
         if len(t):
             self.times.append(self.now + t)
             self.rows.append(seg)
-            self.q = seg[-1]
         self.now, self.count = end, self.count + len(t)
-
-    def _flange(self, q: np.ndarray) -> np.ndarray:
-        link, m = self.kin.flange_frame()
-        return self.kin.fk64(np.atleast_2d(q))[:, link] @ m
 
     def _targets(self) -> tuple[Target, ...]:
         found = list(self.targets.values())

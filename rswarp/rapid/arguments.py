@@ -81,11 +81,22 @@ class Arguments:
         return Part(holder, path, type_, expr.name) if path else holder
 
     def si(self, convert, value: Rec, what: str):
-        """``value`` converted by a ``data`` function (``rd.tool``, ...), errors at the line."""
-        try:
-            return convert(value, what)
-        except Mismatch as exc:
-            fail(self.interp.path, self.line, f"{self.name}: {exc}")
+        """``value`` converted by a ``data`` function (``rd.tool``, ...), errors at the line; a
+        record converted before (the same tool, move after move) is not converted again."""
+        cache = self.interp.converted
+        if value.type in ("robtarget", "jointtarget"):  # one of a kind, mostly: not worth hashing
+            cache, key = {}, None
+        else:
+            key = (convert, value)
+        found = cache.get(key)
+        if found is None:
+            try:
+                found = convert(value, what)
+            except Mismatch as exc:
+                fail(self.interp.path, self.line, f"{self.name}: {exc}")
+            if len(cache) < 100_000:
+                cache[key] = found
+        return found
 
     def tool_wobj(self, tool_rec: Rec | None = None) -> tuple:
         """(tool, wobj) as SI records: the given ones, else the active ones (the last move's)."""

@@ -28,6 +28,14 @@ class Pose:
     quat: tuple[float, float, float, float]
 
     def matrix(self) -> np.ndarray:
+        """The 4x4 transform (a new array each call; the first is kept)."""
+        cached = self.__dict__.get("_matrix")
+        if cached is None:
+            cached = self._compute()
+            self.__dict__["_matrix"] = cached
+        return cached.copy()
+
+    def _compute(self) -> np.ndarray:
         w, x, y, z = self.quat
         m = np.eye(4)
         m[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],

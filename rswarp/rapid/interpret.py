@@ -64,6 +64,7 @@ class Interpreter(Evaluator):
         self.main_loop: tuple | None = None  # (node, file, pass starts)
         self.pass_index = 0
         self._pending: dict = {}
+        self.converted: dict = {}  # records already converted to SI motion data (Arguments.si)
 
     # -- reporting ------------------------------------------------------------------------------
     def warn(self, line: int, message: str) -> None:

@@ -100,6 +100,30 @@ class Opaque:
     value: object = None
 
 
+class _Unfit(Exception):
+    """A value a converter cannot take (``Types.explain`` then says why)."""
+
+
+def _number(v):
+    if v.__class__ is float:
+        return v
+    if v.__class__ is int or v.__class__ is Signal:
+        return float(v) if v.__class__ is int else v
+    raise _Unfit()
+
+
+def _bool(v):
+    if v.__class__ is bool:
+        return v
+    raise _Unfit()
+
+
+def _string(v):
+    if v.__class__ is str:
+        return v
+    raise _Unfit()
+
+
 class Mismatch(ValueError):
     """A value that does not fit its type; the message says where, the caller adds the line."""
 
@@ -110,12 +134,15 @@ class Types:
     def __init__(self):
         self.records = dict(RECORDS)
         self.aliases: dict[str, str] = {}
+        self._converters: dict = {}
 
     def add_record(self, name: str, components) -> None:
         self.records[name.lower()] = tuple((c.lower(), t.lower()) for t, c in components)
+        self._converters.clear()
 
     def add_alias(self, name: str, base: str) -> None:
         self.aliases[name.lower()] = base.lower()
+        self._converters.clear()
 
     def base(self, type_: str) -> str:
         type_ = type_.lower()
@@ -144,7 +171,44 @@ class Types:
 
     def coerce(self, value, type_: str, where: str = "the value"):
         """``value`` as a value of ``type_`` (an aggregate becomes a record); ``Mismatch`` if it
-        cannot be one."""
+        cannot be one. A converter made once per type does the work; where it fails, the slow
+        reading says why."""
+        convert = self._converters.get(type_)
+        if convert is None:
+            convert = self._converters[type_] = self._converter(self.base(type_))
+        try:
+            return convert(value)
+        except _Unfit:
+            return self.explain(value, type_, where)
+
+    def _converter(self, t: str):
+        """A function from a value to a value of base type ``t``, raising ``_Unfit``."""
+        if t in NUMBERS:
+            return _number
+        if t == "bool":
+            return _bool
+        if t == "string":
+            return _string
+        fields = self.records.get(t)
+        if fields is None:
+            return lambda v: v if isinstance(v, (Opaque, Signal, Arr)) else Opaque(t, v)
+        parts = [None] * len(fields)
+        count = len(fields)
+
+        def record(v):
+            if v.__class__ is Rec:
+                if v.type == t or self.records.get(v.type) == fields:
+                    return v if v.type == t else Rec(t, v.vals)
+                raise _Unfit()
+            if v.__class__ not in (list, tuple) or len(v) != count:
+                raise _Unfit()
+            if parts[0] is None:
+                parts[:] = [self._converter(self.base(ft)) for _, ft in fields]
+            return Rec(t, tuple([p(x) for p, x in zip(parts, v)]))
+        return record
+
+    def explain(self, value, type_: str, where: str = "the value"):
+        """``coerce`` the slow way, with a ``Mismatch`` that says which part does not fit."""
         t = self.base(type_)
         if t in NUMBERS:
             if isinstance(value, Signal):
@@ -171,7 +235,7 @@ class Types:
             raise Mismatch(f"{where} must be a {t} {shape(fields)}, not {describe(value)}")
         if len(value) != len(fields):
             raise Mismatch(f"{where} must be a {t} of {len(fields)} parts {shape(fields)}, not {len(value)}")
-        return Rec(t, tuple(self.coerce(v, ft, f"{where}.{fn}") for v, (fn, ft) in zip(value, fields)))
+        return Rec(t, tuple(self.explain(v, ft, f"{where}.{fn}") for v, (fn, ft) in zip(value, fields)))
 
     def array(self, type_: str, dims: tuple[int, ...], value, where: str) -> Arr:
         """An array of ``dims`` from nested aggregates (or default elements when ``value`` is None)."""
