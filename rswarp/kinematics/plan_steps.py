@@ -92,7 +92,9 @@ def _targets(planner, motions, out: list[Prepared]) -> None:
                 joints.append(q)
                 absolute.append(k)
     if poses:
-        sol = planner.kin.solutions64(np.array(poses))
+        poses = np.array(poses)
+        sol = planner.kin.solutions64(poses)
+        tg.off_the_axis(planner.kin, poses, sol, float(planner.q[0]))
         for row, k in enumerate(owners):
             out[k].sol, out[k].row = sol, row
     if joints:
@@ -155,7 +157,8 @@ def resolve(planner, m, p: Prepared) -> Step:
     if m.kind == "absolute":
         q1, why = tg.joint_values(planner.mech, m.targets[0], m.names[0])
     else:
-        q1, why = tg.pick(p.sol, p.row, m.targets[-1].conf, planner.q, m.conf, m.names[-1])
+        q1, why = tg.pick(p.sol, p.row, m.targets[-1].conf, planner.q, m.conf, m.names[-1], planner.form,
+                          planner.bounds)
     if why is not None:
         return Step(m, "skip", why)
     planner.remember(m, q1)

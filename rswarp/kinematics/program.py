@@ -95,7 +95,9 @@ class Planner:
         self.repeats: dict = {}  # an error met again (every pass of a loop) is said once, with a count
         self.notes: list[Diagnostic] = []
         self.done = 0
-        self.arm = isinstance(kin._ik_form(), ArmConstants)
+        self.form = kin._ik_form()
+        self.arm = isinstance(self.form, ArmConstants)
+        self.bounds = self.mech.bounds()
         self.flange_now = None  # the flange's pose at self.q, where a move left it known
         self.frames: dict = {}  # (tool, wobj) -> their Frames, or why no robot moves them
 
@@ -116,8 +118,10 @@ class Planner:
 
     def solve(self, target: rd.RobTarget, tool: rd.Tool, wobj: rd.WorkObject):
         fr = self._frames_or_raise(tool, wobj)
-        sol = self.kin.solutions64(fr.flange(target.pose.matrix()[None]))
-        q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget")
+        pose = fr.flange(target.pose.matrix()[None])
+        sol = self.kin.solutions64(pose)
+        tg.off_the_axis(self.kin, pose, sol, float(self.q[0]))
+        q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget", self.form, self.bounds)
         return (None, why) if q is None else (tuple(float(v) for v in q), None)
 
     def _frames_or_raise(self, tool, wobj) -> Frames:

@@ -55,9 +55,11 @@ def outside(mech, q: np.ndarray, name: str) -> str | None:
     return None
 
 
-def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str) -> tuple[np.ndarray | None, str | None]:
+def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=None, bounds=None) -> tuple:
     """The solution of pose ``k`` the controller moves to: with ``checked`` the one with ``conf``
-    (nearest ``q_now`` if several), else the one nearest ``q_now``; or why there is none."""
+    (nearest ``q_now`` if several), else the one nearest ``q_now``; or why there is none. At the
+    wrist singularity (q5 = 0, axes 4 and 6 in line) only q4 + q6 counts: they are shared out to
+    fit ``conf``'s quadrants where they can."""
     ok = sol.status[k] == OK
     if not ok.any():
         return None, unreachable(sol, k, name)
@@ -65,12 +67,67 @@ def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str) -> tupl
     if checked and not sol.numerical:
         match = ok & np.all(sol.conf[k] == np.asarray(conf, np.int32)[None, :], axis=1)
         if not match.any():
+            fitted = wrist_fit(arm, cands[ok], sol.conf[k][ok], conf, bounds)
+            if fitted is not None:
+                return fitted, None
             have = sorted({tuple(int(v) for v in c) for c in sol.conf[k][ok]})
             return None, (f"'{name}' has no solution with confdata {list(conf)}; its solutions have "
                           f"{', '.join(str(list(c)) for c in have)}")
         ok = match
     dist = np.where(ok, np.sum((cands - q_now) ** 2, axis=1), np.inf)
     return cands[int(np.argmin(dist))].copy(), None
+
+
+WRIST_SINGULAR = 1e-6  # rad: |q5| below this, axes 4 and 6 are in line
+
+
+def wrist_fit(arm, cands: np.ndarray, confs: np.ndarray, conf, bounds=None) -> np.ndarray | None:
+    """A wrist-singular solution (|q5| < WRIST_SINGULAR) with q4 and q6 shared out so cf4 and cf6
+    are ``conf``'s: q4 + d and q6 - d (q6 + d where the axes point opposite ways) leave the flange
+    where it is while axes 4 and 6 are in line."""
+    if not isinstance(arm, ArmConstants):
+        return None
+    along = float(np.dot(arm.w4, arm.w6))
+    if abs(abs(along) - 1.0) > 1e-9:
+        return None
+    sign = 1.0 if along > 0 else -1.0
+    quarter = 0.5 * np.pi
+    a4, b4 = conf[1] * quarter, (conf[1] + 1) * quarter
+    a6, b6 = conf[2] * quarter, (conf[2] + 1) * quarter
+    for q, c in zip(cands, confs):
+        if abs(q[4]) >= WRIST_SINGULAR or c[0] != conf[0] or (int(c[3]) | 1) != (int(conf[3]) | 1):
+            continue
+        lo = max(a4 - q[3], q[5] - b6 if sign > 0 else a6 - q[5])
+        hi = min(b4 - q[3], q[5] - a6 if sign > 0 else b6 - q[5])
+        if lo < hi - 1e-9:
+            d = 0.5 * (lo + hi)
+            out = q.copy()
+            out[3], out[4], out[5] = q[3] + d, 0.0, q[5] - sign * d
+            if bounds is None or (np.all(out >= bounds[0]) and np.all(out <= bounds[1])):
+                return out
+    return None
+
+
+SHOULDER_STEP = 1e-6  # m: how far a wrist centre on axis 1 is moved off it to solve it
+
+
+def off_the_axis(kin, poses: np.ndarray, sol, q1: float) -> None:
+    """Poses whose wrist centre is on axis 1 (any q1 reaches them; the closed form has no q1 to
+    give) solved again with the centre moved ``SHOULDER_STEP`` towards where the arm points at
+    ``q1``, so the robot keeps its q1: the solutions, in ``sol`` (in place), miss the pose by
+    that step at most."""
+    arm = kin._ik_form()
+    if not isinstance(arm, ArmConstants):
+        return
+    rows = np.flatnonzero(~(sol.status == OK).any(axis=1) & (sol.status == SHOULDER).any(axis=1))
+    if not len(rows):
+        return
+    w, h = np.asarray(arm.w1), np.asarray(arm.h0)
+    towards = h * np.cos(q1) + np.cross(w, h) * np.sin(q1) + w * np.dot(w, h) * (1 - np.cos(q1))
+    moved = poses[rows].copy()
+    moved[:, :3, 3] += SHOULDER_STEP * towards
+    again = kin.solutions64(moved)
+    sol.q[rows], sol.conf[rows], sol.status[rows] = again.q, again.conf, again.status
 
 
 def unreachable(sol, k: int, name: str) -> str:

@@ -176,21 +176,37 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
 
 def _programs(mech: Mechanism, out: Path) -> list[str]:
     """Each RAPID module beside the robot's file run through it (``rswarp program``), its table
-    and findings, with the demo's collision matrix; its trajectory written as a CSV."""
-    from .program import run_program
-
+    and findings, with the demo's collision matrix, its trajectory written as a CSV; and each task
+    folder beside it (a cell's modules), its cycle and what it assumed."""
     if not mech.path:
         return []
+    folder = Path(mech.path).parent
     lines = []
-    for module in sorted(Path(mech.path).parent.glob("*.mod")):
-        srdf = out / f"{mech.name}-collisions" / "collision_matrix.srdf"
+    for module in sorted(folder.glob("*.mod")):
         csv = out / f"{mech.name}-{module.stem}.csv"
         video = out / f"{mech.name}-{module.stem}.gif" if module.stem == "service" else None
-        done = run_program(str(mech.path), [str(module)], csv=str(csv), video=None if video is None else str(video),
-                           video_size=DEMO_VIDEO, collision_matrix=str(srdf) if srdf.exists() else None)
+        done = _program(mech, out, [module], csv, video)
         lines.append(f"   program {module.name} (rswarp program), trajectory -> {csv}:")
         lines += [f"     {line}" for line in done.text.splitlines() if not line.startswith("trajectory:")]
+    for task in sorted(d for d in folder.iterdir() if d.is_dir() and any(d.glob("*.mod"))):
+        csv = out / f"{mech.name}-{task.name}.csv"
+        said: list[str] = []
+        done = _program(mech, out, [task], csv, None, said.append)
+        text = done.text.splitlines()
+        lines.append(f"   task {task.name}/ ({len(done.doc['files'])} modules, rswarp program), trajectory -> {csv}:")
+        lines += [f"     {line}" for line in text[:2] + [t for t in text if t.startswith(("findings", "  ", "errors"))]]
+        lines += [f"     assumed: {line.split(': warning: ', 1)[-1]}" for line in said]
     return lines
+
+
+def _program(mech: Mechanism, out: Path, paths: list[Path], csv: Path, video: Path | None, warn=None):
+    from .program import run_program
+
+    srdf = out / f"{mech.name}-collisions" / "collision_matrix.srdf"
+    return run_program(str(mech.path), [str(p) for p in paths], csv=str(csv),
+                       video=None if video is None else str(video), video_size=DEMO_VIDEO,
+                       collision_matrix=str(srdf) if srdf.exists() else None,
+                       **({"warn": warn} if warn is not None else {}))
 
 
 def _has_mesh(mech: Mechanism, part) -> bool:

@@ -48,7 +48,9 @@ def _head(doc: dict, files: list[str]) -> str:
             f"{doc['duration_s']:.2f} s (every move stops at its point: zones are not blended)")
     if doc["main_loop"]:
         passes = len(doc["cycles_s"])
-        head += (f"\ncycle: {doc['cycle_s']:.2f} s, one pass of the main loop at {doc['main_loop']} "
+        loop = doc["main_loop"]
+        where = f"{Path(loop.rsplit(':', 1)[0]).name}:{loop.rsplit(':', 1)[1]}"
+        head += (f"\ncycle: {doc['cycle_s']:.2f} s, one pass of the main loop at {where} "
                  f"({passes} pass{'es' if passes > 1 else ''} run, --cycles)")
     elif len(doc["cycles_s"]) > 1:
         head += f"\ncycle: {doc['cycle_s']:.2f} s, one run of {doc['routine']} ({len(doc['cycles_s'])} runs, --cycles)"
