@@ -34,6 +34,7 @@ _LAZY = {
     "simulate_cables": ("sim.cables", "simulate_cables"),
     "Cluster": ("sim.cluster", "Cluster"),
     "build_library": ("report.library", "build_library"),
+    "program": ("report.program", "program_plan"),
     "to_usd": ("export.usd_layout", "to_usd"),
     "to_newton": ("export.newton", "to_newton"),
     "to_urdf": ("export.urdf", "to_urdf"),
@@ -57,5 +58,5 @@ __all__ = [
     "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
     "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton",
-    "to_urdf",
+    "to_urdf", "program",
 ]

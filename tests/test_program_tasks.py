@@ -85,9 +85,10 @@ def expected_task3() -> list[tuple[np.ndarray, Rotation]]:
     return out
 
 
-@pytest.mark.parametrize("as_folder", [False, True])
-def test_a_task_of_three_modules_puts_every_move_where_the_task_says(as_folder):
-    paths = [TASK3] if as_folder else [TASK3 / "CalibData.mod", TASK3 / "Lib.mod", TASK3 / "Main.mod"]
+@pytest.mark.parametrize("given", ["files", "folder", "pgf"])
+def test_a_task_of_three_modules_puts_every_move_where_the_task_says(given):
+    paths = {"files": [TASK3 / "CalibData.mod", TASK3 / "Lib.mod", TASK3 / "Main.mod"], "folder": [TASK3],
+             "pgf": [TASK3 / "task3.pgf"]}[given]
     p = plan(*paths)
     moves = [k for k, mv in enumerate(p.moves) if mv.motion.kind != "absolute"]
     want = expected_task3()
@@ -98,7 +99,7 @@ def test_a_task_of_three_modules_puts_every_move_where_the_task_says(as_folder):
         assert np.abs(got[:3, :3] - rot.as_matrix()).max() < 1e-6
     visit = p.moves[1].motion
     assert (visit.file.endswith("Lib.mod"), visit.line, visit.routine) == (True, 13, "Visit")
-    assert visit.chain == (f"main ({paths[-1] if not as_folder else TASK3 / 'Main.mod'}:14)",)
+    assert visit.chain == (f"main ({TASK3 / 'Main.mod'}:14)",)
     assert p.moves[0].motion.kind == "absolute" and not p.moves[0].findings  # MoveAbsJ to q5 = 0: no finding
 
 

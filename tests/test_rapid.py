@@ -6,8 +6,10 @@ that never end; errors at their lines; hostile text."""
 from __future__ import annotations
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
-from rswarp.errors import RsxmlError
+from rswarp.errors import InputError, RsxmlError
 from rswarp.rapid.interpret import Interpreter
 from rswarp.rapid.parse import parse_text
 from rswarp.rapid.task import load_task
@@ -246,3 +248,66 @@ def test_long_flat_expressions_and_many_declarations_read_without_recursion(tmp_
     path.write_bytes(b"\x00\x01MODULE")
     with pytest.raises(RsxmlError, match="NUL bytes"):
         load_task([path])
+
+
+def _target_module(tmp_path, quat, speed=(100, 500)):
+    path = tmp_path / "q.mod"
+    q = ",".join(repr(float(c)) for c in quat)
+    path.write_text(f"MODULE Q\n  CONST robtarget p:=[[900,0,900],[{q}],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n"
+                    f"  VAR speeddata vS:=[{float(speed[0])!r},{float(speed[1])!r},5000,1000];\n"
+                    "  PROC main()\n    MoveL p, vS, fine, tool0;\n  ENDPROC\nENDMODULE\n")
+    return path
+
+
+_UNIT = st.floats(-2.0, 2.0, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(quat=st.tuples(_UNIT, _UNIT, _UNIT, _UNIT))
+def test_quaternions_are_normalized_within_the_controllers_slack_or_refused(tmp_path, quat):
+    """ABB refuses an orientation whose squares sum farther than 0.1 from 1; rswarp too, at the
+    line of the move, and normalizes the rest (never the identity in place of a zero)."""
+    path = _target_module(tmp_path, quat)
+    n2 = sum(c * c for c in quat)
+    if abs(n2 - 1.0) > 0.1:
+        with pytest.raises(RsxmlError, match="is not normalized") as exc:
+            run(path)
+        assert exc.value.line == 5
+    else:
+        _, r = run(path)
+        got = r.motions[0].targets[0].pose.quat
+        assert got == pytest.approx([c / n2 ** 0.5 for c in quat], abs=1e-12)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(v_tcp=st.floats(-1e3, 1e4, allow_nan=False), v_ori=st.floats(-10.0, 1e3, allow_nan=False))
+def test_speeds_above_zero_run_and_others_are_refused(tmp_path, v_tcp, v_ori):
+    path = _target_module(tmp_path, (0, 0, 1, 0), (v_tcp, v_ori))
+    if v_tcp > 0 and v_ori > 0:
+        _, r = run(path)
+        assert r.motions[0].speed.v_tcp == pytest.approx(v_tcp / 1000)
+    else:
+        with pytest.raises(RsxmlError, match="both must be above 0") as exc:
+            run(path)
+        assert exc.value.line == 5
+
+
+_WORDS = ["MoveL", "p", ",", ";", ":=", "(", ")", "[", "]", "{", "}", "1", "-", "+", "*", "/", "DIV", "MOD", "AND",
+          "NOT", "=", "IF", "THEN", "ENDIF", "FOR", "i", "FROM", "TO", "DO", "ENDFOR", "WHILE", "ENDWHILE", "n",
+          "Offs(p,0,0,1)", "\"s\"", "TRUE", "\\WObj:=wobj0", "v100", "fine", "tool0", "RETURN", "GOTO", "l", "l:",
+          "Incr", "reg1", "a{2}", "p.trans.x", "RAISE", "%\"F\"%", "F", "TEST", "CASE", ":", "ENDTEST", "\n"]
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(words=st.lists(st.sampled_from(_WORDS), min_size=1, max_size=30))
+def test_any_statement_text_is_run_or_refused_at_its_line_never_crashes(tmp_path, words):
+    path = tmp_path / "fuzz.mod"
+    path.write_text("MODULE Z\n  VAR num n;\n  VAR num a{3};\n  VAR robtarget p:=[[900,0,900],[0,0,1,0],[0,0,0,0],"
+                    "[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC F()\n    n := n + 1;\n  ENDPROC\n  PROC main()\n    "
+                    + " ".join(words) + "\n  ENDPROC\nENDMODULE\n")
+    try:
+        run(path)
+    except RsxmlError as exc:
+        assert exc.file == str(path) and exc.line > 0
+    except InputError:
+        pass

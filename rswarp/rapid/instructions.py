@@ -15,7 +15,7 @@ from .nodes import written
 from .scope import Cell
 
 # Instructions with no effect on the motion: run as nothing.
-SILENT = set("""tpwrite tperase tpshow errwrite errlog errraise uimsgbox uishow setdo setao setgo set reset pulsedo
+SILENT = set("""tpwrite tperase tpshow errwrite errlog errraise uishow setdo setao setgo set reset pulsedo
 invertdo setdataval open close write writebin writestrbin writeanybin writeblock rewind clearioobuff cleariobuff
 socketcreate socketconnect socketsend socketclose socketbind socketlisten socketaccept idelete isignaldi isignaldo
 isignalai isignalao isignalgi isignalgo itimer iwatch isleep ienable idisable ierror ipers irmqmessage
@@ -24,8 +24,11 @@ mechunitload tuneservo tunereset softact softdeact speedrefresh pathresol singar
 cirpathmode actunit deactunit storepath restopath clearpath stopmove startmove stopmovereset motionsup
 waitsynctask waitrob waitload waittestandset syncmoveon syncmoveoff syncmoveundo iodisable ioenable setsysdata
 erasemodule startload load unload copyfile removefile makedir removedir opendir closedir readdir
-rmqsendmessage rmqsendwait rmqemptyqueue rmqfindslot rmqgetmessage rmqreadwait sendcmd sendcommand
+rmqsendmessage rmqsendwait rmqemptyqueue rmqfindslot sendcmd sendcommand
 egmgetid egmreset textget""".split())
+# Instructions that read what only a running cell has (a socket, a file, a message queue).
+LIVE = set("""socketreceive socketreceivefrom readanybin readrawbytes readblock rmqreadwait rmqgetmsgdata
+rmqgetmessage uimsgbox uinumentry uinumtune uialphaentry uilistview""".split())
 # Instructions that could change the motion, which rswarp does not model: skipped with a warning.
 UNMODELLED = set("""pdispon pdispset pdispoff eoffson eoffsset eoffsoff moveextj indamove indcmove inddmove
 indrmove indreset corrcon corrwrite corrclear corrdiscon egmrunjoint egmrunpose egmstreamstart
@@ -42,6 +45,9 @@ def run_instruction(interp, s, frame) -> None:
     elif key in SILENT:
         if key in ("setdo", "setao", "setgo", "set", "reset", "invertdo") and len(a) >= 1:
             _set_signal(interp, a, key)
+    elif key in LIVE:
+        interp.warn(s.line, f"{s.name} reads live input rswarp does not have (a socket, a file, the operator): "
+                            "nothing is read")
     elif key in UNMODELLED:
         interp.warn(s.line, f"{s.name} could change the motion and is not modelled: skipped")
     else:

@@ -22,9 +22,15 @@ MAX_NESTING = 64  # brackets and signs in a row: records nest a few deep; more i
 _HEADER = re.compile(r"\A\s*%%%.*?%%%", re.S)
 _BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"), (codecs.BOM_UTF8, "utf-8-sig"),
          (codecs.BOM_UTF16_LE, "utf-16"), (codecs.BOM_UTF16_BE, "utf-16"))
+_CONTROL = re.compile(r"[\x00-\x08\x0e-\x1f\x7f\ufffd]")
 _QUOTED = re.compile(STRING + r"|![^\n]*")
-_SIGNS = re.compile(r"(?:[-+]\s*){%d,}" % (MAX_NESTING + 1))
-_OPEN, _CLOSE = np.frombuffer(b"([{", np.uint8), np.frombuffer(b")]}", np.uint8)
+_STEP = np.zeros(256, np.int8)  # +1 for an opening bracket, -1 for a closing one
+_STEP[list(b"([{")] = 1
+_STEP[list(b")]}")] = -1
+_SIGN = np.zeros(256, bool)
+_SIGN[list(b"+-")] = True
+_SPACE = np.zeros(256, bool)
+_SPACE[list(b" \t\r\n\f\v")] = True
 
 
 @functools.lru_cache(maxsize=1)
@@ -58,9 +64,12 @@ def decode(data: bytes, path: str) -> str:
     if b"\x00" in data:
         fail(path, 0, "not a RAPID text file (it holds NUL bytes)")
     try:
-        return data.decode("utf-8")
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
-        return data.decode("cp1252", errors="replace")
+        text = data.decode("cp1252", errors="replace")
+    if len(_CONTROL.findall(text[:65536])) > 0.01 * min(len(text), 65536):
+        fail(path, 0, "not RAPID text: binary or encrypted (a module saved NOVIEW is encrypted); rswarp cannot read it")
+    return text
 
 
 def blank_header(text: str) -> str:
@@ -71,19 +80,23 @@ def blank_header(text: str) -> str:
 def check_nesting(text: str, path: str) -> None:
     """A ``file:line`` error where brackets, or signs in a row, nest deeper than ``MAX_NESTING``
     (the evaluation recurses that deep); strings and comments do not count, however they are
-    quoted."""
+    quoted. Counted with NumPy over the bytes: a file of millions of lines costs a few passes."""
     bare = _QUOTED.sub(lambda m: " " * len(m.group()), text)
-    signs = _SIGNS.search(bare)
     data = np.frombuffer(bare.encode("utf-8", "replace"), np.uint8)
-    depth = np.cumsum(np.isin(data, _OPEN).astype(np.int32) - np.isin(data, _CLOSE).astype(np.int32))
-    deep = np.flatnonzero(depth > MAX_NESTING)
     places = []
+    deep = np.flatnonzero(np.cumsum(_STEP[data], dtype=np.int32) > MAX_NESTING)
     if len(deep):
-        places.append(int(np.count_nonzero(data[:deep[0]] == 10)) + 1)
-    if signs:
-        places.append(bare.count("\n", 0, signs.start()) + 1)
+        places.append(int(deep[0]))
+    sign = _SIGN[data]
+    breaker = ~sign & ~_SPACE[data]  # what ends a run of signs (spaces do not)
+    run = np.cumsum(breaker)[sign]  # each sign's run: the breakers before it
+    if len(run):
+        counts = np.bincount(run)
+        if counts.max() > MAX_NESTING:
+            places.append(int(np.flatnonzero(sign)[np.searchsorted(run, int(np.argmax(counts > MAX_NESTING)))]))
     if places:
-        fail(path, min(places), f"nested deeper than {MAX_NESTING}: not a RAPID program rswarp reads")
+        line = int(np.count_nonzero(data[:min(places)] == 10)) + 1
+        fail(path, line, f"nested deeper than {MAX_NESTING}: not a RAPID program rswarp reads")
 
 
 def parse_text(text: str, path: str) -> list[nodes.Module]:

@@ -37,6 +37,7 @@ def predefined(types: Types) -> dict[str, tuple[str, str, object]]:
     out["wobj0"] = ("wobjdata", "pers", [False, True, "", _ORIGIN, _ORIGIN])
     for k in range(1, 6):
         out[f"reg{k}"] = ("num", "var", 0.0)
+    out["clock1"] = ("clock", "var", None)
     out["pi"] = ("num", "const", math.pi)
     out["true"] = ("bool", "const", True)
     out["false"] = ("bool", "const", False)
@@ -50,7 +51,7 @@ def predefined(types: Types) -> dict[str, tuple[str, str, object]]:
     out["diskram"] = ("string", "const", "RAMDISK:")
     out["high"] = ("dionum", "const", 1.0)
     out["low"] = ("dionum", "const", 0.0)
-    return {k: (t, s, types.coerce(v, t, k)) for k, (t, s, v) in out.items()}
+    return {k: (t, s, types.default(t) if v is None else types.coerce(v, t, k)) for k, (t, s, v) in out.items()}
 
 
 def error_number(name: str) -> float | None:

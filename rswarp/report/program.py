@@ -16,6 +16,7 @@ from ..kinematics.kinematics import Kinematics
 from ..kinematics.program import Plan, Planner
 from ..kinematics.tcp import frames
 from ..kinematics.trajectory import Trajectory
+from ..options import checked
 from ..outputs import claim, record
 from ..rapid.interpret import MAX_CYCLES, Interpreter
 from ..rapid.task import load_task
@@ -88,20 +89,22 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
 
         claim_video(video)
     signals = signal_values(io)
+    robot, _ = load_mechanism(path)  # every option and input checked before any work
+    floor = checked("floor", robot.si_length(floor))
+    env = placed_environments(robot, environment or [])
+    disabled = read_srdf(collision_matrix, robot.link_names) if collision_matrix else ()
     mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
                            cycles, external_axes, warn, strict=False)
-    env = placed_environments(mech, environment or [])
-    disabled = read_srdf(collision_matrix, mech.link_names) if collision_matrix else ()
     if p.errors:
         doc = _document(mech, p, None, [], None, csv=None)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
-    tally, tools, checked = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
-                                          progress=progress)
+    tally, tools, tested = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
+                                         progress=progress)
     names = tools.checker.bodies.pair_names() if tools.checker is not None else []
     if csv is not None:
         atomic_write(csv, trajectory_csv(mech, p).encode())
         record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])
-    doc = _document(mech, p, tally, names, checked, csv, mech.si_length(floor))
+    doc = _document(mech, p, tally, names, tested, csv, floor)
     if video is not None:
         from .videos import program_video
 
