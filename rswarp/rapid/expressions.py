@@ -10,7 +10,7 @@ import math
 
 from . import nodes as n
 from .errors import fail, rapid_error
-from .scope import Cell
+from .scope import PENDING, Cell
 from .values import SIGNALS, Arr, Mismatch, Rec, describe, field_index, whole
 
 
@@ -64,6 +64,8 @@ class Evaluator:
     def name(self, node: n.Name, frame):
         cell = self.cell(node.key, node.name, frame, node.line)
         value = cell.get()
+        if value is PENDING:
+            value = self.initialize(cell)
         if cell.kind == "absent":
             fail(self.path, node.line, f"the optional parameter '{node.name}' is not present (test it with Present)")
         if cell.type in SIGNALS:

@@ -26,7 +26,7 @@ from .functions import call_function
 from .instructions import clock_read, run_instruction
 from .motion import Cycle, Motion, NoRobot, Run
 from .predefined import error_number, predefined
-from .scope import Cell, Frame, replace
+from .scope import PENDING, Cell, Frame, replace
 from .task import Task
 from .values import Arr, Mismatch
 
@@ -34,7 +34,6 @@ MAX_STATEMENTS = 5_000_000  # statements one run executes
 MAX_MOTIONS = 1_000_000  # moves and waits of one run
 MAX_DEPTH = 100  # routine calls nested
 MAX_CYCLES = 1000
-_PENDING = object()  # a module's data not yet initialized (declared later, or in a later module)
 
 
 class Interpreter(Evaluator):
@@ -132,14 +131,14 @@ class Interpreter(Evaluator):
                 self._initialize(cells[id(d)])
 
     def _cell(self, d: n.Data, module: n.Module) -> Cell:
-        cell = Cell(_PENDING, d.type, d.storage, module.file, d.line, d.name)
+        cell = Cell(PENDING, d.type, d.storage, module.file, d.line, d.name)
         self._pending[id(cell)] = (d, module)
         return cell
 
     def _initialize(self, cell: Cell):
         pending = self._pending.pop(id(cell), None)
         if pending is None:
-            if cell.value is _PENDING:
+            if cell.value is PENDING:
                 fail(cell.file, cell.line, f"'{cell.name}' is initialized from itself")
             return cell.value
         d, module = pending
@@ -163,11 +162,9 @@ class Interpreter(Evaluator):
             return self.types.default(d.type)
         return self.coerce(self.ev(d.init, frame), d.type, d.line, f"'{d.name}'")
 
-    def name(self, node: n.Name, frame):
-        cell = self.cell(node.key, node.name, frame, node.line)
-        if cell.value is _PENDING:
-            self._initialize(cell)
-        return super().name(node, frame)
+    def initialize(self, cell: Cell):
+        """A module's data object read before its declaration's turn: made now."""
+        return self._initialize(cell)
 
     # -- statements -----------------------------------------------------------------------------
     def body(self, body: n.Body, frame: Frame) -> None:
@@ -220,7 +217,7 @@ class Interpreter(Evaluator):
         if node.key not in frame.cells and frame.module.get(node.key) is None:
             fail(self.path, node.line, f"unknown name '{node.name}'")
         cell = self.cell(node.key, node.name, frame, node.line)
-        if cell.value is _PENDING:
+        if cell.value is PENDING:
             self._initialize(cell)
         value, type_, path = cell.get(), cell.type, []
         for s in node.selectors:

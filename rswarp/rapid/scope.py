@@ -9,6 +9,8 @@ from dataclasses import dataclass, field
 
 from .values import Arr, Rec
 
+PENDING = object()  # a module's data not yet initialized (declared later, or in a later module)
+
 
 class Cell:
     """One data object. ``kind`` is const, var, pers, in (a parameter passed by value), loop (a
