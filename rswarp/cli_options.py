@@ -90,7 +90,7 @@ def build(p: argparse.ArgumentParser) -> None:
 
 
 def program(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", metavar="ROBOT")
+    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file")
     p.add_argument("programs", nargs="+", metavar="PATH",
                    help="the RAPID task: module files (.mod, .modx, .prg, .sys), a folder of them (a backup's "
                         "RAPID/TASK1), or a .pgf program file")
@@ -100,7 +100,8 @@ def program(p: argparse.ArgumentParser) -> None:
                    help=f"a mesh placed in the world ({LENGTH}), checked against every link; repeat for more")
     p.add_argument("--collision-matrix", metavar="SRDF",
                    help="skip the link pairs this SRDF disables (rswarp collisions writes one)")
-    p.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
+    p.add_argument("--floor", type=argument("floor"), default=0.0,
+                   help=f"height of the floor {LENGTH} (the robot file's, not RAPID's mm; default 0)")
     p.add_argument("--video", metavar="FILE", help="also render the motion as a .gif or .mp4, links in collision red")
 
 

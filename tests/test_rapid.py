@@ -311,3 +311,38 @@ def test_any_statement_text_is_run_or_refused_at_its_line_never_crashes(tmp_path
         assert exc.file == str(path) and exc.line > 0
     except InputError:
         pass
+
+
+@pytest.mark.parametrize("text, line, message", [
+    ("MODULE T\n  PROC main()\n    reg1 := 1\n    reg2 := 2;\n  ENDPROC\nENDMODULE\n", 3,
+     "';' missing at the end of the line (line 4 goes on with 'reg2')"),
+    ("MODULE T\n  PROC main()\n    IF reg1 > 1 THEN\n      reg1 := 1;\n    ENDFI\n  ENDPROC\nENDMODULE\n", 3,
+     "IF has no ENDIF (ENDPROC at line 6)"),
+    ("MODULE T\n  PROC main()\n    IF reg1 > 1 reg1 := 1;\n    FOR i FROM 1 TO 2 DO\n  ENDPROC\nENDMODULE\n", 4,
+     "FOR has no ENDFOR"),
+    ('<?xml version="1.0"?>\n<Program/>\n', 1, "an XML file, not a RAPID module"),
+])
+def test_syntax_errors_are_said_where_they_were_made(tmp_path, text, line, message):
+    with pytest.raises(RsxmlError) as exc:
+        load_task([module(tmp_path, text)])
+    assert exc.value.line == line and message in exc.value.message
+
+
+def test_misspelt_names_are_errors_and_undeclared_signals_are_not(tmp_path):
+    typo = module(tmp_path, "MODULE T\n  VAR num nDelays := 1;\n  PROC main()\n    WaitTime nDelay;\n  ENDPROC\n"
+                            "ENDMODULE\n")
+    with pytest.raises(RsxmlError, match=r"unknown name 'nDelay' \(did you mean 'nDelays'\?\)") as exc:
+        run(typo)
+    assert exc.value.line == 4
+    proc = module(tmp_path, "MODULE T\n  PROC main()\n    MovL p, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n", "p.mod")
+    with pytest.raises(RsxmlError, match=r"unknown procedure 'MovL' \(did you mean MoveL\?\)"):
+        run(proc)
+    missing = module(tmp_path, "MODULE T\n  VAR num n;\n  PROC main()\n    n := patBoxes.cols;\n  ENDPROC\nENDMODULE\n",
+                     "m.mod")
+    with pytest.raises(RsxmlError, match=r"unknown name 'patBoxes'"):
+        run(missing)
+    _, r = run(module(tmp_path, "MODULE T\n  PROC main()\n    reg1 := diStart;\n  ENDPROC\nENDMODULE\n", "s.mod"),
+               io={"diStrat": 1})
+    said = [w.message for w in r.warnings]
+    assert any("'diStart' is declared nowhere" in w for w in said)
+    assert "--io diStrat: the task uses no signal of that name (did you mean diStart?)" in said

@@ -70,12 +70,19 @@ def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=Non
             fitted = wrist_fit(arm, cands[ok], sol.conf[k][ok], conf, bounds)
             if fitted is not None:
                 return fitted, None
-            have = sorted({tuple(int(v) for v in c) for c in sol.conf[k][ok]})
-            return None, (f"'{name}' has no solution with confdata {list(conf)}; its solutions have "
-                          f"{', '.join(str(list(c)) for c in have)}")
+            return None, f"'{name}' has no solution with confdata {list(conf)}; {nearest_confs(sol.conf[k][ok], conf)}"
         ok = match
     dist = np.where(ok, np.sum((cands - q_now) ** 2, axis=1), np.inf)
     return cands[int(np.argmin(dist))].copy(), None
+
+
+def nearest_confs(confs: np.ndarray, conf, shown: int = 4) -> str:
+    """The configurations a pose's solutions have, those nearest ``conf`` first, a few of them."""
+    have = sorted({tuple(int(v) for v in c) for c in confs},
+                  key=lambda c: (sum(abs(a - b) for a, b in zip(c, conf)), c))
+    text = ", ".join(str(list(c)) for c in have[:shown])
+    more = f" and {len(have) - shown} more" if len(have) > shown else ""
+    return f"the nearest it has: {text}{more}"
 
 
 WRIST_SINGULAR = 1e-6  # rad: |q5| below this, axes 4 and 6 are in line

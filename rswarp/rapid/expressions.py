@@ -6,6 +6,7 @@ configuration, 0 unless ``--io`` sets it (a warning says so, once)."""
 
 from __future__ import annotations
 
+import difflib
 import math
 
 from . import nodes as n
@@ -22,11 +23,13 @@ class Evaluator:
 
     # -- names ----------------------------------------------------------------------------------
     def cell(self, key: str, name: str, frame, line: int):
-        """The cell a name refers to (a signal's for a name declared nowhere)."""
+        """The cell a name refers to (a signal's for a name declared nowhere, unless it looks like
+        a misspelt name of the task's: then it is an error)."""
         cell = frame.cells.get(key)
         if cell is None:
             cell = frame.module.get(key)
             if cell is None:
+                self._misspelt(key, name, frame, line)
                 cell = self.signal(name, line, declared=False)
         if self.reads is not None and cell.kind != "const":
             self.reads.append(cell)
@@ -42,6 +45,17 @@ class Evaluator:
                 self.warn(line, f"'{name}' is declared nowhere in the task: taken as an I/O signal of value 0 "
                                 f"(--io {name}=VALUE sets it)")
         return cell
+
+    def _misspelt(self, key: str, name: str, frame, line: int) -> None:
+        """An error for a name declared nowhere that is one or two letters from a data name the
+        task declares (``nDelay`` for ``nDelays``): a typo, not an I/O signal."""
+        if key in self.signals:
+            return
+        near = difflib.get_close_matches(key, [k for k, c in frame.module.items() if c.file] + list(frame.cells),
+                                         n=1, cutoff=0.85)
+        if near:
+            cell = frame.cells.get(near[0]) or frame.module.get(near[0])
+            fail(self.path, line, f"unknown name '{name}' (did you mean '{cell.name}'?)")
 
     def signal_of(self, node, frame) -> Cell:
         """The signal an argument names (a declared signal variable's, or an I/O signal's), with
@@ -70,6 +84,8 @@ class Evaluator:
             fail(self.path, node.line, f"the optional parameter '{node.name}' is not present (test it with Present)")
         if cell.type in SIGNALS:
             value = self.signal(cell.name, node.line).get()
+        if node.selectors and cell.type == "signal":
+            fail(self.path, node.line, f"unknown name '{node.name}' ({n.written(node)})")
         return self.select(value, node.selectors, frame, node) if node.selectors else value
 
     def select(self, value, selectors, frame, node):

@@ -7,6 +7,8 @@ independent axes, MultiMove) is a warning at its line, as is a procedure nobody 
 
 from __future__ import annotations
 
+import difflib
+
 from .arguments import Arguments
 from .errors import fail
 from .flow import ExitCycle
@@ -51,6 +53,9 @@ def run_instruction(interp, s, frame) -> None:
     elif key in UNMODELLED:
         interp.warn(s.line, f"{s.name} could change the motion and is not modelled: skipped")
     else:
+        near = difflib.get_close_matches(key, list(KNOWN) + list(frame.module.routines()), n=1, cutoff=0.8)
+        if near:
+            fail(interp.path, s.line, f"unknown procedure '{s.name}' (did you mean {KNOWN.get(near[0], near[0])}?)")
         interp.warn(s.line, f"'{s.name}' is neither a routine of the task nor an instruction rswarp knows: skipped")
 
 
@@ -195,3 +200,10 @@ def clock_read(interp, ref) -> float:
     cell = ref.cell if not isinstance(ref, Cell) else ref
     running, total = interp.clocks.get(id(cell), (None, 0.0))
     return total + (interp.waited - running if running is not None else 0.0)
+
+
+# Instructions by their lower-case name, as RAPID writes them (for "did you mean").
+KNOWN = {k: k for k in (*MOVES, *_HANDLERS, *SILENT, *UNMODELLED, *LIVE)}
+KNOWN.update({"movel": "MoveL", "movej": "MoveJ", "movec": "MoveC", "moveabsj": "MoveAbsJ", "waittime": "WaitTime",
+              "setdo": "SetDO", "waitdi": "WaitDI", "confl": "ConfL", "confj": "ConfJ", "triggl": "TriggL",
+              "arcl": "ArcL", "searchl": "SearchL", "tpwrite": "TPWrite", "accset": "AccSet", "velset": "VelSet"})

@@ -13,6 +13,7 @@ that runs ``MAX_STATEMENTS`` statements, or calls deeper than ``MAX_DEPTH``, sto
 from __future__ import annotations
 
 import contextlib
+import difflib
 import sys
 
 from ..errors import Diagnostic, Diagnostics
@@ -45,6 +46,7 @@ class Interpreter(Evaluator):
         self.task, self.types, self.robot = task, task.types, robot or NoRobot()
         self.cycles = cycles
         self.given = {k.lower() for k in (io or {})}
+        self.given_names = list(io or {})
         self.used_signals: set[str] = set()
         self.signals = {k.lower(): Cell(float(v), "signal", "var", "", 0, k) for k, v in (io or {}).items()}
         self.motions: list[Motion] = []
@@ -89,8 +91,10 @@ class Interpreter(Evaluator):
                 if self.main_loop is not None:
                     break
                 self.pass_index += 1
-        for name in sorted(self.given - self.used_signals):
-            self.warnings.append(Diagnostic(self.path, 0, f"--io {name}: the task uses no signal of that name",
+        for name in sorted(k for k in self.given_names if k.lower() not in self.used_signals):
+            near = difflib.get_close_matches(name.lower(), sorted(self.used_signals), n=1, cutoff=0.8)
+            hint = f" (did you mean {self.signals[near[0]].name}?)" if near else ""
+            self.warnings.append(Diagnostic("rswarp", 0, f"--io {name}: the task uses no signal of that name{hint}",
                                             "warning"))
         if self.main_loop is not None:
             node, file, passes = self.main_loop
@@ -439,6 +443,10 @@ class _Scope(dict):
 
     def routine(self, key: str):
         return self._routines.get(key)
+
+    def routines(self) -> dict:
+        """The routines this module sees, by lower-case name."""
+        return self._routines
 
 
 @contextlib.contextmanager

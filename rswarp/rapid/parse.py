@@ -16,6 +16,7 @@ from ..files import read_regular
 from . import nodes
 from .build import DECLARATION, STRING, Builder, literal_regex
 from .errors import fail
+from .syntax import explained
 
 SUFFIXES = (".mod", ".modx", ".prg", ".sys")
 MAX_NESTING = 64  # brackets and signs in a row: records nest a few deep; more is not a program
@@ -110,10 +111,13 @@ def parse_text(text: str, path: str) -> list[nodes.Module]:
     try:
         modules = parser.parse(text)
     except UnexpectedToken as exc:
-        got = "the end of the file" if exc.token.type == "$END" else repr(str(exc.token)[:40])
-        fail(path, exc.line, f"RAPID syntax: unexpected {got}")
+        end = exc.token.type == "$END"
+        fail(path, *explained(text, exc.line if not end else text.count("\n") + 1, None if end else exc.token,
+                              exc.expected))
     except UnexpectedCharacters as exc:
-        fail(path, exc.line, f"RAPID syntax: unexpected character {exc.char!r}")
+        line, message = explained(text, exc.line, None, ())
+        fail(path, line, message if line < exc.line or message.startswith("an XML") else
+             f"RAPID syntax: unexpected character {exc.char!r}")
     except (UnexpectedEOF, UnexpectedInput) as exc:
         fail(path, getattr(exc, "line", 0) or 0, "RAPID syntax: the module ends early")
     for module in modules:

@@ -64,6 +64,9 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
 
         trajectories = [program_trajectory(path, program, routine, warn=warn, io=signal_values(io), cycles=cycles,
                                            external_axes=external_axes)]
+        if seconds is not None and seconds < trajectories[0].duration:
+            warn(f"rswarp: warning: --seconds {seconds:g}: the task takes {trajectories[0].duration:.2f} s; the run "
+                 f"covers its first {seconds:g} s")
     elif random:  # random programs: free of the floor (at the run's floor) and of the robot itself
         from ..sim.random_program import random_programs
 

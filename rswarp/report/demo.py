@@ -187,6 +187,7 @@ def _programs(mech: Mechanism, out: Path) -> list[str]:
         video = out / f"{mech.name}-{module.stem}.gif" if module.stem == "service" else None
         done = _program(mech, out, [module], csv, video)
         lines.append(f"   program {module.name} (rswarp program), trajectory -> {csv}:")
+        lines += [f"     | {line}" for line in _purpose(module)]
         lines += [f"     {line}" for line in done.text.splitlines() if not line.startswith("trajectory:")]
     for task in sorted(d for d in folder.iterdir() if d.is_dir() and any(d.glob("*.mod"))):
         csv = out / f"{mech.name}-{task.name}.csv"
@@ -197,6 +198,20 @@ def _programs(mech: Mechanism, out: Path) -> list[str]:
         lines += [f"     {line}" for line in text[:2] + [t for t in text if t.startswith(("findings", "  ", "errors"))]]
         lines += [f"     assumed: {line.split(': warning: ', 1)[-1]}" for line in said]
     return lines
+
+
+def _purpose(module: Path) -> list[str]:
+    """A module's leading comment, what it is for in its author's words, wrapped for the demo."""
+    import textwrap
+
+    said = []
+    for line in module.read_text(encoding="utf-8", errors="replace").splitlines():
+        text = line.strip()
+        if text.startswith("!"):
+            said.append(text.lstrip("! ").rstrip())
+        elif said:
+            break
+    return textwrap.wrap(" ".join(said), 96)
 
 
 def _program(mech: Mechanism, out: Path, paths: list[Path], csv: Path, video: Path | None, warn=None):

@@ -46,17 +46,25 @@ def _head(doc: dict, files: list[str]) -> str:
     source = Path(files[0]).name if len(files) == 1 else f"{len(files)} files"
     head = (f"{doc['robot']}: {doc['routine']} of {source}, {count} move{'s' * (count != 1)}, "
             f"{doc['duration_s']:.2f} s (every move stops at its point: zones are not blended)")
+    passes = doc["cycles_s"]
     if doc["main_loop"]:
-        passes = len(doc["cycles_s"])
         loop = doc["main_loop"]
         where = f"{Path(loop.rsplit(':', 1)[0]).name}:{loop.rsplit(':', 1)[1]}"
-        head += (f"\ncycle: {doc['cycle_s']:.2f} s, one pass of the main loop at {where} "
-                 f"({passes} pass{'es' if passes > 1 else ''} run, --cycles)")
-    elif len(doc["cycles_s"]) > 1:
-        head += f"\ncycle: {doc['cycle_s']:.2f} s, one run of {doc['routine']} ({len(doc['cycles_s'])} runs, --cycles)"
+        what = f"one pass of the main loop at {where}"
+        if len(passes) > 1:
+            what = f"the last of {len(passes)} passes of the main loop at {where}: {_seconds(passes)} s"
+        head += f"\ncycle: {doc['cycle_s']:.2f} s, {what} (--cycles {len(passes)})"
+    elif len(passes) > 1:
+        head += (f"\ncycle: {doc['cycle_s']:.2f} s, the last of {len(passes)} runs of {doc['routine']}: "
+                 f"{_seconds(passes)} s")
     else:
         head += f"\ncycle: {doc['cycle_s']:.2f} s, one run of {doc['routine']}"
     return head
+
+
+def _seconds(values: list[float], shown: int = 6) -> str:
+    text = ", ".join(f"{v:.2f}" for v in values[:shown])
+    return text + (f", ... ({len(values) - shown} more)" if len(values) > shown else "")
 
 
 def _where(m: dict, several: bool) -> str:
