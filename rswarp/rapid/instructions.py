@@ -24,7 +24,7 @@ isignalai isignalao isignalgi isignalgo itimer iwatch isleep ienable idisable ie
 triggio triggequip triggint triggcheckio triggrampao triggspeed triggdatareset aliasio gripload
 mechunitload tuneservo tunereset softact softdeact speedrefresh pathresol singarea pathacclim worldacclim
 cirpathmode actunit deactunit storepath restopath clearpath stopmove startmove stopmovereset motionsup
-waitsynctask waitrob waitload waittestandset syncmoveon syncmoveoff syncmoveundo iodisable ioenable setsysdata
+waitsynctask waitrob waitload waittestandset iodisable ioenable setsysdata
 erasemodule startload load unload copyfile removefile makedir removedir opendir closedir readdir
 rmqsendmessage rmqsendwait rmqemptyqueue rmqfindslot sendcmd sendcommand
 egmgetid egmreset textget""".split())
@@ -34,7 +34,7 @@ rmqgetmessage uimsgbox uinumentry uinumtune uialphaentry uilistview""".split())
 # Instructions that could change the motion, which rswarp does not model: skipped with a warning.
 UNMODELLED = set("""pdispon pdispset pdispoff eoffson eoffsset eoffsoff moveextj indamove indcmove inddmove
 indrmove indreset corrcon corrwrite corrclear corrdiscon egmrunjoint egmrunpose egmstreamstart
-egmmovel egmmovec egmactjoint egmactpose contacttool skipwarn""".split())
+egmmovel egmmovec egmactjoint egmactpose contacttool skipwarn syncmoveon syncmoveoff syncmoveundo""".split())
 
 
 def run_instruction(interp, s, frame) -> None:

@@ -135,12 +135,12 @@ def _move_ends(kin, p: Plan) -> list:
         row = m.rows[1] - 1
         mo = m.motion
         if m.error or mo.kind == "wait" or mo.tool is None:
-            out.append((p.q[row] if m.error is None else None, None))
+            out.append((p.q[row] if m.error is None else None, None, None))
             continue
         fr = frames(kin.mech, mo.tool, mo.wobj)
         link, offset = kin.flange_frame()
-        tcp = fr.relative(kin.fk64(p.q[row][None])[:, link] @ offset)[0]
-        out.append((p.q[row], tcp[:3, 3]))
+        flange = kin.fk64(p.q[row][None])[:, link] @ offset
+        out.append((p.q[row], fr.relative(flange)[0, :3, 3], fr.world(flange)[0, :3, 3]))
     return out
 
 
@@ -148,7 +148,8 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end) -> dict:
     m = move.motion
     out = {"file": m.file, "line": m.line, "routine": m.routine, "chain": list(m.chain), "instruction": m.instruction,
            "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
-           "joints": end[0], "tcp_m": end[1], "findings": _findings(mech, p, move, tally, names, floor)}
+           "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2],
+           "findings": _findings(mech, p, move, tally, names, floor)}
     if move.error:
         out["error"] = move.error
     return out
