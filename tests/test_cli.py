@@ -102,6 +102,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
                                                                  "IRB2600ID_8_200__03-cables", ".rswarp.json",
                                                                  "IRB2600_12_165__01-pick_place.csv",
                                                                  "IRB2600_12_165__01-service.csv",
+                                                                 "IRB2600_12_165__01-cell.csv",
                                                                  "IRB2600_12_165__01-service.gif", "dresspack-program",
                                                                  "dresspack-program.gif", "dresspack-random"] + [
         f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01", "IRB9460_110_240__01")
@@ -110,6 +111,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
     assert "cables (16 random programs, free of the floor and the robot itself, 4 s; no meshes" in out
     assert "bend radius: least" in out
     assert "program pick_place.mod" in out and "program service.mod" in out
+    assert "task cell/ (3 modules, rswarp program)" in out and "one pass of the main loop at MainModule.mod:10" in out
     assert "line 18: 269 mm below the floor" in out  # the service draft's finding
     assert "== dress pack: IRB2600_12_165_DressPack_01.rsxml" in out and "rubs on Link4" in out
     assert "no meshes ship with this robot, so its hose meets only the floor" in out

@@ -66,12 +66,13 @@ def _segment(sol, k: int, b: int, start: np.ndarray, lower, upper) -> np.ndarray
     """Branch ``b`` from probe ``k`` on, turns unwrapped from ``start``, up to (not including) the
     first probe where it is not a solution, leaves the limits, or jumps."""
     seg = sol.q[k:, b].copy()
-    step = np.diff(seg[:, _TURNING], axis=0)
-    seg[1:, _TURNING] -= 2 * np.pi * np.cumsum(np.round(step / (2 * np.pi)), axis=0)
-    seg[:, _TURNING] += start[_TURNING] - seg[0, _TURNING]
-    bad = ~sol.ok[k:, b] | np.any((seg < lower) | (seg > upper), axis=1) | ~np.isfinite(seg).all(axis=1)
-    jump = np.r_[False, np.max(np.abs(np.diff(seg, axis=0)), axis=1) > JUMP]
-    stop = np.flatnonzero(bad | jump)
+    turning = seg[:, _TURNING]
+    turning[1:] -= 2 * np.pi * np.cumsum(np.round(np.diff(turning, axis=0) / (2 * np.pi)), axis=0)
+    seg[:, _TURNING] = turning + (start[_TURNING] - turning[0])
+    bad = ~sol.ok[k:, b]
+    bad |= ((seg < lower) | (seg > upper) | ~np.isfinite(seg)).any(axis=1)
+    bad[1:] |= np.abs(np.diff(seg, axis=0)).max(axis=1) > JUMP
+    stop = np.flatnonzero(bad)
     end = int(stop[0]) if len(stop) and stop[0] > 0 else (1 if len(stop) else len(seg))
     return seg[:end]
 

@@ -93,7 +93,9 @@ def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, 
         at_probe = at_probe * (motion.duration / at_probe[-1])
     t = samples(float(at_probe[-1]), rate)
     along = np.interp(t, at_probe, u)
-    return t, np.stack([np.interp(along, u, q[:, c]) for c in range(q.shape[1])], axis=1)
+    k = np.clip(np.searchsorted(u, along, side="right"), 1, len(u) - 1)  # along lies in [u[k-1], u[k]]
+    w = ((along - u[k - 1]) / (u[k] - u[k - 1]))[:, None]
+    return t, q[k - 1] * (1.0 - w) + q[k] * w
 
 
 def probes(length: float, turn: float) -> np.ndarray:
