@@ -272,3 +272,12 @@ def test_random_programs_keep_the_robot_clear_of_itself_and_the_floor():
         poses = kin.fk64(p.at(t))
         points = [(bare.link_names.index(j.child), np.r_[j.point1, 1.0]) for j in bare.joints[1:]]
         assert min(float((poses[:, k] @ x)[:, 2].min()) for k, x in points) > 0.005
+
+
+def test_clocks_read_the_time_of_the_moves_too():
+    """clock.mod moves back and forth until ClkRead passes 5 s: the clock runs with the moves (as
+    planned), so the loop ends after the pass that crosses 5 s."""
+    p = planned("clock.mod")
+    first = p.moves[0].end
+    ends = [mv.end - first for mv in p.moves[1:]]
+    assert ends[-1] >= 5.0 and ends[-3] < 5.0 and len(ends) % 2 == 0

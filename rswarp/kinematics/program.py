@@ -109,6 +109,10 @@ class Planner:
         self.extend(motions)
         return tuple(float(v) for v in self.q)
 
+    def seconds_after(self, motions) -> float:
+        self.extend(motions)
+        return self.now
+
     def pose(self, joints, tool: rd.Tool, wobj: rd.WorkObject):
         fr = self._frames_or_raise(tool, wobj)
         q = np.asarray(joints, float)[None]

@@ -147,9 +147,9 @@ def _clock(op: str):
         cell = a.reference(0).cell
         running, total = interp.clocks.get(id(cell), (None, 0.0))
         if op == "start" and running is None:
-            interp.clocks[id(cell)] = (interp.waited, total)
+            interp.clocks[id(cell)] = (interp.now(), total)
         elif op == "stop" and running is not None:
-            interp.clocks[id(cell)] = (None, total + interp.waited - running)
+            interp.clocks[id(cell)] = (None, total + interp.now() - running)
         elif op == "reset":
             interp.clocks[id(cell)] = (None, 0.0)
         cell.set(cell.get())
@@ -199,7 +199,7 @@ _HANDLERS = {
 def clock_read(interp, ref) -> float:
     cell = ref.cell if not isinstance(ref, Cell) else ref
     running, total = interp.clocks.get(id(cell), (None, 0.0))
-    return total + (interp.waited - running if running is not None else 0.0)
+    return total + (interp.now() - running if running is not None else 0.0)
 
 
 # Instructions by their lower-case name, as RAPID writes them (for "did you mean").

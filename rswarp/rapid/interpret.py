@@ -58,7 +58,7 @@ class Interpreter(Evaluator):
         self.state = {"conf_j": True, "conf_l": True, "accel": 1.0, "ramp": 1.0, "override": 1.0, "vmax": None,
                       "tool": None, "wobj": None}
         self.clocks: dict = {}  # clock cells -> (running since, seconds so far)
-        self.waited = 0.0  # seconds of waits so far (the clocks' time)
+        self.waited = 0.0  # seconds of waits so far (the clocks' time without a robot)
         self.loop_passes: dict = {}
         self.label_at: dict = {}
         self.moves = 0  # motions that move (not waits)
@@ -411,6 +411,13 @@ class Interpreter(Evaluator):
             fresh = Cell(None, "volatile", "var")
             fresh.set(None)
             self.reads.append(fresh)
+
+    def now(self) -> float:
+        """The task's time so far (s): its moves and waits as the robot times them, else its waits."""
+        try:
+            return float(self.robot.seconds_after(self.motions))
+        except LookupError:
+            return self.waited
 
     def clock_read(self, ref) -> float:
         return clock_read(self, ref)

@@ -54,6 +54,9 @@ class Robot(Protocol):
     def joints_after(self, motions: Sequence[Motion]) -> tuple[float, ...]:
         """The joint values where these motions leave the robot (CRobT, CJointT)."""
 
+    def seconds_after(self, motions: Sequence[Motion]) -> float:
+        """How long these motions take (the clocks: ClkRead)."""
+
     def pose(self, joints: Sequence[float], tool: rd.Tool, wobj: rd.WorkObject) -> tuple[rd.Pose, tuple]:
         """The TCP pose in the work object at ``joints``, and the configuration data there (CalcRobT)."""
 
@@ -69,6 +72,9 @@ class NoRobot:
         return (True,) * 6
 
     def joints_after(self, motions):
+        raise LookupError("it needs a robot model")
+
+    def seconds_after(self, motions):
         raise LookupError("it needs a robot model")
 
     def pose(self, joints, tool, wobj):
