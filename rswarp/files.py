@@ -88,25 +88,27 @@ def _folder(path: Path) -> Path:
 
 
 def atomic_write(path: str | Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same folder, then rename."""
+    """Write ``data`` to ``path`` through a temporary file in the same folder, then rename; a
+    SIGTERM meanwhile leaves neither (``cleanup_on_terminate``)."""
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path}: is a folder, not a file name")
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:64]}.", suffix=".tmp", dir=_folder(path))
-    except OSError as exc:
-        raise output_error(path, exc) from None
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        usual_mode(tmp)
-        commit(tmp, path)
-    except OSError as exc:
-        Path(tmp).unlink(missing_ok=True)
-        raise output_error(path, exc) from None
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with cleanup_on_terminate():
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:64]}.", suffix=".tmp", dir=_folder(path))
+        except OSError as exc:
+            raise output_error(path, exc) from None
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+            usual_mode(tmp)
+            commit(tmp, path)
+        except OSError as exc:
+            Path(tmp).unlink(missing_ok=True)
+            raise output_error(path, exc) from None
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
 
 
 def usual_mode(path: str | Path) -> None:

@@ -47,17 +47,22 @@ def _digest(path: Path) -> str:
 
 def manifest(folder: Path) -> dict[str, str]:
     """The files rswarp wrote into ``folder`` (and the folders it wrote there), by path relative to
-    it, with their SHA-256 then; {} where none."""
+    it, with their SHA-256 then; {} where none. A ``.rswarp.json`` that is not rswarp's manifest
+    (the user's own file of that name) is an ``InputError``: rswarp then touches nothing there."""
     path = folder / MANIFEST
     try:
-        if path.is_symlink() or not path.is_file() or path.stat().st_size > MAX_MANIFEST:
+        if not (path.exists() or path.is_symlink()):
             return {}
-        doc = json.loads(read_regular(path))
+        doc = None
+        if not path.is_symlink() and path.is_file() and path.stat().st_size <= MAX_MANIFEST:
+            doc = json.loads(read_regular(path))
     except (OSError, ValueError):
-        return {}
-    files = doc.get("files") if isinstance(doc, dict) else None
-    return {k: v for k, v in files.items() if isinstance(k, str) and isinstance(v, str)} \
-        if isinstance(files, dict) else {}
+        doc = None
+    files = doc.get("files") if isinstance(doc, dict) and doc.get("written_by") == "rswarp" else None
+    if not isinstance(files, dict):
+        raise InputError(f"{path}: is not rswarp's manifest (a file of yours?): rswarp writes nothing into "
+                         f"{folder}; write elsewhere")
+    return {k: v for k, v in files.items() if isinstance(k, str) and isinstance(v, str)}
 
 
 def owned(path: Path, listed: dict[str, str] | None = None) -> bool:
@@ -92,7 +97,11 @@ def record(folder: Path, names: Iterable[str]) -> None:
 
 
 def claim(path: Path) -> None:
-    """``InputError`` unless ``path`` is free for rswarp to write: missing, or a file it wrote."""
+    """``InputError`` unless ``path`` is free for rswarp to write: missing, or a file it wrote,
+    in a folder whose manifest (if any) is rswarp's; never the manifest itself."""
+    if path.name == MANIFEST:
+        raise InputError(f"{path}: {MANIFEST} is the name of rswarp's manifest of a folder; name the output otherwise")
+    manifest(_folder(path))
     try:
         taken = path.exists() or path.is_symlink()
     except OSError as exc:  # a name too long for the file system, say
@@ -102,11 +111,11 @@ def claim(path: Path) -> None:
 
 
 @contextlib.contextmanager
-def atomic_folder(out: str | Path, names: tuple[str, ...]) -> Iterator[Path]:
+def atomic_folder(out: str | Path) -> Iterator[Path]:
     """A temporary folder to write a set of files into; on success it replaces ``out`` as a whole,
     with a manifest of what it holds. ``out`` must be replaceable (``check_replaceable``)."""
     out = Path(out)
-    check_replaceable(out, names)
+    check_replaceable(out)
     with cleanup_on_terminate(), new_folders(out):
         try:
             tmp = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".tmp", dir=_folder(out)))
@@ -123,10 +132,11 @@ def atomic_folder(out: str | Path, names: tuple[str, ...]) -> Iterator[Path]:
             shutil.rmtree(tmp, ignore_errors=True)
 
 
-def check_replaceable(out: Path, names: tuple[str, ...]) -> None:
-    """``InputError`` unless ``out`` can be replaced by a new set of files named in ``names``: it is
-    missing, empty, or holds only files rswarp wrote there (its manifest), and its place can take a
-    folder (not the current folder, a mount point, or a folder that cannot be renamed)."""
+def check_replaceable(out: Path) -> None:
+    """``InputError`` unless ``out`` can be replaced by a new set of files: it is missing, empty, or
+    holds only files rswarp wrote there and nobody changed since (its manifest: an earlier set, a
+    video written into it), and its place can take a folder (not the current folder, a mount point,
+    or a folder that cannot be renamed)."""
     out = Path(out)
     try:
         if out.is_symlink() or (out.exists() and not out.is_dir()):
@@ -134,8 +144,7 @@ def check_replaceable(out: Path, names: tuple[str, ...]) -> None:
         _check_where(out)
         if out.exists():
             listed = manifest(out)
-            foreign = sorted(p.name for p in out.iterdir()
-                             if p.name != MANIFEST and not (p.name in names and owned(p, listed)))
+            foreign = sorted(p.name for p in out.iterdir() if p.name != MANIFEST and not owned(p, listed))
             if foreign:
                 raise InputError(f"{out}: holds files rswarp did not write ({', '.join(foreign[:3])}"
                                  f"{', ...' if len(foreign) > 3 else ''}); name a new or empty folder")

@@ -24,10 +24,9 @@ from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS,
 from ..sim.cables import CableRun, run_frames, simulate_cables
 from ..sim.engine import cluster_for
 from .cable_lines import cable_lines, pinched
-from .cable_plots import PLOT_FILES, cable_plots
+from .cable_plots import cable_plots
 from .output import Output, Warn, ignore, json_bytes, json_safe
 
-CABLE_FILES = ("report.json", *PLOT_FILES, "playback.usdc")
 TAUT = 0.999  # attachments this share of the cable length apart: pulled straight, no slack left
 
 
@@ -46,10 +45,7 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
     unit."""
     mech, _ = load_mechanism(path)
     check_cable_folder(out)
-    if video is not None:
-        from .videos import claim_video
-
-        claim_video(video)
+    check_video_options(video, video_env, video_color, envs, out)
     options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, poisson=poisson,
                            friction=friction, environment=placed_environments(mech, environment or []),
                            cable_model=cable_model, min_bend_radius=mech.si_length(min_bend_radius),
@@ -88,9 +84,25 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
     return Output(doc, text)
 
 
+def check_video_options(video: str | None, env: int | None, colour: str, envs: int, out) -> None:
+    """``--video``, ``--video-env`` and ``--video-color`` refused before any work where they cannot
+    be honoured."""
+    from .videos import COLOURINGS, claim_video
+
+    if video is None:
+        if env is not None:
+            raise InputError("--video-env needs --video (the file to render the environment into)")
+        return
+    claim_video(video, out)
+    if colour not in COLOURINGS:
+        raise InputError(f"--video-color must be one of {', '.join(COLOURINGS)}")
+    if env is not None and not 0 <= env < envs:
+        raise InputError(f"--video-env must be 0 to {envs - 1} (the run has {envs} environments), not {env}")
+
+
 def check_cable_folder(out: str | Path) -> None:
     """Refuse an output folder the run could not replace, before anything is simulated."""
-    check_replaceable(Path(out), CABLE_FILES)
+    check_replaceable(Path(out))
 
 
 def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = False) -> dict:
@@ -101,7 +113,7 @@ def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = Fa
     names = {"report": "report.json"} | {Path(f).stem + "_plot": f for f in plots} | (
         {"playback": "playback.usdc"} if usd else {})
     doc = cable_report(run) | {"files": {k: str(out / v) for k, v in names.items()}}
-    with atomic_folder(out, CABLE_FILES) as tmp:
+    with atomic_folder(out) as tmp:
         for name, png in plots.items():
             atomic_write(tmp / name, png)
         if usd:

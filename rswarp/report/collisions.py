@@ -46,7 +46,7 @@ def run_collisions(path: str, out: str, samples: int, seed: int = 0, padding: fl
 
 def check_collisions_folder(out: str | Path) -> None:
     """Refuse an output folder the sweep could not replace, before any sampling is done."""
-    check_replaceable(Path(out), COLLISION_FILES)
+    check_replaceable(Path(out))
 
 
 def collisions_srdf(c: Collisions) -> str:
@@ -61,7 +61,7 @@ def write_collisions(c: Collisions, out: str | Path) -> dict:
     out = Path(out)
     files = {name.split(".")[0]: out / name for name in COLLISION_FILES}
     doc = json_safe(c.report()) | {"files": {k: str(v) for k, v in files.items()}}
-    with atomic_folder(out, COLLISION_FILES) as tmp:
+    with atomic_folder(out) as tmp:
         atomic_write(tmp / "collision_matrix.srdf", collisions_srdf(c).encode())
         atomic_write(tmp / "heatmap.png", heatmap_png(c))
         atomic_write(tmp / "report.json", json_bytes(doc))

@@ -219,8 +219,7 @@ def _write_asset(report: Report, target: Target, out: Path, layout: str, size: i
         record(out, [p.name for p in (output, preview) if p.exists()])
         return output, output.stat().st_size, warnings
     output = out / target.name
-    owned = (f"{target.name}.usda", f"{target.name}_Payload", f"{target.name}.thumbnail.png")
-    with atomic_folder(output, owned) as tmp:
+    with atomic_folder(output) as tmp:
         warnings += to_usd(model, tmp / f"{target.name}.usda", layout="component", asset=asset)
     written = sum(p.stat().st_size for p in output.rglob("*") if p.is_file())
     return output, written, warnings

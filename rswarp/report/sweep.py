@@ -42,12 +42,11 @@ def run_sweep(path: str, out: str, samples: int, method: str = "random", seed: i
     return Output(doc, sweep_text(ws, mech, doc["files"]))
 
 
-SWEEP_FILES = ("workspace.npz", "report.json", "side.png", "top.png")
 
 
 def check_sweep_folder(out: str | Path) -> None:
     """Refuse an output folder the sweep could not replace, before any sampling is done."""
-    check_replaceable(Path(out), SWEEP_FILES)
+    check_replaceable(Path(out))
 
 
 def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path) -> dict:
@@ -58,7 +57,7 @@ def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path) -> dict:
     files = {"voxels": out / "workspace.npz", "report": out / "report.json", "side_view": out / "side.png",
              "top_view": out / "top.png"}
     doc = json_safe(ws.report()) | {"files": {k: str(v) for k, v in files.items()}}
-    with atomic_folder(out, SWEEP_FILES) as tmp:
+    with atomic_folder(out) as tmp:
         from .figures import work_range_figures
 
         save_voxels(ws, tmp / files["voxels"].name)

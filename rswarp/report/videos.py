@@ -19,12 +19,13 @@ VIDEO_SIZE = 512
 COLOURINGS = ("bend", "wear")
 
 
-def claim_video(path: str | None) -> None:
-    """Refuse, before any work, a video path that would replace a file rswarp did not write."""
+def claim_video(path: str | None, made: str | Path | None = None) -> None:
+    """Refuse, before any work, a video path that cannot be written or would replace a file rswarp
+    did not write (``made``: the run's output folder, which the video may go into)."""
     if path is not None:
         from ..sim.video import check_video_path
 
-        claim(check_video_path(path))
+        claim(check_video_path(path, None if made is None else Path(made)))
 
 
 def _saved(path: str | Path, frames: np.ndarray, fps: float) -> dict:

@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import sys
 import tempfile
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 from typing import Sequence
 
 import numpy as np
@@ -40,13 +41,37 @@ def init_warp():
         wp.config.quiet = True
         if hasattr(wp.config, "log_level"):
             wp.config.log_level = getattr(wp, "LOG_ERROR", 40)
-        with _native_stderr() as said:
+        with _native_stderr() as said, signals_held():
             wp.init()
         for line in said():
             if not line.startswith(CUDA_DRIVER_WARNING):
                 sys.stderr.write(line.decode(errors="replace"))
         init_warp.ready = True
     return wp
+
+
+_HELD = {signal.SIGINT, signal.SIGTERM}
+
+
+@contextlib.contextmanager
+def signals_held():
+    """Ctrl-C and SIGTERM held back while native code runs in the main thread (a kernel launch,
+    Warp compiling a module with its in-process compiler, which installs handlers of its own), and
+    delivered, as KeyboardInterrupt or the SIGTERM handler, the moment it returns."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)
+
+
+def _hold_signals() -> None:
+    """A worker thread never takes Ctrl-C or SIGTERM: the main thread does, between launches."""
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
 
 
 def warp_device(name: str):
@@ -115,7 +140,8 @@ class Launcher:
 
     def load(self, kernel) -> None:
         """Compile (or load from Warp's cache) the kernel's module before any thread launches it."""
-        init_warp().load_module(kernel.module, device=self.device)
+        with signals_held():
+            init_warp().load_module(kernel.module, device=self.device)
 
     def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence = (), outputs: Sequence = (),
                scratch: int | Sequence[int] | None = None) -> None:
@@ -132,7 +158,9 @@ class Launcher:
             ins = [self._view(a[lo:hi], t) for a, t in zip(inputs, in_types)]
             outs = [self._target(a[lo:hi], t) for a, t in zip(outputs, out_types)]
             extra = [self._scratch(hi - lo, w, t, k) for k, (w, t) in enumerate(zip(widths, scratch_types))]
-            init_warp().launch(kernel, dim=hi - lo, inputs=[*params, *ins, *extra], outputs=outs, device=self.device)
+            with signals_held():
+                init_warp().launch(kernel, dim=hi - lo, inputs=[*params, *ins, *extra], outputs=outs,
+                                   device=self.device)
             if not self.device.is_cpu:
                 for host, dev in zip(outputs, outs):
                     if isinstance(host, np.ndarray):
@@ -174,9 +202,17 @@ class Launcher:
                 run(lo, hi)
             return
         if self._pool is None:
-            self._pool = ThreadPoolExecutor(self.threads)
-        for f in [self._pool.submit(run, lo, hi) for lo, hi in spans]:
-            f.result()
+            self._pool = ThreadPoolExecutor(self.threads, initializer=_hold_signals)
+        futures = [self._pool.submit(run, lo, hi) for lo, hi in spans]
+        try:
+            for f in futures:
+                f.result()
+        except BaseException:
+            # Ctrl-C or an error: no chunk may still run native code while Python unwinds and exits
+            for f in futures:
+                f.cancel()
+            wait(futures)
+            raise
 
     def close(self) -> None:
         if self._pool is not None:

@@ -7,12 +7,15 @@ collisions); a hose by its bend radius against the allowed one, or by its wear."
 
 from __future__ import annotations
 
+import os
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from ..files import cleanup_on_terminate, commit, output_error, usual_mode
 from .cable_solver import contact_meshes
 from .launch import Launcher, init_warp
 from .preview import View, camera
@@ -34,10 +37,20 @@ class Tube:
     radius: float
 
 
-def check_video_path(path: str | Path) -> Path:
+def check_video_path(path: str | Path, made: Path | None = None) -> Path:
+    """``path`` if a video can be written there: a .gif or .mp4 name in a folder that exists (or is
+    ``made``, the run's own output folder)."""
     path = Path(path)
     if path.suffix.lower() not in FORMATS:
         raise InputError(f"--video {path}: name a .gif or .mp4 file")
+    if path.is_dir():
+        raise InputError(f"--video {path}: is a folder; name a .gif or .mp4 file")
+    folder = path.parent if str(path.parent) else Path(".")
+    if made is not None and folder.resolve() == Path(made).resolve():
+        return path
+    if not folder.is_dir():
+        what = "is a file, not a folder" if folder.exists() else "does not exist"
+        raise InputError(f"--video {path}: {folder} {what}")
     return path
 
 
@@ -180,11 +193,27 @@ def _legend(frames: np.ndarray, rows) -> None:
 
 
 def write_video(path: str | Path, frames: np.ndarray, fps: float) -> None:
-    """GIF (looping) or MP4 (H.264 through imageio-ffmpeg) of RGB frames."""
+    """GIF (looping) or MP4 (H.264 through imageio-ffmpeg) of RGB frames, written beside ``path``
+    and renamed into place: Ctrl-C or SIGTERM leaves the earlier file, never half a video."""
     import imageio.v3 as iio
 
     path = Path(path)
-    if path.suffix.lower() == ".gif":
-        iio.imwrite(path, frames, extension=".gif", duration=1000.0 / fps, loop=0)
-    else:
-        iio.imwrite(path, frames, extension=".mp4", fps=fps, codec="libx264", macro_block_size=8)
+    suffix = path.suffix.lower()
+    with cleanup_on_terminate():
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:64]}.", suffix=f".tmp{suffix}",
+                                       dir=path.parent if str(path.parent) else ".")
+        except OSError as exc:
+            raise output_error(path, exc) from None
+        os.close(fd)
+        try:
+            if suffix == ".gif":
+                iio.imwrite(tmp, frames, extension=".gif", duration=1000.0 / fps, loop=0)
+            else:
+                iio.imwrite(tmp, frames, extension=".mp4", fps=fps, codec="libx264", macro_block_size=8)
+            usual_mode(tmp)
+            commit(tmp, path)
+        except OSError as exc:
+            raise output_error(path, exc) from None
+        finally:
+            Path(tmp).unlink(missing_ok=True)
