@@ -22,6 +22,8 @@ CONF = 4  # cf1, cf4, cf6, cfx
 # turn; above the rounding noise of q5's own computation, which a square root amplifies
 SINGULAR_Q5 = {8: 1e-7, 4: 1e-3}
 OK, NO_REACH, NO_LIMITS, SHOULDER, SAME = 0, 1, 2, 3, 4  # a branch's status (SAME: the singular wrist's flip)
+NOT_RIGID = 5  # the pose is not a rigid transform (a rotation scaled, sheared, mirrored; a bad bottom row)
+RIGID_TOL = 1e-5  # the error of RᵀR - I and of the bottom row a pose may have: float32 rounding
 
 
 class ArmConstants(NamedTuple):
@@ -325,6 +327,29 @@ def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
 
 
 @cached
+def rigid_func(scalar):
+    """``rigid(pose, its rotation) -> bool``: the pose is a rotation and a translation (NaN fails)."""
+    S, _, M33, _, M44 = types_of(scalar)
+    TOL = S(RIGID_TOL)
+
+    @wp.func
+    def rigid(m: M44, r: M33) -> bool:
+        e = wp.transpose(r) * r - wp.identity(n=3, dtype=S)
+        worst = S(0.0)
+        for a in range(3):
+            for b in range(3):
+                worst = wp.max(worst, wp.abs(e[a, b]))
+        worst = wp.max(worst, wp.max(wp.abs(m[3, 0]), wp.max(wp.abs(m[3, 1]), wp.abs(m[3, 2]))))
+        worst = wp.max(worst, wp.abs(m[3, 3] - S(1.0)))
+        total = S(0.0)  # NaN or inf anywhere makes the sum so (max() would pass a NaN over)
+        for a in range(4):
+            for b in range(4):
+                total = total + m[a, b]
+        return worst < TOL and wp.determinant(r) > S(0.0) and wp.isfinite(total)
+
+    return rigid
+
+
 def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
     """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
     8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
@@ -334,6 +359,7 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
     h = angle_funcs(scalar)
     elbows = _elbows(k, h, _wrist(k, h, _limits(k)))
     shoulder = shoulder_func(scalar, arm.w1, arm.p1, arm.w2, float(np.dot(arm.w2, arm.c0) - np.dot(arm.w2, arm.p1)))
+    rigid = rigid_func(scalar)
     rot, wrapped, V2 = h.rot, h.wrapped, k.V2
     W1, P1, CF, H0, K6, KN, EA, EB = k.W1, k.P1, k.CF, k.H0, k.K6, k.KN, k.EA, k.EB
     P2D, LSUM, LPROD = k.P2D, k.LSUM, k.LPROD
@@ -350,6 +376,14 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         i = wp.tid()
         m = poses[i]
         rt = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
+        if not rigid(m, rt):
+            for b in range(BRANCHES):
+                status_out[i, b] = wp.int8(NOT_RIGID)
+                for c in range(6):
+                    q_out[i, b, c] = S(0.0)
+                for c in range(CONF):
+                    conf_out[i, b, c] = wp.int8(0)
+            return
         wc = rt * CF + V3(m[0, 3], m[1, 3], m[2, 3])
         t6 = rt * K6  # where R1..R6 must take axis 6 and the direction across it
         tn = rt * KN

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import model_error
+from ..errors import InputError, model_error
 from ..kernels import fk as fk_kernels
 from ..kernels import walk
+from ..kernels.ik import NOT_RIGID
 from ..rsxml.model import Mechanism
 from ..sim.launch import DEFAULT_CHUNK, Launcher, init_warp
 from . import ik, ik_numeric, ik_planar
@@ -18,6 +19,40 @@ from .chain import loops_close, mechanism_chain
 from .loops import passive_values
 
 LOOPS_CHUNK = 1 << 14  # configurations whose poses ``loops_close`` holds at once
+
+
+RIGID_TOL = 1e-5  # |R^T R - I| and the bottom row's error a pose may have: float32 rounding, no more
+
+
+def rigid_poses(poses, dtype, checked: bool = True) -> np.ndarray:
+    """``poses`` as a C-contiguous (N, 4, 4) array of ``dtype``; ``InputError`` for a shape other
+    than (4, 4) or (N, 4, 4) and, ``checked``, naming the first that is not a rigid transform (a
+    rotation scaled, sheared or mirrored, a bottom row other than [0, 0, 0, 1], a number not
+    finite). The arm's IK kernel checks the same on the device (``NOT_RIGID``), for free."""
+    a = np.asarray(poses)
+    if a.ndim not in (2, 3) or a.shape[-2:] != (4, 4):
+        raise InputError(f"poses must have the shape (4, 4) or (N, 4, 4), not {a.shape}")
+    a = np.ascontiguousarray(a, dtype).reshape(-1, 4, 4)
+    if not checked:
+        return a
+    x, y, z = (a[:, :3, k] for k in range(3))  # the rotation's columns
+    dot = lambda u, v: np.einsum("ni,ni->n", u, v)  # noqa: E731
+    skew = np.maximum.reduce([abs(dot(x, x) - 1), abs(dot(y, y) - 1), abs(dot(z, z) - 1), abs(dot(x, y)),
+                              abs(dot(x, z)), abs(dot(y, z))])
+    det = x[:, 0] * (y[:, 1] * z[:, 2] - y[:, 2] * z[:, 1]) - x[:, 1] * (y[:, 0] * z[:, 2] - y[:, 2] * z[:, 0]) \
+        + x[:, 2] * (y[:, 0] * z[:, 1] - y[:, 1] * z[:, 0])
+    bottom = np.maximum.reduce([abs(a[:, 3, 0]), abs(a[:, 3, 1]), abs(a[:, 3, 2]), abs(a[:, 3, 3] - 1)])
+    errors = {
+        "holds a number that is not finite": ~np.isfinite(a).all(axis=(1, 2)),
+        "has a bottom row other than [0, 0, 0, 1]": bottom > RIGID_TOL,
+        "has a rotation that is not orthonormal (scaled or sheared)": skew > RIGID_TOL,
+        "has a mirror, not a rotation (determinant -1)": det < 0,
+    }
+    for why, bad in errors.items():
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise InputError(f"pose {k} of {len(a)} {why}")
+    return a
 
 
 class Kinematics:
@@ -173,15 +208,19 @@ class Kinematics:
     def solutions64(self, poses):
         """Every solution of ``(N, 4, 4)`` flange poses in float64 with the whole turns of the axes
         that turn without end (an arm's 4 and 6, a palletizer's last) that fit their limits."""
-        poses = np.ascontiguousarray(poses, np.float64).reshape(-1, 4, 4)
+        poses = self._poses(poses, np.float64)
         return self._turned(self._solve(self._ik_form(), poses, np.float64))
 
     def _ik(self, poses, conf, dtype):
-        poses = np.ascontiguousarray(poses, dtype).reshape(-1, 4, 4)
+        poses = self._poses(poses, dtype)
         sol = self._solve(self._ik_form(), poses, dtype)
         if conf is None:
             return sol
         return ik.pick(self._turned(sol), conf)
+
+    def _poses(self, poses, dtype) -> np.ndarray:
+        """Flange poses checked as rigid transforms: on the host, or by the arm's kernel."""
+        return rigid_poses(poses, dtype, checked=not isinstance(self._ik_form(), ik.ArmConstants))
 
     def _turned(self, sol):
         form = self._ik_form()
@@ -196,7 +235,13 @@ class Kinematics:
             key = ("ik", np.dtype(dtype).str)
             if key not in self._kernels:
                 self._kernels[key] = ik.ik_kernel(form, dtype)
-            return ik.closed_form(self.launcher, form, poses, dtype, self._kernels[key])
+            sol = ik.closed_form(self.launcher, form, poses, dtype, self._kernels[key])
+            bad = (sol.status == NOT_RIGID).any(axis=1)
+            if bad.any():
+                k = int(np.argmax(bad))
+                rigid_poses(poses[k:k + 1], np.float64)  # says why
+                raise InputError(f"pose {k} of {len(poses)} is not a rigid transform")
+            return sol
         if isinstance(form, ik_planar.PlanarArm):
             return ik_planar.solve(self.launcher, form, poses, *self.mech.bounds(), self.dof)
         return ik_numeric.solve(self, poses.astype(np.float64))

@@ -1,7 +1,8 @@
 """How a cable's numbers discretize it, by the format's rules: a span between each two control
 points, each as long as its share (by chord) of ``desiredLength``, cut into equal segments no
-longer than ``maxSegmentLength``. Validation reads it to report, at the cable's line, what a run
-would refuse; the rest shape (``rswarp.geometry.cable``) builds on it."""
+longer than ``maxSegmentLength`` (and at least ``MIN_SPAN_SEGMENTS``, so a span can bend).
+Validation reads it to report, at the cable's line, what a run would refuse; the rest shape
+(``rswarp.geometry.cable``) builds on it."""
 
 from __future__ import annotations
 
@@ -13,6 +14,8 @@ from .model import Cable
 
 LENGTH_TOLERANCE = 1e-9  # relative: a desired length this close to the polyline's is taut
 MAX_CABLE_SEGMENTS = 4000  # segments of one cable: what a cable kernel holds, with room for its clamps
+MIN_SPAN_SEGMENTS = 4  # segments between two control points at least: a span of one segment cannot bend
+# between two clamps, which then fight it (kilonewtons on a hose of a few newtons)
 
 
 @dataclass(frozen=True)
@@ -52,4 +55,4 @@ def cable_spans(cable: Cable, length_factor: float = 1.0) -> CableSpans:
         raise ValueError(f"cable '{cable.name}' would be {wanted.sum():.3g} segments of at most "
                          f"{cable.max_segment_length / length_factor:g} (maxSegmentLength); a cable takes at most "
                          f"{MAX_CABLE_SEGMENTS}: raise maxSegmentLength")
-    return CableSpans(pts, chords, lengths, np.maximum(1, wanted).astype(int))
+    return CableSpans(pts, chords, lengths, np.maximum(MIN_SPAN_SEGMENTS, wanted).astype(int))

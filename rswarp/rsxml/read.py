@@ -45,6 +45,9 @@ MECHANISM_SECTIONS = ("Attributes", "Links", "Joints", "Limits", "Flanges", "Bas
                       "JointMask", "AdditionalComponents")
 
 
+YOUNG_MIN, YOUNG_MAX = 1e3, 1e13  # Pa: a cable's Young's modulus, from a gel to past any metal
+
+
 class Reader(ValueReader):
     """Turns XML elements into model objects; records each problem as ``file:line: message``."""
 
@@ -240,6 +243,9 @@ class Reader(ValueReader):
                            ("youngsModulus", young)):
             if value is not None and value <= 0:
                 self.error(el, f"Cable {key} must be positive, not {el.get(key).strip()}")
+        if young is not None and young > 0 and not YOUNG_MIN <= young <= YOUNG_MAX:
+            self.error(el, f"Cable youngsModulus must be {YOUNG_MIN:g} to {YOUNG_MAX:g} Pa (from a soft gel to past "
+                           f"steel's 2e11), not {el.get('youngsModulus').strip()}")
         color = None
         if (rgb := self.floats(el, "color", 3)) is not None:
             if any(c != int(c) or not 0 <= c <= 255 for c in rgb):

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..kinematics.trajectory import Trajectory, assign, minimum_jerk
-from ..options import checked
+from ..options import BOUNDS, checked
 from ..rsxml.model import Mechanism
 from .bodies import Environment
 from .cable_extremes import RunningExtremes
@@ -70,8 +70,9 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     if not trajectories:
         raise InputError("no trajectory to follow")
     checked("envs", envs)
-    seconds = max(t.duration for t in trajectories) if seconds is None else float(seconds)
-    frames = run_frames(seconds, options)
+    if seconds is None:
+        seconds = _trajectory_seconds(trajectories)
+    frames = run_frames(float(seconds), options)
     job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
     cable_model(options).check(mech, options)  # a cable the model cannot take fails before anything is built
     meshes = contact_meshes(mech, options.environment)
@@ -83,6 +84,20 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     times = np.arange(1, frames + 1) / options.frame_rate
     return CableRun(mech.name, cables, times, tuple(t.source for t in trajectories), job.who, recorded_q, options,
                     meshes.warnings if meshes else (), tuple((j.name, j.revolute) for j in mech.active_joints))
+
+
+def _trajectory_seconds(trajectories: list[Trajectory]) -> float:
+    """How long a run over ``trajectories`` lasts when no --seconds is given: the longest; an
+    InputError naming the trajectory when that is no time at all, or longer than a run may be."""
+    longest = max(trajectories, key=lambda t: t.duration)
+    bound = BOUNDS["seconds"]
+    if not longest.duration > 0:
+        raise InputError(f"{longest.source}: the trajectory lasts 0 s (one row): a run needs time to pass; give "
+                         "--seconds to hold it still for that long")
+    if longest.duration > bound.high:
+        raise InputError(f"{longest.source}: the trajectory lasts {longest.duration:g} s, longer than a run may be "
+                         f"({bound.high:g} s, a day); give --seconds to run its start")
+    return longest.duration
 
 
 def run_frames(seconds: float, options: CableOptions) -> int:
@@ -237,5 +252,10 @@ class _CableEnvs:
 
     def results(self) -> tuple[CableResult, ...]:
         totals = self.solver.totals(self.state)
-        return tuple(x.result(self.solver.slots, self.solver.failures, self.solver.points(self.state, c), totals[c])
-                     for c, x in enumerate(self.extremes))
+        out = tuple(x.result(self.solver.slots, self.solver.failures, self.solver.points(self.state, c), totals[c])
+                    for c, x in enumerate(self.extremes))
+        if self.options.floor is None and "floor" in self.solver.slots:  # no floor: nothing to be clear of
+            k = self.solver.slots.index("floor")
+            for r in out:
+                r.clearance[:, k], r.clearance_time[:, k], r.clearance_at[:, k] = np.inf, np.nan, np.nan
+        return out

@@ -101,9 +101,15 @@ def program_tools(mech, environment: tuple[Environment, ...], device: str = "cpu
     try:
         bodies = collision_bodies(mech, environment, leads)
     except InputError:
-        if environment:
-            raise InputError("--env meshes are checked against the links' meshes; this robot has none") from None
-        bodies = None
+        if not environment:
+            bodies = None  # a robot without link meshes
+        else:
+            try:
+                collision_bodies(mech, (), leads)
+            except InputError:
+                raise InputError("--env meshes are checked against the links' meshes; this robot has none") \
+                    from None
+            raise  # the robot has meshes: the --env mesh is what failed, and its error says so
     checker = Checker(mech, bodies, padding, device, threads) if bodies is not None else None
     return ProgramTools(checker, floor_points(mech, bodies), kin)
 
