@@ -24,11 +24,12 @@ LOOPS_CHUNK = 1 << 14  # configurations whose poses ``loops_close`` holds at onc
 RIGID_TOL = 1e-5  # |R^T R - I| and the bottom row's error a pose may have: float32 rounding, no more
 
 
-def rigid_poses(poses, dtype, checked: bool = True) -> np.ndarray:
+def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int | None = None) -> np.ndarray:
     """``poses`` as a C-contiguous (N, 4, 4) array of ``dtype``; ``InputError`` for a shape other
     than (4, 4) or (N, 4, 4) and, ``checked``, naming the first that is not a rigid transform (a
     rotation scaled, sheared or mirrored, a bottom row other than [0, 0, 0, 1], a number not
-    finite). The arm's IK kernel checks the same on the device (``NOT_RIGID``), for free."""
+    finite; counted from ``offset`` of ``total``). The arm's IK kernel checks the same on the
+    device (``NOT_RIGID``), for free."""
     a = np.asarray(poses)
     if a.ndim not in (2, 3) or a.shape[-2:] != (4, 4):
         raise InputError(f"poses must have the shape (4, 4) or (N, 4, 4), not {a.shape}")
@@ -51,7 +52,7 @@ def rigid_poses(poses, dtype, checked: bool = True) -> np.ndarray:
     for why, bad in errors.items():
         if bad.any():
             k = int(np.argmax(bad))
-            raise InputError(f"pose {k} of {len(a)} {why}")
+            raise InputError(f"pose {offset + k} of {total or len(a)} {why}")
     return a
 
 
@@ -239,7 +240,7 @@ class Kinematics:
             bad = (sol.status == NOT_RIGID).any(axis=1)
             if bad.any():
                 k = int(np.argmax(bad))
-                rigid_poses(poses[k:k + 1], np.float64)  # says why
+                rigid_poses(poses[k:k + 1], np.float64, offset=k, total=len(poses))  # says why
                 raise InputError(f"pose {k} of {len(poses)} is not a rigid transform")
             return sol
         if isinstance(form, ik_planar.PlanarArm):

@@ -1,0 +1,159 @@
+"""The newest surfaces as a careless or hostile user meets them (issue "Hardening the newest
+surfaces"): files of the user's never touched (a .rswarp.json of their own), videos written whole
+or not at all and their options checked before any work, signals ending a run as 130/143 with no
+partial file, poses that are not rigid transforms refused by the IK API, hoses at rest, and
+messages that blame what is at fault."""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import rswarp
+from rswarp.cli import main
+from rswarp.errors import InputError
+from rswarp.examples import IRB2600, IRB2600_DRESSPACK, IRB2600_PROGRAM
+
+from conftest import DATA
+
+CABLE = DATA / "cable.rsxml"
+
+
+def test_a_users_own_rswarp_json_keeps_rswarp_out_of_its_folder(tmp_path, capsys):
+    for name, text in (("notes", "my notes\n"), ("json", '{"files": {}}\n')):
+        out = tmp_path / name
+        out.mkdir()
+        (out / ".rswarp.json").write_text(text)
+        assert main(["sweep", str(IRB2600), "--samples", "100", "--out", str(out)]) == 1
+        assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--csv", str(out / "t.csv")]) == 1
+        assert (out / ".rswarp.json").read_text() == text and sorted(p.name for p in out.iterdir()) == [".rswarp.json"]
+        assert "is not rswarp's manifest" in capsys.readouterr().err
+    assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--csv", str(tmp_path / ".rswarp.json")]) == 1
+    assert "is the name of rswarp's manifest" in capsys.readouterr().err
+    assert not (tmp_path / ".rswarp.json").exists()
+
+
+@pytest.mark.parametrize("video, extra, message", [
+    ("{tmp}/folder.gif/", [], "is a folder"),
+    ("{tmp}/missing/run.gif", [], "does not exist"),
+    ("{tmp}/file.txt/run.gif", [], "is a file, not a folder"),
+    ("{tmp}/run.avi", [], "name a .gif or .mp4 file"),
+    (None, ["--video-env", "0"], "--video-env needs --video"),
+    ("{tmp}/run.gif", ["--video-env", "5"], "--video-env must be 0 to 1"),
+])
+def test_video_options_are_refused_before_any_work(tmp_path, capsys, video, extra, message):
+    (tmp_path / "folder.gif").mkdir()
+    (tmp_path / "file.txt").write_text("x")
+    args = ["cable", str(CABLE), "--random", "--envs", "2", "--seconds", "0.5", "--out", str(tmp_path / "run")]
+    args += (["--video", video.format(tmp=tmp_path).rstrip("/")] if video else []) + extra
+    start = time.perf_counter()
+    assert main(args) == 1
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "run").exists() and time.perf_counter() - start < 10  # no run was made
+
+
+def test_a_video_in_the_runs_folder_is_rswarps_on_a_rerun_and_written_whole(tmp_path, monkeypatch):
+    args = ["cable", str(CABLE), "--random", "--envs", "1", "--seconds", "0.3", "--out", str(tmp_path / "run"),
+            "--video", str(tmp_path / "run" / "run.gif")]
+    assert main(args) == 0 and main(args) == 0
+    assert (tmp_path / "run" / "run.gif").stat().st_size > 0
+    from rswarp.sim import video
+
+    frames = np.zeros((2, 16, 16, 3), np.uint8)
+    target = tmp_path / "v.gif"
+    target.write_bytes(b"earlier video")
+
+    def broken(path, *a, **k):
+        open(path, "wb").write(b"half a vid")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("imageio.v3.imwrite", broken)
+    with pytest.raises(KeyboardInterrupt):
+        video.write_video(target, frames, 10.0)
+    assert target.read_bytes() == b"earlier video" and [p.name for p in tmp_path.iterdir() if p.name != "run"] == \
+        ["v.gif"]
+
+
+@pytest.mark.parametrize("command", [
+    ["program", str(IRB2600), str(DATA / "rapid" / "real" / "palletizer.mod"), "--csv", "{tmp}/t.csv"],
+    ["cable", str(IRB2600_DRESSPACK), "--program", str(IRB2600_PROGRAM), "--envs", "2", "--out", "{tmp}/run"],
+])
+def test_ctrl_c_and_sigterm_end_a_run_as_130_and_143_with_no_partial_file(tmp_path, command):
+    for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, -signal.SIGTERM)):
+        args = [a.format(tmp=tmp_path) for a in command]
+        p = subprocess.Popen([sys.executable, "-m", "rswarp.cli", *args], stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE)
+        time.sleep(4.0)
+        p.send_signal(sig)
+        _, err = p.communicate(timeout=120)
+        assert p.returncode in (code, 0), err.decode()[-500:]  # 0: it finished before the signal came
+        assert b"Traceback" not in err and b"Segmentation" not in err
+        assert not [f for f in tmp_path.rglob("*") if f.name.endswith(".tmp") or ".tmp." in f.name]
+
+
+@pytest.mark.parametrize("pose, message", [
+    (np.diag([2.0, 2.0, 2.0, 1.0]), "not orthonormal"),
+    (np.diag([0.0, 0.0, 0.0, 1.0]), "not orthonormal"),
+    (np.diag([1.0, 1.0, -1.0, 1.0]), "a mirror, not a rotation"),
+    (np.array([[1, 0.3, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]]), "not orthonormal"),
+    (np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0.1, 0, 0, 1.0]]), "bottom row"),
+    (np.full((4, 4), np.nan), "not finite"),
+    (np.zeros((4, 4, 2)), r"must have the shape \(4, 4\) or \(N, 4, 4\)"),
+])
+def test_ik_refuses_what_is_not_a_pose_and_says_why(pose, message):
+    kin = rswarp.Kinematics(rswarp.load(IRB2600))
+    for solve in (kin.ik64, kin.ik, kin.solutions64):
+        with pytest.raises(InputError, match=message):
+            solve(pose)
+    if pose.shape == (4, 4):
+        good = kin.flange(np.zeros((1, 6))).astype(np.float64)
+        with pytest.raises(InputError, match="pose 1 of 2"):
+            kin.ik64(np.stack([good[0], pose]))
+
+
+def test_a_hose_at_rest_on_a_robot_that_never_moves(tmp_path, capsys):
+    """One segment asked for between two clamps (a huge maxSegmentLength), with and without a
+    floor: the clamps hold about the hose's weight, not kilonewtons, nothing is crushed, and
+    without a floor there is no floor clearance."""
+    text = CABLE.read_text().replace('maxSegmentLength="40"', 'maxSegmentLength="5000"').replace(
+        '        <ControlPoint position="0, 150, 500"/>\n', "")
+    robot = tmp_path / "one.rsxml"
+    robot.write_text(text)
+    still = tmp_path / "still.csv"
+    still.write_text("time,J1\n0,0\n2,0\n")
+    for extra in ([], ["--no-floor"]):
+        out = tmp_path / f"run{len(extra)}"
+        assert main(["cable", str(robot), "--trajectory", str(still), "--envs", "1", "--out", str(out), "--json",
+                     *extra]) == 0
+        cable = json.loads(capsys.readouterr().out)["cables"][0]
+        assert cable["summary"]["stopped"] == 0
+        assert max(cable["summary"]["clamp_force_N"]) < 5 * cable["weight_N"]  # not kilonewtons
+        assert ("floor" in cable["environments"][0]["clearance"]) == (not extra)
+    soft = tmp_path / "soft.rsxml"
+    soft.write_text(CABLE.read_text().replace('youngsModulus="2e7"', 'youngsModulus="1e-20"'))
+    assert main(["check", str(soft)]) == 1
+    assert "youngsModulus must be 1000 to 1e+13 Pa" in capsys.readouterr().err
+
+
+def test_trajectories_that_last_no_time_or_too_long_are_said_as_such(tmp_path, capsys):
+    for rows, message in (("0,0\n", "lasts 0 s (one row)"), ("0,0\n1e9,0\n", "lasts 1e+09 s, longer than a run")):
+        csv = tmp_path / "t.csv"
+        csv.write_text("time,J1\n" + rows)
+        assert main(["cable", str(CABLE), "--trajectory", str(csv), "--envs", "1", "--out", str(tmp_path / "r")]) == 1
+        err = capsys.readouterr().err
+        assert message in err and "--seconds must" not in err
+
+
+def test_a_missing_env_mesh_is_blamed_on_the_mesh(tmp_path, capsys):
+    missing = tmp_path / "nothere.stl"
+    assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--env", f"{missing}@0,0,0"]) == 1
+    err = capsys.readouterr().err
+    assert "nothere.stl" in err and "this robot has none" not in err
+    assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--floor", "1e31"]) == 1
+    assert "--floor must be within 1000 m" in capsys.readouterr().err
