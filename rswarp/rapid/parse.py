@@ -14,7 +14,7 @@ import numpy as np
 
 from ..files import read_regular
 from . import nodes
-from .build import DECLARATION, STRING, Builder, literal_regex
+from .build import DECLARATION, MAX_STRING, STRING, Builder, literal_regex
 from .errors import fail
 from .syntax import explained
 
@@ -82,7 +82,19 @@ def check_nesting(text: str, path: str) -> None:
     """A ``file:line`` error where brackets, or signs in a row, nest deeper than ``MAX_NESTING``
     (the evaluation recurses that deep); strings and comments do not count, however they are
     quoted. Counted with NumPy over the bytes: a file of millions of lines costs a few passes."""
-    bare = _QUOTED.sub(lambda m: " " * len(m.group()), text)
+    long = []
+
+    def blank(m):
+        # an escape (\\XX) takes at most three characters: longer than this is too long for sure,
+        # and the parser checks the exact length of the rest
+        if m.group()[0] == '"' and len(m.group()) > 3 * MAX_STRING + 2 and not long:
+            long.append(m.start())
+        return " " * len(m.group())
+
+    bare = _QUOTED.sub(blank, text)
+    if long:  # refused before the parser reads megabytes of it
+        fail(path, text.count("\n", 0, long[0]) + 1, f"a string of over {MAX_STRING} characters: RAPID strings hold "
+                                                     f"at most {MAX_STRING}")
     data = np.frombuffer(bare.encode("utf-8", "replace"), np.uint8)
     places = []
     deep = np.flatnonzero(np.cumsum(_STEP[data], dtype=np.int32) > MAX_NESTING)
