@@ -8,7 +8,10 @@ Two shapes of real tasks:
   from a pick point (MoveJ above, MoveL down, MoveL up, for the pick and for the place), the
   grid index computed with DIV and MOD in a FUNC;
 - generated code: one PROC of inline robtargets, MoveL after MoveL with ConfL\\Off (what
-  Grasshopper and TACO write), so reading the file is part of the cost.
+  Grasshopper and TACO write), so reading the file is part of the cost;
+- a module of declared targets: 10 000 and 100 000 CONST robtargets (a backup's data module, a
+  milling path), 100 of them moved to: reading and declaring them is the cost, linear in the
+  declarations, a few seconds for 100 000.
 
 For each: the time to read the files, to run the interpreter, and to resolve and time the moves
 (inverse kinematics of every target, every linear move probed and solved along its line), the
@@ -85,6 +88,17 @@ def generated(moves: int) -> str:
     return "\n".join(lines + ["  ENDPROC", "ENDMODULE", ""])
 
 
+def declared(targets: int) -> str:
+    """``targets`` CONST robtargets, each on its line, and a main that moves to the first 100."""
+    lines = ["MODULE Targets"]
+    for k in range(targets):
+        x, y = 700 + (k % 50) * 8, -200 + (k // 50 % 50) * 8
+        lines.append(f"  CONST robtarget p{k}:=[[{x},{y},{300 + k % 7}],[0,0,1,0],[0,0,0,0],"
+                     "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];")
+    lines += ["  PROC main()", "    ConfL \\Off;"] + [f"    MoveL p{k}, v500, z1, tool0;" for k in range(100)]
+    return "\n".join(lines + ["  ENDPROC", "ENDMODULE", ""])
+
+
 def measure(kin: Kinematics, text: str, folder: Path, name: str) -> dict:
     path = folder / f"{name}.mod"
     path.write_text(text)
@@ -115,10 +129,12 @@ def main() -> None:
         for shape, make in (("palletizer", palletizer), ("generated", generated)):
             for n in sizes:
                 rows.append({"task": shape, **measure(kin, make(n), Path(tmp), f"{shape}{n}")})
-    print(f"{'task':<11}{'moves':>7}{'statements':>12}{'read s':>8}{'run s':>8}{'plan s':>8}{'total s':>9}"
+        for n in (10_000,) if args.quick else (10_000, 100_000):
+            rows.append({"task": f"{n // 1000}k targets", **measure(kin, declared(n), Path(tmp), f"declared{n}")})
+    print(f"{'task':<13}{'moves':>7}{'statements':>12}{'read s':>8}{'run s':>8}{'plan s':>8}{'total s':>9}"
           f"{'us/statement':>14}{'moves/s':>9}")
     for r in rows:
-        print(f"{r['task']:<11}{r['moves']:>7}{r['statements']:>12}{r['read_s']:>8.2f}{r['run_s']:>8.2f}"
+        print(f"{r['task']:<13}{r['moves']:>7}{r['statements']:>12}{r['read_s']:>8.2f}{r['run_s']:>8.2f}"
               f"{r['plan_s']:>8.2f}{r['total_s']:>9.2f}{1e6 * r['run_s'] / r['statements']:>14.1f}"
               f"{r['moves'] / r['total_s']:>9.0f}")
     big = max((r for r in rows if r["task"] == "palletizer"), key=lambda r: r["moves"])

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import gc
 import os
 import signal
 import stat
@@ -189,3 +190,16 @@ def _remove_empty(folders: list[Path]) -> None:
     for f in folders:  # deepest first
         with contextlib.suppress(OSError):
             f.rmdir()
+
+
+@contextlib.contextmanager
+def no_cyclic_gc():
+    """Pause Python's cycle collector while an input is read: the millions of objects of a large
+    model or module trigger it over and over, and reading makes no cycles to collect."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()

@@ -224,6 +224,107 @@ def test_literal_aggregates_read_in_one_go_equal_the_general_reading(tmp_path):
     assert value(a, "p") == value(b, "p") and value(a, "t") == value(b, "t")
 
 
+_RUNS = """MODULE R
+  ! targets, as a generator writes them
+  CONST robtarget p1:=[[900,0,900],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+
+  LOCAL CONST robtarget p2:=[[901, 0,900.],[0,0,1,0],[0,0,0,0],[9E+09,9E9,9E9,9E9,9E9,9E9]]; ! after
+  PERS num n:=3; CONST num k:=2;
+  VAR num m:=n*2;
+  PERS tooldata t:=[TRUE,[[0,0,.5],[1,0,0,0]],[3,[0,0,80],[1,0,0,0],0,0,0]];
+  CONST robtarget p3:=[[01,0,900],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+  TASK PERS wobjdata w:=[FALSE,TRUE,"",[[0,0,0],[1,0,0,0]],[[0,0,0],[1,0,0,0]]];
+  PROC main()
+    VAR robtarget q:=[[900,0,900],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    VAR num z{2}:=[1,2];
+    ConfL \\Off;
+    MoveL [[900,10,900],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z10, tool0\\WObj:=wobj0;
+    MoveL [[900,20,900],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]],v100,z10,tool0 \\WObj := wobj0; ! a comment
+    MoveJ \\Conc, q, v1000 \\V:=1200, fine \\Inpos:=inpos50, tool0;
+    MoveC [[900,30,910],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], [[900,40,900],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z1, tool0;
+    MoveL Offs(q, 0, 0, 10), v100, z10, tool0;
+    MoveL q, v100, z10, tool0 \\WObj?wobj0;
+    MoveL [[900,50,900],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, 0.5, tool0;
+    FOR i FROM 1 TO 2 DO
+      MoveL q, v100, fine, tool0;
+      MoveAbsJ [[0,0,0,0,30,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;
+    ENDFOR
+    MoveL p.trans, v100, z10, tool0;
+    MoveL ToPoint:=q, v100, z10, tool0;
+    MoveL q, v100 + 1, z10, tool0;
+    MoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, z10, tool0 \\WObj:=wobj0; MoveL q, v100, z10, tool0;
+  ENDPROC
+ENDMODULE
+"""
+
+
+@pytest.mark.parametrize("text", [_RUNS, _RUNS.replace("! after", "! after \x01")])
+def test_runs_of_plain_lines_read_at_once_equal_the_parsers_reading(text, monkeypatch):
+    """A module's runs of declarations of literals and of plain moves are read without lark (its
+    cost is per token): the same nodes at the same lines, in modules and routines, as lark's own
+    reading of them; what is not plain is left to lark."""
+    from rswarp.rapid import runs
+    from rswarp.rapid.build import Builder
+
+    builder = Builder("r.mod")
+    runs.take_runs(builder, text)
+    assert [len(r) for r in builder.runs] == ([] if "\x01" in text else [4, 3, 1, 4, 1, 2, 2])
+    fast = parse_text(text, "r.mod")[0]
+    monkeypatch.setattr("rswarp.rapid.parse.take_runs", lambda b, t: t)
+    slow = parse_text(text, "r.mod")[0]
+    assert [d.line for d in fast.data] == [3, 5, 6, 6, 7, 8, 9, 10]
+    assert fast.data == slow.data and fast.routines[0].body == slow.routines[0].body
+
+
+_PIECES = st.sampled_from(["p", "v100", "z10", "IF", "true", "5", "5.", ".5", "01", "-5", "1E999", "0x1F",
+                            "[1,2,3]", "[1, [2,3]]", "[]", "[[1,[2,[3,[4,[5]]]]]]", "[1,2]]", "[1 -2]", "[e]",
+                            '["a"]', "[TRUE]", "Offs(p,0,0,1)", "p.trans", "a{1}", "ToPoint:=p", "\\WObj:=w",
+                            "\\Conc", "\\WObj?w", "\\V:=[1,2]", "!c", ""])
+_SEPARATORS = st.sampled_from([", ", ",", " ", "", "\n", " , "])
+
+
+@settings(max_examples=300, deadline=None)
+@given(head=st.sampled_from(["MoveL", "MoveJ", "moveabsj", "TriggL", "ArcLStart", "SearchL", "Move_1"]),
+       parts=st.lists(st.tuples(_SEPARATORS, _PIECES), min_size=1, max_size=6), end=st.sampled_from([";", "", ";;"]))
+def test_any_move_line_reads_as_lark_reads_it(head, parts, end):
+    """Whatever follows a move's name, the quick reading of plain lines gives lark's nodes or is
+    left to lark: the same nodes, or the same error at the same line."""
+    line = head + " " + "".join(sep + piece for sep, piece in parts)[1:].lstrip(", ") + end
+    text = f"MODULE F\n  PROC main()\n    MoveL q, v100, fine, tool0;\n    {line}\n    {line}\n  ENDPROC\nENDMODULE\n"
+    got = []
+    for quick in (True, False):
+        from rswarp.rapid import parse
+
+        original = parse.take_runs
+        if not quick:
+            parse.take_runs = lambda b, t: t
+        try:
+            got.append(parse_text(text, "f.mod")[0].routines[0].body)
+        except RsxmlError as exc:
+            got.append(exc.line)
+        finally:
+            parse.take_runs = original
+    assert got[0] == got[1]
+
+
+@pytest.mark.parametrize("text, line, message", [
+    ("MODULE D\n  CONST num a:=1;\n  CONST pos p:=[1,2,1E999];\nENDMODULE\n", 3, "the number 1E999 is out of range"),
+    ("MODULE D\n  CONST num a:=1;\n  CONST num b{2}:=[1,2];\n  CONST pos p:=[];\nENDMODULE\n", 4,
+     "RAPID syntax: unexpected"),
+    ("MODULE D\n  CONST num a:=1;\n  CONST num b:=[1,2];\n  PROC main()\n  ENDPROC\nENDMODULE\n", 3,
+     "'b' must be a number, not an aggregate of 2 parts"),
+    ("MODULE D\n  CONST num a:=1;\n  MoveL p, v100, fine, tool0;\n  PROC main()\n  ENDPROC\nENDMODULE\n", 3,
+     "RAPID syntax: unexpected 'MoveL'"),
+    ("MODULE D\n  PROC main()\n    MoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9,9,9,9,9]], v100, fine, tool0;\n"
+     "    MoveL [[1,2,1E999],[1,0,0,0],[0,0,0,0],[9E9,9,9,9,9,9]], v100, fine, tool0;\n  ENDPROC\nENDMODULE\n", 4,
+     "the number 1E999 is out of range"),
+])
+def test_errors_in_runs_of_declarations_are_at_their_lines(tmp_path, text, line, message):
+    with pytest.raises(RsxmlError, match=message) as exc:
+        run(module(tmp_path, text))
+    assert exc.value.line == line
+
+
 @pytest.mark.parametrize("text, line, message", [
     ("MODULE D\n  CONST num x:=" + "[" * 5000 + "1" + "]" * 5000 + ";\nENDMODULE\n", 2, "nested deeper than 64"),
     ("MODULE D\n  CONST num x:=" + "-" * 5000 + "1;\nENDMODULE\n", 2, "nested deeper than 64"),
@@ -239,6 +340,17 @@ def test_hostile_text_is_a_clear_error_not_a_crash(tmp_path, text, line, message
     with pytest.raises(RsxmlError, match=message) as exc:
         load_task([path])
     assert exc.value.line == line
+
+
+def test_a_task_of_more_text_than_rswarp_reads_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    from rswarp.rapid import task
+
+    monkeypatch.setattr(task, "MAX_TASK_BYTES", 100)
+    module(tmp_path, "MODULE A\n  PROC main()\n  ENDPROC\nENDMODULE\n", "a.mod")
+    module(tmp_path, "MODULE B\n  CONST num x:=1;\n" + "  ! padding\n" * 10 + "ENDMODULE\n", "b.mod")
+    with pytest.raises(RsxmlError, match="pass 0 MiB of text with this file") as exc:
+        load_task([tmp_path / "a.mod", tmp_path / "b.mod"])
+    assert exc.value.file.endswith("b.mod")
 
 
 def test_long_flat_expressions_and_many_declarations_read_without_recursion(tmp_path):

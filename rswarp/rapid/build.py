@@ -6,6 +6,7 @@ walks, are errors at their lines."""
 from __future__ import annotations
 
 import json
+import json.scanner
 import math
 import re
 
@@ -39,20 +40,26 @@ def literal_regex(depth: int = 4) -> str:
     return level
 
 
-# A whole declaration whose value is such an aggregate or a number: most lines of a module of
-# targets, read as one token.
+# A declaration whose value is such an aggregate or a number: most lines of a module of targets.
 DECLARATION = (r"(?i:(?:(?:LOCAL|TASK)\s+)?(?:CONST|VAR|PERS)\s+)[A-Za-z_]\w*\s+[A-Za-z_]\w*\s*:=\s*(?:"
                + literal_regex() + "|" + NUMBER + r")\s*;")
-_DECLARATION_PARTS = re.compile(r"\s*(?:(LOCAL|TASK)\s+)?(CONST|VAR|PERS)\s+(\w+)\s+(\w+)\s*:=\s*(.*?)\s*;\s*\Z",
-                                re.I | re.S)
+DECLARATION_PARTS = re.compile(r"[ \t]*(?:(LOCAL|TASK)\s+)?(CONST|VAR|PERS)\s+([A-Za-z_]\w*)\s+([A-Za-z_]\w*)\s*:=\s*("
+                                + literal_regex() + "|" + NUMBER + r")\s*;", re.I)
+_HUGE = re.compile(r"[eE][-+]?\d{3}|\d{300}")  # where a number may be too large for a float
+RUN_MARK = "\x01"  # brackets a run's number in the text lark reads (see ``runs``); \x02 a run of calls
+
+
+JSON_VALUE = json.scanner.make_scanner(json.JSONDecoder())  # the C scanner, without json.loads's checks
 
 
 def literal_value(text: str):
     """The nested lists of an aggregate of literals; JSON's parser where the text is JSON."""
     if '"' not in text and "T" not in text.upper().replace("E", ""):
         try:
-            return json.loads(text)
-        except ValueError:
+            value, end = JSON_VALUE(text, 0)
+            if end == len(text):
+                return value
+        except (ValueError, StopIteration):
             pass
     stack: list[list] = [[]]
     for m in _LITERAL_ITEM.finditer(text):
@@ -97,6 +104,7 @@ class Builder(Transformer):
     def __init__(self, path: str):
         super().__init__(visit_tokens=True)
         self.path = path
+        self.runs: list[Run] = []  # of the file being read (``runs.take_runs``)
 
     # -- tokens ---------------------------------------------------------------------------------
     def NUMBER(self, tok):
@@ -119,15 +127,35 @@ class Builder(Transformer):
         return n.Str(tok.line, value)
 
     def LITAGG(self, tok):
-        return n.Literal(tok.line, literal_value(str(tok)), " ".join(str(tok).split()))
+        return self.make_literal(str(tok), tok.line)
+
+    def make_literal(self, text: str, line: int, value=None) -> n.Literal:
+        """An aggregate of literals (``value``: its nested lists, where they were read already); a
+        number in it that is out of range is an error at its line, as it is alone."""
+        value = literal_value(text) if value is None else value
+        if _HUGE.search(text):
+            for word in _LITERAL_ITEM.findall(text):
+                if word[0] not in '"[]tTfF' and not math.isfinite(float(word)):
+                    fail(self.path, line, f"the number {word} is out of range")
+        return n.Literal(line, value, " ".join(text.split()))
 
     def LITDECL(self, tok):
-        m = _DECLARATION_PARTS.match(str(tok))
-        scope, storage, type_, name, value = m.groups()
-        text = " ".join(value.split())
-        init = self.NUMBER(Token("NUMBER", value, line=tok.line)) if value[:1] != "[" else \
-            n.Literal(tok.line, literal_value(value), text)
-        return n.Data(tok.line, (scope or "").lower(), storage.lower(), type_, name, None, init)
+        return Run([self.declaration(DECLARATION_PARTS.match(str(tok)), tok.line)])
+
+    def RUN(self, tok):
+        return self.runs[int(str(tok).strip("\x01\x02\n"))]
+
+    CALLS = RUN  # a run with statements, which only a routine may hold
+
+    def declaration(self, m: re.Match, line: int, value=None) -> n.Data:
+        """The node of a declaration of a literal, from its match of ``DECLARATION_PARTS`` (or of
+        a cheaper one, with the ``value`` JSON's parser read)."""
+        scope, storage, type_, name, text = m.groups()
+        if text[:1] != "[":
+            init = self.NUMBER(Token("NUMBER", text, line=line))
+        else:
+            init = self.make_literal(text, line, value)
+        return n.Data(line, (scope or "").lower(), storage.lower(), type_, name, None, init)
 
     # -- module items -----------------------------------------------------------------------------
     def start(self, children):
@@ -392,12 +420,20 @@ class Builder(Transformer):
         return _climb(operands, ops, 0)
 
 
+class Run(list):
+    """The nodes of one token (LITDECL, RUN, CALLS), spliced into the items around them."""
+
+
 def _grow(children) -> list:
     """A list rule's items, appended in place: a module of 100 000 lines is not copied 100 000 times."""
     if len(children) == 1:
-        return [children[0]]
-    children[0].append(children[1])
-    return children[0]
+        return list(children[0]) if isinstance(children[0], Run) else [children[0]]
+    items, item = children
+    if isinstance(item, Run):
+        items.extend(item)
+    else:
+        items.append(item)
+    return items
 
 
 def _node_line(node) -> int:

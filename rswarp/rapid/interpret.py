@@ -17,6 +17,7 @@ import difflib
 import sys
 
 from ..errors import Diagnostic, Diagnostics
+from ..files import no_cyclic_gc
 from . import handlers
 from . import nodes as n
 from .binding import bind
@@ -78,7 +79,8 @@ class Interpreter(Evaluator):
     def run(self, routine: str = "main") -> Run:
         entry = self.task.routine(routine)
         with _deep_stack():
-            self._declare_all()
+            with no_cyclic_gc():  # a module's 100 000 targets: no cycles, and the collector's passes cost
+                self._declare_all()
             starts = []
             for _ in range(self.cycles):
                 starts.append(len(self.motions))
@@ -148,8 +150,10 @@ class Interpreter(Evaluator):
         d, module = pending
         saved = self.path
         self.path = module.file
-        frame = Frame(None, {}, self.scopes[module.name.lower()])
-        cell.value = self.value_of(d, frame)
+        if d.init.__class__ is n.Literal and not d.dims:  # most of a module of targets: no frame needed
+            cell.value = self.coerce(d.init.value, d.type, d.line, f"'{d.name}'")
+        else:
+            cell.value = self.value_of(d, Frame(None, {}, self.scopes[module.name.lower()]))
         self.path = saved
         return cell.value
 

@@ -16,6 +16,7 @@ from ..files import read_regular
 from . import nodes
 from .build import DECLARATION, MAX_STRING, STRING, Builder, literal_regex
 from .errors import fail
+from .runs import take_runs
 from .syntax import explained
 
 SUFFIXES = (".mod", ".modx", ".prg", ".sys")
@@ -85,7 +86,7 @@ def check_nesting(text: str, path: str) -> None:
     long = []
 
     def blank(m):
-        # an escape (\\XX) takes at most three characters: longer than this is too long for sure,
+        # an escape (\XX) takes at most three characters: longer than this is too long for sure,
         # and the parser checks the exact length of the rest
         if m.group()[0] == '"' and len(m.group()) > 3 * MAX_STRING + 2 and not long:
             long.append(m.start())
@@ -119,13 +120,15 @@ def parse_text(text: str, path: str) -> list[nodes.Module]:
     text = blank_header(text.replace("\r\n", "\n").replace("\r", "\n"))
     check_nesting(text, path)
     parser = _shared()
-    parser.options.transformer.path = path
+    builder = parser.options.transformer
+    builder.path = path
+    text = take_runs(builder, text)  # the same lines: errors are told at them, in this text
     try:
         modules = parser.parse(text)
     except UnexpectedToken as exc:
         end = exc.token.type == "$END"
-        fail(path, *explained(text, exc.line if not end else text.count("\n") + 1, None if end else exc.token,
-                              exc.expected))
+        fail(path, *explained(text, exc.line if not end else text.count("\n") + 1, None if end else
+                              _as_written(exc.token, builder), exc.expected))
     except UnexpectedCharacters as exc:
         line, message = explained(text, exc.line, None, ())
         fail(path, line, message if line < exc.line or message.startswith("an XML") else
@@ -135,6 +138,14 @@ def parse_text(text: str, path: str) -> list[nodes.Module]:
     for module in modules:
         _check_blocks(module, path)
     return modules
+
+
+def _as_written(token, builder):
+    """A token as the programmer wrote it: a run's first word, not its mark."""
+    if token.type not in ("RUN", "CALLS"):
+        return token
+    first = builder.runs[int(str(token).strip("\x01\x02\n"))][0]
+    return token.new_borrow_pos("NAME", first.name if token.type == "CALLS" else first.storage.upper(), token)
 
 
 def _check_blocks(module: nodes.Module, path: str) -> None:

@@ -11,12 +11,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
+from ..files import no_cyclic_gc
 from . import nodes
 from .errors import fail, warning
 from .parse import SUFFIXES, read_file
 from .values import Types
 
 MAX_FILES = 10_000  # module files of one task
+# Bytes of RAPID text in one task: 350 000 declared robtargets, each some 5 KB of memory once read
+# (nodes, values and their records); more is refused before it is read.
+MAX_TASK_BYTES = 32 * 1024 * 1024
 _TASK_FOLDER = re.compile(r"^(TASK\d+|T_ROB\w*)$", re.I)
 
 
@@ -131,10 +135,20 @@ def _program_file(path: Path) -> list[Path]:
 
 def load_task(paths: list[str | Path]) -> Task:
     """The task made of ``paths``: parsed, its types and names resolved."""
+    with no_cyclic_gc():
+        return _load_task(paths)
+
+
+def _load_task(paths: list[str | Path]) -> Task:
     files, notes = task_files(paths)
     modules: list[nodes.Module] = []
     names: dict[str, nodes.Module] = {}
+    total = 0
     for f in files:
+        total += f.stat().st_size if f.is_file() else 0
+        if total > MAX_TASK_BYTES:
+            fail(str(f), 0, f"the task's modules pass {MAX_TASK_BYTES >> 20} MiB of text with this file: rswarp "
+                            f"reads at most {MAX_TASK_BYTES >> 20} MiB of RAPID (some 350 000 robtargets)")
         for m in read_file(f)[0]:
             other = names.get(m.name.lower())
             if other is not None:

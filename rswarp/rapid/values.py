@@ -104,6 +104,9 @@ class _Unfit(Exception):
     """A value a converter cannot take (``Types.explain`` then says why)."""
 
 
+_PLAIN = frozenset((int, float))  # number types of a literal (bool, an int's subclass, is not one)
+
+
 def _number(v):
     if v.__class__ is float:
         return v
@@ -205,7 +208,14 @@ class Types:
             if parts[0] is None:
                 parts[:] = [self._converter(self.base(ft)) for _, ft in fields]
             return Rec(t, tuple([p(x) for p, x in zip(parts, v)]))
-        return record
+        if not all(self.base(ft) in NUMBERS for _, ft in fields):
+            return record
+
+        def numeric(v):  # pos, orient, confdata, extjoint: most of a module of targets
+            if (v.__class__ is list or v.__class__ is tuple) and len(v) == count and _PLAIN.issuperset(map(type, v)):
+                return Rec(t, tuple(map(float, v)))
+            return record(v)
+        return numeric
 
     def explain(self, value, type_: str, where: str = "the value"):
         """``coerce`` the slow way, with a ``Mismatch`` that says which part does not fit."""

@@ -5,14 +5,12 @@
 
 from __future__ import annotations
 
-import contextlib
-import gc
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import Diagnostic, Diagnostics, RsxmlError
-from ..files import file_size_limit
+from ..files import file_size_limit, no_cyclic_gc
 from .library import (
     LibraryCompiler,
     LibraryResource,
@@ -65,21 +63,8 @@ def check(path: str | Path, *, max_file_size: int | None = None) -> Report:
     """Read and validate one file; never raises for bad input (problems are in the report).
 
     Files are read within ``max_file_size`` bytes (default ``rswarp.files.DEFAULT_MAX_FILE_SIZE``)."""
-    with file_size_limit(max_file_size), _no_cyclic_gc():
+    with file_size_limit(max_file_size), no_cyclic_gc():
         return _Checker().check(str(path), 0)
-
-
-@contextlib.contextmanager
-def _no_cyclic_gc():
-    """Pause Python's cycle collector while a model is read: the millions of objects of a large
-    model trigger it over and over, and reading makes no cycles to collect."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
 
 
 class _Checker:
