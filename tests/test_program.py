@@ -124,6 +124,19 @@ def test_speeds_within_the_axes_and_the_speeddata():
             assert np.abs(p.q[mv.rows[1] - 1] - p.q[mv.rows[1] - 2]).max() < 1e-3  # slowing to a stop
 
 
+def test_t_sets_the_moves_time_and_velset_stretches_it():
+    """``\\T`` replaces the speeddata, shorter or longer than it would take (200 mm at v100 is
+    2.25 s); VelSet 50 doubles it; VelSet's top speed still holds the TCP to 100 mm/s."""
+    p = planned("time_arg.mod")
+    took = [round(mv.end - mv.start, 3) for mv in p.moves]
+    assert took[1:6] == [1.0, 10.0, 2.25, 3.0, 2.0] and took[6] == 2.0
+    mv = p.moves[7]
+    a, b = mv.rows
+    points = tcp(mv.motion, p.q[a - 1:b])[:, :3, 3]
+    speed = np.linalg.norm(np.diff(points, axis=0), axis=1) / np.diff(p.times[a - 1:b])
+    assert took[7] > 2.0 and speed.max() <= 0.100 * 1.01
+
+
 def test_zonedata_and_speeddata_are_read_predefined_and_declared():
     moves = [mv.motion for mv in planned("zones.mod").moves]
     z50, custom, fine = (m.zone for m in moves)

@@ -76,7 +76,7 @@ def joint_move(q0: np.ndarray, q1: np.ndarray, motion, speeds: np.ndarray, rate:
         v_tcp, v_ori = tcp_speeds(motion)
         cruise = max(axes, length / v_tcp, turn / v_ori)
     ta = ACCEL_TIME / motion.accel
-    duration = duration_for(cruise, ta) if motion.duration is None else max(motion.duration, duration_for(axes, ta))
+    duration = duration_for(cruise, ta) if motion.duration is None else max(given_time(motion), duration_for(axes, ta))
     t = samples(duration, rate)
     return t, q0 + profile(duration, t, ta)[:, None] * (q1 - q0)
 
@@ -84,13 +84,24 @@ def joint_move(q0: np.ndarray, q1: np.ndarray, motion, speeds: np.ndarray, rate:
 def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, speeds: np.ndarray, rate: float):
     """(times, q) of a linear or circular move solved at probes ``u`` (joints ``q``) of a path of
     ``length`` (m) and ``turn`` (rad): the speed curve's times, sampled at ``rate``."""
-    v_tcp, v_ori = tcp_speeds(motion)
-    nominal = min(v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
-    accel = nominal * motion.accel / ACCEL_TIME
+    if motion.duration is None:
+        v_tcp, v_ori = tcp_speeds(motion)
+        nominal = min(v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
+        accel = nominal * motion.accel / ACCEL_TIME
+    else:  # \T replaces the speed data: a trapezoid of that time, where the axes and VelSet allow it
+        total = given_time(motion)
+        ta = min(ACCEL_TIME / motion.accel, total / 2)
+        nominal = 1.0 / (total - ta)
+        accel = nominal / ta
+        # the probes round the trapezoid: its time on them, to be taken out
+        rounded = path_times(u, speed_curve(u, q, nominal, np.full_like(speeds, np.inf), accel))[-1]
+        if motion.vmax is not None and length > 0:
+            nominal = min(nominal, motion.vmax / length)
+            accel = nominal / ta
     v = speed_curve(u, q, nominal, speeds * motion.override, accel)
     at_probe = path_times(u, v)
-    if motion.duration is not None and motion.duration > at_probe[-1]:
-        at_probe = at_probe * (motion.duration / at_probe[-1])
+    if motion.duration is not None:
+        at_probe = at_probe * (total / rounded)
     t = samples(float(at_probe[-1]), rate)
     along = np.interp(t, at_probe, u)
     k = np.clip(np.searchsorted(u, along, side="right"), 1, len(u) - 1)  # along lies in [u[k-1], u[k]]
@@ -102,6 +113,11 @@ def probes(length: float, turn: float) -> np.ndarray:
     """Where a path of ``length`` (m) and ``turn`` (rad) is probed: every PROBE_STEP or PROBE_TURN."""
     count = int(min(max(length / PROBE_STEP, turn / PROBE_TURN) + 1, MAX_PROBES))
     return np.linspace(0.0, 1.0, max(count, MIN_PROBES))
+
+
+def given_time(motion) -> float:
+    """A move's ``\\T`` under VelSet's override (VelSet 50 makes \\T:=5 last 10 s)."""
+    return motion.duration / motion.override
 
 
 def tcp_speeds(motion) -> tuple[float, float]:
