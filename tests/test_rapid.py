@@ -148,6 +148,12 @@ def test_names_declared_twice_are_errors_naming_both_places(tmp_path):
 @pytest.mark.parametrize("text, line, message", [
     ("MODULE M\n  FUNC num main()\n    RETURN 1;\n  ENDFUNC\nENDMODULE\n", 2, "'main' is a FUNC: a task runs a PROC"),
     ("MODULE M\n  TRAP main\n  ENDTRAP\nENDMODULE\n", 2, "'main' is a TRAP"),
+    ("MODULE M\n  PROC main()\n    VAR num n:=1;\n    VAR num n:=2;\n    WaitTime n;\n  ENDPROC\nENDMODULE\n", 4,
+     "'n' is declared twice in main: it is also declared at line 3"),
+    ("MODULE M\n  PROC main()\n    R 1;\n  ENDPROC\n  PROC R(num x)\n    VAR num x:=5;\n  ENDPROC\nENDMODULE\n", 6,
+     "'x' is declared twice in R: it is also a parameter of R"),
+    ("MODULE M\n  PROC main()\n    R 1, 2;\n  ENDPROC\n  PROC R(num x, num X)\n  ENDPROC\nENDMODULE\n", 5,
+     "R has two parameters named 'X'"),
     ("MODULE M\n  VAR num a{3};\n  PROC main()\n    a{1.5} := 1;\n  ENDPROC\nENDMODULE\n", 4,
      "an array index must be a whole number, not the number 1.5"),
     ("MODULE M\n  VAR num a{3};\n  PROC main()\n    a{4} := 1;\n  ENDPROC\nENDMODULE\n", 4, "index {4} of a{4} is outside {3}"),

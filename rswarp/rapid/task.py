@@ -172,6 +172,8 @@ def _declare(task: Task, module: nodes.Module) -> None:
     task.locals[module.name.lower()] = own
     routines = [nodes.Routine(**{**{f: getattr(r, f) for f in r.__slots__}, "module": module.name})
                 for r in module.routines]
+    for r in routines:
+        _check_routine_names(module, r)
     for node in (*module.data, *routines):
         key = node.name.lower()
         local = node.local if isinstance(node, nodes.Routine) else node.scope == "local"
@@ -185,6 +187,22 @@ def _declare(task: Task, module: nodes.Module) -> None:
         if not local:
             task.globals.setdefault(key, symbol)
     object.__setattr__(module, "routines", tuple(routines))
+
+
+def _check_routine_names(module: nodes.Module, r: nodes.Routine) -> None:
+    """A ``file:line`` error where a routine's parameters and data name one thing twice (the
+    controller refuses it; the last would win unnoticed)."""
+    seen: dict[str, str] = {}
+    for p in r.params:
+        if p.key in seen:
+            fail(module.file, r.line, f"{r.name} has two parameters named '{p.name}'")
+        seen[p.key] = f"a parameter of {r.name}"
+    for d in r.body.statements:
+        if d.__class__ is nodes.Data:
+            key = d.name.lower()
+            if key in seen:
+                fail(module.file, d.line, f"'{d.name}' is declared twice in {r.name}: it is also {seen[key]}")
+            seen[key] = f"declared at line {d.line}"
 
 
 def _same_pers(a, b) -> bool:
