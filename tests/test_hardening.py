@@ -105,16 +105,29 @@ def test_ctrl_c_and_sigterm_end_a_run_as_130_and_143_with_no_partial_file(tmp_pa
     (np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0.1, 0, 0, 1.0]]), "bottom row"),
     (np.full((4, 4), np.nan), "not finite"),
     (np.zeros((4, 4, 2)), r"must have the shape \(4, 4\) or \(N, 4, 4\)"),
+    (np.eye(4) * (1 + 1j), "must hold real numbers, not complex128"),
+    (np.full((4, 4), "a", dtype=object), "must hold real numbers"),
 ])
 def test_ik_refuses_what_is_not_a_pose_and_says_why(pose, message):
     kin = rswarp.Kinematics(rswarp.load(IRB2600))
     for solve in (kin.ik64, kin.ik, kin.solutions64):
         with pytest.raises(InputError, match=message):
             solve(pose)
-    if pose.shape == (4, 4):
+    if pose.shape == (4, 4) and pose.dtype == np.float64:  # a pose of its own, named
         good = kin.flange(np.zeros((1, 6))).astype(np.float64)
         with pytest.raises(InputError, match="pose 1 of 2"):
             kin.ik64(np.stack([good[0], pose]))
+
+
+@pytest.mark.parametrize("x", [1e3 + 1, 1e19, 1e20, 3e38, 1e39, 1e300])
+def test_a_pose_far_beyond_reach_is_out_of_reach_in_float32_and_float64(x):
+    """float32's squares overflow past 1e19 m: a closed form read noise as solutions there."""
+    kin = rswarp.Kinematics(rswarp.load(IRB2600))
+    pose = np.eye(4)
+    pose[0, 3] = x
+    for solve in (kin.ik, kin.ik64):
+        assert (solve(pose).status == 1).all()  # ik.NO_REACH
+        assert not solve(pose, conf=[0, 0, 0, 0])[1].any()
 
 
 def test_a_hose_at_rest_on_a_robot_that_never_moves(tmp_path, capsys):

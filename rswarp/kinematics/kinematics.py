@@ -21,6 +21,9 @@ from .loops import passive_values
 LOOPS_CHUNK = 1 << 14  # configurations whose poses ``loops_close`` holds at once
 
 
+# m: a flange pose this far from the world's origin is out of any arm's reach (float32's squares
+# overflow past 1e19 m, where a closed form would read noise as a solution)
+FAR_M = 1000.0
 RIGID_TOL = 1e-5  # |R^T R - I| and the bottom row's error a pose may have: float32 rounding, no more
 
 
@@ -33,7 +36,16 @@ def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int 
     a = np.asarray(poses)
     if a.ndim not in (2, 3) or a.shape[-2:] != (4, 4):
         raise InputError(f"poses must have the shape (4, 4) or (N, 4, 4), not {a.shape}")
-    a = np.ascontiguousarray(a, dtype).reshape(-1, 4, 4)
+    if a.dtype.kind not in "fiuO":
+        raise InputError(f"poses must hold real numbers, not {a.dtype}")
+    try:
+        a = np.ascontiguousarray(a, np.float64).reshape(-1, 4, 4)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"poses must hold real numbers: {exc}") from None
+    if dtype != np.float64 and (np.abs(a[:, :3, 3]) > 1e30).any():  # beyond float32: out of reach all the same
+        a = a.copy()
+        a[:, :3, 3] = np.clip(a[:, :3, 3], -1e30, 1e30)
+    a = np.ascontiguousarray(a, dtype)
     if not checked:
         return a
     x, y, z = (a[:, :3, k] for k in range(3))  # the rotation's columns
@@ -232,6 +244,13 @@ class Kinematics:
         return sol
 
     def _solve(self, form, poses, dtype):
+        sol = self._solve_form(form, poses, dtype)
+        far = np.abs(poses[:, :3, 3]).max(axis=1) > FAR_M
+        if far.any():  # out of reach, whatever a solver's rounding made of it
+            sol.status[far] = ik.NO_REACH
+        return sol
+
+    def _solve_form(self, form, poses, dtype):
         if isinstance(form, ik.ArmConstants):
             key = ("ik", np.dtype(dtype).str)
             if key not in self._kernels:
