@@ -170,3 +170,16 @@ def test_a_missing_env_mesh_is_blamed_on_the_mesh(tmp_path, capsys):
     assert "nothere.stl" in err and "this robot has none" not in err
     assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--floor", "1e31"]) == 1
     assert "--floor must be within 1000 m" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("robax, message", [
+    ("0,1E30,0,0,30,0", "the robax of 'j' holds 1e+30, beyond 100000"),
+    ("0,9E9,0,0,30,0", "'j' leaves J2 unset (9E9)"),
+    ("0,-9E+09,0,0,30,0", "'j' leaves J2 unset (9E9)"),
+])
+def test_a_joint_value_too_large_is_not_called_unset(tmp_path, capsys, robax, message):
+    path = tmp_path / "j.mod"
+    path.write_text(f"MODULE J\n  CONST jointtarget j:=[[{robax}],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n"
+                    "    MoveAbsJ j, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n")
+    assert main(["program", str(IRB2600), str(path)]) == 1
+    assert f"j.mod:4: MoveAbsJ: {message}" in capsys.readouterr().err

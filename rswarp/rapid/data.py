@@ -13,7 +13,7 @@ import numpy as np
 from .values import Mismatch, Rec
 
 NO_VALUE = 9e9  # RAPID's "not used" (extax, a jointtarget's unused axes)
-UNUSED = 8.9e9  # a value this large is "not used"
+UNUSED = (8.9e9, 9.1e9)  # a value in this band is "not used" (9E9 as written); beyond it, a number too large
 MAX_MM = 1e6  # 1 km, the bound of every length rswarp reads
 MAX_AXIS = 1e5  # degrees or mm of a joint value
 QUAT_SLACK = 0.1  # |q1²+q2²+q3²+q4² - 1| the controller normalizes; beyond, it refuses the orientation
@@ -141,7 +141,7 @@ def axes(value: Rec, what: str, bound: float) -> tuple[float | None, ...]:
         v = float(v)
         if not math.isfinite(v):
             raise Mismatch(f"{what} holds {v}: every number must be finite")
-        out.append(None if abs(v) >= UNUSED else v)
+        out.append(None if UNUSED[0] <= abs(v) <= UNUSED[1] else v)
         if out[-1] is not None and abs(v) > bound:
             raise Mismatch(f"{what} holds {v:g}, beyond {bound:g}")
     return tuple(out)

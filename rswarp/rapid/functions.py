@@ -174,8 +174,10 @@ def _si_joints(interp, jt: Rec, a: Arguments) -> tuple[float, ...]:
     revolute = interp.robot.revolute()
     out = []
     for v, r in zip(jt.vals[0].vals, revolute):
-        if abs(v) >= rd.UNUSED or not math.isfinite(v):
+        if rd.UNUSED[0] <= abs(v) <= rd.UNUSED[1]:
             fail(interp.path, a.line, f"{a.name}: the jointtarget leaves an axis of the robot unset (9E9)")
+        if not (math.isfinite(v) and abs(v) <= rd.MAX_AXIS):
+            fail(interp.path, a.line, f"{a.name}: the jointtarget holds {v:g}, beyond {rd.MAX_AXIS:g}")
         out.append(math.radians(v) if r else v / 1000.0)
     return tuple(out)
 
