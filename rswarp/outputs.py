@@ -96,11 +96,15 @@ def record(folder: Path, names: Iterable[str]) -> None:
                                                 sort_keys=True) + "\n").encode())
 
 
-def claim(path: Path) -> None:
+def claim(path: Path, made: Path | None = None) -> None:
     """``InputError`` unless ``path`` is free for rswarp to write: missing, or a file it wrote,
-    in a folder whose manifest (if any) is rswarp's; never the manifest itself."""
+    in a folder that exists (or is ``made``, the run's own, written later) and whose manifest (if
+    any) is rswarp's; never the manifest itself."""
     if path.name == MANIFEST:
         raise InputError(f"{path}: {MANIFEST} is the name of rswarp's manifest of a folder; name the output otherwise")
+    folder = _folder(path)
+    if (made is None or folder.resolve() != Path(made).resolve()) and not folder.is_dir():
+        raise InputError(f"{path}: {folder} {'is a file, not a folder' if folder.exists() else 'does not exist'}")
     manifest(_folder(path))
     try:
         taken = path.exists() or path.is_symlink()

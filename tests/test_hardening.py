@@ -183,3 +183,15 @@ def test_a_joint_value_too_large_is_not_called_unset(tmp_path, capsys, robax, me
                     "    MoveAbsJ j, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n")
     assert main(["program", str(IRB2600), str(path)]) == 1
     assert f"j.mod:4: MoveAbsJ: {message}" in capsys.readouterr().err
+
+
+def test_a_csv_into_a_missing_folder_is_refused_before_any_work(tmp_path, capsys, monkeypatch):
+    import rswarp.report.program as program
+
+    monkeypatch.setattr(program, "program_plan", lambda *a, **k: pytest.fail("planned before the check"))
+    out = tmp_path / "nodir" / "o.csv"
+    assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--csv", str(out)]) == 1
+    assert f"{out}: {out.parent} does not exist" in capsys.readouterr().err
+    (tmp_path / "file").write_text("mine")
+    assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--csv", str(tmp_path / "file" / "o.csv")]) == 1
+    assert "is a file, not a folder" in capsys.readouterr().err

@@ -25,7 +25,8 @@ def claim_video(path: str | None, made: str | Path | None = None) -> None:
     if path is not None:
         from ..sim.video import check_video_path
 
-        claim(check_video_path(path, None if made is None else Path(made)))
+        made = None if made is None else Path(made)
+        claim(check_video_path(path, made), made)
 
 
 def _saved(path: str | Path, frames: np.ndarray, fps: float) -> dict:
