@@ -155,7 +155,8 @@ def test_a_hose_at_rest_on_a_robot_that_never_moves(tmp_path, capsys):
 
 
 def test_trajectories_that_last_no_time_or_too_long_are_said_as_such(tmp_path, capsys):
-    for rows, message in (("0,0\n", "lasts 0 s (one row)"), ("0,0\n1e9,0\n", "lasts 1e+09 s, longer than a run")):
+    for rows, message in (("0,0\n", "lasts 0 s (one row)"), ("0,0\n1e9,0\n", "lasts 1e+09 s, longer than a run"),
+                          ("0,0\n86400,0\n", "t.csv: the trajectory lasts 86400 s; 86400 s at 60 frames per second")):
         csv = tmp_path / "t.csv"
         csv.write_text("time,J1\n" + rows)
         assert main(["cable", str(CABLE), "--trajectory", str(csv), "--envs", "1", "--out", str(tmp_path / "r")]) == 1

@@ -71,7 +71,7 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
         raise InputError("no trajectory to follow")
     checked("envs", envs)
     if seconds is None:
-        seconds = _trajectory_seconds(trajectories)
+        seconds = _trajectory_seconds(trajectories, options)
     frames = run_frames(float(seconds), options)
     job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
     cable_model(options).check(mech, options)  # a cable the model cannot take fails before anything is built
@@ -86,7 +86,7 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
                     meshes.warnings if meshes else (), tuple((j.name, j.revolute) for j in mech.active_joints))
 
 
-def _trajectory_seconds(trajectories: list[Trajectory]) -> float:
+def _trajectory_seconds(trajectories: list[Trajectory], options: CableOptions) -> float:
     """How long a run over ``trajectories`` lasts when no --seconds is given: the longest; an
     InputError naming the trajectory when that is no time at all, or longer than a run may be."""
     longest = max(trajectories, key=lambda t: t.duration)
@@ -97,6 +97,11 @@ def _trajectory_seconds(trajectories: list[Trajectory]) -> float:
     if longest.duration > bound.high:
         raise InputError(f"{longest.source}: the trajectory lasts {longest.duration:g} s, longer than a run may be "
                          f"({bound.high:g} s, a day); give --seconds to run its start")
+    try:
+        run_frames(longest.duration, options)
+    except InputError as exc:
+        raise InputError(f"{longest.source}: the trajectory lasts {longest.duration:g} s; {exc}; give --seconds to "
+                         "run its start, or a lower --frame-rate") from None
     return longest.duration
 
 
