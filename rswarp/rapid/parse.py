@@ -98,16 +98,19 @@ def check_nesting(text: str, path: str) -> None:
                                                      f"at most {MAX_STRING}")
     data = np.frombuffer(bare.encode("utf-8", "replace"), np.uint8)
     places = []
-    deep = np.flatnonzero(np.cumsum(_STEP[data], dtype=np.int32) > MAX_NESTING)
+    steps = _STEP[data]
+    brackets = np.flatnonzero(steps)  # the depth changes only there
+    deep = brackets[np.cumsum(steps[brackets], dtype=np.int32) > MAX_NESTING]
     if len(deep):
         places.append(int(deep[0]))
-    sign = _SIGN[data]
-    breaker = ~sign & ~_SPACE[data]  # what ends a run of signs (spaces do not)
-    run = np.cumsum(breaker)[sign]  # each sign's run: the breakers before it
-    if len(run):
-        counts = np.bincount(run)
-        if counts.max() > MAX_NESTING:
-            places.append(int(np.flatnonzero(sign)[np.searchsorted(run, int(np.argmax(counts > MAX_NESTING)))]))
+    solid = ~_SPACE[data]  # spaces do not end a run of signs; anything else does
+    signs = np.flatnonzero(_SIGN[data[solid]])  # places among the bytes that are not spaces
+    if len(signs) > MAX_NESTING:
+        starts = np.concatenate([[0], np.flatnonzero(np.diff(signs) != 1) + 1])
+        lengths = np.diff(np.concatenate([starts, [len(signs)]]))
+        if lengths.max() > MAX_NESTING:
+            first = signs[starts[int(np.argmax(lengths > MAX_NESTING))]]
+            places.append(int(np.flatnonzero(solid)[first]))
     if places:
         line = int(np.count_nonzero(data[:min(places)] == 10)) + 1
         fail(path, line, f"nested deeper than {MAX_NESTING}: not a RAPID program rswarp reads")
