@@ -203,3 +203,8 @@ def no_cyclic_gc():
     finally:
         if enabled:
             gc.enable()
+
+
+def cache_root() -> Path:
+    """rswarp's cache folder: ``$RSWARP_CACHE_DIR``, else ``~/.cache/rswarp``."""
+    return Path(os.environ.get("RSWARP_CACHE_DIR") or Path.home() / ".cache" / "rswarp")

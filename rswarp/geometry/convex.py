@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..files import cache_root
+
 METHODS = ("convexHull", "convexDecomposition")
 CACHE_VERSION = "2"
 # CoACD settings: concavity threshold 0.05 (its default) and at most 16 pieces per part, enough for
@@ -35,7 +37,7 @@ class Convex:
 
 
 def cache_dir() -> Path:
-    return Path(os.environ.get("RSWARP_CACHE_DIR") or Path.home() / ".cache" / "rswarp") / "collision"
+    return cache_root() / "collision"
 
 
 def convex_pieces(vertices: np.ndarray, faces: np.ndarray, method: str = "convexHull") -> list[Convex]:

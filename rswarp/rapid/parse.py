@@ -6,13 +6,15 @@ network exists in RAPID; a parse error is ``file:line: message``."""
 from __future__ import annotations
 
 import codecs
+import contextlib
 import functools
+import os
 import re
 from pathlib import Path
 
 import numpy as np
 
-from ..files import read_regular
+from ..files import cache_root, read_regular
 from . import nodes
 from .build import DECLARATION, MAX_STRING, STRING, Builder, literal_regex
 from .errors import fail
@@ -43,9 +45,18 @@ def _grammar() -> str:
 
 
 def _parser(path: str):
-    from lark import Lark
+    """lark's LALR parser of RAPID; its tables cached in rswarp's cache folder (building them takes
+    most of a second). lark checks the cache against the grammar and its own version and rebuilds
+    one that does not match or cannot be read; a folder that cannot be written is only slower."""
+    import lark
 
-    return Lark(_grammar(), parser="lalr", maybe_placeholders=False, transformer=Builder(path), cache=False)
+    cache: str | bool = False
+    folder = cache_root() / "rapid"
+    with contextlib.suppress(OSError):
+        folder.mkdir(parents=True, exist_ok=True)
+        if os.access(folder, os.W_OK):
+            cache = str(folder / f"grammar-lark{lark.__version__}.cache")
+    return lark.Lark(_grammar(), parser="lalr", maybe_placeholders=False, transformer=Builder(path), cache=cache)
 
 
 @functools.lru_cache(maxsize=1)
