@@ -7,6 +7,7 @@ messages that blame what is at fault."""
 from __future__ import annotations
 
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -196,3 +197,21 @@ def test_a_csv_into_a_missing_folder_is_refused_before_any_work(tmp_path, capsys
     (tmp_path / "file").write_text("mine")
     assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--csv", str(tmp_path / "file" / "o.csv")]) == 1
     assert "is a file, not a folder" in capsys.readouterr().err
+
+
+def test_copies_of_ray_workers_that_are_gone_are_swept(tmp_path, monkeypatch):
+    """Ray ends its workers without their atexit handlers: the next worker removes their copies."""
+    import tempfile
+
+    from rswarp.sim import package
+
+    monkeypatch.setattr(tempfile, "gettempdir", lambda: str(tmp_path))
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    gone = tmp_path / f"rswarp-0123456789abcdef-{dead.pid}-x1"
+    alive = tmp_path / f"rswarp-0123456789abcdef-{os.getpid()}-x2"
+    mine = tmp_path / "rswarp-notes"
+    for folder in (gone, alive, mine):
+        folder.mkdir()
+    package._sweep_dead_workers()
+    assert not gone.exists() and alive.exists() and mine.exists()

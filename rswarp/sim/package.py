@@ -129,11 +129,31 @@ class ShippedModel(LocalModel):
 _SHIPPED: dict[str, ShippedModel] = {}  # per worker process: models by key
 
 
+_WORKER_FOLDER = re.compile(r"rswarp-[0-9a-f]{16}-(\d+)-")
+
+
+def _sweep_dead_workers() -> None:
+    """Remove the copies of workers that are gone: Ray ends its workers without running their
+    ``atexit`` handlers. Only folders of this user's whose process no longer runs."""
+    for folder in Path(tempfile.gettempdir()).glob("rswarp-*-*-*"):
+        m = _WORKER_FOLDER.match(folder.name)
+        try:
+            if m is None or folder.is_symlink() or folder.stat().st_uid != os.getuid():
+                continue
+            os.kill(int(m.group(1)), 0)
+        except ProcessLookupError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except (OSError, ValueError, OverflowError):  # alive but another's, or unreadable: left alone
+            continue
+
+
 def unpack(pkg: Package, fetch: Callable[[str], bytes]) -> ShippedModel:
     """The model on this worker, written out and read on the first task that needs it; ``fetch``
     gives the bytes of a hash (from the object store), each checked against it."""
     if pkg.key not in _SHIPPED:
-        folder = Path(tempfile.mkdtemp(prefix=f"rswarp-{pkg.key}-"))
+        if not _SHIPPED:
+            _sweep_dead_workers()
+        folder = Path(tempfile.mkdtemp(prefix=f"rswarp-{pkg.key}-{os.getpid()}-"))
         atexit.register(shutil.rmtree, folder, True)  # the worker's copy goes with the worker
         for rel, digest in pkg.files:
             data = fetch(digest)
