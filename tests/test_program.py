@@ -137,6 +137,22 @@ def test_t_sets_the_moves_time_and_velset_stretches_it():
     assert took[7] > 2.0 and speed.max() <= 0.100 * 1.01
 
 
+def test_a_joint_on_its_quadrants_edge_is_in_either():
+    """CRobT at q1 = 0 in a turned work object, moved back to: no motion, no confdata error; a
+    target whose solution has q1 = 0 meets cf1 = 0 however its pose rounds."""
+    p = planned("quadrant_edge.mod")
+    assert not p.errors
+    assert np.abs(end(p, 1) - end(p, 0)).max() < 1e-6 and abs(end(p, 2)[0]) < 1e-6
+
+
+def test_ik_api_takes_a_quadrants_edge_in_either_quadrant():
+    k = kin()
+    pose = k.flange(np.zeros((1, 6)))[0].astype(np.float64)
+    for conf in ([0, 0, 0, 0], [-1, 0, 0, 0]):  # q1 = 0: the edge of cf1 0 and -1
+        q, found = k.ik64(pose, conf=conf)
+        assert found[0] and abs(q[0, 0]) < 1e-6
+
+
 def test_zonedata_and_speeddata_are_read_predefined_and_declared():
     moves = [mv.motion for mv in planned("zones.mod").moves]
     z50, custom, fine = (m.zone for m in moves)

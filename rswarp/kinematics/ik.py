@@ -115,11 +115,40 @@ def turns(sol: IKSolutions, lower: np.ndarray, upper: np.ndarray, axes: tuple[in
     return IKSolutions(q, conf, status, sol.numerical)
 
 
-def pick(sol: IKSolutions, conf) -> tuple[np.ndarray, np.ndarray]:
+QUADRANT_SLACK = 1e-6  # rad: a joint this close to a quadrant's edge is in either (rounding, not a choice)
+
+
+def quadrant_axes(form) -> tuple[tuple[int, int], ...]:
+    """(configuration column, joint) pairs whose column is the joint's quadrant: an arm's cf1, cf4
+    and cf6; a palletizer's (``ik_planar.PlanarArm``: ``first``, ``last``) cf1 and cf6."""
+    if isinstance(form, ArmConstants):
+        return ((0, 0), (1, 3), (2, 5))
+    if hasattr(form, "first") and hasattr(form, "last"):
+        return ((0, form.first), (2, form.last))
+    return ()
+
+
+def conf_matches(q: np.ndarray, conf: np.ndarray, want, axes=()) -> np.ndarray:
+    """(..., S) whether solutions ``q`` (..., S, dof) of configurations ``conf`` (..., S, 4) have
+    ``want`` ((4,) or (..., 4)). A joint within QUADRANT_SLACK of its quadrant's edge counts in
+    either quadrant: a pose read at q1 = 0 (CRobT) solves to q1 = -1e-12 as often as to 0."""
+    want = np.asarray(want, np.int64)[..., None, :]
+    same = conf == want
+    quarter = 0.5 * np.pi
+    for column, axis in axes:
+        x = q[..., axis] / quarter
+        edge = np.round(x)
+        near = np.abs(x - edge) * quarter < QUADRANT_SLACK
+        w = want[..., column]
+        same[..., column] |= near & ((w == edge) | (w == edge - 1))
+    return same.all(axis=-1)
+
+
+def pick(sol: IKSolutions, conf, axes=()) -> tuple[np.ndarray, np.ndarray]:
     """(q (N, dof), found (N,)): for each pose, the solution with configuration ``conf`` ((4,) or
-    (N, 4)); NaN and False where none has it."""
+    (N, 4)); NaN and False where none has it. ``axes``: ``quadrant_axes`` of the solver."""
     want = np.broadcast_to(np.asarray(conf, np.int32), (sol.q.shape[0], CONF))
-    match = sol.ok & np.all(sol.conf == want[:, None, :], axis=-1)
+    match = sol.ok & conf_matches(sol.q, sol.conf, want, axes)
     found = match.any(axis=1)
     first = np.argmax(match, axis=1)
     q = sol.q[np.arange(len(first)), first].copy()

@@ -229,7 +229,7 @@ class Kinematics:
         sol = self._solve(self._ik_form(), poses, dtype)
         if conf is None:
             return sol
-        return ik.pick(self._turned(sol), conf)
+        return ik.pick(self._turned(sol), conf, ik.quadrant_axes(self._ik_form()))
 
     def _poses(self, poses, dtype) -> np.ndarray:
         """Flange poses checked as rigid transforms: on the host, or by the arm's kernel."""

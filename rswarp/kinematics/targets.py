@@ -10,7 +10,7 @@ import numpy as np
 
 from ..kernels.ik import NO_LIMITS, OK, SHOULDER
 from ..rapid import data as rd
-from .ik import ArmConstants
+from .ik import ArmConstants, conf_matches, quadrant_axes
 
 EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
 
@@ -65,7 +65,7 @@ def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=Non
         return None, unreachable(sol, k, name)
     cands = sol.q[k]
     if checked and not sol.numerical:
-        match = ok & np.all(sol.conf[k] == np.asarray(conf, np.int32)[None, :], axis=1)
+        match = ok & conf_matches(cands, sol.conf[k], conf, quadrant_axes(arm))
         if not match.any():
             fitted = wrist_fit(arm, cands[ok], sol.conf[k][ok], conf, bounds)
             if fitted is not None:
