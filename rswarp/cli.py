@@ -9,6 +9,7 @@ import argparse
 import importlib
 import inspect
 import os
+import signal
 import sys
 import traceback
 
@@ -181,5 +182,27 @@ def main(argv: list[str] | None = None) -> int:
         return 2
 
 
+def run() -> None:
+    """The ``rswarp`` command: ``main``'s status as the exit code. A Ctrl-C or SIGTERM once main
+    is done (while Python shuts down: threads joined, exit handlers run) ends the process with 130
+    or 143 at once, its output flushed, never with a traceback."""
+    try:
+        code = main()
+    except KeyboardInterrupt:
+        code = 130
+
+    def leave(signum, frame):
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(128 + signum)
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, leave)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    run()

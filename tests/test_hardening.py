@@ -86,14 +86,14 @@ def test_a_video_in_the_runs_folder_is_rswarps_on_a_rerun_and_written_whole(tmp_
     ["cable", str(IRB2600_DRESSPACK), "--program", str(IRB2600_PROGRAM), "--envs", "2", "--out", "{tmp}/run"],
 ])
 def test_ctrl_c_and_sigterm_end_a_run_as_130_and_143_with_no_partial_file(tmp_path, command):
-    for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, -signal.SIGTERM)):
+    for sig, codes in ((signal.SIGINT, (130,)), (signal.SIGTERM, (143, -signal.SIGTERM))):
         args = [a.format(tmp=tmp_path) for a in command]
         p = subprocess.Popen([sys.executable, "-m", "rswarp.cli", *args], stdout=subprocess.DEVNULL,
                              stderr=subprocess.PIPE)
         time.sleep(4.0)
         p.send_signal(sig)
         _, err = p.communicate(timeout=120)
-        assert p.returncode in (code, 0), err.decode()[-500:]  # 0: it finished before the signal came
+        assert p.returncode in (*codes, 0), err.decode()[-500:]  # 0: it finished before the signal came
         assert b"Traceback" not in err and b"Segmentation" not in err
         assert not [f for f in tmp_path.rglob("*") if f.name.endswith(".tmp") or ".tmp." in f.name]
 
@@ -215,3 +215,12 @@ def test_copies_of_ray_workers_that_are_gone_are_swept(tmp_path, monkeypatch):
         folder.mkdir()
     package._sweep_dead_workers()
     assert not gone.exists() and alive.exists() and mine.exists()
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_while_python_shuts_down_is_130_or_143_not_a_traceback(sig, code):
+    """After main is done (threads joined, exit handlers run) a Ctrl-C used to escape as -2."""
+    script = ("import atexit, os, time\nimport rswarp.cli as cli\ncli.main = lambda: 0\n"
+              f"atexit.register(lambda: (os.kill(os.getpid(), {int(sig)}), time.sleep(5)))\nprint('out')\ncli.run()\n")
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=60)
+    assert p.returncode == code and p.stdout == b"out\n" and b"Traceback" not in p.stderr
