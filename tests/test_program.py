@@ -179,7 +179,7 @@ def test_header_crlf_lower_case_and_encodings(name):
 
 
 @pytest.mark.parametrize("name, line, message", [
-    ("unknown_name.mod", 5, "unknown name 'pMissing'"),
+    ("unknown_name.mod", 5, "'pMissing' is declared nowhere in the task"),
     ("malformed_record.mod", 2, "'pA' must be a robtarget of 4 parts [trans, rot, robconf, extax], not 3"),
     ("out_of_reach.mod", 4, "MoveJ: 'pFar' is out of reach"),
     ("wrong_confdata.mod", 4, "MoveJ: 'pA' has no solution with confdata [1, 0, 0, 0]"),

@@ -464,3 +464,33 @@ def test_misspelt_names_are_errors_and_undeclared_signals_are_not(tmp_path):
     said = [w.message for w in r.warnings]
     assert any("'diStart' is declared nowhere" in w for w in said)
     assert "--io diStrat: the task uses no signal of that name (did you mean diStart?)" in said
+
+
+_UNREACHED = ("MODULE T\n  VAR num nMode := 1;\n  CONST robtarget pHome := [[900,0,900],[0,0,1,0],[0,0,0,0],"
+              "[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n    TEST nMode\n    CASE 1:\n      MoveJ pHome, v500, fine, tool0;\n"
+              "    DEFAULT:\n      {}\n    ENDTEST\n  ENDPROC\n  PROC rPick(num nRow)\n    MoveL pHome, v100, z10, tool0;\n"
+              "  ENDPROC\nENDMODULE\n")
+
+
+@pytest.mark.parametrize("statement, message", [
+    ("MovL pHome, v100, fine, tool0;", "unknown procedure 'MovL' (did you mean MoveL?)"),
+    ("MoveL pHomee, v100, fine, tool0;", "'pHomee' is declared nowhere in the task (did you mean 'pHome'?)"),
+    ("MoveL pHome, v100, fine, tool0 \\WObj:=wobjTable;", "'wobjTable' is declared nowhere in the task"),
+    ("nMod := 2;", "'nMod' is declared nowhere in the task (did you mean 'nMode'?)"),
+    ("rPick;", "'rPick' takes"),
+    ("rPick 1, 2;", "'rPick' takes"),
+    ("GOTO lblRetry;", "GOTO lblRetry: no such label in 'main'"),
+])
+def test_the_task_is_checked_as_the_controller_loads_it_in_branches_never_run(tmp_path, statement, message):
+    """The controller refuses a task with these at load, whatever branch runs; so does rswarp,
+    at the line, before any move (the DEFAULT branch here never runs)."""
+    with pytest.raises(RsxmlError) as exc:
+        run(module(tmp_path, _UNREACHED.replace("{}", statement)))
+    assert exc.value.line == 9 and message in exc.value.message
+
+
+def test_names_in_branches_never_run_that_may_be_signals_are_not_refused_at_load(tmp_path):
+    """A name read but declared nowhere may be an I/O signal; only a name the program assigns or
+    moves to must be data."""
+    interp, _ = run(module(tmp_path, _UNREACHED.replace("{}", "WaitDI diPartOk, 1;\n      IF doGrip = 1 reg1 := 2;")))
+    assert value(interp, "nMode") == 1

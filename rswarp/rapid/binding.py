@@ -12,8 +12,14 @@ from .scope import Cell, Part
 from .values import Arr
 
 
-def bind(interp, routine: n.Routine, args: tuple, frame, line: int) -> dict:
-    """The callee's cells by parameter name; ``file:line`` errors for arguments that do not fit."""
+class ArgumentError(ValueError):
+    """Arguments that do not fit a routine's parameters; the message says how."""
+
+
+def match_arguments(routine: n.Routine, args: tuple, present) -> dict[str, n.Arg]:
+    """The arguments by parameter key, as RAPID matches them; ``ArgumentError`` where they do not
+    fit. ``present(name)``: whether the caller's optional parameter a conditional argument
+    depends on is there (absent, the argument is not given)."""
     required = [p for p in routine.params if not p.optional]
     optional = {p.key: p for p in routine.params if p.optional}
     given: dict[str, n.Arg] = {}
@@ -22,32 +28,42 @@ def bind(interp, routine: n.Routine, args: tuple, frame, line: int) -> dict:
         if a.optional:
             p = optional.get(a.name.lower())
             if p is None:
-                fail(interp.path, line, f"'{routine.name}' has no optional parameter \\{a.name}")
-            if a.condition is not None and not _present(frame, a.condition):
+                raise ArgumentError(f"'{routine.name}' has no optional parameter \\{a.name}")
+            if a.condition is not None and not present(a.condition):
                 continue
             given[p.key] = a
         elif a.name is not None:
             p = next((q for q in required if q.key == a.name.lower()), None)
             if p is None:
-                fail(interp.path, line, f"'{routine.name}' has no parameter '{a.name}'")
+                raise ArgumentError(f"'{routine.name}' has no parameter '{a.name}'")
             given[p.key] = a
         else:
             positional.append(a)
     missing = [p for p in required if p.key not in given]
     if len(positional) != len(missing):
         count = len(positional) + len(required) - len(missing)
-        fail(interp.path, line, f"'{routine.name}' takes {len(required)} argument{'s' * (len(required) != 1)} "
-                                f"({', '.join(p.name for p in required) or 'none'}), given {count}")
+        raise ArgumentError(f"'{routine.name}' takes {len(required)} argument{'s' * (len(required) != 1)} "
+                            f"({', '.join(p.name for p in required) or 'none'}), given {count}")
     for p, a in zip(missing, positional):
         given[p.key] = a
     groups: dict[int, str] = {}
+    for p in routine.params:
+        if p.optional and p.key in given:
+            other = groups.setdefault(p.group, p.name)
+            if other != p.name:
+                raise ArgumentError(f"\\{other} and \\{p.name} of '{routine.name}' exclude each other")
+    return given
+
+
+def bind(interp, routine: n.Routine, args: tuple, frame, line: int) -> dict:
+    """The callee's cells by parameter name; ``file:line`` errors for arguments that do not fit."""
+    try:
+        given = match_arguments(routine, args, lambda name: _present(frame, name))
+    except ArgumentError as exc:
+        fail(interp.path, line, str(exc))
     cells = {}
     for p in routine.params:
         a = given.get(p.key)
-        if a is not None and p.optional:
-            other = groups.setdefault(p.group, p.name)
-            if other != p.name:
-                fail(interp.path, line, f"\\{other} and \\{p.name} of '{routine.name}' exclude each other")
         cells[p.key] = _argument(interp, p, a, frame, line) if a is not None else \
             Cell(None, p.type, "absent", routine.file, routine.line, p.name)
     return cells

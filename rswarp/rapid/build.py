@@ -298,7 +298,7 @@ class Builder(Transformer):
         return n.LateCall(children[0].line, children[1], args)
 
     def goto(self, children):
-        return n.Goto(children[0].line, str(children[1]).lower())
+        return n.Goto(children[0].line, str(children[1]))
 
     def return_(self, children):
         return n.Return(children[0].line, children[1] if len(children) > 1 else None)

@@ -21,6 +21,7 @@ from ..files import no_cyclic_gc
 from . import handlers
 from . import nodes as n
 from .binding import bind
+from .check import check_task
 from .errors import RapidError, fail
 from .expressions import Evaluator
 from .flow import ExitCycle, ExitTask, Goto, Returned
@@ -111,6 +112,7 @@ class Interpreter(Evaluator):
         """A cell for every module's data, the scopes of every module, then each value in order
         (a value that needs a later one has it made first)."""
         base = {k: Cell(v, t, s, "", 0, k) for k, (t, s, v) in predefined(self.types).items()}
+        check_task(self.task, set(base), set(self.signals))  # as the controller loads it: every routine
         cells: dict[int, Cell] = {}
         shared: dict[str, Cell] = {}  # a global PERS declared in several modules is one object
         for sym in self.task.globals.values():
@@ -332,7 +334,7 @@ class Interpreter(Evaluator):
             self.body(s.default, frame)
 
     def _goto(self, s: n.Goto, frame: Frame) -> None:
-        raise Goto(s.label, s.line)
+        raise Goto(s.label.lower(), s.line)
 
     def _label(self, s: n.Label, frame: Frame) -> None:
         self.label_at[id(s)] = self.mark()
