@@ -119,7 +119,8 @@ def _task(p: argparse.ArgumentParser) -> None:
 
 def cable(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", metavar="FILE")
-    p.add_argument("--envs", type=argument("envs"), default=16, help="parallel environments (default 16)")
+    p.add_argument("--envs", type=argument("envs"), default=None,
+                   help="parallel environments (default 16; 1 with --program, whose environments would be alike)")
     how = p.add_mutually_exclusive_group(required=True)
     how.add_argument("--trajectory", action="append", metavar="CSV",
                      help="joint trajectory, time,<joint>,... in the file's units; repeat for more (assigned "

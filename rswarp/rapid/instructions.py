@@ -204,6 +204,24 @@ def clock_read(interp, ref) -> float:
 
 # Instructions by their lower-case name, as RAPID writes them (for "did you mean").
 KNOWN = {k: k for k in (*MOVES, *_HANDLERS, *SILENT, *UNMODELLED, *LIVE)}
-KNOWN.update({"movel": "MoveL", "movej": "MoveJ", "movec": "MoveC", "moveabsj": "MoveAbsJ", "waittime": "WaitTime",
-              "setdo": "SetDO", "waitdi": "WaitDI", "confl": "ConfL", "confj": "ConfJ", "triggl": "TriggL",
-              "arcl": "ArcL", "searchl": "SearchL", "tpwrite": "TPWrite", "accset": "AccSet", "velset": "VelSet"})
+_WRITTEN = """MoveL MoveJ MoveC MoveAbsJ MoveExtJ MoveLDO MoveJDO MoveCDO MoveLAO MoveJAO MoveCAO MoveLGO
+MoveJGO MoveCGO MoveLSync MoveJSync MoveCSync SearchL SearchJ SearchC TriggL TriggJ TriggC ArcL ArcC
+ArcLStart ArcLEnd ArcCStart ArcCEnd CapL CapC PaintL PaintC SpotL SpotJ WaitTime WaitDI WaitDO WaitAI
+WaitAO WaitGI WaitGO WaitUntil WaitRob WaitLoad WaitSyncTask WaitTestAndSet SetDO SetAO SetGO Set Reset
+PulseDO InvertDO ConfL ConfJ AccSet VelSet TPWrite TPErase TPReadFK TPReadNum TPReadDnum TPShow Incr
+Decr Add Clear Break Stop ExitCycle CallByVar IDelete IDisable IEnable IError IPers ISignalDI
+ISignalDO ISignalAI ISignalAO ISignalGI ISignalGO ISleep ITimer IWatch ClkReset ClkStart ClkStop
+Open Close Rewind Write WriteBin WriteAnyBin WriteBlock WriteStrBin ReadAnyBin ReadBlock ReadRawBytes
+ReadDir OpenDir CloseDir MakeDir RemoveDir RemoveFile CopyFile Load UnLoad StartLoad WaitLoad
+EraseModule ErrLog ErrRaise ErrWrite BookErrNo SkipWarn ActUnit DeactUnit MechUnitLoad GripLoad
+ContactTool CirPathMode ClearPath ClearIOBuff StorePath RestoPath StartMove StopMove StopMoveReset
+PathAccLim WorldAccLim PathResol SingArea SoftAct SoftDeact MotionSup SpeedRefresh TuneReset TuneServo
+PDispOn PDispOff PDispSet EOffsOn EOffsOff EOffsSet CorrClear CorrCon CorrDiscon CorrWrite IndAMove
+IndCMove IndDMove IndRMove IndReset SyncMoveOn SyncMoveOff SyncMoveUndo TriggIO TriggEquip TriggInt
+TriggCheckIO TriggSpeed TriggRampAO TriggDataReset AliasIO IODisable IOEnable SetDataVal SetSysData
+TextGet UIAlphaEntry UIListView UIMsgBox UINumEntry UINumTune UIShow SendCmd SendCommand
+SocketAccept SocketBind SocketClose SocketConnect SocketCreate SocketListen SocketReceive
+SocketReceiveFrom SocketSend RMQEmptyQueue RMQFindSlot RMQGetMessage RMQGetMsgData RMQReadWait
+RMQSendMessage RMQSendWait IRMQMessage EGMActJoint EGMActPose EGMGetId EGMMoveC EGMMoveL EGMReset
+EGMRunJoint EGMRunPose EGMStreamStart ClearIOOBuff"""
+KNOWN.update({w.lower(): w for w in _WRITTEN.split() if w.lower() in KNOWN})

@@ -94,7 +94,8 @@ def _contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
             continue
         e = int(done[np.argmin(np.where(reached, col, np.inf))])
         touching = done[np.isfinite(c.contact_time[done, j])]
-        text = f"  {name}: least clearance {c.clearance[e, j] * 1000:.1f} mm (environment {e}, " \
+        label = "cables (itself and the others)" if name == "cables" else name
+        text = f"  {label}: least clearance {c.clearance[e, j] * 1000:.1f} mm (environment {e}, " \
                f"t = {c.clearance_time[e, j]:.2f} s, {c.clearance_at[e, j]:.3f} m along)"
         if len(touching):
             first = touching[np.argmin(c.contact_time[touching, j])]

@@ -30,7 +30,7 @@ from .output import Output, Warn, ignore, json_bytes, json_safe
 TAUT = 0.999  # attachments this share of the cable length apart: pulled straight, no slack left
 
 
-def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None = None, random: bool = False,
+def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[str] | None = None, random: bool = False,
                seconds: float | None = None, seed: int = 0, usd: bool = False, min_bend_radius: float | None = None,
                floor: float | None = 0.0, density: float = DENSITY, poisson: float = POISSON,
                friction: float = FRICTION, environment: list[str] | None = None, frame_rate: float = FRAME_RATE,
@@ -43,6 +43,7 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
     unit."""
+    envs = envs if envs is not None else 1 if program is not None else 16
     mech, _ = load_mechanism(path)
     check_cable_folder(out)
     check_video_options(video, video_env, video_color, envs, out)
@@ -70,6 +71,10 @@ def run_cables(path: str, out: str, envs: int = 16, trajectory: list[str] | None
                                        0.0 if options.floor is None else options.floor, options)
     else:
         trajectories = run_trajectories(mech, trajectory, False, envs, seconds, seed)
+    if not random and 0 < len(trajectories) < envs:
+        many = f"{len(trajectories)} trajectories" if len(trajectories) > 1 else "one trajectory"
+        warn(f"rswarp: warning: --envs {envs}: {many} for {envs} environments; those that follow the same one "
+             f"are alike")
     run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
                           cluster=cluster_for(ray, device))
     for w in run.warnings:
