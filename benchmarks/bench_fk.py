@@ -104,7 +104,7 @@ def main() -> None:
     import rswarp
     from rswarp import examples
     from rswarp.kinematics.kinematics import Kinematics
-    from rswarp.sim.launch import init_warp
+    from rswarp.launch import init_warp
 
     init_warp()  # quiet Warp
     mech = rswarp.load(examples.IRB2600)

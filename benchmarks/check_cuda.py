@@ -20,9 +20,9 @@ import numpy as np
 import rswarp
 from rswarp.kinematics.kinematics import Kinematics
 from rswarp.kinematics.trajectory import random_trajectory
+from rswarp.launch import init_warp
 from rswarp.sim.cables import CableOptions, simulate_cables
 from rswarp.sim.engine import Cluster, identical
-from rswarp.sim.launch import init_warp
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

@@ -231,7 +231,7 @@ def test_a_task_failing_on_every_try_is_an_internal_error(local_ray):
 def test_cuda_asked_of_a_machine_without_one_is_one_line(tmp_path, capsys):
     """Warp's own CUDA driver errors are not passed on: locally one line; with --ray a warning that
     this machine's share goes on the CPU, then the cluster's refusal."""
-    from rswarp.sim.launch import init_warp
+    from rswarp.launch import init_warp
 
     if init_warp().get_cuda_device_count():
         pytest.skip("this machine has a GPU")

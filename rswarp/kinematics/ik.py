@@ -174,7 +174,7 @@ def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype, kernel=No
 def ik_kernel(arm: ArmConstants, dtype):
     """The arm's inverse kinematics kernel in one precision."""
     from ..kernels.ik import arm_ik_kernel
-    from ..sim.launch import init_warp
+    from ..launch import init_warp
 
     wp = init_warp()
     return arm_ik_kernel(arm, wp.float32 if dtype == np.float32 else wp.float64)

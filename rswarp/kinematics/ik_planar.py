@@ -135,7 +135,7 @@ def solve(launcher, arm: PlanarArm, poses: np.ndarray, lower: np.ndarray, upper:
     the limits and the configuration data on the host. A flange that is not level is out of
     reach."""
     from ..kernels.ik_planar import planar_ik_kernel
-    from ..sim.launch import init_warp
+    from ..launch import init_warp
 
     wp = init_warp()
     dtype = poses.dtype

@@ -12,8 +12,8 @@ from ..errors import InputError, model_error
 from ..kernels import fk as fk_kernels
 from ..kernels import walk
 from ..kernels.ik import NOT_RIGID
+from ..launch import DEFAULT_CHUNK, Launcher, init_warp
 from ..rsxml.model import Mechanism
-from ..sim.launch import DEFAULT_CHUNK, Launcher, init_warp
 from . import ik, ik_numeric, ik_planar
 from .chain import loops_close, mechanism_chain
 from .loops import passive_values

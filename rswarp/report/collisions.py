@@ -12,6 +12,7 @@ import numpy as np
 
 from ..export.srdf import srdf_text
 from ..files import atomic_write
+from ..launch import driver_device
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
@@ -19,7 +20,6 @@ from ..rsxml.units import format_number
 from ..sim.bodies import placed_environments
 from ..sim.collisions import REASONS, Collisions, collisions
 from ..sim.engine import cluster_for
-from ..sim.launch import driver_device
 from .output import Output, Warn, ignore, json_bytes, json_safe
 
 COLLISION_FILES = ("collision_matrix.srdf", "report.json", "heatmap.png")

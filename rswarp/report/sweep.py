@@ -12,12 +12,12 @@ import numpy as np
 
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
+from ..launch import driver_device
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
 from ..sim.engine import cluster_for
-from ..sim.launch import driver_device
 from ..sim.workspace import Workspace, workspace
 from .output import Output, Warn, ignore, json_bytes, json_safe
 

@@ -1,2 +1,2 @@
-"""Host side of the Warp work: the launcher (device, chunks, threads), the chain of flat arrays a
-mechanism compiles to, forward kinematics and workspace sweeps."""
+"""Host side of the Warp work: the batch engine and its clients (workspace sweeps, collisions,
+cables, program checks, render). The launcher they all run kernels on is ``rswarp.launch``."""

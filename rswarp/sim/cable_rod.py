@@ -13,6 +13,7 @@ import numpy as np
 
 from ..errors import model_error
 from ..kinematics.kinematics import Kinematics
+from ..launch import Launcher, init_warp
 from ..rsxml.model import Mechanism
 from .cable_solver import (
     FAILURES,
@@ -26,7 +27,6 @@ from .cable_solver import (
     ContactMeshes,
     allowed_bend_radius,
 )
-from .launch import Launcher, init_warp
 from .rod_layout import RodLayout, rod_layout
 
 CRUSHED = 3  # the kernel's status CRUSHED + slot (``rswarp.kernels.rod_types``)

@@ -24,11 +24,11 @@ from ..errors import InputError, model_error
 from ..kernels.types import WITNESSES
 from ..kinematics.chain import loops_close, mechanism_chain
 from ..kinematics.kinematics import Kinematics
+from ..launch import Launcher, init_warp
 from ..options import checked
 from ..rsxml.model import Mechanism
 from .bodies import CollisionBodies, DeviceBodies, Environment, collision_bodies
 from .engine import Job, run_batch
-from .launch import Launcher, init_warp
 from .witness import witness_grid
 from .workspace import sample_chunks
 

@@ -21,8 +21,8 @@ import numpy as np
 
 from ..errors import MeshError, MeshNotFoundError
 from ..geometry.meshes import mesh_color, part_mesh
+from ..launch import Launcher, init_warp
 from ..rsxml.model import Mechanism
-from .launch import Launcher, init_warp
 
 AZIMUTH = math.radians(-55.0)  # where the camera stands, seen from above: front (+X), to the right (-Y)
 ELEVATION = math.radians(25.0)

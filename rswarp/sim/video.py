@@ -16,8 +16,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import cleanup_on_terminate, commit, output_error, usual_mode
+from ..launch import Launcher, init_warp
 from .cable_solver import contact_meshes
-from .launch import Launcher, init_warp
 from .preview import View, camera
 
 RING = 8  # vertices around a tube

@@ -21,7 +21,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..errors import InputError
+from .errors import InputError
 
 DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
 MIN_SPLIT = 512  # items a CPU chunk holds at least: a smaller batch costs less on one thread than handed out
