@@ -71,7 +71,8 @@ def export(p: argparse.ArgumentParser) -> None:
                    help="effort limit for every joint, N m (N); default twice the largest gravity load plus "
                         "10 rad/s^2 of acceleration")
     p.add_argument("--velocity", type=argument("velocity"), metavar="RAD_S",
-                   help="velocity limit for every joint, rad/s (m/s); default 90 deg/s (0.5 m/s)")
+                   help="velocity limit for every joint, rad/s (m/s); default --limits, else 90 deg/s (0.5 m/s)")
+    _limits(p)
     matrix = p.add_mutually_exclusive_group()
     matrix.add_argument("--collision-matrix", dest="collision_matrix_srdf", metavar="SRDF",
                         help="filter every pair an SRDF disables (from 'rswarp collisions' or MoveIt) from contact")
@@ -115,6 +116,14 @@ def _task(p: argparse.ArgumentParser) -> None:
     p.add_argument("--external-axes", choices=["error", "ignore"], default="error",
                    help="a target that moves an axis the robot does not have (a track, a positioner): an error "
                         "(default), or run the robot's own axes with a warning")
+    _limits(p)
+
+
+def _limits(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--limits", metavar="FILE",
+                   help="axis speeds (and accelerations, efforts) from a URDF's <limit>, MoveIt's joint_limits.yaml "
+                        "or a robot-data .robot.toml, matched by joint name or order (default: the .robot.toml "
+                        "beside the RSXML, else 90 deg/s, said in the output)")
 
 
 def cable(p: argparse.ArgumentParser) -> None:

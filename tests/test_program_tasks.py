@@ -46,12 +46,15 @@ def tcp_at_end(p, k: int) -> np.ndarray:
 
 
 def every_move_on_its_target(p, tol: float = 5e-4) -> int:
-    """Each completed move ends with the TCP on its robtarget (or the joints on its jointtarget);
-    the number of moves checked."""
+    """Each completed move ends with the TCP on its robtarget (or the joints on its jointtarget),
+    a move in a zone where the next one takes over, inside its zone; the number of moves checked."""
     checked = 0
     for k, mv in enumerate(p.moves):
         m = mv.motion
         if m.kind == "wait" or mv.rows[1] == mv.rows[0] or mv.findings:
+            continue
+        if m.zone is not None and not m.zone.fine:
+            checked += inside_its_zone(p, k)
             continue
         if m.kind == "absolute":
             want = np.radians([v for v in m.targets[0].robax if v is not None])
@@ -62,6 +65,22 @@ def every_move_on_its_target(p, tol: float = 5e-4) -> int:
             assert np.abs(got[:3, :3] - want[:3, :3]).max() < 1e-6, (m.file, m.line)
         checked += 1
     return checked
+
+
+def inside_its_zone(p, k: int) -> bool:
+    """Move ``k``, in a zone, ends (where the next move takes over) within the zone of its point."""
+    m = p.moves[k].motion
+    got = tcp_at_end(p, k)
+    if m.kind == "absolute":
+        link, f = kin().flange_frame()
+        q = np.radians([v for v in m.targets[0].robax if v is not None])
+        want = frames(kin().mech, m.tool, m.wobj).relative(kin().fk64(q[None])[:, link] @ f)[0]
+    else:
+        want = m.targets[-1].pose.matrix()
+    assert np.linalg.norm(got[:3, 3] - want[:3, 3]) <= m.zone.pzone_tcp + 2e-3, (m.file, m.line)
+    turn = np.arccos(np.clip((np.trace(got[:3, :3].T @ want[:3, :3]) - 1) / 2, -1, 1))
+    assert turn <= m.zone.zone_ori + 0.01, (m.file, m.line)
+    return True
 
 
 def expected_task3() -> list[tuple[np.ndarray, Rotation]]:
@@ -94,9 +113,12 @@ def test_a_task_of_three_modules_puts_every_move_where_the_task_says(given):
     want = expected_task3()
     assert len(moves) == len(want) == 16
     for k, (pos, rot) in zip(moves, want):
-        got = tcp_at_end(p, k)
-        assert np.linalg.norm(got[:3, 3] * 1000 - pos) < 0.5
-        assert np.abs(got[:3, :3] - rot.as_matrix()).max() < 1e-6
+        got, zone = tcp_at_end(p, k), p.moves[k].motion.zone
+        if zone.fine:  # a zone's move ends where the next takes over: inside the zone (inside_its_zone)
+            assert np.linalg.norm(got[:3, 3] * 1000 - pos) < 0.5
+            assert np.abs(got[:3, :3] - rot.as_matrix()).max() < 1e-6
+        else:
+            assert np.linalg.norm(got[:3, 3] * 1000 - pos) <= zone.pzone_tcp * 1000 + 2
     visit = p.moves[1].motion
     assert (visit.file.endswith("Lib.mod"), visit.line, visit.routine) == (True, 13, "Visit")
     assert visit.chain == (f"main ({TASK3 / 'Main.mod'}:14)",)

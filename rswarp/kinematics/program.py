@@ -6,7 +6,7 @@ rest planned, so one run reports every such target. The robot starts at its home
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -14,10 +14,11 @@ from ..errors import Diagnostic
 from ..rapid import data as rd
 from ..rapid.errors import fail
 from ..rapid.motion import Motion, Run
-from ..rsxml.units import JOINT_VELOCITY
-from . import plan_steps, timing
+from ..rsxml.robot_data import AxisLimits, axis_limits
+from . import plan_steps, timing, zones
 from . import targets as tg
 from .ik import ArmConstants
+from .paths import turn_between
 from .tcp import Frames, frames, pose_of
 
 SINGULAR_DEG = 1.0  # |q5| below this along a linear or circular move: a finding
@@ -72,6 +73,7 @@ class Plan:
     q: np.ndarray
     errors: tuple[Diagnostic, ...] = ()
     cycles: tuple[float, ...] = ()
+    limits: AxisLimits | None = None  # the axis speeds and accelerations the timing used
 
     @property
     def cycle_s(self) -> float:
@@ -82,11 +84,12 @@ class Plan:
 class Planner:
     """Plans motions as the task makes them; what the interpreter asks of the robot."""
 
-    def __init__(self, kin, rate: float = timing.RATE, external_axes: str = "error"):
+    def __init__(self, kin, rate: float = timing.RATE, external_axes: str = "error", limits: AxisLimits | None = None):
         self.kin, self.mech, self.rate = kin, kin.mech, rate
         self.ignore_external = external_axes == "ignore"
         self.q = np.asarray(self.mech.home_position(), float)
-        self.speeds = np.array([JOINT_VELOCITY[j.revolute] for j in self.mech.graph.active])
+        self.limits = limits if limits is not None else axis_limits(self.mech)
+        self.zoned: tuple | None = None  # (segment, zone) of the last move, while the next may blend into it
         self.now, self.count = 0.0, 1
         self.times, self.rows = [np.zeros(1)], [self.q[None]]
         self.moves: list[PlannedMove] = []
@@ -149,7 +152,7 @@ class Planner:
         errors = tuple(e if self.repeats[(e.file, e.line, e.message)] == 1 else
                        Diagnostic(e.file, e.line, f"{e.message} ({self.repeats[(e.file, e.line, e.message)]} times)")
                        for e in self.errors)
-        return Plan(run, self._targets(), tuple(self.moves), times, q, errors, self._cycles(run))
+        return Plan(run, self._targets(), tuple(self.moves), times, q, errors, self._cycles(run), self.limits)
 
     def time_step(self, s, tcp) -> None:
         """One resolved step timed, sampled and appended to the trajectory (``tcp``: a joint move's
@@ -162,14 +165,16 @@ class Planner:
                 t = np.array([m.seconds]) if m.seconds > 0 else np.zeros(0)
                 return self._append(m, t, np.repeat(s.q0[None], len(t), axis=0), [])
             if s.kind == "joint":
-                t, seg = timing.joint_move(s.q0, s.q1, m, self.speeds, self.rate, tcp)
-                return self._append(m, t, seg, [])
+                t, seg, share = timing.joint_move(s.q0, s.q1, m, self.limits, self.rate, tcp)
+                piece = zones.jointed(t, seg, share, s.q0, tcp, _turn(tcp)) if tcp is not None and len(t) else None
+                return self._append(m, t, seg, [], piece)
             if len(s.u) < 2:
                 return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
-            t, seg = timing.path_move(s.u, s.q, s.length, s.turn, m, self.speeds, self.rate)
+            t, seg, share = timing.path_move(s.u, s.q, s.length, s.turn, m, self.limits, self.rate)
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
-        self._append(m, t, seg, s.findings + self._end_findings(m, seg, s.end_conf))
+        piece = zones.straight(t, seg, share, s.q0, s.length, s.turn) if len(t) else None
+        self._append(m, t, seg, s.findings + self._end_findings(m, seg, s.end_conf), piece)
 
     def flanges(self, q: np.ndarray) -> np.ndarray:
         """Flange poses (N, 4, 4) of joint values (N, dof), in one launch."""
@@ -206,6 +211,7 @@ class Planner:
         return out
 
     def _skip(self, m: Motion, why: str) -> None:
+        self.zoned = None  # the robot stops where the move it cannot make begins
         message = f"{m.instruction}: {why}"
         key = (m.file, m.line, message)
         if key in self.repeats:
@@ -215,7 +221,10 @@ class Planner:
             self.errors.append(Diagnostic(m.file, m.line, message))
         self.moves.append(PlannedMove(m, ", ".join(m.names), self.now, self.now, (self.count, self.count), [], why))
 
-    def _append(self, m: Motion, t: np.ndarray, seg: np.ndarray, findings: list[str]) -> None:
+    def _append(self, m: Motion, t: np.ndarray, seg: np.ndarray, findings: list[str], piece=None) -> None:
+        """A move's samples added; a move that follows a zoned one at once starts inside its zone."""
+        if self.zoned is not None and piece is not None:
+            seg = self._blend(piece)
         if self.count + len(t) > MAX_ROWS:
             hours = MAX_ROWS / self.rate / 3600
             fail(m.file, m.line, f"the trajectory would hold more than {MAX_ROWS} samples ({hours:.1f} h at "
@@ -227,6 +236,23 @@ class Planner:
             self.times.append(self.now + t)
             self.rows.append(seg)
         self.now, self.count = end, self.count + len(t)
+        blends = piece is not None and m.zone is not None and not m.zone.fine
+        self.zoned = (piece, m.zone) if blends else None
+
+    def _blend(self, piece: zones.Segment) -> np.ndarray:
+        """The last move cut where ``piece`` starts inside its zone; ``piece``'s joints with the
+        rest of that move added."""
+        prev, zone = self.zoned
+        tau = zones.overlap(prev, piece, zone)
+        if tau <= 0:
+            return piece.q
+        kept, q = zones.blend(prev, piece, tau)
+        last = self.moves[-1]
+        drop = len(prev.t) - kept
+        self.times[-1], self.rows[-1] = self.times[-1][:kept], self.rows[-1][:kept]
+        self.now, self.count = last.start + prev.duration - tau, self.count - drop
+        self.moves[-1] = replace(last, end=self.now, rows=(last.rows[0], last.rows[1] - drop))
+        return q
 
     def _targets(self) -> tuple[Target, ...]:
         found = list(self.targets.values())
@@ -247,6 +273,11 @@ class Planner:
         return tuple(float(b - a) for a, b in zip(starts, starts[1:]))
 
 
-def plan(kin, run: Run, rate: float = timing.RATE, external_axes: str = "error") -> Plan:
+def plan(kin, run: Run, rate: float = timing.RATE, external_axes: str = "error",
+         limits: AxisLimits | None = None) -> Plan:
     """The trajectory of a task already run (no CRobT answered mid-run): ``Planner`` over its motions."""
-    return Planner(kin, rate, external_axes).finish(run)
+    return Planner(kin, rate, external_axes, limits).finish(run)
+
+
+def _turn(tcp: np.ndarray) -> float:
+    return turn_between(tcp[0, :3, :3], tcp[-1, :3, :3])

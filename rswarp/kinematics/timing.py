@@ -63,27 +63,47 @@ def joint_probes(q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
     return q0 + np.linspace(0, 1, JOINT_PROBES)[:, None] * (q1 - q0)
 
 
-def joint_move(q0: np.ndarray, q1: np.ndarray, motion, speeds: np.ndarray, rate: float, tcp: np.ndarray | None):
-    r"""(times, q) of a synchronized joint move from q0 to q1; ``tcp``: the TCP's world poses at
-    its ``joint_probes`` (None with ``\T``, which sets the time)."""
+def joint_move(q0: np.ndarray, q1: np.ndarray, motion, limits, rate: float, tcp: np.ndarray | None):
+    r"""(times, q, progress) of a synchronized joint move from q0 to q1: one trapezoid in the
+    share of the way, as fast as every axis's speed and acceleration (``limits``) allow, the TCP
+    within v_tcp and its turn within v_ori; ``tcp``: the TCP's world poses at its
+    ``joint_probes`` (None with ``\T``, which sets the time)."""
     if not np.any(q1 != q0):
-        return np.zeros(0), np.zeros((0, len(q0)))
-    axes = float(np.max(np.abs(q1 - q0) / (speeds * motion.override)))
-    cruise = axes
+        return np.zeros(0), np.zeros((0, len(q0))), np.zeros(0)
+    d = np.abs(q1 - q0)
+    moving = d > 0
+    top = float(np.min(limits.velocity[moving] * motion.override / d[moving]))  # share of the way a second
+    accel = float(np.min(limits.acceleration[moving] * motion.accel / d[moving]))  # a second squared
+    axes_top = top
     if tcp is not None:
         length = float(np.linalg.norm(np.diff(tcp[:, :3, 3], axis=0), axis=1).sum())
         turn = turn_between(tcp[0, :3, :3], tcp[-1, :3, :3])
         v_tcp, v_ori = tcp_speeds(motion)
-        cruise = max(axes, length / v_tcp, turn / v_ori)
-    ta = ACCEL_TIME / motion.accel
-    duration = duration_for(cruise, ta) if motion.duration is None else max(given_time(motion), duration_for(axes, ta))
+        top = min(top, v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
+    if motion.duration is None:
+        duration, ta = trapezoid(top, accel)
+    else:  # \T: that time, where the axes allow it
+        duration = max(given_time(motion), trapezoid(axes_top, accel)[0])
+        ta = min(ACCEL_TIME / motion.accel, duration / 2)
     t = samples(duration, rate)
-    return t, q0 + profile(duration, t, ta)[:, None] * (q1 - q0)
+    s = profile(duration, t, ta)
+    return t, q0 + s[:, None] * (q1 - q0), s
 
 
-def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, speeds: np.ndarray, rate: float):
-    """(times, q) of a linear or circular move solved at probes ``u`` (joints ``q``) of a path of
-    ``length`` (m) and ``turn`` (rad): the speed curve's times, sampled at ``rate``."""
+def trapezoid(top: float, accel: float) -> tuple[float, float]:
+    """(duration, ramp time) of the quickest rest-to-rest move over the whole way (1) at a
+    speed of at most ``top`` and an acceleration of at most ``accel`` (per second, squared)."""
+    ta = top / accel
+    if top * ta >= 1.0:  # no cruise: a triangle
+        ta = float(np.sqrt(1.0 / accel))
+        return 2.0 * ta, ta
+    return 1.0 / top + ta, ta
+
+
+def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, limits, rate: float):
+    """(times, q, progress) of a linear or circular move solved at probes ``u`` (joints ``q``) of
+    a path of ``length`` (m) and ``turn`` (rad): the speed curve's times, sampled at ``rate``."""
+    speeds, axis_accel = limits.velocity * motion.override, limits.acceleration * motion.accel
     if motion.duration is None:
         v_tcp, v_ori = tcp_speeds(motion)
         nominal = min(v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
@@ -94,11 +114,12 @@ def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, 
         nominal = 1.0 / (total - ta)
         accel = nominal / ta
         # the probes round the trapezoid: its time on them, to be taken out
-        rounded = path_times(u, speed_curve(u, q, nominal, np.full_like(speeds, np.inf), accel))[-1]
+        free = np.full_like(speeds, np.inf)
+        rounded = path_times(u, speed_curve(u, q, nominal, free, accel, free))[-1]
         if motion.vmax is not None and length > 0:
             nominal = min(nominal, motion.vmax / length)
             accel = nominal / ta
-    v = speed_curve(u, q, nominal, speeds * motion.override, accel)
+    v = speed_curve(u, q, nominal, speeds, accel, axis_accel)
     at_probe = path_times(u, v)
     if motion.duration is not None:
         at_probe = at_probe * (total / rounded)
@@ -106,7 +127,7 @@ def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, 
     along = np.interp(t, at_probe, u)
     k = np.clip(np.searchsorted(u, along, side="right"), 1, len(u) - 1)  # along lies in [u[k-1], u[k]]
     w = ((along - u[k - 1]) / (u[k] - u[k - 1]))[:, None]
-    return t, q[k - 1] * (1.0 - w) + q[k] * w
+    return t, q[k - 1] * (1.0 - w) + q[k] * w, along
 
 
 def probes(length: float, turn: float) -> np.ndarray:
@@ -128,10 +149,12 @@ def tcp_speeds(motion) -> tuple[float, float]:
     return v_tcp, motion.speed.v_ori * motion.override
 
 
-def speed_curve(u: np.ndarray, q: np.ndarray, nominal: float, speeds: np.ndarray, accel: float) -> np.ndarray:
+def speed_curve(u: np.ndarray, q: np.ndarray, nominal: float, speeds: np.ndarray, accel: float,
+                axis_accel: np.ndarray) -> np.ndarray:
     """The path speed (du/dt) at each probe ``u`` (joints ``q``): at most ``nominal``, at most what
-    keeps each axis within ``speeds``, from rest to rest with at most ``accel`` (du/dt²): the
-    least of the limit curve and its forward and backward accelerations."""
+    keeps each axis within ``speeds``, from rest to rest with at most ``accel`` (du/dt²) and what
+    keeps each axis within ``axis_accel``: the least of the limit curve and its forward and
+    backward accelerations."""
     dq = np.empty_like(q)  # central differences, one-sided at the ends
     if len(u) > 1:
         dq[1:-1] = (q[2:] - q[:-2]) / (u[2:] - u[:-2])[:, None]
@@ -139,12 +162,17 @@ def speed_curve(u: np.ndarray, q: np.ndarray, nominal: float, speeds: np.ndarray
         dq[-1] = (q[-1] - q[-2]) / (u[-1] - u[-2])
     else:
         dq[:] = 0.0
+    slope = np.maximum(np.abs(dq), 1e-300)
     with np.errstate(divide="ignore"):
-        joint = np.min(speeds / np.maximum(np.abs(dq), 1e-300), axis=1)
+        joint = np.min(speeds / slope, axis=1)
+        a = np.minimum(accel, np.min(axis_accel / slope, axis=1))  # du/dt² each probe allows
     w = np.minimum(nominal, joint) ** 2
     w[0] = w[-1] = 0.0
-    forward = 2 * accel * u + np.minimum.accumulate(w - 2 * accel * u)
-    backward = -2 * accel * u + np.minimum.accumulate((w + 2 * accel * u)[::-1])[::-1]
+    # v² grows by at most 2 a du from probe to probe, forward from the start and back from the end
+    step = 2.0 * np.minimum(a[1:], a[:-1]) * np.diff(u)
+    up = np.concatenate([[0.0], np.cumsum(step)])
+    forward = up + np.minimum.accumulate(w - up)
+    backward = -up + np.minimum.accumulate((w + up)[::-1])[::-1]
     return np.sqrt(np.maximum(np.minimum(forward, backward), 0.0))
 
 

@@ -18,7 +18,8 @@ from ..files import read_regular
 from ..options import checked
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
-from ..rsxml.units import JOINT_VELOCITY, format_number
+from ..rsxml.robot_data import axis_limits
+from ..rsxml.units import format_number
 
 LIMIT_SLACK = 1e-9  # SI: rounding in a file's units does not put a value outside its limits
 WAYPOINT_SPAN = 0.6  # a random move goes at most this share of a joint's range
@@ -147,8 +148,8 @@ def random_trajectory(mech: Mechanism, seconds: float, seed: int, velocity: np.n
 
 
 def joint_speed_limits(mech: Mechanism) -> np.ndarray:
-    """Each active joint's default speed limit, the exports' too (SI)."""
-    return np.array([JOINT_VELOCITY[j.revolute] for j in mech.active_joints])
+    """Each active joint's speed limit (SI): the robot data's beside the RSXML, else the default."""
+    return axis_limits(mech).velocity
 
 
 def _moves(knots_t: np.ndarray, knots_q: np.ndarray, t: np.ndarray) -> np.ndarray:

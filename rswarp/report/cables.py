@@ -36,7 +36,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                friction: float = FRICTION, environment: list[str] | None = None, frame_rate: float = FRAME_RATE,
                substeps: int = SUBSTEPS, cable_model: str = "rod", device: str = "cpu", ray: str | None = None,
                program: list[str] | None = None, routine: str = "main", io: list[str] | None = None,
-               cycles: int = 1, external_axes: str = "error", video: str | None = None,
+               cycles: int = 1, external_axes: str = "error", limits: str | None = None, video: str | None = None,
                video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
                progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
@@ -60,7 +60,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         from .program import program_trajectory, signal_values
 
         trajectories = [program_trajectory(path, program, routine, warn=warn, io=signal_values(io), cycles=cycles,
-                                           external_axes=external_axes)]
+                                           external_axes=external_axes, limits=limits)]
         if seconds is not None and seconds < trajectories[0].duration:
             warn(f"rswarp: warning: --seconds {seconds:g}: the task takes {trajectories[0].duration:.2f} s; the run "
                  f"covers its first {seconds:g} s")

@@ -21,6 +21,7 @@ from ..outputs import claim, record
 from ..rapid.interpret import MAX_CYCLES, Interpreter
 from ..rapid.task import load_task
 from ..rsxml.documents import load_mechanism
+from ..rsxml.robot_data import axis_limits
 from ..sim.bodies import placed_environments
 from ..sim.program_check import SINGULAR, check_program
 from .output import Output, Warn, ignore, json_safe
@@ -46,7 +47,8 @@ def signal_values(pairs: list[str] | None) -> dict[str, float]:
 
 
 def program_plan(path: str, programs, routine: str = "main", device: str = "cpu", io: dict | None = None,
-                 cycles: int = 1, external_axes: str = "error", warn: Warn = ignore, strict: bool = True):
+                 cycles: int = 1, external_axes: str = "error", warn: Warn = ignore, strict: bool = True,
+                 limits: str | None = None):
     """(mechanism, plan) of ``routine`` of the RAPID task in ``programs`` (module files, folders,
     .pgf files) on the robot at ``path``; with ``strict`` an RsxmlError lists every target the
     robot cannot take."""
@@ -56,7 +58,7 @@ def program_plan(path: str, programs, routine: str = "main", device: str = "cpu"
         raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {cycles}")
     mech, _ = load_mechanism(path)
     task = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
-    planner = Planner(Kinematics(mech, device), external_axes=external_axes)
+    planner = Planner(Kinematics(mech, device), external_axes=external_axes, limits=axis_limits(mech, limits))
     run = Interpreter(task, planner, io, int(cycles)).run(routine)
     plan = planner.finish(run)
     for w in (*run.warnings, *planner.notes):
@@ -76,7 +78,7 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
                 io: list[str] | None = None, cycles: int = 1, external_axes: str = "error",
                 environment: list[str] | None = None, collision_matrix: str | None = None, floor: float = 0.0,
                 video: str | None = None, video_size: int = 512, device: str = "cpu", ray: str | None = None,
-                progress=None, warn: Warn = ignore) -> Output:
+                limits: str | None = None, progress=None, warn: Warn = ignore) -> Output:
     """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory.
     Targets the robot cannot take are all reported (exit 1), with the rest of the report."""
     from ..export.srdf import read_srdf
@@ -94,7 +96,7 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     env = placed_environments(robot, environment or [])
     disabled = read_srdf(collision_matrix, robot.link_names) if collision_matrix else ()
     mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
-                           cycles, external_axes, warn, strict=False)
+                           cycles, external_axes, warn, strict=False, limits=limits)
     if p.errors:
         doc = _document(mech, p, None, [], None, csv=None)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
@@ -120,12 +122,18 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0) -> 
     return {"robot": mech.name, "files": list(run.files), "routine": run.routine,
             "duration_s": float(p.times[-1]), "cycle_s": p.cycle_s, "cycles_s": list(p.cycles),
             "main_loop": f"{cycle.file}:{cycle.line}" if cycle is not None and cycle.endless else None,
-            "samples": len(p.times), "statements": run.statements,
+            "samples": len(p.times), "statements": run.statements, "axis_limits": _limits_dict(p.limits),
             "targets": [{"name": t.name, "file": t.file, "line": t.line, "joints": t.joints, "conf": t.conf,
                          "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin} for t in p.targets],
             "moves": [_move(mech, p, m, tally, names, floor, ends[k]) for k, m in enumerate(p.moves)],
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
             "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
+
+
+def _limits_dict(limits) -> dict:
+    """The axis limits the timing used (SI), where they come from, and that line in words."""
+    return {"source": limits.source, "assumed": limits.assumed, "accelerations_assumed": limits.accel_assumed,
+            "velocity": limits.velocity, "acceleration": limits.acceleration, "summary": limits.summary()}
 
 
 def _move_ends(kin, p: Plan) -> list:

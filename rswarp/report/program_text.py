@@ -45,7 +45,7 @@ def _head(doc: dict, files: list[str]) -> str:
     count = sum(1 for m in moves if m["kind"] != "wait")
     source = Path(files[0]).name if len(files) == 1 else f"{len(files)} files"
     head = (f"{doc['robot']}: {doc['routine']} of {source}, {count} move{'s' * (count != 1)}, "
-            f"{doc['duration_s']:.2f} s (every move stops at its point: zones are not blended)")
+            f"{doc['duration_s']:.2f} s (zones blended; fine stops)")
     passes = doc["cycles_s"]
     if doc["main_loop"]:
         loop = doc["main_loop"]
@@ -59,7 +59,7 @@ def _head(doc: dict, files: list[str]) -> str:
                  f"{_seconds(passes)} s")
     else:
         head += f"\ncycle: {doc['cycle_s']:.2f} s, one run of {doc['routine']}"
-    return head
+    return head + f"; {doc['axis_limits']['summary']}"
 
 
 def _seconds(values: list[float], shown: int = 6) -> str:

@@ -1,0 +1,106 @@
+"""Zones: a move that ends in a zone (``z50``) does not stop at its point. The next move starts
+while this one is still on its way, and for that while the robot's joints follow both: the rest
+of this move plus the start of the next (superposition, as a controller blends in joint space).
+The blend starts where the TCP comes within the zone of the point (``pzone_tcp``, and within
+``zone_ori`` of its orientation), the zone cut to half of either move as ABB cuts it, and lasts
+no longer than this move's slowing down and the next one's speeding up, so no axis goes faster
+than either move lets it. ``fine`` stops; so does a move the next one does not follow at once (a
+WaitTime between, an error, the task's last move)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A timed move as the blend sees it: its samples (times from its start, joints, share of
+    the way), where it starts, and its TCP path: length (m) and turn (rad), the length gone at
+    the shares ``probe_s``."""
+
+    t: np.ndarray
+    q: np.ndarray
+    s: np.ndarray
+    q0: np.ndarray
+    length: float
+    turn: float
+    probe_s: np.ndarray
+    probe_len: np.ndarray
+
+    @property
+    def duration(self) -> float:
+        return float(self.t[-1])
+
+    def gone(self, s: np.ndarray) -> np.ndarray:
+        """The TCP's path length from the start at shares ``s``."""
+        return np.interp(s, self.probe_s, self.probe_len)
+
+    def ramp_out(self) -> float:
+        """How long it slows down at its end: its last stretch of falling speed."""
+        return _monotone_tail(self.t, self.s)
+
+    def ramp_in(self) -> float:
+        """How long it speeds up at its start."""
+        t = np.concatenate([[0.0], self.t])
+        s = np.concatenate([[0.0], self.s])
+        return _monotone_tail(self.duration - t[::-1], 1.0 - s[::-1])  # its start, read backwards
+
+
+def straight(t, q, s, q0, length: float, turn: float) -> Segment:
+    """A move whose TCP goes its path in proportion to its share (a line, a circle)."""
+    return Segment(t, q, s, q0, length, turn, np.array([0.0, 1.0]), np.array([0.0, length]))
+
+
+def jointed(t, q, s, q0, tcp: np.ndarray, turn: float) -> Segment:
+    """A joint move, its TCP's path measured at evenly shared probes (``tcp``: their poses)."""
+    steps = np.linalg.norm(np.diff(tcp[:, :3, 3], axis=0), axis=1)
+    gone = np.concatenate([[0.0], np.cumsum(steps)])
+    return Segment(t, q, s, q0, float(gone[-1]), turn, np.linspace(0.0, 1.0, len(tcp)), gone)
+
+
+def overlap(prev: Segment, nxt: Segment, zone) -> float:
+    """How long ``nxt`` runs while ``prev`` is still on its way (s): 0 for a stop point."""
+    if zone is None or zone.fine or len(prev.t) == 0 or len(nxt.t) == 0:
+        return 0.0
+    z = min(zone.pzone_tcp, prev.length / 2, nxt.length / 2)
+    zo = min(zone.zone_ori, prev.turn / 2, nxt.turn / 2)
+    s_prev = np.concatenate([[0.0], prev.s])
+    t_prev = np.concatenate([[0.0], prev.t])
+    inside = (prev.length - prev.gone(s_prev) <= z + EPS) & ((1.0 - s_prev) * prev.turn <= zo + EPS)
+    leave = prev.duration - float(t_prev[int(np.argmax(inside))])  # inside only grows along the move
+    near = (nxt.gone(nxt.s) <= z + EPS) & (nxt.s * nxt.turn <= zo + EPS)
+    enter = float(nxt.t[int(np.argmin(near)) - 1]) if not near.all() else nxt.duration
+    if not near[0]:
+        enter = 0.0
+    return max(0.0, min(leave, enter, prev.ramp_out(), nxt.ramp_in()))
+
+
+def blend(prev: Segment, nxt: Segment, tau: float) -> tuple[int, np.ndarray]:
+    """(samples of ``prev`` kept, ``nxt``'s joints with the rest of ``prev`` added where they
+    overlap) for an overlap of ``tau`` seconds; ``nxt`` then starts ``tau`` before ``prev`` ends."""
+    start = prev.duration - tau
+    kept = int(np.searchsorted(prev.t, start, side="right"))
+    t_prev = np.concatenate([[0.0], prev.t])
+    q_prev = np.vstack([prev.q0[None], prev.q])
+    shared = nxt.t <= tau
+    at = start + nxt.t[shared]
+    rest = np.stack([np.interp(at, t_prev, q_prev[:, j]) for j in range(q_prev.shape[1])], axis=1) - prev.q[-1]
+    q = nxt.q.copy()
+    q[shared] += rest
+    return kept, q
+
+
+def _monotone_tail(t: np.ndarray, s: np.ndarray) -> float:
+    """The time of the last slowing down: from where the speed (ds/dt) last leaves its top
+    (a cruise's end) and falls without rising again to the end."""
+    if len(t) < 3:
+        return float(t[-1] - t[0]) if len(t) else 0.0
+    v = np.diff(s) / np.maximum(np.diff(t), 1e-12)
+    rising = np.nonzero(v[1:] > v[:-1] * (1 + 1e-9) + 1e-12)[0]
+    first = int(rising[-1]) + 1 if len(rising) else 0  # speed falls (or holds) from sample first on
+    held = np.nonzero(v[first:] >= v[first] * (1 - 1e-3))[0]
+    return float(t[-1] - t[first + int(held[-1])])

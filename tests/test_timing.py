@@ -1,0 +1,118 @@
+"""Robot data and the timing model (issue "Robot data and outputs users trust"): axis speeds from
+the bundled robot-data file, from a URDF and a joint_limits.yaml in ROS-Industrial's and MoveIt's
+layouts; a 170 deg swing of axis 1 timed by its datasheet speed; zones blended (a square of
+MoveL in z50 against fine, its corners passed within the zone); ABB's zonedata table."""
+
+from __future__ import annotations
+
+import shutil
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rswarp.cli import main
+from rswarp.errors import RsxmlError
+from rswarp.examples import IRB2600
+from rswarp.kinematics.kinematics import Kinematics
+from rswarp.rapid.predefined import ZONES
+from rswarp.report.program import program_plan
+from rswarp.rsxml.documents import load_mechanism
+from rswarp.rsxml.robot_data import axis_limits, read_limits
+
+from conftest import DATA
+
+RAPID, LIMITS = DATA / "rapid", DATA / "limits"
+ROS_VELOCITY = np.array([3.054, 3.054, 3.054, 6.283, 6.283, 8.727])  # rad/s, ROS-Industrial's URDF
+
+
+@lru_cache(maxsize=None)
+def mech():
+    return load_mechanism(IRB2600)[0]
+
+
+def plain_robot(tmp_path: Path) -> Path:
+    """The IRB 2600's RSXML alone in a folder: no robot-data file beside it."""
+    target = tmp_path / "robot" / IRB2600.name
+    target.parent.mkdir()
+    shutil.copy(IRB2600, target)
+    return target
+
+
+def swing(robot, limits=None) -> tuple[float, dict]:
+    _, p = program_plan(str(robot), [str(RAPID / "j1_170.mod")], limits=limits)
+    return p.moves[1].end - p.moves[1].start, p.limits
+
+
+def test_the_bundled_data_gives_the_datasheet_speeds_and_a_170_degree_swing_its_time():
+    limits = axis_limits(mech())
+    assert np.allclose(limits.velocity, ROS_VELOCITY, rtol=1e-3) and not limits.assumed
+    seconds, used = swing(IRB2600)
+    # 170 deg at 175 deg/s, plus a 0.25 s ramp (half at each end, twice)
+    assert seconds == pytest.approx(170 / 175 + 0.25, abs=0.01) and 0.97 <= seconds <= 1.6
+    assert "175-500 deg/s from IRB2600_12_165.robot.toml" in used.summary()
+
+
+def test_a_plain_rsxml_says_its_speeds_are_assumed_and_limits_files_set_them(tmp_path):
+    robot = plain_robot(tmp_path)
+    seconds, used = swing(robot)
+    assert used.assumed and "assumed 90 deg/s" in used.summary()
+    assert seconds == pytest.approx(170 / 90 + 0.25, abs=0.01)
+    urdf_seconds, used = swing(robot, str(LIMITS / "irb2600_12_165.urdf"))
+    assert urdf_seconds == pytest.approx(170 / 175 + 0.25, abs=0.01) and 0.97 <= urdf_seconds <= 1.6
+    assert "irb2600_12_165.urdf" in used.summary()
+    # the yaml gives axis 1 5 rad/s^2: 0.61 s to reach 3.054 rad/s
+    yaml_seconds, used = swing(robot, str(LIMITS / "joint_limits.yaml"))
+    assert yaml_seconds == pytest.approx(np.radians(170) / 3.054 + 3.054 / 5.0, abs=0.01)
+    assert used.acceleration[0] == pytest.approx(5.0) and used.acceleration[3] == pytest.approx(6.283 / 0.25)
+
+
+def test_limits_files_are_matched_by_name_or_order_and_bad_ones_said_at_their_line(tmp_path):
+    by_name = read_limits(str(LIMITS / "irb2600_12_165.urdf"), mech())
+    assert np.allclose(by_name.velocity, ROS_VELOCITY)
+    swapped = (LIMITS / "irb2600_12_165.urdf").read_text().replace('velocity="8.727"', 'velocity="-1"')
+    bad = tmp_path / "bad.urdf"
+    bad.write_text(swapped)
+    with pytest.raises(RsxmlError) as exc:
+        read_limits(str(bad), mech())
+    assert exc.value.line == 53 and "velocity" in exc.value.message
+    five = tmp_path / "five.yaml"
+    five.write_text("joint_limits:\n" + "".join(f"  a{k}:\n    has_velocity_limits: true\n    max_velocity: 1.0\n"
+                                                 for k in range(5)))
+    with pytest.raises(RsxmlError, match="5 axes for 6 active joints"):
+        read_limits(str(five), mech())
+    assert main(["program", str(IRB2600), str(RAPID / "j1_170.mod"), "--limits", str(five)]) == 1
+
+
+def test_zones_blend_a_square_faster_than_fine_passing_each_corner_inside_its_zone(tmp_path):
+    square = (RAPID / "zone_square.mod").read_text()
+    fine = tmp_path / "fine_square.mod"
+    fine.write_text(square.replace("z50", "fine"))
+    _, zoned = program_plan(str(IRB2600), [str(RAPID / "zone_square.mod")])
+    _, stopped = program_plan(str(IRB2600), [str(fine)])
+    assert zoned.times[-1] < stopped.times[-1] - 0.3  # three corners not stopped at
+    kin = Kinematics(mech())
+    link, m = kin.flange_frame()
+    tcp = (kin.fk64(zoned.q)[:, link] @ m)[:, :3, 3]
+    for corner in [(1.0, 0.2, 0.7), (1.4, 0.2, 0.7), (1.4, -0.2, 0.7)]:
+        nearest = np.linalg.norm(tcp - corner, axis=1).min()
+        assert 0.001 < nearest < 0.050  # inside z50, never touching the point
+    speed = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / np.diff(zoned.times)
+    corners = [mv.end for mv in zoned.moves[1:4]]
+    at = [int(np.searchsorted(zoned.times, t)) for t in corners]
+    assert min(speed[k] for k in at) > 0.05  # it does not stop there
+    rate = np.abs(np.diff(zoned.q, axis=0)) / np.diff(zoned.times)[:, None]
+    assert (rate <= axis_limits(mech()).velocity * 1.01).all()
+
+
+def test_zonedata_is_abbs_table():
+    """RAPID reference manual, zonedata's predefined data: pzone_tcp, pzone_ori (mm), zone_ori (deg)."""
+    table = {"z0": (0.3, 0.3, 0.03), "z1": (1, 1, 0.1), "z5": (5, 8, 0.8), "z10": (10, 15, 1.5),
+             "z15": (15, 23, 2.3), "z20": (20, 30, 3.0), "z30": (30, 45, 4.5), "z40": (40, 60, 6.0),
+             "z50": (50, 75, 7.5), "z60": (60, 90, 9.0), "z80": (80, 120, 12), "z100": (100, 150, 15),
+             "z150": (150, 225, 23), "z200": (200, 300, 30)}
+    assert sorted(ZONES) == sorted(int(name[1:]) for name in table)
+    for name, (tcp, ori, angle) in table.items():
+        pzone_tcp, pzone_ori, _, zone_ori, *_ = ZONES[int(name[1:])]
+        assert (pzone_tcp, pzone_ori, zone_ori) == pytest.approx((tcp, ori, angle))
