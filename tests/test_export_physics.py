@@ -106,7 +106,8 @@ def test_export_command_prints_the_mass_table_and_refuses_options_of_other_forma
     assert "1 touching at home (Link4/Link6)" in text
     assert main(["export", str(examples.IRB2600), "-o", str(out), "--json", "--drive-hz", "0", "--armature", "2"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert doc["total_mass"] == pytest.approx(425.036, rel=1e-4) and len(doc["links"]) == 7
+    # the robot-data file beside the RSXML gives the mass (272 kg), not the density (425 kg at 2700 kg/m^3)
+    assert doc["total_mass"] == pytest.approx(272.0, rel=1e-6) and len(doc["links"]) == 7
     assert all(j["stiffness"] == 0 and j["armature"] == 2 for j in doc["joints"])
     assert {"link1": "Link4", "link2": "Link6", "reason": "overlap at home"} in doc["filtered_pairs"]
     assert main(["export", str(examples.IRB2600), "-o", str(tmp_path / "r.urdf"), "--layout", "component"]) == 1

@@ -116,3 +116,19 @@ def test_zonedata_is_abbs_table():
     for name, (tcp, ori, angle) in table.items():
         pzone_tcp, pzone_ori, _, zone_ori, *_ = ZONES[int(name[1:])]
         assert (pzone_tcp, pzone_ori, zone_ori) == pytest.approx((tcp, ori, angle))
+
+
+def test_the_exported_irb2600_has_the_datasheet_mass_and_ros_industrials_speeds(tmp_path):
+    """ABB's product specification: 272 kg; ROS-Industrial's URDF: the velocity limits."""
+    from lxml import etree
+
+    from rswarp.report.exports import run_export
+
+    out = run_export(str(IRB2600), str(tmp_path / "irb.urdf"))
+    assert out.doc["total_mass"] == pytest.approx(272.0, rel=0.02)
+    assert "IRB2600_12_165.robot.toml" in out.text and "175-500 deg/s" in out.doc["axis_limits"]
+    root = etree.parse(str(tmp_path / "irb.urdf")).getroot()
+    velocity = [float(j.find("limit").get("velocity")) for j in root.iter("joint") if j.get("type") == "revolute"]
+    assert np.allclose(velocity, ROS_VELOCITY, rtol=0.01)
+    plain = run_export(str(plain_robot(tmp_path)), str(tmp_path / "plain.urdf"), limits=str(LIMITS / "joint_limits.yaml"))
+    assert "joint_limits.yaml" in plain.doc["axis_limits"] and "from IRB2600" not in plain.text

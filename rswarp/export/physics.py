@@ -46,6 +46,9 @@ class PhysicsOptions:
     armature: float | None = None
     effort: float | None = None
     velocity: float | None = None
+    # per joint (name, velocity, effort), SI, from robot data or --limits; NaN where not published
+    axis_limits: tuple[tuple[str, float, float], ...] = ()
+    mass_source: str = ""  # where ``mass`` comes from, for the table
     # pairs a collision matrix disables (link, link, MoveIt reason): filtered like the adjacent ones
     disabled: tuple[tuple[str, str, str], ...] = ()
 
@@ -104,6 +107,7 @@ class RobotPhysics:
     density: float
     collision: str
     warnings: tuple[str, ...]
+    mass_source: str = ""  # where the total mass comes from ("": the density)
 
     @property
     def total_mass(self) -> float:
@@ -119,7 +123,7 @@ def robot_physics(mech: Mechanism, options: PhysicsOptions | None = None, *, geo
     poses = link_poses(mech)  # home, asked once by the gains and by the contact filter
     joints = _joints(mech, bodies, poses, options)
     filtered = _filtered(mech, bodies, poses, options.disabled)
-    return RobotPhysics(bodies, joints, filtered, density, options.collision, tuple(warnings))
+    return RobotPhysics(bodies, joints, filtered, density, options.collision, tuple(warnings), options.mass_source)
 
 
 def _geometry(mech: Mechanism, collision: str, warnings: list[str]) -> dict[str, tuple[PartGeometry, ...]]:
@@ -248,11 +252,15 @@ def _joint_physics(j, inertia: float, armature: float, load: float, options: Phy
     if options.drive_hz is not None:
         w = 2 * math.pi * options.drive_hz
         stiffness, damping = inertia * w * w, 2 * inertia * w
-    effort = options.effort if options.effort is not None else EFFORT_MARGIN * load + inertia * ACCELERATION
+    given = {name: (v, e) for name, v, e in options.axis_limits}
+    data_velocity, data_effort = given.get(j.name, (math.nan, math.nan))
+    effort = options.effort if options.effort is not None else \
+        data_effort if math.isfinite(data_effort) else EFFORT_MARGIN * load + inertia * ACCELERATION
+    velocity = options.velocity or (data_velocity if math.isfinite(data_velocity) else VELOCITY[j.revolute])
     return JointPhysics(
         name=j.name, revolute=j.revolute, inertia=inertia, armature=armature, stiffness=stiffness,
         damping=damping, limit_stiffness=inertia * w_limit ** 2, limit_damping=2 * inertia * w_limit,
-        effort=effort, velocity=options.velocity or VELOCITY[j.revolute])
+        effort=effort, velocity=velocity)
 
 
 def _filtered(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict,

@@ -5,6 +5,9 @@ the text uses the file's length unit."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+
+import numpy as np
 
 from ..export import export
 from ..export.frames import mechanism_of
@@ -12,6 +15,7 @@ from ..export.physics import DRIVE_HZ, PhysicsOptions
 from ..export.srdf import collision_matrix
 from ..geometry.mass import DEFAULT_DENSITY
 from ..rsxml.documents import checked
+from ..rsxml.robot_data import data_file, read_limits, read_robot_data
 from .output import Output, Warn, ignore
 from .poses import rounded
 
@@ -20,17 +24,48 @@ def run_export(path: str, output: str, layout: str | None = None, mesh_paths: st
                collision: str = "convexHull", density: float = DEFAULT_DENSITY, mass: float | None = None,
                drive_hz: float = DRIVE_HZ, armature: float | None = None, effort: float | None = None,
                velocity: float | None = None, collision_matrix_srdf: str | None = None,
-               collision_samples: int | None = None, warn: Warn = ignore) -> Output:
+               collision_samples: int | None = None, limits: str | None = None, warn: Warn = ignore) -> Output:
     """``rswarp export``: the file's model as USD or URDF at ``output`` (``drive_hz`` 0: no drives),
-    filtering the pairs an SRDF or a collision sweep of ``collision_samples`` disables."""
+    filtering the pairs an SRDF or a collision sweep of ``collision_samples`` disables; the robot's
+    mass and axis limits from ``mass``/``limits``, else its robot-data file, else defaults."""
     model = checked(path).model
-    disabled = collision_matrix(mechanism_of(model)[0], collision_matrix_srdf, collision_samples)
+    mech = mechanism_of(model)[0]
+    axes, mass, source = robot_figures(path, mech, limits, mass)
+    disabled = collision_matrix(mech, collision_matrix_srdf, collision_samples)
     physics = PhysicsOptions(density=density, mass=mass, collision=collision, drive_hz=drive_hz or None,
-                             armature=armature, effort=effort, velocity=velocity, disabled=disabled)
+                             armature=armature, effort=effort, velocity=velocity, disabled=disabled,
+                             axis_limits=axes.rows if axes is not None else (), mass_source=source)
     result = export(model, output, layout=layout, mesh_paths=mesh_paths, physics=physics)
     for w in result.warnings:
         warn(w)
-    return Output(export_dict(result), export_text(result))
+    doc = export_dict(result)
+    doc["axis_limits"] = axes.summary if axes is not None else "joint speeds assumed 90 deg/s (0.5 m/s): give --limits"
+    return Output(doc, export_text(result) + f"\njoint limits: {doc['axis_limits']}")
+
+
+@dataclass(frozen=True)
+class _Axes:
+    rows: tuple[tuple[str, float, float], ...]
+    summary: str
+
+
+def robot_figures(path: str, mech, limits: str | None, mass: float | None):
+    """(axis limits, total mass, where the mass comes from): ``limits``/``mass`` as given, else
+    the robot-data file beside ``path``; None where neither has them."""
+    data_path = data_file(path)
+    data = read_robot_data(str(data_path), mech) if data_path is not None else None
+    axis = read_limits(limits, mech) if limits is not None else data.limits if data is not None else None
+    axes = None
+    if axis is not None:
+        names = [j.name for j in mech.graph.active]
+        rows = tuple((n, float(v), float(e)) for n, v, e in zip(names, axis.velocity, axis.effort))
+        effort = "efforts from it" if np.isfinite(axis.effort).all() else "efforts estimated (not given there)"
+        axes = _Axes(rows, f"{axis.summary().split(';')[0]}; {effort}")
+    if mass is not None:
+        return axes, mass, "--mass"
+    if data is not None and data.mass is not None:
+        return axes, data.mass, data_path.name
+    return axes, None, ""
 
 
 def export_dict(result) -> dict:
@@ -63,8 +98,9 @@ def export_text(result) -> str:
         widths = [max(len(r[i]) for r in [head, *rows]) for i in range(5)]
         lines += ["  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
                   for r in [head, *rows]]
-        lines.append(f"total {robot.total_mass:.3f} kg (density {robot.density:.6g} kg/m^3; centre of mass in the "
-                     "base frame at the zero position)")
+        given = f"the robot's mass from {robot.mass_source}; " if robot.mass_source else ""
+        lines.append(f"total {robot.total_mass:.3f} kg ({given}density {robot.density:.6g} kg/m^3; centre of mass "
+                     "in the base frame at the zero position)")
     driven = [j for j in robot.joints.values() if j.stiffness > 0]
     if driven:
         hz = math.sqrt(driven[0].stiffness / driven[0].inertia) / (2 * math.pi)
