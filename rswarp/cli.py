@@ -102,7 +102,8 @@ def _call(args) -> int:
         kwargs["say"] = (lambda line: None) if quiet else (lambda line: print(line, flush=True))
     if "progress" in names and not quiet:
         kwargs["progress"] = _Progress(args.command, args.unit)
-    out = fn(**kwargs)
+    with _video_progress(args.command, "video" in names and not quiet):
+        out = fn(**kwargs)
     if quiet:
         from .report.output import json_text
 
@@ -136,6 +137,18 @@ class _Progress:
         self.bar.update(done - self.bar.n)
         if done >= total:
             self.bar.close()
+
+
+def _video_progress(command: str, shown: bool):
+    """A bar on stderr for the frames of a ``--video`` while the command runs (``shown``: not
+    under --json)."""
+    import contextlib
+
+    if not shown:
+        return contextlib.nullcontext()
+    from .report.videos import frame_progress
+
+    return frame_progress(_Progress(f"{command} video", "frame"))
 
 
 def _joined_values(argv: list[str]) -> list[str]:

@@ -141,7 +141,8 @@ def test_version():
 def test_fk_in_file_units(capsys):
     assert main(["fk", str(examples.IRB1300), "--q", "0,0,0,0,90,0"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[0].split() == ["frame", "x", "[mm]", "y", "[mm]", "z", "[mm]", "rx", "[deg]", "ry", "[deg]", "rz", "[deg]"]
+    assert out[2].split() == ["frame", "x", "[mm]", "y", "[mm]", "z", "[mm]", "rx", "[deg]", "ry", "[deg]", "rz", "[deg]",
+                              "q1", "q2", "q3", "q4"]  # under two lines that say what a frame is
     flange = next(line for line in out if line.startswith("flange wrist")).split()
     assert [float(v) for v in flange[2:5]] == [475, 0, 919]  # analytic: J5 turns the 90 mm offset down
 

@@ -489,7 +489,7 @@ def test_fk_says_a_configuration_past_a_dead_point_is_unreachable(capsys):
     assert main(["fk", str(path), "--q", "-50"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[-1].startswith("unreachable: a loop cannot close at these joint values")
-    assert out[-2].split()[2:] == ["nan"] * 6  # the flange: no pose at all
+    assert out[-2].split()[2:] == ["nan"] * 10  # the flange: no pose at all (origin, Euler angles, quaternion)
     assert main(["fk", str(path), "--q", "-50", "--json"]) == 0
     import json
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..rsxml.units import length_text
 from ..sim.cable_results import worst_wear
 from ..sim.cables import CableRun
 from .figures import figure_png
@@ -38,7 +39,8 @@ def _over_time(run: CableRun, key: str, title: str, unit: str, scale: float) -> 
                             label=f"{c.name} (least to greatest)")
             if key == "bend":
                 ax.set_yscale("log")
-                ax.axhline(c.allowed_bend_radius * scale, color=line.get_color(), ls="--", label=f"{c.name} allowed")
+                ax.axhline(c.allowed_bend_radius * scale, color=line.get_color(), ls="--",
+                           label=f"{c.name} allowed: {length_text(c.allowed_bend_radius, 1 / scale, unit)}")
         if key == "gap":
             ax.axhline(0.0, color="k", lw=0.8)
 

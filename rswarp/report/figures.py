@@ -1,6 +1,8 @@
 """Datasheet work-range figures: the wrist-centre envelope (the flange's, for robots of four axes
 or fewer, such as palletizers, whose datasheets measure to the flange) seen from the side (plane of
-J1 = 0) and from above, in the file's length unit, with the reach annotated. PNG via matplotlib (Agg)."""
+J1 = 0) and from above, in the file's length unit, with the reach annotated. Every length a label
+gives is the measured figure to 0.1 mm (``reach 1.6533 m``, ``reach 1653.3 mm``), never rounded to
+the plot's scale. PNG via matplotlib (Agg)."""
 
 from __future__ import annotations
 
@@ -10,6 +12,7 @@ import numpy as np
 
 from ..files import atomic_write
 from ..rsxml.model import Mechanism
+from ..rsxml.units import length_text
 from ..sim.workspace import Workspace
 
 
@@ -56,6 +59,9 @@ def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> N
         (ws.flange_reach, ws.flange_low, ws.flange_high)
     reach, point = reach_e.value, "wrist centre" if wrist else "flange"
 
+    def measured(v: float) -> str:
+        return length_text(v, f, unit)
+
     def axes(title, xlabel, ylabel):
         fig = Figure(figsize=(6.4, 6.4))
         ax = fig.add_subplot()
@@ -71,11 +77,11 @@ def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> N
     ax.imshow((ws.side > 0).T, origin="lower", extent=[(bx - r) / f, (bx + r) / f, (bz - r) / f, (bz + r) / f],
               cmap="Blues", vmin=0, vmax=1.6, interpolation="nearest")
     ax.axvline((bx + reach) / f, color="tab:red", ls="--", lw=1)
-    ax.annotate(f"reach {reach / f:.1f} {unit}", xy=((bx + reach) / f, (bz + high.value) / 2 / f),
+    ax.annotate(f"reach {measured(reach)}", xy=((bx + reach) / f, (bz + high.value) / 2 / f),
                 xytext=(-8, 0), textcoords="offset points", ha="right", color="tab:red")
     for e, label in ((high, "highest"), (low, "lowest")):
         ax.axhline(e.value / f, color="tab:gray", ls=":", lw=1)
-        ax.annotate(f"{label} {e.value / f:.1f} {unit}", xy=((bx - r) / f, e.value / f), xytext=(4, 3),
+        ax.annotate(f"{label} {measured(e.value)}", xy=((bx - r) / f, e.value / f), xytext=(4, 3),
                     textcoords="offset points", fontsize=8, color="tab:gray")
     ax.plot([bx / f], [bz / f], "k+")
     atomic_write(side_path, _png(fig))
@@ -85,7 +91,7 @@ def work_range_figures(ws: Workspace, mech: Mechanism, side_path, top_path) -> N
     ax.imshow((ws.top > 0).T, origin="lower", extent=[(bx - r) / f, (bx + r) / f, (by - r) / f, (by + r) / f],
               cmap="Blues", vmin=0, vmax=1.6, interpolation="nearest")
     ax.add_patch(Circle((bx / f, by / f), reach / f, fill=False, color="tab:red", ls="--", lw=1))
-    ax.annotate(f"reach {reach / f:.1f} {unit}", xy=((bx + reach * np.cos(0.8)) / f, (by + reach * np.sin(0.8)) / f),
+    ax.annotate(f"reach {measured(reach)}", xy=((bx + reach * np.cos(0.8)) / f, (by + reach * np.sin(0.8)) / f),
                 xytext=(6, 6), textcoords="offset points", color="tab:red")
     ax.plot([bx / f], [by / f], "k+")
     atomic_write(top_path, _png(fig))

@@ -1,5 +1,6 @@
-"""Poses for people: joint values typed in a file's units, 4x4 matrices shown as position + ZYX
-Euler angles in those units, and checks of joint values against limits (``rswarp fk``)."""
+"""Poses for people: joint values typed in a file's units, each link's and flange's frame shown
+as its origin, ZYX Euler angles in those units and a quaternion, and checks of joint values
+against limits (``rswarp fk``)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
 from ..rsxml.units import BOUNDS, format_number
-from ..transforms import matrix_euler_zyx
+from ..transforms import matrix_euler_zyx, matrix_quat
 from .output import Output, Warn, ignore, json_safe
 
 
@@ -27,9 +28,41 @@ def run_fk(path: str, q: str, device: str = "cpu", warn: Warn = ignore) -> Outpu
     return Output(*fk_report(mech, values, device=device))
 
 
+FRAMES = ("a link's frame has its origin on the axis of the joint that moves it (the base's at the world origin) and "
+          "the world's axes at the zero position, as the USD and URDF exports place it; a flange is its own frame")
+
+
+def link_frames(mech: Mechanism, names, displacements: np.ndarray) -> np.ndarray:
+    """(links, 4, 4): each link's frame at the joint values whose displacements ``kin.fk`` gave
+    (``displacements[k]`` takes a point of link k at the zero position to where it is now)."""
+    from ..export.frames import link_origins
+
+    origins = link_origins(mech)
+    out = np.array(displacements, np.float64)
+    for k, name in enumerate(names):
+        out[k, :3, 3] = out[k, :3, :3] @ origins.get(name, np.zeros(3)) + out[k, :3, 3]
+    return out
+
+
+def rotation_of(m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(ZYX Euler angles rx, ry, rz in rad, quaternion w, x, y, z) of a pose's rotation; NaN where
+    the pose is (a loop that cannot close)."""
+    if not np.isfinite(m).all():
+        return np.full(3, np.nan), np.full(4, np.nan)
+    r = np.asarray(m[:3, :3], np.float64)
+    return np.array(matrix_euler_zyx(r)), np.array(matrix_quat(r))
+
+
 def pose_dict(m: np.ndarray) -> dict:
-    return {"matrix": [[round(float(v), 7) for v in row] for row in m],
-            "position": [round(float(v), 7) for v in m[:3, 3]]}
+    """A frame in JSON: its origin (m), rotation as a quaternion (w, x, y, z) and as ZYX Euler angles
+    (rx, ry, rz; rad), and the 4x4 matrix (world from frame)."""
+    euler, quat = rotation_of(m)
+    return {"position": _json(m[:3, 3]), "quaternion": _json(quat), "euler_zyx": _json(euler),
+            "matrix": [_json(row) for row in m]}
+
+
+def _json(values) -> list[float]:
+    return [round(float(v), 7) + 0.0 for v in values]  # + 0.0: never -0.0
 
 
 def rounded(v: float, factor: float, resolution: float) -> str:
@@ -41,17 +74,22 @@ def rounded(v: float, factor: float, resolution: float) -> str:
 
 
 def pose_text(mech: Mechanism, links: list[tuple[str, np.ndarray]], flanges: list[tuple[str, np.ndarray]]) -> str:
+    """The frames as a table under two lines that say what it holds: a header naming each column
+    and its unit (the file's), and what a link's frame is."""
     lf, af = mech.length_factor, mech.angle_factor
     lu, au = mech.length_unit or "m", mech.angle_unit or "rad"
-    rows = [["frame", f"x [{lu}]", f"y [{lu}]", f"z [{lu}]", f"rx [{au}]", f"ry [{au}]", f"rz [{au}]"]]
+    lines = [f"each link's and flange's frame in the world: origin x, y, z in {lu}; rotation as ZYX Euler angles "
+             f"rx, ry, rz in {au} (R = Rz Ry Rx) and as the quaternion q1..q4 (w, x, y, z, as RAPID's orient)", FRAMES]
+    rows = [["frame", f"x [{lu}]", f"y [{lu}]", f"z [{lu}]", f"rx [{au}]", f"ry [{au}]", f"rz [{au}]",
+             "q1", "q2", "q3", "q4"]]
     for kind, items in (("link", links), ("flange", flanges)):
         for name, m in items:
-            e = matrix_euler_zyx(m[:3, :3].astype(np.float64)) if np.isfinite(m).all() else np.full(3, np.nan)
+            euler, quat = rotation_of(m)
             rows.append([f"{kind} {name}", *(rounded(float(v), lf, 1e-6) for v in m[:3, 3]),
-                         *(rounded(a, af, 1e-5) for a in e)])
+                         *(rounded(float(a), af, 1e-5) for a in euler), *(rounded(float(v), 1.0, 1e-6) for v in quat)])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    return "\n".join("  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
-                     for r in rows)
+    return "\n".join(lines + ["  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
+                              for r in rows])
 
 
 def limit_warnings(mech: Mechanism, q: np.ndarray) -> list[str]:
@@ -85,15 +123,20 @@ def joint_values(mech: Mechanism, text: str) -> np.ndarray:
 
 
 def fk_report(mech: Mechanism, q: np.ndarray, device: str = "cpu") -> tuple[dict, str]:
-    """Every link's and flange's pose for one set of joint values (SI): a JSON-ready dict and text.
-    Where a loop cannot close (past a dead point) the links it moves are NaN, ``closes`` is False
-    and the text says so on its last line."""
+    """Every link's and flange's frame for one set of joint values (SI): a JSON-ready dict and text.
+    A link's JSON keeps ``displacement`` too: what ``kin.fk`` gives, the motion of the link from
+    the zero position (its points' world coordinates there to here). Where a loop cannot close
+    (past a dead point) the links it moves are NaN, ``closes`` is False and the text says so on
+    its last line."""
     kin = Kinematics(mech, device=device)
-    links = kin.fk(q[None])[0]
+    moved = kin.fk(q[None])[0]
+    links = link_frames(mech, kin.links, moved)
     flanges = {f.name: kin.flange(q[None], f.name)[0] for f in mech.flanges}
     # poses past a dead point are NaN whole, and only there: the flag without a second solve
     closes = bool(np.isfinite(links).all() and all(np.isfinite(m).all() for m in flanges.values()))
-    doc = {"q": q.tolist(), "closes": closes, "links": {n: pose_dict(m) for n, m in zip(kin.links, links)},
+    doc = {"q": q.tolist(), "closes": closes, "frames": FRAMES,
+           "links": {n: pose_dict(m) | {"displacement": [_json(row) for row in d]}
+                     for n, m, d in zip(kin.links, links, moved)},
            "flanges": {n: pose_dict(m) for n, m in flanges.items()}}
     text = pose_text(mech, list(zip(kin.links, links)), list(flanges.items()))
     if not closes:

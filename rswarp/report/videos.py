@@ -1,22 +1,67 @@
 """``--video`` for ``rswarp cable`` and ``rswarp program``: the run's worst environment (or the
 one asked for) with its hose coloured by bend radius or wear, and a program's motion with the
-links in collision in red; at most ``VIDEO_FPS`` frames a second of the run's time."""
+links in collision in red; at most ``VIDEO_FPS`` frames a second of the run's time. Each frame
+says its time and, for a RAPID program, the file, line and instruction of the move under way.
+
+``FRAME_PROGRESS`` holds the progress callback a video's frames report to when the caller passes
+none: the command line sets it to a bar on stderr (not under --json)."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+from contextvars import ContextVar
 from pathlib import Path
+from typing import Callable, Sequence
 
 import numpy as np
 
 from ..errors import InputError
 from ..kinematics.kinematics import Kinematics
 from ..outputs import claim, record
+from ..rsxml.units import length_text
 from ..sim.video import BEND_COLOURS, GREY, RED, Tube, bend_colours, render_frames, wear_colours, write_video
 
 VIDEO_FPS = 30.0
 VIDEO_SIZE = 512
 COLOURINGS = ("bend", "wear")
+FRAME_PROGRESS: ContextVar[Callable[[int, int], None] | None] = ContextVar("rswarp_frame_progress", default=None)
+
+
+@contextlib.contextmanager
+def frame_progress(progress: Callable[[int, int], None] | None):
+    """Within the block, videos report their frames to ``progress(done, total)`` unless their
+    caller passes its own."""
+    token = FRAME_PROGRESS.set(progress)
+    try:
+        yield
+    finally:
+        FRAME_PROGRESS.reset(token)
+
+
+def time_caption(t: float) -> str:
+    return f"t = {t:.2f} s"
+
+
+def move_captions(times: np.ndarray, moves: Sequence) -> list[str]:
+    """For each time (s), the move under way then as ``file:line  instruction target`` (a RAPID
+    plan's ``moves``: each with ``start``, ``end``, ``target`` and ``motion.file``, ``.line``,
+    ``.instruction``): the first whose end is past the time, else the last; a move of no duration
+    is never under way."""
+    if not moves:
+        return ["" for _ in times]
+    ends = np.array([m.end for m in moves], float)
+    out = []
+    for t in np.asarray(times, float):
+        m = moves[min(int(np.searchsorted(ends, t, side="right")), len(moves) - 1)]
+        out.append(f"{Path(m.motion.file).name}:{m.motion.line}  {m.motion.instruction} {m.target}".rstrip())
+    return out
+
+
+def captions(times: np.ndarray, moves: Sequence | None = None) -> list[str]:
+    """Each frame's text: its time, and under it the program's line when there are ``moves``."""
+    lines = move_captions(times, moves) if moves is not None else None
+    return [time_caption(t) + ("" if lines is None else "\n" + lines[k]) for k, t in enumerate(times)]
 
 
 def claim_video(path: str | None, made: str | Path | None = None) -> None:
@@ -46,8 +91,12 @@ def worst_environment(run, colouring: str) -> int:
 
 
 def cable_video(mech, run, trajectories, path: str, env: int | None = None, colouring: str = "bend",
-                size: int = VIDEO_SIZE) -> dict:
-    """Environment ``env`` (default: the worst) of a cable run again, its shapes kept, rendered."""
+                size: int = VIDEO_SIZE, moves: Sequence | None = None,
+                progress: Callable[[int, int], None] | None = None) -> dict:
+    """Environment ``env`` (default: the worst) of a cable run again, its shapes kept, rendered on
+    the run's floor (none: under the robot). ``moves``: the RAPID plan's moves the trajectory
+    came from (``plan.moves``), for each frame's program line; ``progress(done, total)`` counts
+    frames (default ``FRAME_PROGRESS``'s)."""
     from ..sim.cables import simulate_cables
 
     if colouring not in COLOURINGS:
@@ -59,9 +108,8 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
     options = dataclasses.replace(run.options, record=0)
     again = simulate_cables(mech, [trajectories[run.assignment[env]]], 1, float(run.times[-1]), options)
     step = max(1, int(round(options.frame_rate / VIDEO_FPS)))
-    stride = again.cables[0].stride
+    stride = again.cables[0].stride  # the hose's shapes are kept every stride-th frame, the joints every frame
     keep = max(1, step // stride)
-    q = again.q[::keep]
     tubes, legend = [], []
     for k, c in enumerate(again.cables):
         pts = c.recorded[::keep]
@@ -70,18 +118,26 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
             legend = [(GREY, "no wear"), ((0.55, 0.05, 0.05), "most wear (Archard)")]
         else:
             colours = bend_colours(pts, c.allowed_bend_radius)
-            legend = [(BEND_COLOURS[0], f"bend radius >= {c.allowed_bend_radius:.2f} m"),
+            legend = [(BEND_COLOURS[0], f"bend radius >= {length_text(c.allowed_bend_radius, *_unit(mech))}"),
                       (BEND_COLOURS[1], "tighter than allowed"), (BEND_COLOURS[2], "tighter than half of it")]
         tubes.append(Tube(pts, colours, c.radius))
-    n = min(len(q), *(len(t.points) for t in tubes))
-    poses = Kinematics(mech).fk64(q[:n])
+    rows = np.arange(0, len(again.q), keep * stride)  # the frames whose shapes were kept
+    n = min(len(rows), *(len(t.points) for t in tubes))
+    rows = rows[:n]
+    poses = Kinematics(mech).fk64(again.q[rows])
     tubes = [Tube(t.points[:n], t.colours[:n], t.radius) for t in tubes]
-    frames = render_frames(mech, poses, tubes, size, legend=[(GREY, f"environment {env}"), *legend])
+    frames = render_frames(mech, poses, tubes, size, legend=[(GREY, f"environment {env}"), *legend],
+                           captions=captions(again.times[rows], moves), floor=options.floor, length=_unit(mech),
+                           progress=progress if progress is not None else FRAME_PROGRESS.get())
     return {**_saved(path, frames, options.frame_rate / (keep * stride)), "environment": env, "colour": colouring}
 
 
-def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE) -> dict:
-    """A program's motion at ``VIDEO_FPS``, the links of a colliding pair red while they touch."""
+def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, floor: float | None = None,
+                  progress: Callable[[int, int], None] | None = None) -> dict:
+    """A program's motion at ``VIDEO_FPS``, the links of a colliding pair red while they touch,
+    each frame with its time and the move under way (file:line and instruction), on a floor grid
+    at ``floor`` (m; None: under the robot). ``progress(done, total)`` counts frames (default
+    ``FRAME_PROGRESS``'s)."""
     times = np.arange(0.0, float(plan.times[-1]) + 1e-9, 1.0 / VIDEO_FPS)
     rows = np.clip(np.searchsorted(plan.times, times), 0, len(plan.times) - 1)
     poses = Kinematics(mech).fk64(plan.q[rows])
@@ -91,5 +147,11 @@ def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE) -
         hit = tally.hit[r] if tally.hit.shape[1] else np.zeros(0, bool)
         marked.append({graph.link_index(n) for k in np.nonzero(hit)[0] for n in names[k] if n in graph.links})
     frames = render_frames(mech, poses, [], size, marked=marked,
-                           legend=[(GREY, f"{Path(plan.run.files[0]).stem}.{plan.run.routine}"), (RED, "in collision")])
+                           legend=[(GREY, f"{Path(plan.run.files[0]).stem}.{plan.run.routine}"), (RED, "in collision")],
+                           captions=captions(times, plan.moves), floor=floor, length=_unit(mech),
+                           progress=progress if progress is not None else FRAME_PROGRESS.get())
     return _saved(path, frames, VIDEO_FPS)
+
+
+def _unit(mech) -> tuple[float, str]:
+    return mech.length_factor, mech.length_unit or "m"

@@ -46,3 +46,11 @@ def format_number(si: float, factor: float = 1.0) -> str:
         else:
             text = f"{mantissa}e{int(exp)}"
     return "0" if text == "-0" else text
+
+
+def length_text(si: float, factor: float = 1.0, unit: str = "m") -> str:
+    """A measured length (m) for a label, in the unit of ``factor`` to 0.1 mm: ``1.6533 m``,
+    ``1653.3 mm``, ``65.091 in`` (every digit kept, so a label never rounds a figure away)."""
+    digits = max(0, math.ceil(math.log10(factor / 1e-4) - 1e-9))
+    text = f"{si / factor:.{digits}f}"
+    return f"{text.lstrip('-') if float(text) == 0 else text} {unit}"  # never "-0.0 mm"

@@ -1,6 +1,11 @@
 """Pictures that move: a robot's links (and its hoses, as tubes) over frames, ray cast by the
-previews' Warp kernel (``kernels.render``) with one BVH refitted per frame, a legend drawn on each
-frame, written by imageio (GIF, or MP4 through imageio-ffmpeg).
+previews' Warp kernel (``kernels.render``) with one BVH refitted per frame, written by imageio
+(GIF, or MP4 through imageio-ffmpeg).
+
+Each frame is a band of text at the top (each frame's captions: the time, a program's line; then
+the legend) above the scene, framed in the rest, so no text ever covers the robot or its hose. The
+scene stands on a floor grid (at the floor's height, else at the robot's lowest point), drawn
+where no link or hose is.
 
 Colours are per face and per frame: the links grey, or red where a frame marks them (a program's
 collisions); a hose by its bend radius against the allowed one, or by its wear."""
@@ -11,6 +16,7 @@ import os
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -18,11 +24,13 @@ from ..errors import InputError
 from ..files import cleanup_on_terminate, commit, output_error, usual_mode
 from ..launch import Launcher, init_warp
 from .cable_solver import contact_meshes
-from .preview import View, camera
+from .preview import MARGIN, View, camera
 
 RING = 8  # vertices around a tube
 GREY, RED = (0.78, 0.78, 0.80), (0.90, 0.15, 0.12)
 BEND_COLOURS = ((0.20, 0.65, 0.30), (0.95, 0.60, 0.10), (0.90, 0.15, 0.12))  # ok, below allowed, below half
+GRID = (0.80, 0.83, 0.88)  # the floor grid's lines
+GRID_STEPS = (0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 2.5, 5.0, 10.0)  # m: a grid square's side
 SAMPLES = 2  # rays per pixel: half the previews' four, for the frame rate
 FORMATS = (".gif", ".mp4")
 
@@ -136,16 +144,33 @@ class _Scene:
 
 
 def render_frames(mech, poses: np.ndarray, tubes: list[Tube], size: int = 512, marked=None, legend=(),
-                  device: str = "cpu") -> np.ndarray:
-    """(F, size, size, 3) uint8 frames on white: the links at ``poses`` (F, links, 4, 4), the
-    tubes, the links in ``marked[f]`` red, and ``legend`` ((colour, text) rows) at the top left."""
+                  device: str = "cpu", captions: Sequence[str] | None = None, floor: float | None = None,
+                  grid: bool = True, length: tuple[float, str] = (1.0, "m"),
+                  progress: Callable[[int, int], None] | None = None) -> np.ndarray:
+    """(F, size, size, 3) uint8 frames: the links at ``poses`` (F, links, 4, 4), the tubes, the
+    links in ``marked[f]`` red, on a floor grid at height ``floor`` (m; None: the scene's lowest
+    point; ``grid`` False: on white); above the scene a band with ``captions[f]`` (lines of text
+    for frame f) and ``legend`` ((colour, text) entries) with the grid's entry after them, its
+    lengths in ``length`` (factor to metres, unit name). ``progress(done, total)`` counts frames."""
     wp = init_warp()
     from ..kernels.render import Camera, render_kernel
 
     scene = _Scene(mech, poses, tubes)
     frames = len(poses)
+    if captions is not None and len(captions) != frames:
+        raise ValueError(f"{len(captions)} captions for {frames} frames")
     probe = np.concatenate([scene.vertices(f) for f in range(0, frames, max(1, frames // 12))])
-    c = camera(probe, View(), size)
+    floor_z = float(probe[:, 2].min()) if floor is None else float(floor)
+    step = _grid_step(probe)
+    if grid:
+        probe = np.concatenate([probe, np.column_stack([probe[:, :2], np.full(len(probe), floor_z)])])  # its shadow
+        from ..rsxml.units import length_text
+
+        legend = [*legend, (GRID, f"floor at z = {length_text(floor_z, *length)}, "
+                                  f"{length_text(step, *length)} squares")]
+    band = Band.of(size, legend, captions)
+    width, height = size, size - band.height
+    c = scene_camera(probe, width, height)
     launcher = Launcher(device)
     points = wp.array(scene.vertices(0).astype(np.float32), dtype=wp.vec3, device=launcher.device)
     mesh = wp.Mesh(points=points, indices=wp.array(scene.faces.astype(np.int32).ravel(), dtype=wp.int32,
@@ -153,11 +178,12 @@ def render_frames(mech, poses: np.ndarray, tubes: list[Tube], size: int = 512, m
     cam = Camera()
     for key in ("origin", "right", "up", "forward", "light"):
         setattr(cam, key, wp.vec3(*(float(x) for x in c[key])))
-    cam.pixel, cam.width, cam.height = c["pixel"], size, size
+    cam.pixel, cam.width, cam.height = c["pixel"], width, height
     kernel = render_kernel(SAMPLES)
     launcher.load(kernel)
-    pixels = np.arange(size * size, dtype=np.int32)
-    rgba = np.empty((size * size, 4), np.float32)
+    pixels = np.arange(width * height, dtype=np.int32)
+    rgba = np.empty((width * height, 4), np.float32)
+    background = floor_grid(c, width, height, floor_z, step, probe) if grid else np.ones((height, width, 3))
     out = np.empty((frames, size, size, 3), np.uint8)
     for f in range(frames):
         if f:
@@ -165,31 +191,133 @@ def render_frames(mech, poses: np.ndarray, tubes: list[Tube], size: int = 512, m
             mesh.refit()
         colours = wp.array(scene.colours(f, set(marked[f]) if marked is not None else set()), dtype=wp.vec3,
                            device=launcher.device)
-        launcher.launch(kernel, size * size, params=[mesh.id, colours, cam], inputs=[pixels], outputs=[rgba])
-        alpha = rgba[:, 3:4]
-        image = rgba[:, :3] * alpha + (1.0 - alpha)  # on white
-        out[f] = np.round(np.clip(image, 0, 1) * 255).astype(np.uint8).reshape(size, size, 3)
+        launcher.launch(kernel, width * height, params=[mesh.id, colours, cam], inputs=[pixels], outputs=[rgba])
+        alpha = rgba[:, 3:4].reshape(height, width, 1)
+        image = rgba[:, :3].reshape(height, width, 3) * alpha + background * (1.0 - alpha)  # over the floor
+        out[f, band.height:] = np.round(np.clip(image, 0, 1) * 255).astype(np.uint8)
+        out[f, :band.height] = band.image(None if captions is None else captions[f])
+        if progress is not None:
+            progress(f + 1, frames)
     launcher.close()
-    if legend:
-        _legend(out, legend)
     return out
 
 
-def _legend(frames: np.ndarray, rows) -> None:
-    """Colour swatches and their meaning at the top left of every frame (drawn once, copied)."""
+def scene_camera(vertices: np.ndarray, width: int, height: int) -> dict:
+    """The previews' camera (``preview.camera``) framing ``vertices`` in a ``width`` x ``height``
+    image, centred with its margin."""
+    c = camera(vertices, View(), min(width, height))
+    u, v = vertices @ c["right"], vertices @ c["up"]
+    c["pixel"] = float(max(np.ptp(u) / width, np.ptp(v) / height, 1e-9) / (1 - 2 * MARGIN))
+    return c
+
+
+def project(c: dict, width: int, height: int, points: np.ndarray) -> np.ndarray:
+    """(N, 2) pixel coordinates (x right, y down; pixel centres at +0.5) of world ``points`` seen
+    by the camera ``c`` in a ``width`` x ``height`` image."""
+    rel = np.asarray(points, float) - c["origin"]
+    return np.column_stack([rel @ c["right"] / c["pixel"] + 0.5 * width, 0.5 * height - rel @ c["up"] / c["pixel"]])
+
+
+def _grid_step(vertices: np.ndarray) -> float:
+    """A grid square's side (m): a round length near a sixth of the scene's widest horizontal span."""
+    span = float(max(np.ptp(vertices[:, 0]), np.ptp(vertices[:, 1]), 1e-3))
+    return min(GRID_STEPS, key=lambda s: abs(np.log(span / 6 / s)))
+
+
+def floor_grid(c: dict, width: int, height: int, z: float, step: float, vertices: np.ndarray) -> np.ndarray:
+    """(height, width, 3) floats: white, with the lines of a floor grid at height ``z`` (``step``
+    apart, one square past the scene's footprint on every side) as the camera ``c`` sees them."""
     from PIL import Image, ImageDraw
 
-    height = 14 * len(rows) + 8
-    width = min(frames.shape[2], 8 + 14 + max(6 * len(text) for _, text in rows) + 8)
-    card = Image.new("RGB", (width, height), (255, 255, 255))
-    draw = ImageDraw.Draw(card)
-    for i, (colour, text) in enumerate(rows):
-        y = 4 + 14 * i
-        draw.rectangle([6, y + 2, 16, y + 12], fill=tuple(int(255 * v) for v in colour))
-        draw.text((22, y + 1), text, fill=(0, 0, 0))
-    patch = np.asarray(card)
-    h, w = min(height, frames.shape[1]), min(width, frames.shape[2])
-    frames[:, :h, :w] = patch[:h, :w]
+    lo = np.floor(vertices[:, :2].min(axis=0) / step) - 1
+    hi = np.ceil(vertices[:, :2].max(axis=0) / step) + 1
+    image = Image.new("RGB", (width, height), (255, 255, 255))
+    draw = ImageDraw.Draw(image)
+    ink = tuple(int(round(255 * v)) for v in GRID)
+    xs, ys = np.arange(lo[0], hi[0] + 1) * step, np.arange(lo[1], hi[1] + 1) * step
+    for a, b in [((x, ys[0]), (x, ys[-1])) for x in xs] + [((xs[0], y), (xs[-1], y)) for y in ys]:
+        ends = project(c, width, height, np.array([[*a, z], [*b, z]])) - 0.5  # Pillow's pixel i is centred on i
+        draw.line([tuple(ends[0]), tuple(ends[1])], fill=ink, width=1)
+    return np.asarray(image, np.float32) / 255.0
+
+
+def _font(size: int):
+    """Pillow's own font at a height that suits a ``size`` frame (its bitmap font without FreeType)."""
+    from PIL import ImageFont
+
+    try:
+        return ImageFont.load_default(size=max(10, size // 40))
+    except (ImportError, OSError, TypeError, ValueError):
+        return ImageFont.load_default()
+
+
+@dataclass
+class Band:
+    """The strip at the top of a ``size`` frame: ``caption_lines`` lines of captions, then the
+    legend's entries, flowed left to right, on as many lines as they need. Nothing of the scene is
+    drawn in it."""
+
+    size: int
+    height: int
+    line: int  # pixels a line of text
+    caption_lines: int
+    legend: object  # the PIL image of the band with the legend drawn and no caption
+    font: object
+
+    PAD = 4  # pixels around the text
+
+    @classmethod
+    def of(cls, size: int, legend, captions: Sequence[str] | None) -> "Band":
+        from PIL import Image, ImageDraw
+
+        font = _font(size)
+        ascent, descent = font.getmetrics()
+        line = ascent + descent + 2
+        lines = max((len(c.split("\n")) for c in captions), default=0) if captions is not None else 0
+        places, x, row = [], cls.PAD, 0  # each entry's swatch at (x, row)
+        swatch = line - 4
+        for colour, text in legend:
+            w = swatch + 4 + int(np.ceil(font.getlength(text))) + 3 * cls.PAD
+            if x > cls.PAD and x + w > size:
+                x, row = cls.PAD, row + 1
+            places.append((x, row, colour, text))
+            x += w
+        rows = row + 1 if legend else 0
+        height = min(size // 2, 2 * cls.PAD + line * (lines + rows)) if lines + rows else 0
+        card = Image.new("RGB", (size, max(height, 1)), (255, 255, 255))
+        draw = ImageDraw.Draw(card)
+        for x, row, colour, text in places:
+            y = cls.PAD + line * (lines + row)
+            draw.rectangle([x, y + 2, x + swatch, y + 2 + swatch - 1], fill=tuple(int(255 * v) for v in colour),
+                           outline=(90, 90, 90))
+            draw.text((x + swatch + 4, y + 1), _fit(text, font, size - x - swatch - 4), fill=(0, 0, 0), font=font)
+        if height:
+            draw.line([(0, height - 1), (size, height - 1)], fill=(200, 200, 200))
+        return cls(size, height, line, lines, card, font)
+
+    def image(self, caption: str | None) -> np.ndarray:
+        """(height, size, 3) uint8: the band with ``caption``'s lines written in it."""
+        if not self.height:
+            return np.zeros((0, self.size, 3), np.uint8)
+        if not caption:
+            return np.asarray(self.legend)
+        from PIL import ImageDraw
+
+        card = self.legend.copy()
+        draw = ImageDraw.Draw(card)
+        for i, text in enumerate(caption.split("\n")[:self.caption_lines]):
+            draw.text((self.PAD, self.PAD + self.line * i + 1), _fit(text, self.font, self.size - 2 * self.PAD),
+                      fill=(0, 0, 0), font=self.font)
+        return np.asarray(card)
+
+
+def _fit(text: str, font, width: float) -> str:
+    """``text`` cut (with "...") to ``width`` pixels."""
+    if font.getlength(text) <= width:
+        return text
+    while text and font.getlength(text + "...") > width:
+        text = text[:-1]
+    return text + "..."
 
 
 def write_video(path: str | Path, frames: np.ndarray, fps: float) -> None:
