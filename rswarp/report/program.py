@@ -110,7 +110,7 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     if video is not None:
         from .videos import program_video
 
-        doc["video"] = program_video(mech, p, tally, names, video, video_size)
+        doc["video"] = program_video(mech, p, tally, names, video, video_size, floor=floor)
     return Output(json_safe(doc), program_text(mech, doc))
 
 
