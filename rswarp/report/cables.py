@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import InputError
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
-from ..kinematics.trajectory import RANDOM_SECONDS, run_trajectories
+from ..kinematics.trajectory import RANDOM_SECONDS, Trajectory, run_trajectories
 from ..options import checked
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
@@ -56,11 +56,13 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
+    moves = None  # a program's moves, for the video's program line
     if program is not None:
-        from .program import program_trajectory, signal_values
+        from .program import program_plan, signal_values
 
-        trajectories = [program_trajectory(path, program, routine, warn=warn, io=signal_values(io), cycles=cycles,
-                                           external_axes=external_axes, limits=limits)]
+        _, plan = program_plan(path, program, routine, io=signal_values(io), cycles=cycles,
+                                external_axes=external_axes, warn=warn, limits=limits)
+        trajectories, moves = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)], plan.moves
         if seconds is not None and seconds < trajectories[0].duration:
             warn(f"rswarp: warning: --seconds {seconds:g}: the task takes {trajectories[0].duration:.2f} s; the run "
                  f"covers its first {seconds:g} s")
@@ -84,7 +86,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     if video is not None:
         from .videos import cable_video
 
-        doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size)
+        doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size, moves)
         text += f"\nvideo: {video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
     return Output(doc, text)
 

@@ -15,7 +15,6 @@ from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..kinematics.program import Plan, Planner
 from ..kinematics.tcp import frames
-from ..kinematics.trajectory import Trajectory
 from ..options import checked
 from ..outputs import claim, record
 from ..rapid.interpret import MAX_CYCLES, Interpreter
@@ -66,12 +65,6 @@ def program_plan(path: str, programs, routine: str = "main", device: str = "cpu"
     if strict and plan.errors:
         raise RsxmlError(list(plan.errors))
     return mech, plan
-
-
-def program_trajectory(path: str, programs, routine: str = "main", warn: Warn = ignore, **options) -> Trajectory:
-    """The task's joint trajectory, for a cable run (``rswarp cable --program``)."""
-    _, p = program_plan(path, programs, routine, warn=warn, **options)
-    return Trajectory(", ".join(p.run.files), p.times, p.q)
 
 
 def run_program(path: str, programs: list[str], routine: str = "main", csv: str | None = None,
