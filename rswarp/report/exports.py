@@ -9,12 +9,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..export import export
 from ..export.frames import mechanism_of
 from ..export.physics import DRIVE_HZ, PhysicsOptions
 from ..export.srdf import collision_matrix
 from ..geometry.mass import DEFAULT_DENSITY
 from ..rsxml.documents import checked
+from ..rsxml.model import Mechanism
 from ..rsxml.robot_data import data_file, read_limits, read_robot_data
 from .output import Output, Warn, ignore
 from .poses import rounded
@@ -52,6 +54,10 @@ class _Axes:
 def robot_figures(path: str, mech, limits: str | None, mass: float | None):
     """(axis limits, total mass, where the mass comes from): ``limits``/``mass`` as given, else
     the robot-data file beside ``path``; None where neither has them."""
+    if not isinstance(mech, Mechanism):  # a library's XML: its mechanisms are built from it, not read
+        if limits is not None:
+            raise InputError(f"{path}: --limits needs a robot (an RSXML Mechanism), not a library")
+        return None, mass, "--mass" if mass is not None else ""
     data_path = data_file(path)
     data = read_robot_data(str(data_path), mech) if data_path is not None else None
     axis = read_limits(limits, mech) if limits is not None else data.limits if data is not None else None
