@@ -18,7 +18,6 @@ from ..rsxml.robot_data import AxisLimits, axis_limits
 from . import plan_steps, timing, zones
 from . import targets as tg
 from .ik import ArmConstants
-from .paths import turn_between
 from .tcp import Frames, frames, pose_of
 
 SINGULAR_DEG = 1.0  # |q5| below this along a linear or circular move: a finding
@@ -166,7 +165,7 @@ class Planner:
                 return self._append(m, t, np.repeat(s.q0[None], len(t), axis=0), [])
             if s.kind == "joint":
                 t, seg, share = timing.joint_move(s.q0, s.q1, m, self.limits, self.rate, tcp)
-                piece = zones.jointed(t, seg, share, s.q0, tcp, _turn(tcp)) if tcp is not None and len(t) else None
+                piece = zones.jointed(t, seg, share, s.q0, tcp) if tcp is not None and len(t) else None
                 return self._append(m, t, seg, [], piece)
             if len(s.u) < 2:
                 return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
@@ -278,6 +277,3 @@ def plan(kin, run: Run, rate: float = timing.RATE, external_axes: str = "error",
     """The trajectory of a task already run (no CRobT answered mid-run): ``Planner`` over its motions."""
     return Planner(kin, rate, external_axes, limits).finish(run)
 
-
-def _turn(tcp: np.ndarray) -> float:
-    return turn_between(tcp[0, :3, :3], tcp[-1, :3, :3])

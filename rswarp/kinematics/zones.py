@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .paths import turn_between
+
 EPS = 1e-9
 
 
@@ -55,10 +57,11 @@ def straight(t, q, s, q0, length: float, turn: float) -> Segment:
     return Segment(t, q, s, q0, length, turn, np.array([0.0, 1.0]), np.array([0.0, length]))
 
 
-def jointed(t, q, s, q0, tcp: np.ndarray, turn: float) -> Segment:
+def jointed(t, q, s, q0, tcp: np.ndarray) -> Segment:
     """A joint move, its TCP's path measured at evenly shared probes (``tcp``: their poses)."""
     steps = np.linalg.norm(np.diff(tcp[:, :3, 3], axis=0), axis=1)
     gone = np.concatenate([[0.0], np.cumsum(steps)])
+    turn = turn_between(tcp[0, :3, :3], tcp[-1, :3, :3])
     return Segment(t, q, s, q0, float(gone[-1]), turn, np.linspace(0.0, 1.0, len(tcp)), gone)
 
 
@@ -72,10 +75,9 @@ def overlap(prev: Segment, nxt: Segment, zone) -> float:
     t_prev = np.concatenate([[0.0], prev.t])
     inside = (prev.length - prev.gone(s_prev) <= z + EPS) & ((1.0 - s_prev) * prev.turn <= zo + EPS)
     leave = prev.duration - float(t_prev[int(np.argmax(inside))])  # inside only grows along the move
-    near = (nxt.gone(nxt.s) <= z + EPS) & (nxt.s * nxt.turn <= zo + EPS)
-    enter = float(nxt.t[int(np.argmin(near)) - 1]) if not near.all() else nxt.duration
-    if not near[0]:
-        enter = 0.0
+    near = (nxt.gone(nxt.s) <= z + EPS) & (nxt.s * nxt.turn <= zo + EPS)  # only shrinks along the move
+    count = len(near) if near.all() else int(np.argmin(near))
+    enter = float(nxt.t[count - 1]) if count else 0.0
     return max(0.0, min(leave, enter, prev.ramp_out(), nxt.ramp_in()))
 
 
