@@ -10,6 +10,7 @@ IRB2600 = FOLDER / "irb2600_12_165" / "IRB2600_12_165__01.rsxml"
 IRB2600_LIBRARY = FOLDER / "irb2600_12_165" / "IRB2600_12_165.xml"
 IRB2600_DRESSPACK = FOLDER / "irb2600_12_165" / "IRB2600_12_165_DressPack_01.rsxml"  # with a process hose
 IRB2600_PROGRAM = FOLDER / "irb2600_12_165" / "pick_place.mod"  # a RAPID pick-and-place routine (rswarp program)
+IRB2600_GRIPPER = FOLDER / "irb2600_12_165" / "gripper" / "Gripper.rsxml"  # a Tool for --tool, TCP as tGripper's
 IRB2600_CELL = FOLDER / "irb2600_12_165" / "cell"  # a palletizing task of three modules, a main loop (rswarp program)
 PALLETIZER = FOLDER / "palletizer" / "IRB9460_110_240__01.rsxml"
 ALL = (IRB1300, IRB1300_LIBRARY, IRB2600ID, IRB2600, IRB2600_LIBRARY, PALLETIZER)

@@ -44,6 +44,7 @@ def collisions(p: argparse.ArgumentParser) -> None:
     p.add_argument("--env", action="append", default=[], metavar="MESH@x,y,z",
                    help=f"an environment mesh placed in the world ({LENGTH}), tested against every link; repeat "
                         "for more")
+    _tool(p)
 
 
 def export(p: argparse.ArgumentParser) -> None:
@@ -62,6 +63,10 @@ def export(p: argparse.ArgumentParser) -> None:
                    help=f"kg/m^3 for link masses (default {DEFAULT_DENSITY:g}, cast aluminium)")
     p.add_argument("--mass", type=argument("mass"), metavar="KG",
                    help="the robot's total mass: scales the density so the links weigh this in all")
+    p.add_argument("--payload", metavar="KG[@x,y,z] | MODULE:NAME",
+                   help=f"a load on the flange, added to its link's mass and sizing the estimated efforts: a mass "
+                        f"with its centre of gravity in the flange's frame ({LENGTH}), or a RAPID tooldata's or "
+                        "loaddata's load (default: none authored; efforts sized for the robot data's rated payload)")
     p.add_argument("--drive-hz", type=argument("drive-hz"), default=DRIVE_HZ, metavar="HZ",
                    help=f"bandwidth of the position drives holding home (default {DRIVE_HZ:g}; 0: no drives)")
     p.add_argument("--armature", type=argument("armature"), metavar="KGM2",
@@ -104,6 +109,7 @@ def program(p: argparse.ArgumentParser) -> None:
     p.add_argument("--floor", type=argument("floor"), default=0.0,
                    help=f"height of the floor {LENGTH} (the robot file's, not RAPID's mm; default 0)")
     p.add_argument("--video", metavar="FILE", help="also render the motion as a .gif or .mp4, links in collision red")
+    _tool(p)
 
 
 def _task(p: argparse.ArgumentParser) -> None:
@@ -117,6 +123,13 @@ def _task(p: argparse.ArgumentParser) -> None:
                    help="a target that moves an axis the robot does not have (a track, a positioner): an error "
                         "(default), or run the robot's own axes with a warning")
     _limits(p)
+
+
+def _tool(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--tool", metavar="MESH[@x,y,z,rx,ry,rz]",
+                   help=f"a tool on the flange: a mesh placed in the flange's frame ({LENGTH}, degrees about x, "
+                        "y, z: ABB's Euler ZYX), or an RSXML Mechanism of type Tool; checked against every link but "
+                        "the one it is on, the meshes and the cables, and drawn in videos")
 
 
 def _limits(p: argparse.ArgumentParser) -> None:
@@ -157,6 +170,7 @@ def cable(p: argparse.ArgumentParser) -> None:
     floor.add_argument("--no-floor", dest="floor", action="store_const", const=None, help="no floor")
     p.add_argument("--env", dest="environment", action="append", default=[], metavar="MESH@x,y,z",
                    help=f"a mesh placed in the world ({LENGTH}) that the cables meet; repeat for more")
+    _tool(p)
     p.add_argument("--density", type=argument("density"), default=DENSITY, help=f"kg/m^3 (default {DENSITY:g}, a hose)")
     p.add_argument("--poisson", type=argument("poisson"), default=POISSON,
                    help=f"Poisson's ratio of the cable's material, 0 to 0.5 (default {POISSON:g}, rubber: G = E/3)")

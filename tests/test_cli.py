@@ -112,7 +112,8 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
     assert "bend radius: least" in out
     assert "program pick_place.mod" in out and "program service.mod" in out
     assert "task cell/ (3 modules, rswarp program)" in out and "one pass of the main loop at MainModule.mod:10" in out
-    assert "line 18: 269 mm below the floor" in out  # the service draft's finding
+    assert "line 18: fail: tool Gripper 335 mm below the floor" in out  # the service draft's finding, its tool lowest
+    assert "program pick_place.mod (rswarp program, with --tool irb2600_12_165/gripper/Gripper.rsxml)" in out
     assert "== dress pack: IRB2600_12_165_DressPack_01.rsxml" in out and "rubs on Link4" in out
     assert "no meshes ship with this robot, so its hose meets only the floor" in out
     assert (tmp_path / "IRB2600ID_8_200__03-cables" / "report.json").is_file()

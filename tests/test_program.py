@@ -203,6 +203,8 @@ def test_every_target_the_robot_cannot_take_is_reported_in_one_run(tmp_path, cap
     out = run_program(str(IRB2600), [str(path)])
     assert out.code == 1 and [e.split(":")[1] for e in out.errors] == ["4", "6", "7"]
     assert [m["line"] for m in out.doc["moves"] if "error" not in m] == [3, 5]
+    records = [f for f in out.doc["findings"] if f["severity"] == "fail"]
+    assert [(f["kind"], f["line"]) for f in records] == [("unreachable", 4), ("unreachable", 6), ("unreachable", 7)]
     assert main(["program", str(IRB2600), str(path)]) == 1
     assert capsys.readouterr().err.count("is out of reach") == 3
 
@@ -218,13 +220,22 @@ def test_findings_collisions_floor_singularity_and_a_line_it_cannot_follow():
     can follow. A MoveAbsJ through q5 = 0 is no finding: a joint move passes it freely."""
     floor = run_program(str(IRB2600), [str(RAPID / "floor.mod")])
     found = floor.doc["moves"][0]["findings"]
-    assert floor.code == 0 and any("below the floor" in f for f in found)
-    assert any(f.startswith("Base hits Link") for f in found)
+    assert floor.code == 0 and any(f["kind"] == "floor" and "below the floor" in f["text"] for f in found)
+    low = next(f for f in found if f["kind"] == "floor")
+    assert low["value"] < low["limit"] == 0.0 and low["unit"] == "m" and low["severity"] == "fail"
+    assert low["links"] and low["line"] == floor.doc["moves"][0]["line"] and len(low["joints"]) == 6
+    hit = next(f for f in found if f["kind"] == "collision" and f["links"][0] == "Base")
+    assert hit["links"][1].startswith("Link") and hit["value"] > 0 and hit["t_s"] >= 0
+    assert floor.doc["findings"] == sorted(floor.doc["findings"], key=lambda f: f["t_s"])
     singular = run_program(str(IRB2600), [str(RAPID / "singular.mod")])
     assert not singular.doc["moves"][0]["findings"]  # MoveAbsJ to q5 = 0
-    assert any("wrist singularity" in f for f in singular.doc["moves"][1]["findings"])
+    near = [f for f in singular.doc["moves"][1]["findings"] if f["kind"] == "singularity"]
+    assert len(near) == 1 and near[0]["value"] < near[0]["limit"] == pytest.approx(np.radians(1.0))
+    assert abs(near[0]["joints"][4]) == pytest.approx(near[0]["value"])
     through = run_program(str(IRB2600), [str(RAPID / "through_axis1.mod")])
-    assert any("cannot follow its line" in f for f in through.doc["moves"][1]["findings"])
+    assert any(f["kind"] == "path" and "cannot follow its line" in f["text"]
+               for f in through.doc["moves"][1]["findings"])
+    assert "fail: cannot follow its line" in through.text
     clean = run_program(str(IRB2600), [str(IRB2600_PROGRAM)])
     assert all(not m["findings"] for m in clean.doc["moves"])
 

@@ -11,7 +11,7 @@ values here are SI, per radian for revolute joints. The exports convert them to 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -20,6 +20,7 @@ from ..geometry import DEFAULT_DENSITY, mass_properties, part_mesh
 from ..geometry.convex import METHODS, Convex, convex_pieces, halfspaces, overlap
 from ..options import checked
 from ..rsxml.model import Mechanism
+from ..rsxml.robot_data import Payload
 from ..rsxml.units import JOINT_VELOCITY
 from .frames import link_origins, link_poses
 
@@ -49,6 +50,8 @@ class PhysicsOptions:
     # per joint (name, velocity, effort), SI, from robot data or --limits; NaN where not published
     axis_limits: tuple[tuple[str, float, float], ...] = ()
     mass_source: str = ""  # where ``mass`` comes from, for the table
+    payload: Payload | None = None  # on the flange: authored in its link's mass, and sizing the efforts
+    rated_payload: float | None = None  # kg at the flange, sizing the efforts only (the robot data's rating)
     # pairs a collision matrix disables (link, link, MoveIt reason): filtered like the adjacent ones
     disabled: tuple[tuple[str, str, str], ...] = ()
 
@@ -108,6 +111,8 @@ class RobotPhysics:
     collision: str
     warnings: tuple[str, ...]
     mass_source: str = ""  # where the total mass comes from ("": the density)
+    payload: Payload | None = None  # in the flange link's mass
+    effort_payload: str = ""  # what the estimated efforts are sized to carry, in words ("": nothing)
 
     @property
     def total_mass(self) -> float:
@@ -120,10 +125,48 @@ def robot_physics(mech: Mechanism, options: PhysicsOptions | None = None, *, geo
     warnings: list[str] = []
     parts = _geometry(mech, options.collision, warnings) if geometry else {}
     bodies, density = _bodies(mech, parts, options, warnings)
+    if options.payload is not None:
+        bodies = _with_payload(mech, bodies, options.payload)
     poses = link_poses(mech)  # home, asked once by the gains and by the contact filter
     joints = _joints(mech, bodies, poses, options)
     filtered = _filtered(mech, bodies, poses, options.disabled)
-    return RobotPhysics(bodies, joints, filtered, density, options.collision, tuple(warnings), options.mass_source)
+    return RobotPhysics(bodies, joints, filtered, density, options.collision, tuple(warnings), options.mass_source,
+                        options.payload, _sized_for(options))
+
+
+def _sized_for(options: PhysicsOptions) -> str:
+    """What the estimated efforts carry beyond the robot's links, in words."""
+    if options.payload is not None and options.payload.mass > 0:
+        return f"the payload {options.payload.mass:g} kg"
+    if options.rated_payload:
+        return f"the rated payload {options.rated_payload:g} kg at the flange"
+    return ""
+
+
+def _with_payload(mech: Mechanism, bodies: dict[str, BodyPhysics], payload: Payload) -> dict[str, BodyPhysics]:
+    """The payload added to the mass properties of the link the first flange is on."""
+    if not mech.flanges:
+        raise InputError(f"--payload: '{mech.name}' has no flange to carry a payload")
+    flange = mech.flanges[0]
+    at = flange.pose.matrix()
+    body = bodies[flange.link]
+    com = at[:3, :3] @ np.asarray(payload.cog) + at[:3, 3] - body.origin
+    inertia = at[:3, :3] @ payload.inertia_matrix() @ at[:3, :3].T
+    mass, com, inertia = _combined((body.mass, body.com, body.inertia), (payload.mass, com, inertia))
+    return {**bodies, flange.link: replace(body, mass=mass, com=com, inertia=inertia)}
+
+
+def _combined(a, b) -> tuple[float, np.ndarray, np.ndarray]:
+    """Two masses (mass, centre, inertia about it; one frame) as one: parallel-axis theorem."""
+    mass = a[0] + b[0]
+    if not mass > 0:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    com = (a[0] * np.asarray(a[1]) + b[0] * np.asarray(b[1])) / mass
+    inertia = np.zeros((3, 3))
+    for m, c, i in (a, b):
+        d = np.asarray(c) - com
+        inertia += np.asarray(i) + m * (float(d @ d) * np.eye(3) - np.outer(d, d))
+    return mass, com, inertia
 
 
 def _geometry(mech: Mechanism, collision: str, warnings: list[str]) -> dict[str, tuple[PartGeometry, ...]]:
@@ -206,13 +249,25 @@ def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict,
             continue
         link = graph.links[k]
         moved = [bodies[c] for c in carried[link] if c in bodies and bodies[c].mass > 0]
+        rated = [b for b in _rated(mech, bodies, options) if b.link in carried[link]]
         parent = poses[graph.links[graph.parent[k]]]
         axis, point = parent[:3, :3] @ j.axis, parent[:3, :3] @ np.asarray(j.point1, float) + parent[:3, 3]
         default_armature = ARMATURE_SCALE * max(total, 1.0) * (reach ** 2 if j.revolute else 1.0)
         armature = default_armature if options.armature is None else options.armature
         inertia = _axis_inertia(moved, poses, axis, point, j.revolute) + armature
-        out[j.name] = _joint_physics(j, inertia, armature, _gravity_load(mech, j, moved), options)
+        sizing = inertia + _axis_inertia(rated, poses, axis, point, j.revolute)
+        out[j.name] = _joint_physics(j, inertia, armature, _gravity_load(mech, j, moved + rated), options, sizing)
     return out
+
+
+def _rated(mech: Mechanism, bodies: dict[str, BodyPhysics], options: PhysicsOptions) -> list[BodyPhysics]:
+    """The rated payload as a point mass at the first flange, where no payload is given: what the
+    estimated efforts must carry (it is not authored in the model's masses)."""
+    if options.payload is not None or not options.rated_payload or not mech.flanges:
+        return []
+    flange = mech.flanges[0]
+    origin = bodies[flange.link].origin
+    return [BodyPhysics(flange.link, origin, (), float(options.rated_payload), flange.pose.matrix()[:3, 3] - origin)]
 
 
 def _axis_inertia(moved, poses, axis: np.ndarray, point: np.ndarray, revolute: bool) -> float:
@@ -234,19 +289,27 @@ def _gravity_load(mech: Mechanism, j, moved) -> float:
         return GRAVITY * sum(b.mass for b in moved)
     graph = mech.graph
     lever = {j.child: (np.asarray(j.point1, float), 0.0)}  # link -> (its joint's point, chain length)
+
+    def reach(link: str) -> tuple[np.ndarray, float]:
+        if link not in lever:
+            tj = graph.tree_joint[graph.index[link]]
+            anchor, length = reach(tj.parent)
+            p = np.asarray(tj.point1, float)
+            lever[link] = (p, length + float(np.linalg.norm(p - anchor)))
+        return lever[link]
+
     load = 0.0
     for b in moved:
-        if b.link not in lever:
-            tj = graph.tree_joint[graph.index[b.link]]
-            anchor, length = lever[tj.parent]
-            p = np.asarray(tj.point1, float)
-            lever[b.link] = (p, length + float(np.linalg.norm(p - anchor)))
-        anchor, length = lever[b.link]
+        anchor, length = reach(b.link)
         load += b.mass * (length + float(np.linalg.norm(b.origin + b.com - anchor)))
     return GRAVITY * load
 
 
-def _joint_physics(j, inertia: float, armature: float, load: float, options: PhysicsOptions) -> JointPhysics:
+def _joint_physics(j, inertia: float, armature: float, load: float, options: PhysicsOptions,
+                   sizing: float) -> JointPhysics:
+    """The joint's drive and limit gains from what it moves (``inertia``); its effort, where no
+    data gives one, from its gravity ``load`` and the inertia it must accelerate (``sizing``:
+    with the rated payload)."""
     w_limit = 2 * math.pi * LIMIT_HZ
     stiffness = damping = 0.0
     if options.drive_hz is not None:
@@ -255,7 +318,7 @@ def _joint_physics(j, inertia: float, armature: float, load: float, options: Phy
     given = {name: (v, e) for name, v, e in options.axis_limits}
     data_velocity, data_effort = given.get(j.name, (math.nan, math.nan))
     effort = options.effort if options.effort is not None else \
-        data_effort if math.isfinite(data_effort) else EFFORT_MARGIN * load + inertia * ACCELERATION
+        data_effort if math.isfinite(data_effort) else EFFORT_MARGIN * load + sizing * ACCELERATION
     velocity = options.velocity or (data_velocity if math.isfinite(data_velocity) else VELOCITY[j.revolute])
     return JointPhysics(
         name=j.name, revolute=j.revolute, inertia=inertia, armature=armature, stiffness=stiffness,

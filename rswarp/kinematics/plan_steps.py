@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..findings import FAIL, at_time
 from . import targets as tg
 from . import timing
 from .follow import follow
@@ -182,8 +183,11 @@ def _follow(planner, m, p: Prepared) -> Step:
     q, stop, why, conf = follow(planner.kin, sol, planner.q)
     step = Step(m, "path", q0=planner.q, u=u, q=q, length=length, turn=turn, end_conf=conf)
     if stop is not None:
-        step.findings.append(f"cannot follow its {'line' if m.kind == 'linear' else 'circle'}: {why} at "
-                             f"{100.0 * stop / len(u):.0f} % of the move")
+        step.findings.append(at_time("path", f"cannot follow its {'line' if m.kind == 'linear' else 'circle'}: "
+                                     f"{why} at {100.0 * stop / len(u):.0f} % of the move", m, None,
+                                     severity=FAIL, value=float(u[stop]), limit=1.0, unit="1",
+                                     advice="move the path away from the singularity or the limit, or split it "
+                                            "with a joint move"))
         step.u = u[:stop]
     if len(step.q) >= 2:
         planner.q = step.q[-1]

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import Diagnostic
+from ..findings import FAIL, Finding, at_time
 from ..rapid import data as rd
 from ..rapid.errors import fail
 from ..rapid.motion import Motion, Run
@@ -48,7 +49,7 @@ class PlannedMove:
     start: float
     end: float
     rows: tuple[int, int]
-    findings: list[str] = field(default_factory=list)
+    findings: list[Finding] = field(default_factory=list)
     error: str | None = None
 
     @property
@@ -173,7 +174,7 @@ class Planner:
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
         piece = zones.straight(t, seg, share, s.q0, s.length, s.turn) if len(t) else None
-        self._append(m, t, seg, s.findings + self._end_findings(m, seg, s.end_conf), piece)
+        self._append(m, t, seg, s.findings + self._end_findings(m, t, seg, s.end_conf), piece)
 
     def flanges(self, q: np.ndarray) -> np.ndarray:
         """Flange poses (N, 4, 4) of joint values (N, dof), in one launch."""
@@ -196,17 +197,26 @@ class Planner:
         """A target the task used, once per place it is written."""
         self.targets.setdefault((m.file, m.line, m.names[-1]), (m.names[-1], m.file, m.line, q))
 
-    def _end_findings(self, m: Motion, seg: np.ndarray, conf) -> list[str]:
+    def _end_findings(self, m: Motion, t: np.ndarray, seg: np.ndarray, conf) -> list[Finding]:
+        """A path move's findings, timed from its start: near the wrist singularity; ending in
+        another configuration than its robtarget's under ConfL\\On."""
         out = []
         if self.arm and len(seg):
-            least = float(np.degrees(np.min(np.abs(seg[:, 4]))))
-            if least < SINGULAR_DEG:
-                out.append(f"passes {least:.2f} deg from the wrist singularity (q5 = 0)")
+            k = int(np.argmin(np.abs(seg[:, 4])))
+            least = float(np.abs(seg[k, 4]))
+            if least < np.radians(SINGULAR_DEG):
+                out.append(at_time("singularity", f"passes {np.degrees(least):.2f} deg from the wrist singularity "
+                                   "(q5 = 0)", m, t[k], seg[k], joint=self.mech.active_joints[4].name,
+                                   value=least, limit=float(np.radians(SINGULAR_DEG)), unit="rad",
+                                   advice="move the path or the tool's orientation away from q5 = 0, or use "
+                                          "SingArea\\Wrist"))
         if m.conf and len(seg) and self.kin.ik_method != "numerical":
             got = conf if conf is not None else tuple(int(c) for c in self.kin.confdata(seg[-1:])[0])
             if tuple(got) != tuple(m.targets[-1].conf):
-                out.append(f"ends in configuration {list(got)}, not the robtarget's {list(m.targets[-1].conf)} "
-                           "(ConfL would stop it)")
+                out.append(at_time("configuration", f"ends in configuration {list(got)}, not the robtarget's "
+                                   f"{list(m.targets[-1].conf)} (ConfL would stop it)", m, t[-1], seg[-1],
+                                   severity=FAIL, advice="teach the robtarget again from the path, or run the "
+                                                         "move with ConfL\\Off"))
         return out
 
     def _skip(self, m: Motion, why: str) -> None:
@@ -229,6 +239,7 @@ class Planner:
             fail(m.file, m.line, f"the trajectory would hold more than {MAX_ROWS} samples ({hours:.1f} h at "
                                  f"{self.rate:g} a second): run fewer --cycles, or a shorter task")
         end = self.now + (float(t[-1]) if len(t) else 0.0)
+        findings = [self._timed(f, end, seg) for f in findings]
         label = ", ".join(m.names) if m.kind != "wait" else f"{m.seconds:g} s"
         self.moves.append(PlannedMove(m, label, self.now, end, (self.count, self.count + len(t)), findings))
         if len(t):
@@ -237,6 +248,13 @@ class Planner:
         self.now, self.count = end, self.count + len(t)
         blends = piece is not None and m.zone is not None and not m.zone.fine
         self.zoned = (piece, m.zone) if blends else None
+
+    def _timed(self, f: Finding, end: float, seg: np.ndarray) -> Finding:
+        """A move's finding timed from the run's start: one timed from the move's start moved on
+        by its start, one without a time (a path it stopped following) at the move's end."""
+        if f.t_s is not None:
+            return replace(f, t_s=self.now + f.t_s)
+        return replace(f, t_s=end, joints=tuple(float(v) for v in seg[-1]) if len(seg) else None)
 
     def _blend(self, piece: zones.Segment) -> np.ndarray:
         """The last move cut where ``piece`` starts inside its zone; ``piece``'s joints with the

@@ -53,6 +53,7 @@ class Load:
     mass: float  # kg
     cog: tuple[float, float, float]  # m, in the tool's frame
     inertia: tuple[float, float, float]  # kg m², about the axes of moment
+    aom: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)  # the axes of moment (w, x, y, z) in the tool's frame
 
 
 @dataclass(frozen=True)
@@ -166,8 +167,8 @@ def load(value: Rec, what: str) -> Load:
     cog = _numbers(value.vals[1].vals, f"the load's centre of gravity of {what}", MAX_MM)
     if mass < 0 or min(ix, iy, iz) < 0:
         raise Mismatch(f"the load of {what} has a negative mass or inertia")
-    quaternion(value.vals[2], f"the load's axes of moment of {what}")
-    return Load(mass, tuple(c / 1000.0 for c in cog), (ix, iy, iz))
+    aom = quaternion(value.vals[2], f"the load's axes of moment of {what}")
+    return Load(mass, tuple(c / 1000.0 for c in cog), (ix, iy, iz), aom)
 
 
 def tool(value: Rec, what: str) -> Tool:

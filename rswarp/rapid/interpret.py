@@ -489,4 +489,3 @@ _RUN = {
     n.Connect: lambda self, s, frame: self.warn(s.line, f"interrupts are not modelled: TRAP '{s.trap}' never runs"),
     n.Placeholder: Interpreter._placeholder,
 }
-

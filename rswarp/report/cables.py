@@ -23,9 +23,11 @@ from ..sim.cable_results import CableResult, worst_wear
 from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS, CableOptions, contact_meshes
 from ..sim.cables import CableRun, run_frames, simulate_cables
 from ..sim.engine import cluster_for
+from ..sim.tool import load_tool
 from .cable_lines import cable_lines, pinched
 from .cable_plots import cable_plots
 from .output import Output, Warn, ignore, json_bytes, json_safe
+from .payload import task_payload
 
 TAUT = 0.999  # attachments this share of the cable length apart: pulled straight, no slack left
 
@@ -38,7 +40,8 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                program: list[str] | None = None, routine: str = "main", io: list[str] | None = None,
                cycles: int = 1, external_axes: str = "error", limits: str | None = None, video: str | None = None,
                video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
-               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
+               tool: str | None = None, progress: Callable[[float, float], None] | None = None,
+               warn: Warn = ignore) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
@@ -50,7 +53,8 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, poisson=poisson,
                            friction=friction, environment=placed_environments(mech, environment or []),
                            cable_model=cable_model, min_bend_radius=mech.si_length(min_bend_radius),
-                           floor=mech.si_length(floor), record=0 if usd else -1, device=device)
+                           floor=mech.si_length(floor), record=0 if usd else -1, device=device,
+                           tool=load_tool(mech, tool))
     checked("envs", envs)
     if not mech.cables:  # before any trajectory is made
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
@@ -81,8 +85,13 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                           cluster=cluster_for(ray, device))
     for w in run.warnings:
         warn(w)
-    doc = write_cables(run, mech, out, usd=usd)
+    load = task_payload(plan) if program is not None else None
+    doc = write_cables(run, mech, out, usd=usd, more={"payload": None if load is None else {
+        "mass": load.mass, "cog": load.cog, "source": load.source}})
     text = cables_text(run, doc["files"])
+    if load is not None:  # the joints are the plan's: a load changes no hose figure, and is said so
+        text += (f"\npayload: {load.mass:g} kg ({load.source}); the robot follows its planned joints, which no "
+                 "load changes here")
     if video is not None:
         from .videos import cable_video
 
@@ -112,14 +121,14 @@ def check_cable_folder(out: str | Path) -> None:
     check_replaceable(Path(out))
 
 
-def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = False) -> dict:
+def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = False, more: dict | None = None) -> dict:
     """Write the run's files into ``out`` as one set (an interrupted run leaves the old set). The
-    report as a dict, its files under ``files``."""
+    report (with ``more`` in it) as a dict, its files under ``files``."""
     out = Path(out)
     plots = cable_plots(run)
     names = {"report": "report.json"} | {Path(f).stem + "_plot": f for f in plots} | (
         {"playback": "playback.usdc"} if usd else {})
-    doc = cable_report(run) | {"files": {k: str(out / v) for k, v in names.items()}}
+    doc = cable_report(run) | json_safe(more or {}) | {"files": {k: str(out / v) for k, v in names.items()}}
     with atomic_folder(out) as tmp:
         for name, png in plots.items():
             atomic_write(tmp / name, png)
@@ -231,8 +240,10 @@ def _playback(run: CableRun, mech: Mechanism, path: Path) -> None:
     stride = run.cables[0].stride
     q = run.q[::stride]
     poses = Kinematics(mech).fk(q)
+    meshes = contact_meshes(mech, tool=run.options.tool)
     links = [PlaybackLink(name, m[0], m[1], (0.85, 0.85, 0.85), poses[:, j])
-             for j, (name, m) in enumerate(zip(mech.graph.links, contact_meshes(mech).links)) if m is not None]
+             for j, (name, m) in enumerate(zip(mech.graph.links, meshes.links)) if m is not None]
+    links += [PlaybackLink(name, v, f, (0.55, 0.6, 0.7), poses[:, j]) for name, j, v, f in meshes.tool]
     cables = [PlaybackCable(c.name, c.recorded, c.radius, _color(mech, c.name)) for c in run.cables]
     write_playback(path, mech.name, links, cables, run.options.frame_rate / stride)
 

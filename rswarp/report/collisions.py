@@ -20,6 +20,7 @@ from ..rsxml.units import format_number
 from ..sim.bodies import placed_environments
 from ..sim.collisions import REASONS, Collisions, collisions
 from ..sim.engine import cluster_for
+from ..sim.tool import load_tool
 from .output import Output, Warn, ignore, json_bytes, json_safe
 
 COLLISION_FILES = ("collision_matrix.srdf", "report.json", "heatmap.png")
@@ -27,17 +28,20 @@ COLLISION_FILES = ("collision_matrix.srdf", "report.json", "heatmap.png")
 
 def run_collisions(path: str, out: str, samples: int, seed: int = 0, padding: float = 0.0, env: list[str] = (),
                    device: str = "cpu", ray: str | None = None, progress: Callable[[float, float], None] | None = None,
-                   warn: Warn = ignore) -> Output:
+                   tool: str | None = None, warn: Warn = ignore) -> Output:
     """``rswarp collisions``: the sweep of ``path`` and its matrix written into ``out``; ``padding``
-    and the ``env`` meshes' positions (``MESH@x,y,z``) in the file's length unit."""
+    and the ``env`` meshes' positions (``MESH@x,y,z``) in the file's length unit; ``tool`` on the
+    flange (``MESH[@x,y,z,rx,ry,rz]`` or a Tool RSXML)."""
     mech, _ = load_mechanism(path)
+    mounted = load_tool(mech, tool)
     check_collisions_folder(out)
     cluster = cluster_for(ray, device)
     here, why = driver_device(device, cluster is not None)
     if why:
         warn(f"rswarp: warning: {why}")
     result = collisions(mech, samples=samples, seed=seed, padding=mech.si_length(padding),
-                        environment=placed_environments(mech, env), device=here, progress=progress, cluster=cluster)
+                        environment=placed_environments(mech, env), device=here, progress=progress, cluster=cluster,
+                        tool=mounted)
     for w in result.warnings:
         warn(w)
     doc = write_collisions(result, out)

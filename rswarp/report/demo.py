@@ -181,12 +181,15 @@ def _programs(mech: Mechanism, out: Path) -> list[str]:
     if not mech.path:
         return []
     folder = Path(mech.path).parent
+    gripper = folder / "gripper" / "Gripper.rsxml"  # the tool the modules beside the robot hold
+    tool = str(gripper) if gripper.is_file() else None
     lines = []
     for module in sorted(folder.glob("*.mod")):
         csv = out / f"{mech.name}-{module.stem}.csv"
         video = out / f"{mech.name}-{module.stem}.gif" if module.stem == "service" else None
-        done = _program(mech, out, [module], csv, video)
-        lines.append(f"   program {module.name} (rswarp program), trajectory -> {csv}:")
+        done = _program(mech, out, [module], csv, video, tool=tool)
+        held = f", with --tool {Path(tool).relative_to(folder.parent)}" if tool else ""
+        lines.append(f"   program {module.name} (rswarp program{held}), trajectory -> {csv}:")
         lines += [f"     | {line}" for line in _purpose(module)]
         lines += [f"     {line}" for line in done.text.splitlines() if not line.startswith("trajectory:")]
     for task in sorted(d for d in folder.iterdir() if d.is_dir() and any(d.glob("*.mod"))):
@@ -214,13 +217,14 @@ def _purpose(module: Path) -> list[str]:
     return textwrap.wrap(" ".join(said), 96)
 
 
-def _program(mech: Mechanism, out: Path, paths: list[Path], csv: Path, video: Path | None, warn=None):
+def _program(mech: Mechanism, out: Path, paths: list[Path], csv: Path, video: Path | None, warn=None,
+             tool: str | None = None):
     from .program import run_program
 
     srdf = out / f"{mech.name}-collisions" / "collision_matrix.srdf"
     return run_program(str(mech.path), [str(p) for p in paths], csv=str(csv),
                        video=None if video is None else str(video), video_size=DEMO_VIDEO,
-                       collision_matrix=str(srdf) if srdf.exists() else None,
+                       collision_matrix=str(srdf) if srdf.exists() else None, tool=tool,
                        **({"warn": warn} if warn is not None else {}))
 
 

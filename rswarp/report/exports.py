@@ -19,6 +19,7 @@ from ..rsxml.documents import checked
 from ..rsxml.model import Mechanism
 from ..rsxml.robot_data import data_file, read_limits, read_robot_data
 from .output import Output, Warn, ignore
+from .payload import read_payload
 from .poses import rounded
 
 
@@ -26,17 +27,23 @@ def run_export(path: str, output: str, layout: str | None = None, mesh_paths: st
                collision: str = "convexHull", density: float = DEFAULT_DENSITY, mass: float | None = None,
                drive_hz: float = DRIVE_HZ, armature: float | None = None, effort: float | None = None,
                velocity: float | None = None, collision_matrix_srdf: str | None = None,
-               collision_samples: int | None = None, limits: str | None = None, warn: Warn = ignore) -> Output:
+               collision_samples: int | None = None, limits: str | None = None, payload: str | None = None,
+               warn: Warn = ignore) -> Output:
     """``rswarp export``: the file's model as USD or URDF at ``output`` (``drive_hz`` 0: no drives),
     filtering the pairs an SRDF or a collision sweep of ``collision_samples`` disables; the robot's
-    mass and axis limits from ``mass``/``limits``, else its robot-data file, else defaults."""
+    mass and axis limits from ``mass``/``limits``, else its robot-data file, else defaults; the
+    ``payload`` (``read_payload``) in the flange link's mass."""
     model = checked(path).model
     mech = mechanism_of(model)[0]
     axes, mass, source = robot_figures(path, mech, limits, mass)
+    load = read_payload(payload, mech) if isinstance(mech, Mechanism) else None
+    if payload is not None and load is None:
+        raise InputError(f"{path}: --payload needs a robot (an RSXML Mechanism), not a library")
     disabled = collision_matrix(mech, collision_matrix_srdf, collision_samples)
     physics = PhysicsOptions(density=density, mass=mass, collision=collision, drive_hz=drive_hz or None,
                              armature=armature, effort=effort, velocity=velocity, disabled=disabled,
-                             axis_limits=axes.rows if axes is not None else (), mass_source=source)
+                             axis_limits=axes.rows if axes is not None else (), mass_source=source, payload=load,
+                             rated_payload=axes.payload if axes is not None else None)
     result = export(model, output, layout=layout, mesh_paths=mesh_paths, physics=physics)
     for w in result.warnings:
         warn(w)
@@ -49,6 +56,7 @@ def run_export(path: str, output: str, layout: str | None = None, mesh_paths: st
 class _Axes:
     rows: tuple[tuple[str, float, float], ...]
     summary: str
+    payload: float | None = None  # kg: the robot data's rated payload
 
 
 def robot_figures(path: str, mech, limits: str | None, mass: float | None):
@@ -66,7 +74,7 @@ def robot_figures(path: str, mech, limits: str | None, mass: float | None):
         names = [j.name for j in mech.graph.active]
         rows = tuple((n, float(v), float(e)) for n, v, e in zip(names, axis.velocity, axis.effort))
         effort = "efforts from it" if np.isfinite(axis.effort).all() else "efforts estimated (not given there)"
-        axes = _Axes(rows, f"{axis.summary().split(';')[0]}; {effort}")
+        axes = _Axes(rows, f"{axis.summary().split(';')[0]}; {effort}", data.payload if data is not None else None)
     if mass is not None:
         return axes, mass, "--mass"
     if data is not None and data.mass is not None:
@@ -81,6 +89,10 @@ def export_dict(result) -> dict:
         "output": str(result.output),
         "warnings": list(result.warnings),
         "total_mass": robot.total_mass,
+        "payload": None if robot.payload is None else {
+            "mass": robot.payload.mass, "cog": list(robot.payload.cog), "inertia": list(robot.payload.inertia),
+            "aom": list(robot.payload.aom), "source": robot.payload.source},
+        "efforts_sized_for": robot.effort_payload,
         "density": robot.density,
         "collision": robot.collision,
         "links": [{"link": b.link, "mass": b.mass, "center_of_mass": (b.origin + b.com).tolist(),
@@ -105,8 +117,15 @@ def export_text(result) -> str:
         lines += ["  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths)))
                   for r in [head, *rows]]
         given = f"the robot's mass from {robot.mass_source}; " if robot.mass_source else ""
+        carried = robot.payload.mass if robot.payload is not None else 0.0
         lines.append(f"total {robot.total_mass:.3f} kg ({given}density {robot.density:.6g} kg/m^3; centre of mass "
                      "in the base frame at the zero position)")
+        if robot.payload is not None:
+            cog = ", ".join(rounded(float(v), lf, 1e-4) for v in robot.payload.cog)
+            lines.append(f"payload: {carried:g} kg at ({cog}) {unit} from the flange, {robot.payload.source}; in "
+                         f"{mech.flanges[0].link}'s mass above (the robot alone: {robot.total_mass - carried:.3f} kg)")
+    if robot.effort_payload:
+        lines.append(f"efforts not given by data are sized for {robot.effort_payload}")
     driven = [j for j in robot.joints.values() if j.stiffness > 0]
     if driven:
         hz = math.sqrt(driven[0].stiffness / driven[0].inertia) / (2 * math.pi)

@@ -22,11 +22,12 @@ from ..rapid.task import load_task
 from ..rsxml.documents import load_mechanism
 from ..rsxml.robot_data import axis_limits
 from ..sim.bodies import placed_environments
-from ..sim.program_check import SINGULAR, check_program
+from ..sim.program_check import check_program
+from ..sim.tool import load_tool
+from .findings import error_findings, move_findings, tool_findings
 from .output import Output, Warn, ignore, json_safe
 from .program_text import program_text
 
-FLOOR_TOLERANCE = 1e-4  # m: a link this far below the floor counts as touching it
 EXTERNAL_AXES = ("error", "ignore")
 
 
@@ -71,7 +72,7 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
                 io: list[str] | None = None, cycles: int = 1, external_axes: str = "error",
                 environment: list[str] | None = None, collision_matrix: str | None = None, floor: float = 0.0,
                 video: str | None = None, video_size: int = 512, device: str = "cpu", ray: str | None = None,
-                limits: str | None = None, progress=None, warn: Warn = ignore) -> Output:
+                limits: str | None = None, tool: str | None = None, progress=None, warn: Warn = ignore) -> Output:
     """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory.
     Targets the robot cannot take are all reported (exit 1), with the rest of the report."""
     from ..export.srdf import read_srdf
@@ -87,6 +88,7 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     robot, _ = load_mechanism(path)  # every option and input checked before any work
     floor = checked("floor", robot.si_length(floor))
     env = placed_environments(robot, environment or [])
+    mounted = load_tool(robot, tool)
     disabled = read_srdf(collision_matrix, robot.link_names) if collision_matrix else ()
     mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
                            cycles, external_axes, warn, strict=False, limits=limits)
@@ -94,23 +96,28 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
         doc = _document(mech, p, None, [], None, csv=None)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
     tally, tools, tested = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
-                                         progress=progress)
+                                         progress=progress, tool=mounted)
     names = tools.checker.bodies.pair_names() if tools.checker is not None else []
     if csv is not None:
         atomic_write(csv, trajectory_csv(mech, p).encode())
         record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])
-    doc = _document(mech, p, tally, names, tested, csv, floor)
+    doc = _document(mech, p, tally, names, tested, csv, floor, tools, mounted)
     if video is not None:
         from .videos import program_video
 
-        doc["video"] = program_video(mech, p, tally, names, video, video_size, floor=floor)
+        doc["video"] = program_video(mech, p, tally, names, video, video_size, floor=floor, tool=mounted)
     return Output(json_safe(doc), program_text(mech, doc))
 
 
-def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0) -> dict:
+def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, tools=None, tool=None) -> dict:
+    """The run as data (SI): its moves with their findings as records, and every finding (the
+    targets it could not take included) in time order."""
     run = p.run
-    kin = Kinematics(mech)
-    ends = _move_ends(kin, p)
+    ends = _move_ends(Kinematics(mech), p)
+    moves = [_move(mech, p, m, tally, names, floor, ends[k], tools) for k, m in enumerate(p.moves)]
+    for f in tool_findings(p, tool):  # the tooldata against the tool, at the first move that used it
+        next(m for m in moves if (m["file"], m["line"]) == (f.file, f.line))["findings"].append(f.record())
+    found = [f for m in moves for f in m["findings"]] + [f.record() for f in error_findings(p)]
     cycle = run.cycle
     return {"robot": mech.name, "files": list(run.files), "routine": run.routine,
             "duration_s": float(p.times[-1]), "cycle_s": p.cycle_s, "cycles_s": list(p.cycles),
@@ -118,7 +125,8 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0) -> 
             "samples": len(p.times), "statements": run.statements, "axis_limits": _limits_dict(p.limits),
             "targets": [{"name": t.name, "file": t.file, "line": t.line, "joints": t.joints, "conf": t.conf,
                          "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin} for t in p.targets],
-            "moves": [_move(mech, p, m, tally, names, floor, ends[k]) for k, m in enumerate(p.moves)],
+            "tool": None if tool is None else {"name": tool.name, "given": tool.source},
+            "moves": moves, "findings": sorted(found, key=lambda f: f["t_s"]),
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
             "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
 
@@ -145,37 +153,14 @@ def _move_ends(kin, p: Plan) -> list:
     return out
 
 
-def _move(mech, p: Plan, move, tally, names, floor: float, end) -> dict:
+def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
     m = move.motion
     out = {"file": m.file, "line": m.line, "routine": m.routine, "chain": list(m.chain), "instruction": m.instruction,
            "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
            "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2],
-           "findings": _findings(mech, p, move, tally, names, floor)}
+           "findings": [f.record() for f in move_findings(mech, p, move, tally, names, floor, tools)]}
     if move.error:
         out["error"] = move.error
-    return out
-
-
-def _findings(mech, p: Plan, move, tally, names, floor: float) -> list[str]:
-    a, b = move.rows
-    out = list(move.findings)
-    if tally is None or b <= a:
-        return out
-    rows = slice(a, b)
-    if tally.outside[rows].any():
-        out.append(f"outside the joint limits from t = {p.times[a + np.argmax(tally.outside[rows])]:.2f} s")
-    hits = tally.hit[rows]
-    for k in np.nonzero(hits.any(axis=0))[0]:
-        first = a + int(np.argmax(hits[:, k]))
-        out.append(f"{names[k][0]} hits {names[k][1]} at t = {p.times[first]:.2f} s")
-    low = tally.low[rows]
-    if np.nanmin(low) < floor - FLOOR_TOLERANCE:
-        at = a + int(np.nanargmin(low))
-        out.append(f"{1000 * (floor - np.nanmin(low)):.0f} mm below the floor at t = {p.times[at]:.2f} s")
-    linear = move.motion.kind in ("linear", "circular")
-    q5 = np.abs(p.q[rows, 4]) if p.q.shape[1] >= 6 and linear else None
-    if q5 is not None and q5.min() < SINGULAR and not any("singularity" in f for f in out):
-        out.append(f"passes {np.degrees(q5.min()):.2f} deg from the wrist singularity (q5 = 0)")
     return out
 
 

@@ -26,9 +26,10 @@ def program_text(mech, doc: dict) -> str:
     lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
     if len(moves) > MAX_ROWS:
         lines.append(f"... {len(moves) - MAX_ROWS} more moves and waits (--json lists them all)")
-    found = [(m, f) for m in moves for f in m["findings"]]
-    lines.append(f"findings: {len(found)}" if found else "findings: none")
-    lines += [f"  {_where(m, several)}: {f}" for m, f in found[:MAX_ROWS]]
+    found = [f for m in moves for f in m["findings"]]
+    fails = sum(1 for f in found if f["severity"] == "fail")
+    lines.append(f"findings: {len(found)} ({fails} fail, {len(found) - fails} warn)" if found else "findings: none")
+    lines += [f"  {_where(f, several)}: {f['severity']}: {f['text']}" for f in found[:MAX_ROWS]]
     if len(found) > MAX_ROWS:
         lines.append(f"  ... {len(found) - MAX_ROWS} more (--json lists them all)")
     if doc["errors"]:
@@ -59,7 +60,10 @@ def _head(doc: dict, files: list[str]) -> str:
                  f"{_seconds(passes)} s")
     else:
         head += f"\ncycle: {doc['cycle_s']:.2f} s, one run of {doc['routine']}"
-    return head + f"; {doc['axis_limits']['summary']}"
+    head += f"; {doc['axis_limits']['summary']}"
+    if doc.get("tool"):
+        head += f"\ntool: {doc['tool']['given']}, checked against every link but its own, the meshes and the floor"
+    return head
 
 
 def _seconds(values: list[float], shown: int = 6) -> str:

@@ -128,12 +128,13 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
     tubes = [Tube(t.points[:n], t.colours[:n], t.radius) for t in tubes]
     frames = render_frames(mech, poses, tubes, size, legend=[(GREY, f"environment {env}"), *legend],
                            captions=captions(again.times[rows], moves), floor=options.floor, length=_unit(mech),
+                           tool=options.tool,
                            progress=progress if progress is not None else FRAME_PROGRESS.get())
     return {**_saved(path, frames, options.frame_rate / (keep * stride)), "environment": env, "colour": colouring}
 
 
 def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, floor: float | None = None,
-                  progress: Callable[[int, int], None] | None = None) -> dict:
+                  tool=None, progress: Callable[[int, int], None] | None = None) -> dict:
     """A program's motion at ``VIDEO_FPS``, the links of a colliding pair red while they touch,
     each frame with its time and the move under way (file:line and instruction), on a floor grid
     at ``floor`` (m; None: under the robot). ``progress(done, total)`` counts frames (default
@@ -141,14 +142,13 @@ def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, f
     times = np.arange(0.0, float(plan.times[-1]) + 1e-9, 1.0 / VIDEO_FPS)
     rows = np.clip(np.searchsorted(plan.times, times), 0, len(plan.times) - 1)
     poses = Kinematics(mech).fk64(plan.q[rows])
-    graph = mech.graph
     marked = []
     for r in rows:
         hit = tally.hit[r] if tally.hit.shape[1] else np.zeros(0, bool)
-        marked.append({graph.link_index(n) for k in np.nonzero(hit)[0] for n in names[k] if n in graph.links})
+        marked.append({n for k in np.nonzero(hit)[0] for n in names[k]})
     frames = render_frames(mech, poses, [], size, marked=marked,
                            legend=[(GREY, f"{Path(plan.run.files[0]).stem}.{plan.run.routine}"), (RED, "in collision")],
-                           captions=captions(times, plan.moves), floor=floor, length=_unit(mech),
+                           captions=captions(times, plan.moves), floor=floor, length=_unit(mech), tool=tool,
                            progress=progress if progress is not None else FRAME_PROGRESS.get())
     return _saved(path, frames, VIDEO_FPS)
 

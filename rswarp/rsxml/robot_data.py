@@ -21,6 +21,7 @@ except ImportError:  # Python 3.10
 
 from ..errors import Diagnostic, InputError, RsxmlError
 from ..files import read_regular
+from ..transforms import quat_matrix
 from .parse import parse_xml
 from .units import JOINT_VELOCITY
 
@@ -48,6 +49,24 @@ class AxisLimits:
         ramp = f"; accelerations assumed (top speed in {RAMP_S:g} s)" if self.accel_assumed else ""
         deg = np.degrees(self.velocity)
         return f"axis speeds {deg.min():.0f}-{deg.max():.0f} deg/s from {self.source}{ramp}"
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A load on the flange, in its frame (tool0), SI: mass (kg), centre of gravity (m), principal
+    moments of inertia (kg m^2) about the axes of moment ``aom`` (w, x, y, z), as RAPID's loaddata
+    gives them; ``source`` says where it comes from."""
+
+    mass: float
+    cog: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    inertia: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    aom: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    source: str = ""
+
+    def inertia_matrix(self) -> np.ndarray:
+        """The inertia about the centre of gravity in the flange's axes (3, 3)."""
+        r = quat_matrix(self.aom)
+        return r @ np.diag(self.inertia) @ r.T
 
 
 @dataclass(frozen=True)

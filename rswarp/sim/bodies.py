@@ -37,6 +37,7 @@ class Body:
     faces: np.ndarray = field(repr=False)
     watertight: bool
     pose: np.ndarray = field(default_factory=lambda: np.eye(4), repr=False)  # fixed pose (environment)
+    tool: bool = False  # the tool on the flange, riding its link
 
 
 @dataclass(frozen=True)
@@ -82,11 +83,12 @@ def placed_environments(mech: Mechanism, specs: list[str]) -> tuple[Environment,
 
 
 def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = (),
-                     leads: tuple[Body, ...] = ()) -> CollisionBodies:
-    """The links with geometry, the environment meshes and the cables' ``leads`` (``hose_leads``);
-    pairs: every two links not joined by a joint (links without geometry contracted away, as
-    MoveIt does), each environment mesh with every link, and each lead with every link but its own
-    and with every environment mesh."""
+                     leads: tuple[Body, ...] = (), tool: Body | None = None) -> CollisionBodies:
+    """The links with geometry, the environment meshes, the ``tool`` on the flange and the cables'
+    ``leads`` (``hose_leads``); pairs: every two links not joined by a joint (links without
+    geometry contracted away, as MoveIt does), each environment mesh with every link, the tool with
+    every link but the one it is mounted on and with every environment mesh, and each lead with
+    every body but its own link's."""
     graph = mech.graph
     bodies, warnings = [], []
     for k in graph.order:
@@ -109,6 +111,11 @@ def collision_bodies(mech: Mechanism, environment: tuple[Environment, ...] = (),
     pairs = [(i, j) for i in range(len(links)) for j in range(i + 1, len(links))
              if frozenset((links[i], links[j])) not in adjacent]
     pairs += [(i, j) for j in range(len(links), len(bodies)) for i in range(len(links))]
+    if tool is not None:  # an environment mesh second, as in every pair with one
+        at = len(bodies)
+        pairs += [(i, at) for i, b in enumerate(bodies) if 0 <= b.link != tool.link]
+        pairs += [(at, j) for j, b in enumerate(bodies) if b.link < 0]
+        bodies.append(tool)
     for lead in leads:
         pairs += [(i, len(bodies)) for i, b in enumerate(bodies) if b.link != lead.link]
         bodies.append(lead)

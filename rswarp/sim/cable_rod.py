@@ -72,7 +72,8 @@ class CosseratRod(CableSolver):
         _above_floor(mech, layout, options.floor)
         self.options, self.dof = options, mech.dof
         meshes = meshes or ContactMeshes((None,) * len(mech.graph.links))
-        self.slots = (*mech.graph.links, *(m[0] for m in meshes.environment), "floor", "cables")
+        self.slots = (*mech.graph.links, *(m[0] for m in meshes.environment), *(m[0] for m in meshes.tool), "floor",
+                      "cables")
         self.cables = tuple(_info(c, layout, allowed_bend_radius(cable, options))
                             for c, cable in zip(layout.cables, mech.cables))
         self.failures = FAILURES | {CRUSHED + j: f"the robot pressed a cable into {_what(name)} half its radius "
@@ -126,6 +127,8 @@ class CosseratRod(CableSolver):
         links = meshes.links if self.options.contact else (None,) * len(meshes.links)
         entries = [(m, j, np.eye(4)) for j, m in enumerate(links)] + [((v, f), -1, pose) for _, v, f, pose in
                                                                     meshes.environment]
+        # the tool rides its link as the link's own mesh does, and like it only with contact
+        entries += [((v, f) if self.options.contact else None, j, np.eye(4)) for _, j, v, f in meshes.tool]
         ids, spheres = np.zeros(len(entries), np.uint64), np.zeros((len(entries), 4))
         for j, (m, _, _) in enumerate(entries):
             if m is not None:

@@ -90,6 +90,7 @@ class CableOptions:
     floor: float | None = 0.0  # z of the floor (m); None: no floor
     contact: bool = True  # against the link meshes
     environment: tuple[Environment, ...] = ()  # meshes placed in the world
+    tool: object = None  # a sim.tool.Tool on the flange, which the cables touch and the videos draw
     record: int = -1  # the environment whose shapes are kept for playback (--usd); -1: none
     cable_model: str = "rod"  # the model of ``cable_models.CABLE_MODELS``
     device: str = "cpu"
@@ -114,10 +115,12 @@ class ContactMeshes:
     links: tuple
     environment: tuple = ()
     warnings: tuple[str, ...] = ()
+    tool: tuple = ()  # (name, link, vertices, faces): the tool riding its link, in its zero-position frame
 
 
-def contact_meshes(mech: Mechanism, environment: tuple[Environment, ...] = ()) -> ContactMeshes:
-    """Every link's parts as one mesh (``rswarp.geometry.meshes.link_mesh``), and the environment's."""
+def contact_meshes(mech: Mechanism, environment: tuple[Environment, ...] = (), tool=None) -> ContactMeshes:
+    """Every link's parts as one mesh (``rswarp.geometry.meshes.link_mesh``), the environment's,
+    and the ``tool``'s (``sim.tool.Tool``) on the flange."""
     out, missing = [], []
     for name in mech.graph.links:
         try:
@@ -136,7 +139,13 @@ def contact_meshes(mech: Mechanism, environment: tuple[Environment, ...] = ()) -
         body = environment_body(mech, env, taken)
         taken.add(body.name)
         placed.append((body.name, body.vertices, body.faces, body.pose))
-    return ContactMeshes(tuple(out), tuple(placed), tuple(warnings))
+    mounted = ()
+    if tool is not None:
+        from .tool import tool_body
+
+        body = tool_body(mech, tool)
+        mounted = ((body.name, body.link, body.vertices, body.faces),)
+    return ContactMeshes(tuple(out), tuple(placed), tuple(warnings), mounted)
 
 
 @dataclass(frozen=True)

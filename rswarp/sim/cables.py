@@ -75,7 +75,7 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     frames = run_frames(float(seconds), options)
     job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
     cable_model(options).check(mech, options)  # a cable the model cannot take fails before anything is built
-    meshes = contact_meshes(mech, options.environment)
+    meshes = contact_meshes(mech, options.environment, options.tool)
     if cluster is not None:
         _check_cut_run(mech, envs, frames)
     tools = None if cluster is not None else make_solver(mech, options, meshes)
@@ -167,7 +167,8 @@ class CableJob(Job):
     def tools(self, model, device: str, threads: int | None) -> CableSolver:
         env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.options.environment)
         options = dataclasses.replace(self.options, device=device, threads=threads, environment=env)
-        meshes = model.cached(("contact meshes", env), lambda: contact_meshes(model.mech, env))
+        tool = self.options.tool
+        meshes = model.cached(("contact meshes", env, tool), lambda: contact_meshes(model.mech, env, tool))
         return make_solver(model.mech, options, meshes)
 
     def empty(self) -> CableTally:

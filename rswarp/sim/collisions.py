@@ -29,6 +29,7 @@ from ..options import checked
 from ..rsxml.model import Mechanism
 from .bodies import CollisionBodies, DeviceBodies, Environment, collision_bodies
 from .engine import Job, run_batch
+from .tool import tool_body
 from .witness import witness_grid
 from .workspace import sample_chunks
 
@@ -54,6 +55,7 @@ class PairResult:
     clearance_q: tuple[float, ...] | None  # where it was found
     clearance_floor: float | None  # every sample is at least this far apart (bounding volumes)
     reason: str | None  # why the matrix disables the pair (REASONS), None: checked
+    tool: bool = False  # one body is the tool on the flange (not a link of the robot's SRDF)
 
 
 @dataclass(frozen=True)
@@ -80,7 +82,7 @@ class Collisions:
     def disabled(self) -> list[tuple[str, str, str]]:
         """(link1, link2, reason) of every disabled pair of links, adjacent first, in link order."""
         out = [(a, b, "Adjacent") for a, b in self.adjacent]
-        out += [(p.body1, p.body2, p.reason) for p in self.pairs if p.reason and not p.environment]
+        out += [(p.body1, p.body2, p.reason) for p in self.pairs if p.reason and not p.environment and not p.tool]
         return out
 
     def reason_counts(self) -> dict[str, int]:
@@ -162,19 +164,20 @@ class Checker:
 
 def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: float = 0.0,
                environment: tuple[Environment, ...] = (), device: str = "cpu", threads: int | None = None,
-               progress: Callable[[float, float], None] | None = None, cluster=None) -> Collisions:
+               progress: Callable[[float, float], None] | None = None, cluster=None, tool=None) -> Collisions:
     """Sweep ``samples`` random configurations within the joint limits for collisions between the
-    links (and with the environment meshes), and compute the collision matrix; ``cluster`` (a
-    ``rswarp.Cluster`` or a Ray address) runs the sweep's samples as tasks on Ray."""
+    links (and with the environment meshes and the ``tool``, a ``sim.tool.Tool`` on the flange),
+    and compute the collision matrix; ``cluster`` (a ``rswarp.Cluster`` or a Ray address) runs the
+    sweep's samples as tasks on Ray."""
     checked("samples", samples)
     checked("padding", padding)
     lower, upper = _limits(mech)
-    bodies = collision_bodies(mech, tuple(environment))
+    bodies = collision_bodies(mech, tuple(environment), tool=tool_body(mech, tool))
     checker = Checker(mech, bodies, padding, device, threads)
     home = mech.home_position()
     default = checker.verdicts(home[None])[0][0]
     always, rounds, seen = _always(checker, lower, upper, seed, default)
-    job = CollisionJob(lower, upper, samples, seed, padding, tuple(environment), ~(default | always), CHUNK)
+    job = CollisionJob(lower, upper, samples, seed, padding, tuple(environment), ~(default | always), CHUNK, tool)
     tally = run_batch(job, mech, tools=checker, cluster=cluster, progress=progress)
     if not tally.done:
         raise model_error(mech, f"none of the {samples} samples closes the loops of '{mech.name}': every one lies "
@@ -199,6 +202,7 @@ class CollisionJob(Job):
     environment: tuple[Environment, ...]
     checked: np.ndarray
     chunk: int  # samples per chunk: with the seed, it decides which samples a sweep draws
+    tool: object = None  # a sim.tool.Tool on the flange
 
     @property
     def count(self) -> int:
@@ -217,11 +221,12 @@ class CollisionJob(Job):
         return tuple(e.path for e in self.environment)
 
     def tools_key(self) -> tuple:
-        return (self.padding, tuple((e.name, e.path, e.pose.tobytes()) for e in self.environment))
+        return (self.padding, tuple((e.name, e.path, e.pose.tobytes()) for e in self.environment), self.tool)
 
     def tools(self, model, device: str, threads: int | None) -> Checker:
         env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.environment)
-        return Checker(model.mech, collision_bodies(model.mech, env), self.padding, device, threads)
+        bodies = collision_bodies(model.mech, env, tool=tool_body(model.mech, self.tool))
+        return Checker(model.mech, bodies, self.padding, device, threads)
 
     def empty(self) -> "CollisionTally":
         return CollisionTally.empty(len(self.checked), len(self.lower))
@@ -351,7 +356,8 @@ def _result(mech, bodies: CollisionBodies, sweep: CollisionTally, clear: dict, d
             body1=bodies.bodies[a].name, body2=bodies.bodies[b].name, environment=bodies.bodies[b].link < 0,
             collisions=int(sweep.counts[p]), examples=tuple(tuple(float(v) for v in q) for _, q in sweep.examples[p]),
             clearance=None if c is None else c[0], clearance_q=None if c is None else tuple(float(v) for v in c[1]),
-            clearance_floor=None if c is None else c[2], reason=reason))
+            clearance_floor=None if c is None else c[2], reason=reason,
+            tool=bodies.bodies[a].tool or bodies.bodies[b].tool))
     links = tuple(b.name for b in bodies.bodies if b.link >= 0)
     adjacent = sorted((tuple(sorted(p, key=links.index)) for p in bodies.adjacent),
                       key=lambda ab: (links.index(ab[0]), links.index(ab[1])))

@@ -14,6 +14,7 @@ from ..errors import InputError
 from .bodies import Environment, collision_bodies
 from .collisions import Checker
 from .engine import Job, run_batch
+from .tool import Tool, tool_body
 
 CHUNK = 4096  # samples per chunk
 SINGULAR = np.radians(1.0)  # |q5| below this is near the wrist singularity
@@ -36,7 +37,7 @@ class ProgramTally:
 @dataclass(frozen=True)
 class ProgramTools:
     checker: Checker | None
-    points: tuple  # per link index: (link, (P, 3) points in its zero-position frame) for the floor
+    points: tuple  # (link, (P, 3) points in its zero-position frame, the body's name) for the floor
     kinematics: object
 
 
@@ -50,6 +51,7 @@ class ProgramJob(Job):
     upper: np.ndarray
     environment: tuple[Environment, ...]
     checked: np.ndarray | None  # (pairs,) the pairs tested, None without meshes
+    tool: Tool | None = None  # on the flange
 
     @property
     def count(self) -> int:
@@ -68,11 +70,11 @@ class ProgramJob(Job):
         return tuple(e.path for e in self.environment)
 
     def tools_key(self) -> tuple:
-        return tuple((e.name, e.path, e.pose.tobytes()) for e in self.environment)
+        return tuple((e.name, e.path, e.pose.tobytes()) for e in self.environment) + (self.tool,)
 
     def tools(self, model, device: str, threads: int | None) -> ProgramTools:
         env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.environment)
-        return program_tools(model.mech, env, device, threads)
+        return program_tools(model.mech, env, device, threads, tool=self.tool)
 
     def empty(self) -> ProgramTally:
         pairs = 0 if self.checked is None else len(self.checked)
@@ -91,15 +93,16 @@ class ProgramJob(Job):
 
 
 def program_tools(mech, environment: tuple[Environment, ...], device: str = "cpu", threads: int | None = None,
-                  padding: float = 0.0, leads: tuple = ()) -> ProgramTools:
-    """The collision kernels of the links, meshes and cable ``leads`` (``hose_leads``; none for a
-    robot without link meshes; pairs closer than ``padding`` count as touching), and the points
-    whose height is the floor's check."""
+                  padding: float = 0.0, leads: tuple = (), tool: Tool | None = None) -> ProgramTools:
+    """The collision kernels of the links, meshes, the ``tool`` and cable ``leads`` (``hose_leads``;
+    none for a robot without link meshes; pairs closer than ``padding`` count as touching), and the
+    points whose height is the floor's check (the tool's among them)."""
     from ..kinematics.kinematics import Kinematics
 
     kin = Kinematics(mech, device, threads=threads)
+    mounted = tool_body(mech, tool)
     try:
-        bodies = collision_bodies(mech, environment, leads)
+        bodies = collision_bodies(mech, environment, leads, mounted)
     except InputError:
         if not environment:
             bodies = None  # a robot without link meshes
@@ -111,7 +114,7 @@ def program_tools(mech, environment: tuple[Environment, ...], device: str = "cpu
                     from None
             raise  # the robot has meshes: the --env mesh is what failed, and its error says so
     checker = Checker(mech, bodies, padding, device, threads) if bodies is not None else None
-    return ProgramTools(checker, floor_points(mech, bodies), kin)
+    return ProgramTools(checker, floor_points(mech, bodies, mounted), kin)
 
 
 def checked_pairs(mech, tools: ProgramTools, disabled=()) -> np.ndarray | None:
@@ -125,7 +128,7 @@ def checked_pairs(mech, tools: ProgramTools, disabled=()) -> np.ndarray | None:
     return np.array([frozenset(n) not in off for n in names], bool) & ~home
 
 
-def floor_points(mech, bodies) -> tuple:
+def floor_points(mech, bodies, tool=None) -> tuple:
     """(link, points) whose lowest world height is the robot's: each moving link's convex hull, or
     its joints' axis points and the flange where no link has a mesh; and each point where a link
     holds a cable, a radius lower (the clamp's hose bottom, at zero)."""
@@ -134,17 +137,21 @@ def floor_points(mech, bodies) -> tuple:
     graph = mech.graph
     level = _level_links(mech)
     if bodies is not None:
-        out = [(b.link, np.asarray(trimesh.Trimesh(b.vertices, b.faces, process=False).convex_hull.vertices))
+        out = [(b.link, np.asarray(trimesh.Trimesh(b.vertices, b.faces, process=False).convex_hull.vertices), b.name)
                for b in bodies.bodies if b.link >= 0 and b.link not in level]
     else:
-        out = [(graph.link_index(j.child), np.array([j.point1], float)) for j in mech.joints
+        out = [(graph.link_index(j.child), np.array([j.point1], float), j.child) for j in mech.joints
                if j.child in graph.links and graph.link_index(j.child) not in level]
-        out += [(graph.link_index(f.link), f.pose.matrix()[None, :3, 3]) for f in mech.flanges]
+        out += [(graph.link_index(f.link), f.pose.matrix()[None, :3, 3], f.link) for f in mech.flanges]
+        if tool is not None:  # with meshes, among the bodies
+            hull = trimesh.Trimesh(tool.vertices, tool.faces, process=False).convex_hull.vertices
+            out.append((tool.link, np.asarray(hull), tool.name))
     # where a link holds a cable (a tool's clamp, say, beyond the link's mesh): lowered by its radius
     for cable in mech.cables:
         for p in cable.control_points:
             if p.attached_to in graph.links and graph.link_index(p.attached_to) not in level:
-                out.append((graph.link_index(p.attached_to), np.array([p.position], float) - [0.0, 0.0, cable.radius]))
+                out.append((graph.link_index(p.attached_to), np.array([p.position], float) - [0.0, 0.0, cable.radius],
+                            f"{cable.name} on {p.attached_to}"))
     return tuple(out)
 
 
@@ -163,7 +170,7 @@ def lowest(tools: ProgramTools, q: np.ndarray) -> np.ndarray:
     """(N,) the lowest height (m, world) of the robot at each configuration."""
     poses = tools.kinematics.fk64(q)
     low = np.full(len(q), np.inf)
-    for link, pts in tools.points:
+    for link, pts, _ in tools.points:
         m = poses[:, link]
         z = np.einsum("nj,pj->np", m[:, 2, :3], pts) + m[:, 2, 3][:, None]
         low = np.minimum(low, z.min(axis=1))
@@ -171,12 +178,20 @@ def lowest(tools: ProgramTools, q: np.ndarray) -> np.ndarray:
 
 
 def check_program(mech, q: np.ndarray, environment: tuple[Environment, ...] = (), disabled=(),
-                  device: str = "cpu", threads: int | None = None, cluster=None, progress=None):
-    """(tally, tools) of the trajectory ``q``: ``disabled`` (link1, link2) pairs are not tested, nor
-    those touching at the home position."""
-    tools = program_tools(mech, tuple(environment), device, threads)
+                  device: str = "cpu", threads: int | None = None, cluster=None, progress=None,
+                  tool: Tool | None = None):
+    """(tally, tools) of the trajectory ``q`` with the ``tool`` on the flange: ``disabled`` (link1,
+    link2) pairs are not tested, nor those touching at the home position."""
+    tools = program_tools(mech, tuple(environment), device, threads, tool=tool)
     checked = checked_pairs(mech, tools, disabled)
     lower, upper = mech.bounds()
-    job = ProgramJob(np.ascontiguousarray(q, np.float64), lower, upper, tuple(environment), checked)
+    job = ProgramJob(np.ascontiguousarray(q, np.float64), lower, upper, tuple(environment), checked, tool)
     return run_batch(job, mech, tools=tools, device=device, threads=threads, cluster=cluster, progress=progress), \
         tools, checked
+
+
+def lowest_body(tools: ProgramTools, q: np.ndarray) -> str:
+    """The name of the body (a link, the tool, a cable's clamp) lowest in the world at one configuration."""
+    poses = tools.kinematics.fk64(q[None])[0]
+    heights = [(float(np.min(pts @ poses[link, 2, :3] + poses[link, 2, 3])), name) for link, pts, name in tools.points]
+    return min(heights)[1]

@@ -89,7 +89,8 @@ def random_program(mech, seconds: float, seed: int, floor: float = 0.0, tools: P
 def _tools(mech, options: CableOptions) -> tuple[ProgramTools, np.ndarray | None]:
     """The checks' kernels, the cables' clamps and leads (at ``options``' allowed bend radius)
     among the bodies, and the pairs checked."""
-    tools = program_tools(mech, (), padding=PADDING, leads=hose_leads(mech, lambda c: allowed_bend_radius(c, options)))
+    tools = program_tools(mech, (), padding=PADDING, leads=hose_leads(mech, lambda c: allowed_bend_radius(c, options)),
+                          tool=options.tool)
     return tools, checked_pairs(mech, tools)
 
 

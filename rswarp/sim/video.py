@@ -114,18 +114,20 @@ def _tube_vertices(points: np.ndarray, radius: float) -> np.ndarray:
 
 
 class _Scene:
-    """The triangles of every frame: the links' (posed) and the tubes'."""
+    """The triangles of every frame: the links' and the tool's (posed) and the tubes'."""
 
-    def __init__(self, mech, poses: np.ndarray, tubes: list[Tube]):
-        meshes = contact_meshes(mech).links
-        self.links = [(k, m[0], m[1]) for k, m in enumerate(meshes) if m is not None]
+    def __init__(self, mech, poses: np.ndarray, tubes: list[Tube], tool=None):
+        meshes = contact_meshes(mech, tool=tool)
+        graph = mech.graph
+        self.links = [(graph.links[k], k, m[0], m[1]) for k, m in enumerate(meshes.links) if m is not None]
+        self.links += [(name, k, v, f) for name, k, v, f in meshes.tool]
         if not self.links and not tubes:
             raise InputError(f"'{mech.name}' has no mesh to draw")
         self.poses, self.tubes = poses, tubes
         faces, base, self.link_faces = [], 0, []
-        for k, v, f in self.links:
+        for name, _, v, f in self.links:
             faces.append(f + base)
-            self.link_faces.append((k, len(f)))
+            self.link_faces.append((name, len(f)))
             base += len(v)
         for tube in tubes:
             faces.append(_tube_faces(tube.points.shape[1] - 1, base))
@@ -133,29 +135,30 @@ class _Scene:
         self.faces = np.concatenate(faces)
 
     def vertices(self, frame: int) -> np.ndarray:
-        out = [v @ self.poses[frame, k, :3, :3].T + self.poses[frame, k, :3, 3] for k, v, _ in self.links]
+        out = [v @ self.poses[frame, k, :3, :3].T + self.poses[frame, k, :3, 3] for _, k, v, _ in self.links]
         out += [_tube_vertices(t.points[frame], t.radius) for t in self.tubes]
         return np.concatenate(out)
 
-    def colours(self, frame: int, marked: set[int]) -> np.ndarray:
-        out = [np.tile(RED if k in marked else GREY, (n, 1)) for k, n in self.link_faces]
+    def colours(self, frame: int, marked: set[str]) -> np.ndarray:
+        out = [np.tile(RED if name in marked else GREY, (n, 1)) for name, n in self.link_faces]
         out += [np.repeat(t.colours[frame], 2 * RING, axis=0) for t in self.tubes]
         return np.concatenate(out).astype(np.float32)
 
 
 def render_frames(mech, poses: np.ndarray, tubes: list[Tube], size: int = 512, marked=None, legend=(),
                   device: str = "cpu", captions: Sequence[str] | None = None, floor: float | None = None,
-                  grid: bool = True, length: tuple[float, str] = (1.0, "m"),
+                  grid: bool = True, length: tuple[float, str] = (1.0, "m"), tool=None,
                   progress: Callable[[int, int], None] | None = None) -> np.ndarray:
-    """(F, size, size, 3) uint8 frames: the links at ``poses`` (F, links, 4, 4), the tubes, the
-    links in ``marked[f]`` red, on a floor grid at height ``floor`` (m; None: the scene's lowest
-    point; ``grid`` False: on white); above the scene a band with ``captions[f]`` (lines of text
-    for frame f) and ``legend`` ((colour, text) entries) with the grid's entry after them, its
-    lengths in ``length`` (factor to metres, unit name). ``progress(done, total)`` counts frames."""
+    """(F, size, size, 3) uint8 frames: the links at ``poses`` (F, links, 4, 4), the ``tool`` on
+    the flange (``sim.tool.Tool``), the tubes, the bodies named in ``marked[f]`` red, on a floor
+    grid at height ``floor`` (m; None: the scene's lowest point; ``grid`` False: on white); above
+    the scene a band with ``captions[f]`` (lines of text for frame f) and ``legend`` ((colour,
+    text) entries) with the grid's entry after them, its lengths in ``length`` (factor to metres,
+    unit name). ``progress(done, total)`` counts frames."""
     wp = init_warp()
     from ..kernels.render import Camera, render_kernel
 
-    scene = _Scene(mech, poses, tubes)
+    scene = _Scene(mech, poses, tubes, tool)
     frames = len(poses)
     if captions is not None and len(captions) != frames:
         raise ValueError(f"{len(captions)} captions for {frames} frames")
