@@ -71,14 +71,29 @@ def overlap(prev: Segment, nxt: Segment, zone) -> float:
         return 0.0
     z = min(zone.pzone_tcp, prev.length / 2, nxt.length / 2)
     zo = min(zone.zone_ori, prev.turn / 2, nxt.turn / 2)
-    s_prev = np.concatenate([[0.0], prev.s])
-    t_prev = np.concatenate([[0.0], prev.t])
-    inside = (prev.length - prev.gone(s_prev) <= z + EPS) & ((1.0 - s_prev) * prev.turn <= zo + EPS)
-    leave = prev.duration - float(t_prev[int(np.argmax(inside))])  # inside only grows along the move
-    near = (nxt.gone(nxt.s) <= z + EPS) & (nxt.s * nxt.turn <= zo + EPS)  # only shrinks along the move
-    count = len(near) if near.all() else int(np.argmin(near))
+    # prev is inside the zone from the share where both its way and its turn left are within it
+    # (both only shrink along the move); nxt is near its start up to where either grows past it
+    s_in = max(_share_at(prev, prev.length - z - EPS), 1.0 - (zo + EPS) / prev.turn if prev.turn > 0 else 0.0)
+    first = min(int(np.searchsorted(prev.s, s_in, side="left")), len(prev.s) - 1)  # its first sample inside
+    leave = prev.duration - (float(prev.t[first]) if s_in > 0.0 else 0.0)
+    s_out = min(_share_at(nxt, z + EPS), (zo + EPS) / nxt.turn if nxt.turn > 0 else 1.0)
+    count = int(np.searchsorted(nxt.s, s_out, side="right"))
     enter = float(nxt.t[count - 1]) if count else 0.0
-    return max(0.0, min(leave, enter, prev.ramp_out(), nxt.ramp_in()))
+    tau = min(leave, enter)
+    if tau <= 0.0:
+        return 0.0
+    return max(0.0, min(tau, prev.ramp_out(), nxt.ramp_in()))
+
+
+def _share_at(seg: Segment, gone: float) -> float:
+    """The least share of ``seg`` at which its TCP has gone ``gone`` (m) along its path."""
+    if gone <= 0.0:
+        return 0.0
+    if gone > seg.probe_len[-1]:
+        return np.inf
+    k = int(np.searchsorted(seg.probe_len, gone, side="left"))
+    a, b = seg.probe_len[k - 1], seg.probe_len[k]
+    return float(seg.probe_s[k - 1] + (seg.probe_s[k] - seg.probe_s[k - 1]) * (gone - a) / (b - a))
 
 
 def blend(prev: Segment, nxt: Segment, tau: float) -> tuple[int, np.ndarray]:
@@ -88,11 +103,12 @@ def blend(prev: Segment, nxt: Segment, tau: float) -> tuple[int, np.ndarray]:
     kept = int(np.searchsorted(prev.t, start, side="right"))
     t_prev = np.concatenate([[0.0], prev.t])
     q_prev = np.vstack([prev.q0[None], prev.q])
-    shared = nxt.t <= tau
-    at = start + nxt.t[shared]
-    rest = np.stack([np.interp(at, t_prev, q_prev[:, j]) for j in range(q_prev.shape[1])], axis=1) - prev.q[-1]
+    shared = int(np.searchsorted(nxt.t, tau, side="right"))  # nxt's samples at or before tau
+    at = np.minimum(start + nxt.t[:shared], t_prev[-1])
+    k = np.clip(np.searchsorted(t_prev, at, side="right"), 1, len(t_prev) - 1)  # at lies in [t[k-1], t[k]]
+    w = ((at - t_prev[k - 1]) / np.maximum(t_prev[k] - t_prev[k - 1], 1e-300))[:, None]
     q = nxt.q.copy()
-    q[shared] += rest
+    q[:shared] += q_prev[k - 1] * (1.0 - w) + q_prev[k] * w - prev.q[-1]
     return kept, q
 
 
