@@ -14,6 +14,7 @@ from .rod_types import F64, M44, TINY, V3, BodyWork, Contact, Q, RodParams
 # two segments of one cable closer than this along it (beyond their half lengths, in radii) never
 # touch: a straight cable's neighbours would
 NEIGHBOURS = 2.0
+FOLD = 3.141592653589793  # along a hose, pi allowed bend radii: the least arc that turns back on itself
 # a contact is made ahead for what may meet in the substep: within the query distance plus this many
 # times the bodies' predicted sweeps (a snapping cable accelerates past its prediction)
 AHEAD = 2.0
@@ -133,8 +134,11 @@ def _pair(params: RodParams, work: wp.array2d(dtype=BodyWork), q_s: wp.array2d(d
     arc_i = params.arc[i] + s * F64(2.0) * params.half[i]
     arc_j = params.arc[j] + t * F64(2.0) * params.half[j]
     slot = params.mesh.shape[0] + 1
-    note(clear_out, at_out, e, params.cable[i], slot, gap, arc_i)
-    note(clear_out, at_out, e, params.cable[j], slot, gap, arc_j)
+    # a hose cannot meet its own segments within pi allowed bend radii along it without folding
+    # tighter than allowed: those are contacts, never its clearance to itself
+    if params.cable[i] != params.cable[j] or wp.abs(arc_j - arc_i) >= F64(FOLD) * params.allowed[params.cable[i]]:
+        note(clear_out, at_out, e, params.cable[i], slot, gap, arc_i)
+        note(clear_out, at_out, e, params.cable[j], slot, gap, arc_j)
     give = wp.min(params.radius[i], params.radius[j])
     if make == 0 or gap >= query or gap <= F64(-2.0) * give:
         return

@@ -164,7 +164,19 @@ def cable(p: argparse.ArgumentParser) -> None:
     p.add_argument("--usd", action="store_true",
                    help="also write playback.usdc: environment 0's robot and cables over time, for usdview")
     p.add_argument("--min-bend-radius", type=argument("min-bend-radius"), metavar="R",
-                   help=f"allowed bend radius {LENGTH} (default ten times the diameter)")
+                   help=f"the hose's dynamic bend radius {LENGTH}: tighter while moving fails (default ten times "
+                        "the diameter)")
+    p.add_argument("--static-bend-radius", type=argument("static-bend-radius"), metavar="R",
+                   help=f"the hose's static bend radius {LENGTH}: tighter is a kink (default five times the "
+                        "diameter)")
+    p.add_argument("--max-strain", type=argument("max-strain"), default=0.005, metavar="STRAIN",
+                   help="axial strain past which the hose is pulled taut, not hanging (default 0.005: 0.5 %%)")
+    p.add_argument("--max-torsion", type=argument("max-torsion"), default=180.0, metavar="DEG_PER_M",
+                   help="twist a metre the hose is rated for (default 180, a torsion-rated robot hose)")
+    p.add_argument("--max-contact-force", type=argument("max-contact-force"), metavar="N",
+                   help="a contact harder than this fails (default: contact is a warning)")
+    p.add_argument("--max-clamp-load", type=argument("max-clamp-load"), metavar="N",
+                   help="a clamp pulled harder than this fails (default: clamp loads are reported only)")
     floor = p.add_mutually_exclusive_group()
     floor.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
     floor.add_argument("--no-floor", dest="floor", action="store_const", const=None, help="no floor")

@@ -26,6 +26,15 @@ KINDS = {
     "unreachable": "a target the robot cannot reach",
     "target": "a target the robot cannot take for another reason (confdata, external axes, unset axes)",
     "tool": "the tool's TCP is not on or near its body",
+    "taut": "a hose pulled, not hanging: its axial strain past its rating",
+    "kink": "a hose bent tighter than its static bend radius: permanent damage",
+    "bend": "a hose bent tighter than its dynamic bend radius (a warning where the robot is at rest)",
+    "torsion": "a hose twisted more per metre than its rating",
+    "rub": "a hose touching a link, the floor or the cell: time in contact, force and wear",
+    "pinch": "a hose pressed from opposite sides harder than its own weight could",
+    "crush": "a hose the robot drove through something: its run stopped",
+    "clamp": "a clamp pulled harder than its rating",
+    "slack": "a hose with no length to spare, or none given",
 }
 
 

@@ -10,12 +10,13 @@ import numpy as np
 from ..sim.cable_results import CableResult, worst_wear
 
 
-def cable_lines(c: CableResult, taut: float, weight: float, joints: tuple[tuple[str, bool], ...] = ()) -> list[str]:
-    """The cable's answers; environments that stopped are reported as stopped, never as answers. A
-    pinch harder than the cable's whole ``weight`` (N) is the robot's doing, and named with the
-    ``joints`` (name, rotational) the robot was at."""
+def cable_lines(c: CableResult, taut: float, weight: float, joints: tuple[tuple[str, bool], ...] = (),
+                verdict: list[str] = ()) -> list[str]:
+    """The cable's ``verdict`` lines, then its answers; environments that stopped are reported as
+    stopped, never as answers. A pinch harder than the cable's whole ``weight`` (N) is the robot's
+    doing, and named with the ``joints`` (name, rotational) the robot was at."""
     lines = [f"{c.name}: {c.length:.3f} m, radius {c.radius * 1000:g} mm (E A {c.axial_stiffness:.3g} N, "
-             f"E I {c.bending_stiffness:.3g} N m^2, G J {c.torsion_stiffness:.3g} N m^2)"]
+             f"E I {c.bending_stiffness:.3g} N m^2, G J {c.torsion_stiffness:.3g} N m^2)", *verdict]
     done = np.nonzero(c.status == "ok")[0]
     stopped = np.nonzero(c.status != "ok")[0]
     if len(done):
@@ -32,16 +33,8 @@ def cable_lines(c: CableResult, taut: float, weight: float, joints: tuple[tuple[
 
 def _answers(c: CableResult, done: np.ndarray, taut: float) -> list[str]:
     n = f"{len(done)}" + (f" (of {c.envs}; the others stopped)" if len(done) < c.envs else "")
-    return [_length_line(c, done, n, taut), _bend_line(c, done, n), _tension_line(c, done), *_clamp_lines(c, done),
+    return [_bend_line(c, done, n), _tension_line(c, done), *_clamp_lines(c, done),
             _twist_line(c, done), *_contact_lines(c, done), _wear_line(c, done)]
-
-
-def _length_line(c: CableResult, done: np.ndarray, n: str, taut: float) -> str:
-    straight = done[c.stretch[done] >= taut]
-    most = c.stretch[done].max()
-    return f"  long enough: {len(done) - len(straight)} of {n}" + (
-        f"; pulled straight in {_envs(straight)} (attachments {most:.1%} of the length apart)" if len(straight) else
-        f" (attachments at most {most:.1%} of the length apart)")
 
 
 def _bend_line(c: CableResult, done: np.ndarray, n: str) -> str:
@@ -61,7 +54,8 @@ def _tension_line(c: CableResult, done: np.ndarray) -> str:
     e = int(done[np.argmax(c.peak_tension[done])])
     if not c.peak_tension[e] > 0:
         return "  tension: none (the cable is slack or pushed along its length throughout)"
-    return (f"  peak tension: {c.peak_tension[e]:.3g} N, E A x stretch (environment {e}, t = "
+    strain = c.peak_tension[e] / c.axial_stiffness
+    return (f"  peak tension: {c.peak_tension[e]:.3g} N, the axial force (strain {strain:.2%}; environment {e}, t = "
             f"{c.peak_tension_time[e]:.2f} s, {c.peak_tension_at[e]:.3f} m along)")
 
 
@@ -94,7 +88,7 @@ def _contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
             continue
         e = int(done[np.argmin(np.where(reached, col, np.inf))])
         touching = done[np.isfinite(c.contact_time[done, j])]
-        label = "cables (itself and the others)" if name == "cables" else name
+        label = "cables (itself, pi bend radii along it or more, and the others)" if name == "cables" else name
         text = f"  {label}: least clearance {c.clearance[e, j] * 1000:.1f} mm (environment {e}, " \
                f"t = {c.clearance_time[e, j]:.2f} s, {c.clearance_at[e, j]:.3f} m along)"
         if len(touching):

@@ -28,6 +28,7 @@ from .cable_lines import cable_lines, pinched
 from .cable_plots import cable_plots
 from .output import Output, Warn, ignore, json_bytes, json_safe
 from .payload import task_payload
+from .verdicts import MAX_STRAIN, MAX_TORSION, Ratings, cable_findings, moments, verdict, verdict_lines
 
 TAUT = 0.999  # attachments this share of the cable length apart: pulled straight, no slack left
 
@@ -40,7 +41,9 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                program: list[str] | None = None, routine: str = "main", io: list[str] | None = None,
                cycles: int = 1, external_axes: str = "error", limits: str | None = None, video: str | None = None,
                video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
-               tool: str | None = None, progress: Callable[[float, float], None] | None = None,
+               tool: str | None = None, max_strain: float = MAX_STRAIN, static_bend_radius: float | None = None,
+               max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
+               max_clamp_load: float | None = None, progress: Callable[[float, float], None] | None = None,
                warn: Warn = ignore) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
@@ -48,6 +51,8 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     unit."""
     envs = envs if envs is not None else 1 if program is not None else 16
     mech, _ = load_mechanism(path)
+    ratings = Ratings(max_strain, mech.si_length(static_bend_radius), np.radians(max_torsion), max_contact_force,
+                      max_clamp_load)
     check_cable_folder(out)
     check_video_options(video, video_env, video_color, envs, out)
     options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, poisson=poisson,
@@ -86,9 +91,11 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     for w in run.warnings:
         warn(w)
     load = task_payload(plan) if program is not None else None
-    doc = write_cables(run, mech, out, usd=usd, more={"payload": None if load is None else {
-        "mass": load.mass, "cog": load.cog, "source": load.source}})
-    text = cables_text(run, doc["files"])
+    found = run_findings(run, trajectories, moves, ratings)
+    doc = write_cables(run, mech, out, usd=usd, more={
+        "payload": None if load is None else {"mass": load.mass, "cog": load.cog, "source": load.source},
+        **verdict_data(run, found)})
+    text = cables_text(run, doc["files"], found)
     if load is not None:  # the joints are the plan's: a load changes no hose figure, and is said so
         text += (f"\npayload: {load.mass:g} kg ({load.source}); the robot follows its planned joints, which no "
                  "load changes here")
@@ -98,6 +105,18 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size, moves)
         text += f"\nvideo: {video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
     return Output(doc, text)
+
+
+def run_findings(run: CableRun, trajectories, moves=None, ratings: Ratings = Ratings()) -> list:
+    """Every finding of a run's cables (``report.verdicts``), each at its environment's moment."""
+    when = moments(trajectories, run.assignment, moves)
+    return [f for c, w in zip(run.cables, run.weights) for f in cable_findings(c, w, ratings, when)]
+
+
+def verdict_data(run: CableRun, found: list) -> dict:
+    """The verdict of each cable and every finding, for the report."""
+    return {"verdicts": {c.name: verdict([f for f in found if f.cable == c.name]) for c in run.cables},
+            "findings": [f.record() for f in found]}
 
 
 def check_video_options(video: str | None, env: int | None, colour: str, envs: int, out) -> None:
@@ -223,12 +242,13 @@ def _least(values: np.ndarray) -> float | None:
     return float(finite.min()) if len(finite) else None
 
 
-def cables_text(run: CableRun, files: dict) -> str:
-    """The summary a user reads: per cable, the worst environment for each question."""
+def cables_text(run: CableRun, files: dict, findings=()) -> str:
+    """The summary a user reads: per cable, its verdict and the worst of each finding, then the
+    worst environment for each question."""
     lines = [f"{run.mechanism}: {len(run.cables)} cable(s), {run.envs} environment(s), "
              f"{run.times[-1]:g} s at {run.options.frame_rate:g} frames/s"]
     for c, weight in zip(run.cables, run.weights):
-        lines += cable_lines(c, TAUT, weight, run.joints)
+        lines += cable_lines(c, TAUT, weight, run.joints, verdict_lines(c, list(findings)))
     lines += [f"{k}: {v}" for k, v in files.items()]
     return "\n".join(lines)
 

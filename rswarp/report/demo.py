@@ -145,6 +145,7 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     from ..export import export
     from ..kinematics.kinematics import Kinematics
     from ..sim.workspace import workspace
+    from .exports import data_physics
     from .poses import rounded
 
     kin = Kinematics(mech)
@@ -153,9 +154,10 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     matrix, collision_line = _collisions(mech, out)
     usd, urdf = out / f"{mech.name}.usdc", out / f"{mech.name}.urdf"
-    done, no_urdf = [export(mech, usd, disabled=matrix)], ""
+    physics = data_physics(str(mech.path), mech, matrix or ())  # its robot data, as rswarp export reads it
+    done, no_urdf = [export(mech, usd, physics=physics)], ""
     try:
-        done.append(export(mech, urdf, disabled=matrix))
+        done.append(export(mech, urdf, physics=physics))
     except RsxmlError as exc:  # a loop URDF cannot express (not linear in the active joints)
         no_urdf = f" (no URDF: {exc})"
     warnings = [w for d in done for w in d.warnings]
@@ -257,19 +259,20 @@ def _cables(mech: Mechanism, out: Path) -> list[str]:
         return []
     from ..sim.cables import simulate_cables
     from ..sim.random_program import random_programs
-    from .cables import cables_text, write_cables
+    from .cables import cables_text, run_findings, verdict_data, write_cables
 
     trajectories = random_programs(mech, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS, 0)
     run = simulate_cables(mech, trajectories, DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS)
     folder = out / f"{mech.name}-cables"
-    doc = write_cables(run, mech, folder)
-    text = cables_text(run, {"report": doc["files"]["report"]}).splitlines()
+    found = run_findings(run, trajectories)
+    doc = write_cables(run, mech, folder, more=verdict_data(run, found))
+    text = cables_text(run, {"report": doc["files"]["report"]}, found).splitlines()
     meshes = any(_has_mesh(mech, part) for link in mech.link_names for part, _ in mech.parts(link) if part.source)
     bare = "" if meshes else "; no meshes ship with this robot, so its hose meets only the floor"
     head = (f"   cables ({DEMO_CABLE_ENVS} random programs, free of the floor and the robot itself, "
             f"{DEMO_CABLE_SECONDS:g} s{bare}) -> {folder}")
     if not meshes:  # its answers say little: the dress pack below is the example to read
-        keep = [line for line in text[1:-1] if line.strip().startswith(("long enough", "bend radius"))]
+        keep = [line for line in text[1:-1] if line.strip().startswith(("verdict", "fail ", "bend radius"))]
         return [head, *(f"   {line}" for line in keep), "   (the dress pack below is a hose on a robot with meshes)"]
     return [head, *(f"   {line}" for line in text[1:-1])]
 
@@ -279,5 +282,8 @@ def _physics_line(robot) -> str:
     if not robot.total_mass > 0:
         return "kinematics only"
     touching = sum(1 for *_, r in robot.filtered if r == "overlap at home")
-    return (f"{robot.total_mass:.1f} kg, drives holding home on {sum(j.stiffness > 0 for j in robot.joints.values())} "
-            f"joints, {len(robot.filtered)} link pairs filtered ({touching} touching at home)")
+    source = f" (from {robot.mass_source})" if robot.mass_source else \
+        f" (at {robot.density:g} kg/m^3: no robot data)"
+    driven = sum(j.stiffness > 0 for j in robot.joints.values())
+    return (f"{robot.total_mass:.1f} kg{source}, drives holding home on {driven} joints, {len(robot.filtered)} link "
+            f"pairs filtered ({touching} touching at home)")

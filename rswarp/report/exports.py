@@ -52,6 +52,15 @@ def run_export(path: str, output: str, layout: str | None = None, mesh_paths: st
     return Output(doc, export_text(result) + f"\njoint limits: {doc['axis_limits']}")
 
 
+def data_physics(path: str, mech, disabled=()) -> PhysicsOptions:
+    """The physics an export of the robot at ``path`` gets from its robot-data file alone (mass,
+    axis limits, rated payload), as ``rswarp export`` with no options: what the demo exports."""
+    axes, mass, source = robot_figures(path, mech, None, None)
+    return PhysicsOptions(mass=mass, mass_source=source, disabled=tuple(disabled),
+                          axis_limits=axes.rows if axes is not None else (),
+                          rated_payload=axes.payload if axes is not None else None)
+
+
 @dataclass(frozen=True)
 class _Axes:
     rows: tuple[tuple[str, float, float], ...]

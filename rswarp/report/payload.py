@@ -77,5 +77,5 @@ def task_payload(plan) -> Payload | None:
     load, file, line = max(loads, key=lambda x: (x[0].mass, x[1], x[2]))
     if load.mass <= 0:
         return None
-    return Payload(load.mass, load.cog, load.inertia, load.aom, f"the load of the tooldata moved with at "
+    return Payload(load.mass, load.cog, load.inertia, load.aom, f"the tooldata's load of the move at "
                    f"{Path(file).name}:{line}")

@@ -79,10 +79,24 @@ def validate_mechanism(mech: Mechanism, file: str, diagnostics: list[Diagnostic]
                 out.error(p.line, f"ControlPoint attachedTo '{p.attached_to}' is not a link or part")
         if c.radius > 0 and c.max_segment_length > 0:  # else the reader said why already
             try:
-                cable_spans(c, mech.length_factor)
+                spans = cable_spans(c, mech.length_factor)
             except ValueError as exc:
                 out.error(c.line, str(exc))
+            else:
+                _slack(c, spans, mech.length_factor, out)
     _attributes(mech, out)
+
+
+def _slack(c, spans, factor: float, out: _Out) -> None:
+    """A cable with no length to spare: no desiredLength (it is taken as the path through its
+    points), or one that is that path; the first move that spreads its clamps pulls it taut."""
+    unit = lambda v: f"{v / factor:.4g}"  # noqa: E731  the file's length unit
+    if c.desired_length is None:
+        out.warn(c.line, f"cable '{c.name}' has no desiredLength: it is taken as the path through its control "
+                         f"points ({unit(spans.polyline)}), no slack at all; give the hose's real length")
+    elif spans.lengths.sum() <= spans.polyline * (1 + 1e-6):
+        out.warn(c.line, f"cable '{c.name}': desiredLength {unit(c.desired_length * 1.0)} is the path through its "
+                         "control points: no slack at all; give the hose's real length")
 
 
 def _metadata(mech: Mechanism, out: _Out) -> None:

@@ -1,0 +1,92 @@
+"""Dress-pack verdicts (issue "Dress-pack verdicts an engineer signs", item 1): each breach of the
+hose's ratings a finding record, PASS where none fails. Held against geometry rswarp does not
+simulate: clamps pulled farther apart than the hose is long must leave it taut, and needing at
+least that shortfall; a hose that must turn back between clamps side by side, D apart, turning one
+way only, bends to D/2 or tighter somewhere; a generous hose over a gentle move passes."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+from rswarp.examples import IRB2600_DRESSPACK, IRB2600_PROGRAM
+from rswarp.findings import Finding
+from rswarp.report.cables import run_cables
+from rswarp.report.verdicts import Ratings, verdict
+
+from conftest import DATA
+
+RIGS = DATA / "verdicts"
+
+
+def _run(tmp_path, rig: str, trajectory: str, **options):
+    out = run_cables(str(RIGS / rig), str(tmp_path / "run"), envs=1, trajectory=[str(RIGS / trajectory)], **options)
+    report = json.loads((tmp_path / "run" / "report.json").read_text())
+    return out, report
+
+
+def test_clamps_pulled_farther_apart_than_the_hose_is_long_leave_it_taut(tmp_path):
+    """The slide ends 1100 mm from the base clamp; the hose is 1000 mm: 100 mm short."""
+    out, report = _run(tmp_path, "taut.rsxml", "pull.csv")
+    taut = [f for f in report["findings"] if f["kind"] == "taut"]
+    assert report["verdicts"] == {"Hose": "FAIL"} and len(taut) == 1
+    f = taut[0]
+    assert f["severity"] == "fail" and f["value"] > f["limit"] == 0.005 and f["unit"] == "1"
+    assert f["cable"] == "Hose" and f["env"] == 0 and 0.0 <= f["at_m"] <= 1.0 and f["t_s"] >= 0.5
+    assert len(f["joints"]) == 1 and f["joints"][0] > 0.1  # the slide well out when it is taut
+    assert int(re.search(r"at least (\d+) mm", f["advice"]).group(1)) >= 100
+    assert "verdict: FAIL" in out.text and "fail taut" in out.text
+
+
+def test_a_generous_hose_over_a_gentle_move_passes(tmp_path):
+    out, report = _run(tmp_path, "taut.rsxml", "gentle.csv")
+    assert report["verdicts"] == {"Hose": "PASS"}
+    assert not [f for f in report["findings"] if f["kind"] in ("taut", "bend", "kink")]
+    assert "verdict: PASS" in out.text
+
+
+def test_a_hose_turning_back_between_clamps_bends_to_half_their_gap(tmp_path):
+    _, report = _run(tmp_path, "uturn.rsxml", "gentle.csv")
+    bent = [f for f in report["findings"] if f["kind"] in ("bend", "kink")]
+    assert bent and min(f["value"] for f in bent) <= 0.060  # the gap is 120 mm
+    kink = next(f for f in bent if f["kind"] == "kink")
+    assert kink["limit"] == pytest.approx(0.1) and kink["unit"] == "m"  # 5 diameters of a 20 mm hose
+
+
+def test_the_ratings_are_the_users(tmp_path):
+    """A looser strain passes the same pull's stretch as less than it; a static radius set below
+    the bend makes the kink a bend (the robot moves then: a failure)."""
+    _, report = _run(tmp_path, "taut.rsxml", "pull.csv", max_strain=0.5)
+    assert not [f for f in report["findings"] if f["kind"] == "taut"]
+    _, report = _run(tmp_path, "uturn.rsxml", "gentle.csv", static_bend_radius=10.0)  # mm, the file's unit
+    kinds = {f["kind"] for f in report["findings"]}
+    assert "kink" not in kinds and "bend" in kinds
+
+
+def test_a_program_run_names_the_line_and_the_joints_of_each_finding(tmp_path):
+    out = run_cables(str(IRB2600_DRESSPACK), str(tmp_path / "run"), program=[str(IRB2600_PROGRAM)])
+    found = out.doc["findings"]
+    assert found and all(f["file"] == str(IRB2600_PROGRAM) and f["line"] and len(f["joints"]) == 6 for f in found
+                         if f["t_s"] is not None)
+    assert {f["routine"] for f in found if f["t_s"] is not None} <= {"main", "Pick", "Place"}
+
+
+def test_the_verdict_is_fail_only_with_a_failing_finding():
+    warn = Finding("rub", "rubs on Link4", "warn", cable="Hose", env=0)
+    fail = Finding("taut", "pulled taut", "fail", cable="Hose", env=0)
+    assert verdict([]) == "PASS" and verdict([warn]) == "PASS" and verdict([warn, fail]) == "FAIL"
+    assert Ratings().max_torsion == pytest.approx(np.pi)
+
+
+def test_a_hose_is_clear_of_itself_only_beyond_pi_bend_radii_along_it(tmp_path):
+    """The U-turn's legs are 100 mm apart but within pi x 200 mm along it: no clearance to itself.
+    A 1.5 m hose hung in a long U from clamps 120 mm apart: its legs, over a metre apart along it,
+    are 100 mm apart (120 mm less a diameter)."""
+    _, report = _run(tmp_path, "uturn.rsxml", "gentle.csv")
+    assert "cables" not in report["cables"][0]["environments"][0]["clearance"]
+    _, report = _run(tmp_path, "loop.rsxml", "gentle.csv")
+    itself = report["cables"][0]["environments"][0]["clearance"]["cables"]["min_clearance_m"]
+    assert itself == pytest.approx(0.100, abs=0.005)
