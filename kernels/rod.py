@@ -100,7 +100,7 @@ def _substep(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h:
              v_out: wp.array2d(dtype=V3), w_out: wp.array2d(dtype=V3), a_out: wp.array2d(dtype=V3),
              wear_time_out: wp.array2d(dtype=F64),
              wear_peak_out: wp.array2d(dtype=F64), wear_out: wp.array3d(dtype=F64),
-             below_out: wp.array2d(dtype=wp.int32), cycles_out: wp.array2d(dtype=wp.int32),
+             bend_out: wp.array2d(dtype=F64), cycles_out: wp.array2d(dtype=wp.int32),
              stats_out: wp.array3d(dtype=F64), clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64),
              load_out: wp.array3d(dtype=F64)) -> int:
     """Substep ``s``: predict, find contacts, iterate, measure and commit. RUNNING, or why the
@@ -114,7 +114,7 @@ def _substep(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h:
         if iterate(params, poses, e, s + 1, h, work, factor, contacts, count, row) < F64(STEP_TOLERANCE):
             break
     crushed = measure(params, poses, e, s + 1, h, work, contacts, count, row, stats_out, load_out, wear_time_out,
-                      wear_peak_out, wear_out, below_out, cycles_out)
+                      wear_peak_out, wear_out, bend_out, cycles_out)
     if crushed >= 0:
         return CRUSHED + crushed
     return commit(params, work, row, h, x_out, q_out, v_out, w_out, a_out, e)
@@ -151,7 +151,7 @@ def rod_kernel():
         wear_time_out: wp.array2d(dtype=F64),
         wear_peak_out: wp.array2d(dtype=F64),
         wear_out: wp.array3d(dtype=F64),
-        below_out: wp.array2d(dtype=wp.int32),
+        bend_out: wp.array2d(dtype=F64),  # each body's curvature (1/m, its tighter joint) at the substep's end
         cycles_out: wp.array2d(dtype=wp.int32),
         # Out (the frame's statistics):
         stats_out: wp.array3d(dtype=F64),
@@ -168,7 +168,7 @@ def rod_kernel():
         h = dt / F64(substeps)
         for s in range(substeps):
             status = _substep(params, poses, e, s, h, iterations, work, factor, contacts, count, row, x_out, q_out,
-                              v_out, w_out, a_out, wear_time_out, wear_peak_out, wear_out, below_out, cycles_out,
+                              v_out, w_out, a_out, wear_time_out, wear_peak_out, wear_out, bend_out, cycles_out,
                               stats_out, clear_out, at_out, load_out)
             if status != RUNNING:
                 status_out[e] = status

@@ -178,10 +178,10 @@ def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
             work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
             row: int, stats_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64),
             wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
-            wear_out: wp.array3d(dtype=F64), below_out: wp.array2d(dtype=wp.int32),
+            wear_out: wp.array3d(dtype=F64), bend_out: wp.array2d(dtype=F64),
             cycles_out: wp.array2d(dtype=wp.int32)) -> int:
     """The substep's strains, loads and contacts at its end, into the frame's extremes and the wear
-    map; a body's bend (its tighter joint) crossing back above the allowed radius is a cycle. The
+    map; a body's curvature (its tighter joint); crossing back above the allowed radius is a cycle. The
     slot a cable was crushed into, or -1."""
     bodies = params.half.shape[0]
     crushed = int(-1)
@@ -197,12 +197,11 @@ def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
                 after = _joint(stats_out, e, c, gap, rot, rel, params.stiff[k], axis_of(b.q), axis_of(nb.q),
                                params.half[k] + params.half[k + 1], params.arc[k + 1])
         least = wp.min(wp.min(before, after), _attachments(params, poses, e, s, k, b, stats_out, load_out))
-        below = int(0)
-        if least < params.allowed[c]:
-            below = 1
-        if below_out[e, k] == 1 and below == 0:
+        # its curvature (1/m), for fatigue; past the allowed one's and back is a cycle
+        bend = F64(1.0) / wp.max(least, F64(TINY))
+        if bend_out[e, k] * params.allowed[c] > F64(1.0) and least >= params.allowed[c]:
             cycles_out[e, k] = cycles_out[e, k] + 1
-        below_out[e, k] = below
+        bend_out[e, k] = bend
         slot, forces = _wear(params, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out,
                              wear_out)
         _pinch(params, k, forces, contacts, count, row, e, stats_out)

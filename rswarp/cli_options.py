@@ -177,6 +177,9 @@ def cable(p: argparse.ArgumentParser) -> None:
                    help="a contact harder than this fails (default: contact is a warning)")
     p.add_argument("--max-clamp-load", type=argument("max-clamp-load"), metavar="N",
                    help="a clamp pulled harder than this fails (default: clamp loads are reported only)")
+    p.add_argument("--rated-cycles", metavar="N@R",
+                   help=f"the hose's bending life: N cycles to failure bent to radius R {LENGTH}; gives the passes "
+                        "of the program its worst location lasts (Miner's rule, exponent 4)")
     floor = p.add_mutually_exclusive_group()
     floor.add_argument("--floor", type=argument("floor"), default=0.0, help=f"height of the floor {LENGTH} (default 0)")
     floor.add_argument("--no-floor", dest="floor", action="store_const", const=None, help="no floor")

@@ -8,19 +8,23 @@ from __future__ import annotations
 import numpy as np
 
 from ..sim.cable_results import CableResult, worst_wear
+from ..sim.cable_solver import FATIGUE_EXPONENT
+from ..sim.rainflow import miner_passes
 
 
-def cable_lines(c: CableResult, taut: float, weight: float, joints: tuple[tuple[str, bool], ...] = (),
-                verdict: list[str] = ()) -> list[str]:
+def cable_lines(c: CableResult, weight: float, joints: tuple[tuple[str, bool], ...] = (), verdict: list[str] = (),
+                passes: int = 1, rated: tuple[float, float] | None = None) -> list[str]:
     """The cable's ``verdict`` lines, then its answers; environments that stopped are reported as
     stopped, never as answers. A pinch harder than the cable's whole ``weight`` (N) is the robot's
-    doing, and named with the ``joints`` (name, rotational) the robot was at."""
+    doing, and named with the ``joints`` (name, rotational) the robot was at. Fatigue is counted
+    a pass of ``passes`` (with ``rated``: N cycles at bend radius R, the passes it lasts)."""
     lines = [f"{c.name}: {c.length:.3f} m, radius {c.radius * 1000:g} mm (E A {c.axial_stiffness:.3g} N, "
              f"E I {c.bending_stiffness:.3g} N m^2, G J {c.torsion_stiffness:.3g} N m^2)", *verdict]
     done = np.nonzero(c.status == "ok")[0]
     stopped = np.nonzero(c.status != "ok")[0]
     if len(done):
-        lines += _answers(c, done, taut)
+        lines += _answers(c, done)
+        lines.append(fatigue_line(c, done, passes, rated))
         lines += _pinch_lines(c, done, weight, joints)
     else:
         lines.append(f"  no answers: every environment stopped before the end ({c.envs} of {c.envs})")
@@ -31,7 +35,7 @@ def cable_lines(c: CableResult, taut: float, weight: float, joints: tuple[tuple[
     return lines
 
 
-def _answers(c: CableResult, done: np.ndarray, taut: float) -> list[str]:
+def _answers(c: CableResult, done: np.ndarray) -> list[str]:
     n = f"{len(done)}" + (f" (of {c.envs}; the others stopped)" if len(done) < c.envs else "")
     return [_bend_line(c, done, n), _tension_line(c, done), *_clamp_lines(c, done),
             _twist_line(c, done), *_contact_lines(c, done), _wear_line(c, done)]
@@ -43,11 +47,27 @@ def _bend_line(c: CableResult, done: np.ndarray, n: str) -> str:
     tight = done[c.too_tight[done]]
     where = f" (environment {e}, t = {c.min_bend_time[e]:.2f} s, {c.min_bend_at[e]:.3f} m along)" \
         if np.isfinite(c.min_bend_radius[e]) else " (straight throughout)"
-    cycles = c.bend_cycles[done].sum(axis=1)
-    repeat = f"; bent past it and back up to {cycles.max()} times (environment {int(done[np.argmax(cycles)])})" \
-        if cycles.max() > 0 else ""
     return (f"  bend radius: least {c.min_bend_radius[e]:.3f} m{where}; allowed {c.allowed_bend_radius:.3f} m: "
-            f"too tight in {len(tight)} of {n}{repeat}")
+            f"too tight in {len(tight)} of {n}")
+
+
+def fatigue_line(c: CableResult, done: np.ndarray, passes: int, rated: tuple[float, float] | None) -> str:
+    """The location that bends most often: its rainflow cycles a pass and, with ``rated`` (N
+    cycles to failure at bend radius R, m), the passes it lasts by Miner's rule. Never summed over
+    locations: each segment's count is its own."""
+    if not len(done) or not c.fatigue_cycles[done].any():
+        return "  fatigue: no bending cycle past a tenth of the allowed curvature"
+    e, s = np.unravel_index(int(np.argmax(c.fatigue_cycles[done])), c.fatigue_cycles[done].shape)
+    e = int(done[e])
+    text = (f"  fatigue: {c.fatigue_cycles[e, s] / passes:.1f} bending cycles a pass at {c.segments[s]:.3f} m along "
+            f"(environment {e}; rainflow, ASTM E1049)")
+    if rated is not None:
+        n, r = rated
+        lasts = miner_passes(c.fatigue_sum[done], passes, n, 1.0 / r, FATIGUE_EXPONENT)
+        k, j = np.unravel_index(int(np.argmin(lasts)), lasts.shape)
+        text += (f"; lasts {lasts[k, j]:.3g} passes at {c.segments[j]:.3f} m along (environment {int(done[k])}; "
+                 f"Miner, {n:g} cycles at {r:g} m, exponent {FATIGUE_EXPONENT:g})")
+    return text
 
 
 def _tension_line(c: CableResult, done: np.ndarray) -> str:

@@ -43,8 +43,8 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
                tool: str | None = None, max_strain: float = MAX_STRAIN, static_bend_radius: float | None = None,
                max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
-               max_clamp_load: float | None = None, progress: Callable[[float, float], None] | None = None,
-               warn: Warn = ignore) -> Output:
+               max_clamp_load: float | None = None, rated_cycles: str | None = None,
+               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
@@ -53,6 +53,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     mech, _ = load_mechanism(path)
     ratings = Ratings(max_strain, mech.si_length(static_bend_radius), np.radians(max_torsion), max_contact_force,
                       max_clamp_load)
+    rated = rated_fatigue(rated_cycles, mech)
     check_cable_folder(out)
     check_video_options(video, video_env, video_color, envs, out)
     options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, poisson=poisson,
@@ -95,7 +96,8 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     doc = write_cables(run, mech, out, usd=usd, more={
         "payload": None if load is None else {"mass": load.mass, "cog": load.cog, "source": load.source},
         **verdict_data(run, found)})
-    text = cables_text(run, doc["files"], found)
+    passes = max(len(plan.cycles), 1) if program is not None else 1
+    text = cables_text(run, doc["files"], found, passes, rated)
     if load is not None:  # the joints are the plan's: a load changes no hose figure, and is said so
         text += (f"\npayload: {load.mass:g} kg ({load.source}); the robot follows its planned joints, which no "
                  "load changes here")
@@ -105,6 +107,22 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size, moves)
         text += f"\nvideo: {video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
     return Output(doc, text)
+
+
+def rated_fatigue(spec: str | None, mech) -> tuple[float, float] | None:
+    """``--rated-cycles N@R``: N bending cycles to failure at bend radius R (the file's length
+    unit), as (N, R in m); None without it."""
+    if spec is None:
+        return None
+    n, at, r = spec.partition("@")
+    try:
+        cycles, radius = float(n), mech.si_length(float(r))
+    except ValueError:
+        cycles = radius = float("nan")
+    if not at or not 1 <= cycles < 1e15 or not 0 < radius < 1e3:
+        raise InputError(f"--rated-cycles '{spec}': give N@R, the cycles a hose lasts bent to radius R (the file's "
+                         "length unit), e.g. 1e7@300")
+    return cycles, radius
 
 
 def run_findings(run: CableRun, trajectories, moves=None, ratings: Ratings = Ratings()) -> list:
@@ -184,7 +202,7 @@ def _summary(c: CableResult, weight: float) -> dict:
     most = (lambda a: float(np.max(a[done])) if len(done) else None)  # noqa: E731
     worst = worst_wear(c, done)
     return {"stopped": int((~ok).sum()), "finished": int(ok.sum()), "too_tight": int(c.too_tight[ok].sum()),
-            "taut": int((c.stretch[ok] >= TAUT).sum()), "touching": int(c.touching[ok].sum()),
+            "straight_between_clamps": int((c.stretch[ok] >= TAUT).sum()), "touching": int(c.touching[ok].sum()),
             "least_bend_radius_m": _least(c.min_bend_radius[ok]), "peak_tension_N": most(c.peak_tension),
             "greatest_twist_rad": most(c.max_twist), "greatest_torque_Nm": most(c.max_torque),
             "greatest_normal_force_N": most(c.peak_normal), "pinched": int(pinched(c, weight)[ok].sum()),
@@ -212,7 +230,8 @@ def _env_dict(c: CableResult, e: int, run: CableRun) -> dict:
     return {"environment": e, "trajectory": run.trajectories[run.assignment[e]], "status": str(c.status[e]),
             "peak_tension_N": c.peak_tension[e], "peak_tension_time_s": c.peak_tension_time[e],
             "peak_tension_at_m": c.peak_tension_at[e],
-            "taut": bool(c.stretch[e] >= TAUT), "max_attachment_distance_ratio": c.stretch[e],
+            "straight_between_clamps": bool(c.stretch[e] >= TAUT), "max_attachment_distance_ratio": c.stretch[e],
+            "fatigue": {"rainflow_cycles": c.fatigue_cycles[e], "miner_sum_per_m4": c.fatigue_sum[e]},
             "max_attachment_distance_time_s": c.stretch_time[e],
             "min_bend_radius_m": c.min_bend_radius[e], "min_bend_time_s": c.min_bend_time[e],
             "min_bend_at_m": c.min_bend_at[e], "bend_ok": bool(not c.too_tight[e]),
@@ -242,13 +261,14 @@ def _least(values: np.ndarray) -> float | None:
     return float(finite.min()) if len(finite) else None
 
 
-def cables_text(run: CableRun, files: dict, findings=()) -> str:
+def cables_text(run: CableRun, files: dict, findings=(), passes: int = 1,
+                rated: tuple[float, float] | None = None) -> str:
     """The summary a user reads: per cable, its verdict and the worst of each finding, then the
-    worst environment for each question."""
+    worst environment for each question, and its fatigue a pass of ``passes``."""
     lines = [f"{run.mechanism}: {len(run.cables)} cable(s), {run.envs} environment(s), "
              f"{run.times[-1]:g} s at {run.options.frame_rate:g} frames/s"]
     for c, weight in zip(run.cables, run.weights):
-        lines += cable_lines(c, TAUT, weight, run.joints, verdict_lines(c, list(findings)))
+        lines += cable_lines(c, weight, run.joints, verdict_lines(c, list(findings)), passes, rated)
     lines += [f"{k}: {v}" for k, v in files.items()]
     return "\n".join(lines)
 

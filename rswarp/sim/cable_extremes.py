@@ -131,6 +131,8 @@ class RunningExtremes:
             clamp_moment_time=self.moment_t, final_clamp_force=self.final_force,
             final_clamp_moment=self.final_moment, wear_contact_time=totals["contact_time"],
             wear_peak_normal=totals["peak_normal"], wear=totals["wear"], bend_cycles=totals["bend_cycles"],
+            fatigue_cycles=totals.get("fatigue_cycles", np.zeros_like(totals["contact_time"])),
+            fatigue_sum=totals.get("fatigue_sum", np.zeros_like(totals["contact_time"])),
             status=status, failed_time=self.failed_t, final_points=final, recorded=recorded, stride=self.stride,
             **series)
 

@@ -94,6 +94,10 @@ class CableResult:
     wear_peak_normal: np.ndarray  # (envs, segments) N
     wear: np.ndarray  # (envs, segments, slots) J: normal force x sliding distance (Archard)
     bend_cycles: np.ndarray  # (envs, segments): below the allowed bend radius and back
+    # (envs, segments): rainflow cycles of the segment's curvature (ranges past FATIGUE_FLOOR of the
+    # allowed one's), and Miner's sum of count x range^FATIGUE_EXPONENT (1/m^m), over the run
+    fatigue_cycles: np.ndarray
+    fatigue_sum: np.ndarray
     status: np.ndarray  # "ok" or why the environment stopped
     failed_time: np.ndarray
     final_points: np.ndarray  # (envs, N, 3)
@@ -130,7 +134,8 @@ PER_ENV = ("peak_tension", "peak_tension_time", "peak_tension_at", "min_bend_rad
            "peak_normal_time", "peak_normal_at", "max_sliding_speed", "pinch", "pinch_time", "pinch_at", "pinch_slots",
            "pinch_q", "clamp_force", "clamp_force_time",
            "clamp_moment", "clamp_moment_time", "final_clamp_force", "final_clamp_moment", "wear_contact_time",
-           "wear_peak_normal", "wear", "bend_cycles", "status", "failed_time", "final_points")
+           "wear_peak_normal", "wear", "bend_cycles", "fatigue_cycles", "fatigue_sum", "status", "failed_time",
+           "final_points")
 
 
 def worst_wear(c: CableResult, envs: np.ndarray) -> tuple[int, int, int] | None:

@@ -38,9 +38,9 @@ CHUNK = 64  # environments per CPU launch: each one's scratch stays in cache
 @dataclass
 class RodState:
     """Many environments of every cable, as Warp arrays on the solver's device: each segment's
-    centre, orientation, velocity, angular velocity and last acceleration (envs, bodies), status (envs,), the wear map
-    (``wear_*``, ``below``, ``cycles``), the last frame's statistics; and on the host, the joints at
-    the end of the last frame (envs, dof)."""
+    centre, orientation, velocity, angular velocity and last acceleration (envs, bodies), status
+    (envs,), the wear map (``wear_*``, ``bend``: each body's curvature, ``cycles``), the last
+    frame's statistics; and on the host, the joints at the end of the last frame (envs, dof)."""
 
     x: object
     q: object
@@ -51,7 +51,7 @@ class RodState:
     wear_time: object
     wear_peak: object
     wear: object
-    below: object
+    bend: object
     cycles: object
     stats: object
     clear: object
@@ -156,7 +156,7 @@ class CosseratRod(CableSolver):
         b, c, slots = lay.bodies, len(lay.cables), len(self.slots)
         vec = lambda: zeros((envs, b), wp.vec3d)  # noqa: E731
         return RodState(rep(lay.x, wp.vec3d), rep(lay.q, wp.quatd), vec(), vec(), vec(), zeros(envs, wp.int32),
-                        zeros((envs, b)), zeros((envs, b)), zeros((envs, b, slots)), zeros((envs, b), wp.int32),
+                        zeros((envs, b)), zeros((envs, b)), zeros((envs, b, slots)), zeros((envs, b)),
                         zeros((envs, b), wp.int32), zeros((envs, c, STATS)), zeros((envs, c, slots)),
                         zeros((envs, c, slots)), zeros((envs, max(len(lay.attach_body), 1), LOADS)),
                         np.zeros((envs, self.dof)))
@@ -176,7 +176,7 @@ class CosseratRod(CableSolver):
         self.launcher.launch(self.kernel, envs, params=[self.params, float(dt), int(self.options.iterations)],
                              inputs=[poses], scratch=(bodies, bodies, bodies * MAX_CONTACTS, bodies),
                              outputs=[state.x, state.q, state.v, state.w, state.a, state.status, state.wear_time,
-                                      state.wear_peak, state.wear, state.below, state.cycles, state.stats,
+                                      state.wear_peak, state.wear, state.bend, state.cycles, state.stats,
                                       state.clear, state.clear_at, state.load])
         state.joints = qs[:, -1].copy()
 
@@ -223,6 +223,11 @@ class CosseratRod(CableSolver):
             out.append({"contact_time": time[:, own].copy(), "peak_normal": peak[:, own].copy(),
                         "wear": wear[:, own].copy(), "bend_cycles": cycles[:, own].astype(np.int64)})
         return out
+
+    def curvatures(self, state: RodState) -> list[np.ndarray]:
+        """Per cable, each environment's segments' curvature now (envs, segments), 1/m."""
+        bend = state.bend.numpy()
+        return [bend[:, c.first:c.first + c.segments] for c in self.layout.cables]
 
     def points(self, state: RodState, cable: int, env: int | None = None) -> np.ndarray:
         c = self.layout.cables[cable]

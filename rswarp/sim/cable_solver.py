@@ -72,6 +72,8 @@ TOTALS = {
     "wear": "(envs, segments, slots) J: normal force times sliding distance, per slot touched (Archard)",
     "bend_cycles": "(envs, segments) times the segment bent tighter than the allowed radius and back",
 }
+FATIGUE_EXPONENT = 4.0  # Miner's sum of count x curvature range^m: the exponent of the hose's S-N line
+FATIGUE_FLOOR = 0.1  # a curvature range under this share of the allowed one's is not counted as a cycle
 
 
 @dataclass(frozen=True)
@@ -212,6 +214,11 @@ class CableSolver(ABC):
     @abstractmethod
     def points(self, state, cable: int, env: int | None = None) -> np.ndarray:
         """Cable ``cable``'s points now: (N, 3) of environment ``env``, or (envs, N, 3) of all, metres."""
+
+    def curvatures(self, state) -> list[np.ndarray] | None:
+        """Per cable, each environment's segments' curvature now (envs, segments), 1/m, for the
+        fatigue count; None for a model that does not give it (no fatigue reported)."""
+        return None
 
 
 def allowed_bend_radius(cable: Cable, options: CableOptions) -> float:

@@ -26,9 +26,10 @@ from .bodies import Environment
 from .cable_extremes import RunningExtremes
 from .cable_models import cable_model, make_solver
 from .cable_results import CableResult
-from .cable_solver import GRAVITY, CableOptions, CableSolver, contact_meshes
+from .cable_solver import FATIGUE_EXPONENT, FATIGUE_FLOOR, GRAVITY, CableOptions, CableSolver, contact_meshes
 from .cable_tally import MAX_VALUES_BYTES, CablePiece, CableTally, values_bytes
 from .engine import Job, run_batch
+from .rainflow import Rainflow
 
 SETTLE_MOVE, SETTLE_HOLD, SETTLE_DAMPING = 0.5, 0.5, 10.0  # s, s, 1/s
 MAX_FRAMES = 1_000_000  # frames of one run (4.6 h at 60 fps)
@@ -243,21 +244,37 @@ class _CableEnvs:
         self.state, self.envs = solver.state(envs), envs
         self.extremes = [RunningExtremes(info, len(solver.slots), envs, frames, record, values, solver.dof)
                          for info in solver.cables]
+        self.flows = None  # per cable, the rainflow count of each segment's curvature, from start()
 
     def start(self) -> None:
-        """After settling: twists counted and the wear map summed from here."""
+        """After settling: twists counted, the wear map summed and bending cycles counted from here."""
         self.solver.reset_totals(self.state)
         for x, stats in zip(self.extremes, self.solver.statistics(self.state)):
             x.start(stats)
+        bends = self.solver.curvatures(self.state)
+        if bends is not None:
+            self.flows = [Rainflow(b.size, FATIGUE_EXPONENT, FATIGUE_FLOOR / info.allowed_bend_radius)
+                          for b, info in zip(bends, self.solver.cables)]
+            self._bend(bends)
 
     def step(self, qs: np.ndarray, t: float) -> None:
         self.solver.step(self.state, qs, 1 / self.options.frame_rate)
         last = self.envs - 1
         for c, (x, stats) in enumerate(zip(self.extremes, self.solver.statistics(self.state))):
             x.add(stats, t, qs[:, -1], lambda c=c: self.solver.points(self.state, c, min(self.record, last)))
+        if self.flows is not None:
+            self._bend(self.solver.curvatures(self.state))
+
+    def _bend(self, bends: list[np.ndarray]) -> None:
+        for flow, b in zip(self.flows, bends):
+            flow.add(b.reshape(-1))
 
     def results(self) -> tuple[CableResult, ...]:
         totals = self.solver.totals(self.state)
+        for c, flow in enumerate(self.flows or ()):
+            cycles, damage = flow.finish()
+            shape = totals[c]["contact_time"].shape
+            totals[c]["fatigue_cycles"], totals[c]["fatigue_sum"] = cycles.reshape(shape), damage.reshape(shape)
         out = tuple(x.result(self.solver.slots, self.solver.failures, self.solver.points(self.state, c), totals[c])
                     for c, x in enumerate(self.extremes))
         if self.options.floor is None and "floor" in self.solver.slots:  # no floor: nothing to be clear of
