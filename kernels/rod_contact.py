@@ -71,12 +71,17 @@ def segment_mesh(mesh: wp.uint64, m: M44, a: V3, b: V3, reach: F64):
     s = V3(wp.mesh_eval_position(mesh, q.face, q.u, q.v))
     d = p - s
     dist = wp.length(d)
+    sign = q.sign
+    if sign < 0.0:
+        # the nearest face's side is wrong past an edge of an open mesh (a CAD part that is not
+        # closed): inside only where the winding number says so too
+        sign = wp.mesh_query_point_sign_winding_number(mesh, wp.vec3f(p), wp.float32(reach)).sign
     n = V3(wp.mesh_eval_face_normal(mesh, q.face))
     if dist > F64(TINY):
         n = d / dist
-        if q.sign < 0.0:
+        if sign < 0.0:
             n = -n
-    if q.sign < 0.0:
+    if sign < 0.0:
         dist = -dist
     return int(1), t, dist, s, n
 

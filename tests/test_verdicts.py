@@ -90,3 +90,24 @@ def test_a_hose_is_clear_of_itself_only_beyond_pi_bend_radii_along_it(tmp_path):
     _, report = _run(tmp_path, "loop.rsxml", "gentle.csv")
     itself = report["cables"][0]["environments"][0]["clearance"]["cables"]["min_clearance_m"]
     assert itself == pytest.approx(0.100, abs=0.005)
+
+
+def test_a_hose_above_an_open_mesh_is_outside_it(tmp_path):
+    """A box without its top (a CAD part that is not closed), its rim 300 mm under the hose's
+    clamps: past the rim's edge the nearest face's side says "inside"; the winding number says
+    outside. The clearance is the hose's distance to the box (trimesh's, from its final shape)
+    less its radius, and nothing pushes it."""
+    import trimesh
+
+    box = RIGS / "open_box.stl"  # 400 x 400 x 200 mm, its rim at z = 0
+    out = run_cables(str(RIGS / "taut.rsxml"), str(tmp_path / "run"), envs=1, trajectory=[str(RIGS / "still.csv")],
+                     environment=[f"{box}@450,0,700"])
+    cable = json.loads((tmp_path / "run" / "report.json").read_text())["cables"][0]
+    env = cable["environments"][0]
+    mesh = trimesh.load(box)
+    mesh.apply_translation([450, 0, 700])
+    points = np.array(env["final_points"]) * 1000.0  # mm, as the box
+    _, distance, _ = trimesh.proximity.closest_point(mesh, points)
+    clear = env["clearance"]["open_box"]["min_clearance_m"] * 1000.0
+    assert clear > 0 and clear == pytest.approx(distance.min() - 10.0, abs=3.0)
+    assert not [f for f in out.doc["findings"] if f["kind"] == "rub"]

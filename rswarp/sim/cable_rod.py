@@ -133,7 +133,8 @@ class CosseratRod(CableSolver):
         for j, (m, _, _) in enumerate(entries):
             if m is not None:
                 mesh = wp.Mesh(points=wp.array(m[0].astype(np.float32), dtype=wp.vec3, device=dev),
-                               indices=wp.array(m[1].astype(np.int32).ravel(), dtype=wp.int32, device=dev))
+                               indices=wp.array(m[1].astype(np.int32).ravel(), dtype=wp.int32, device=dev),
+                               support_winding_number=True)
                 self._meshes.append(mesh)
                 ids[j] = mesh.id
                 centre = (m[0].min(axis=0) + m[0].max(axis=0)) / 2
