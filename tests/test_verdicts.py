@@ -111,3 +111,13 @@ def test_a_hose_above_an_open_mesh_is_outside_it(tmp_path):
     clear = env["clearance"]["open_box"]["min_clearance_m"] * 1000.0
     assert clear > 0 and clear == pytest.approx(distance.min() - 10.0, abs=3.0)
     assert not [f for f in out.doc["findings"] if f["kind"] == "rub"]
+
+
+def test_a_program_that_pulls_the_hose_taut_is_caught_in_the_move_that_pulls(tmp_path):
+    """pull_hold.mod runs the slide out 200 mm by its second MoveAbsJ (line 10, 0.5 s to 2.55 s),
+    holds, and comes back: the hose is taut from within that move, and needs 100 mm or more."""
+    out = run_cables(str(RIGS / "taut.rsxml"), str(tmp_path / "run"), program=[str(RIGS / "pull_hold.mod")])
+    taut = [f for f in out.doc["findings"] if f["kind"] == "taut"]
+    assert len(taut) == 1 and taut[0]["line"] == 10 and taut[0]["routine"] == "main"
+    assert 0.5 < taut[0]["t_s"] < 2.55
+    assert int(re.search(r"at least (\d+) mm", taut[0]["advice"]).group(1)) >= 100

@@ -60,7 +60,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                            friction=friction, environment=placed_environments(mech, environment or []),
                            cable_model=cable_model, min_bend_radius=mech.si_length(min_bend_radius),
                            floor=mech.si_length(floor), record=0 if usd else -1, device=device,
-                           tool=load_tool(mech, tool))
+                           tool=load_tool(mech, tool), max_strain=max_strain)
     checked("envs", envs)
     if not mech.cables:  # before any trajectory is made
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")

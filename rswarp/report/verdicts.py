@@ -79,8 +79,10 @@ def _taut(c: CableResult, e: int, at: When, r: Ratings) -> list[Finding]:
     if not strain > r.max_strain:
         return []
     extra_mm = math.ceil(strain * c.length * 1000)
+    # when it first went taut (the move that pulls it), where its strain peaked, and by how much
+    t = c.taut_time[e] if np.isfinite(c.taut_time[e]) else c.peak_tension_time[e]
     return [_make(c, e, at, "taut", FAIL, f"pulled taut: strain {100 * strain:.2f} % over {100 * r.max_strain:.2f} %",
-                  c.peak_tension_time[e], c.peak_tension_at[e], value=strain, limit=r.max_strain, unit="1",
+                  t, c.peak_tension_at[e], value=strain, limit=r.max_strain, unit="1",
                   advice=f"lengthen it by at least {extra_mm} mm (its stretch then), or bring its clamps closer "
                          "over this move")]
 

@@ -17,11 +17,13 @@ class RunningExtremes:
     of a cut run keeps these, and the tally takes the spread of all environments."""
 
     def __init__(self, info: CableInfo, slots: int, envs: int, frames: int, record: int, values: bool = False,
-                 dof: int = 0):
+                 dof: int = 0, max_strain: float = 0.005):
         self.info = info
+        self.taut_force = max_strain * info.axial_stiffness  # N: past it, the first time is noted (taut_t)
         nan = lambda *shape: np.full(shape, np.nan)  # noqa: E731
         a = len(info.attachments)
         self.tension, self.tension_t, self.tension_at = np.zeros(envs), nan(envs), nan(envs)
+        self.taut_t = nan(envs)
         self.bend, self.bend_t, self.bend_at = np.full(envs, np.inf), nan(envs), nan(envs)
         self.clear, self.clear_t, self.clear_at = np.full((envs, slots), np.inf), nan(envs, slots), nan(envs, slots)
         self.contact_t, self.contact_at = nan(envs, slots), nan(envs, slots)
@@ -57,6 +59,7 @@ class RunningExtremes:
         only = lambda key: np.where(live, stats[key], np.nan)  # noqa: E731
         tension, bend, torque = only("tension"), only("bend_radius"), only("torque")
         _higher(self.tension, tension, t, self.tension_t, self.tension_at, stats["tension_at"])
+        self.taut_t[np.isnan(self.taut_t) & (tension > self.taut_force)] = t
         _lower(self.bend, bend, t, self.bend_t, self.bend_at, stats["bend_at"])
         gap = self._clearances(stats, live, t)
         _higher(self.stretch, only("stretch"), t, self.stretch_t)
@@ -119,7 +122,8 @@ class RunningExtremes:
             axial_stiffness=info.axial_stiffness, bending_stiffness=info.bending_stiffness,
             torsion_stiffness=info.torsion_stiffness, links=slots, attachments=info.attachments,
             segments=info.segments, peak_tension=self.tension, peak_tension_time=self.tension_t,
-            peak_tension_at=self.tension_at, min_bend_radius=self.bend, min_bend_time=self.bend_t,
+            peak_tension_at=self.tension_at, taut_time=self.taut_t,
+            min_bend_radius=self.bend, min_bend_time=self.bend_t,
             min_bend_at=self.bend_at, clearance=self.clear, clearance_time=self.clear_t, clearance_at=self.clear_at,
             contact_time=self.contact_t, contact_at=self.contact_at, stretch=self.stretch,
             stretch_time=self.stretch_t, max_twist=self.max_twist, max_twist_rate=self.rate, max_torque=self.torque,

@@ -60,6 +60,7 @@ class CableResult:
     peak_tension: np.ndarray  # the rod's greatest axial force
     peak_tension_time: np.ndarray
     peak_tension_at: np.ndarray
+    taut_time: np.ndarray  # when its axial strain first passed the run's max_strain (NaN: never)
     min_bend_radius: np.ndarray
     min_bend_time: np.ndarray
     min_bend_at: np.ndarray
@@ -128,7 +129,8 @@ class CableResult:
 
 
 # CableResult's fields with one row per environment (the others describe the cable or the run)
-PER_ENV = ("peak_tension", "peak_tension_time", "peak_tension_at", "min_bend_radius", "min_bend_time", "min_bend_at",
+PER_ENV = ("peak_tension", "peak_tension_time", "peak_tension_at", "taut_time", "min_bend_radius", "min_bend_time",
+           "min_bend_at",
            "clearance", "clearance_time", "clearance_at", "contact_time", "contact_at", "stretch", "stretch_time",
            "max_twist", "max_twist_rate", "max_torque", "max_torque_time", "max_torque_at", "peak_normal",
            "peak_normal_time", "peak_normal_at", "max_sliding_speed", "pinch", "pinch_time", "pinch_at", "pinch_slots",

@@ -92,6 +92,7 @@ class CableOptions:
     floor: float | None = 0.0  # z of the floor (m); None: no floor
     contact: bool = True  # against the link meshes
     environment: tuple[Environment, ...] = ()  # meshes placed in the world
+    max_strain: float = 0.005  # axial strain past which a cable is taut: when it first is, is noted
     tool: object = None  # a sim.tool.Tool on the flange, which the cables touch and the videos draw
     record: int = -1  # the environment whose shapes are kept for playback (--usd); -1: none
     cable_model: str = "rod"  # the model of ``cable_models.CABLE_MODELS``
@@ -101,7 +102,8 @@ class CableOptions:
     def __post_init__(self):
         for name, value in (("frame-rate", self.frame_rate), ("substeps", self.substeps), ("density", self.density),
                             ("poisson", self.poisson), ("friction", self.friction),
-                            ("min-bend-radius", self.min_bend_radius), ("floor", self.floor)):
+                            ("min-bend-radius", self.min_bend_radius), ("floor", self.floor),
+                            ("max-strain", self.max_strain)):
             checked(name, value)
         if not (1 <= self.iterations <= 100 and math.isfinite(self.damping) and self.damping >= 0
                 and self.bend_factor > 0):
