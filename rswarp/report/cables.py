@@ -50,7 +50,10 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
     unit."""
     envs = envs if envs is not None else 1 if program is not None else 16
-    mech, _ = load_mechanism(path)
+    mech, report = load_mechanism(path)
+    for d in report.diagnostics:  # a hose with no slack: the run's answers depend on it, so it says so
+        if d.severity == "warning" and "desiredLength" in d.message:
+            warn(str(d))
     ratings = Ratings(max_strain, mech.si_length(static_bend_radius), np.radians(max_torsion), max_contact_force,
                       max_clamp_load)
     rated = rated_fatigue(rated_cycles, mech)
