@@ -140,7 +140,8 @@ def collisions_text(c: Collisions, mech: Mechanism, files: dict) -> str:
         name = f"{p.body1} / {p.body2}"
         clear = ""
         if p.clearance is not None:
-            clear = f"closest {length(p.clearance)}, never under {length(max(p.clearance_floor, 0.0))}"
+            clear = (f"closest sampled {length(p.clearance)} (exact); no sample under "
+                     f"{length(max(p.clearance_floor, 0.0))} (bounding volumes)")
         lines.append(f"{name:<28} {p.collisions / max(c.samples, 1):>9.3%}  {p.reason or 'checked':<9} {clear}")
     lines.append("disabled: " + ", ".join(f"{v} {k.lower()}" for k, v in c.reason_counts().items())
                  + f" ({c.always_rounds} round(s) of 200 for 'always')")
