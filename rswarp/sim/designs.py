@@ -1,0 +1,163 @@
+"""Designs of a dress pack, for a design sweep: the variables a user varies (``--vary``) over a box,
+the designs drawn in it by a scrambled Sobol sequence (scipy.stats.qmc), and each design as the
+mechanism with its cable changed: its length (``desiredLength``), a control point's place shifted
+in its link's frame, its direction tilted. A design whose attached control points lie inside a
+link's mesh at rest is refused before any work."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..rsxml.model import Cable, Mechanism
+from ..transforms import euler_zyx_matrix
+
+PROPERTIES = ("x", "y", "z", "pitch", "yaw")  # a shift (m) along, or a tilt (deg) about y or z of, the link's axes
+MAX_DESIGNS = 1 << 16
+MAX_SHIFT = 1.0  # m: farther is another cell, not a clamp position
+MAX_TILT = 90.0  # deg
+_SPEC = re.compile(r"^\s*([^=]+?)\s*=\s*([^:]+):([^:]+)\s*$")
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One varied number: ``length`` (m), or a control point's (0-based ``point``) shift along
+    ``x``/``y``/``z`` of its link's frame (m) or tilt ``pitch``/``yaw`` (rad), from ``low`` to
+    ``high``; ``name`` as the user wrote it."""
+
+    name: str
+    what: str
+    low: float
+    high: float
+    point: int | None = None
+
+
+def parse_vary(specs: list[str], cable: Cable) -> tuple[Variable, ...]:
+    """``length=MIN:MAX`` (m), ``LINK.PROPERTY=MIN:MAX`` or ``N.PROPERTY=MIN:MAX`` (control point N,
+    counted from 1; a shift in m, a tilt in degrees) as variables; an InputError, one line, for
+    anything else."""
+    out = []
+    for spec in specs:
+        m = _SPEC.match(spec)
+        usage = f"--vary '{spec}': give length=MIN:MAX (m) or POINT.{{{','.join(PROPERTIES)}}}=MIN:MAX, POINT a " \
+                "control point's link or its number"
+        if m is None:
+            raise InputError(usage)
+        name, low, high = m.group(1), _number(m.group(2), spec), _number(m.group(3), spec)
+        if not low < high:
+            raise InputError(f"--vary '{spec}': an empty range ({low:g} to {high:g}); give MIN below MAX")
+        if name == "length":
+            if low <= 0:
+                raise InputError(f"--vary '{spec}': a length above 0, please")
+            out.append(Variable(name, "length", low, high))
+            continue
+        point_name, _, what = name.rpartition(".")
+        if what not in PROPERTIES or not point_name:
+            raise InputError(usage)
+        point = _point(point_name, cable, spec)
+        bound = MAX_TILT if what in ("pitch", "yaw") else MAX_SHIFT
+        if max(abs(low), abs(high)) > bound:
+            raise InputError(f"--vary '{spec}': within ±{bound:g} {'deg' if bound == MAX_TILT else 'm'}, please")
+        scale = math.pi / 180.0 if what in ("pitch", "yaw") else 1.0
+        out.append(Variable(name, what, low * scale, high * scale, point))
+    if len({v.name for v in out}) < len(out):
+        raise InputError("--vary names one variable twice")
+    return tuple(out)
+
+
+def _number(text: str, spec: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise InputError(f"--vary '{spec}': '{text.strip()}' is not a number")
+    return value
+
+
+def _point(name: str, cable: Cable, spec: str) -> int:
+    """The control point ``name`` means: its number (from 1), or the one control point its link holds."""
+    points = cable.control_points
+    held = [f"{k + 1} on {p.attached_to}" for k, p in enumerate(points) if p.attached_to]
+    if name.isdigit():
+        k = int(name) - 1
+        if not 0 <= k < len(points):
+            raise InputError(f"--vary '{spec}': cable '{cable.name}' has control points 1 to {len(points)}")
+    else:
+        on = [k for k, p in enumerate(points) if p.attached_to == name]
+        if len(on) != 1:
+            why = "no control point" if not on else f"{len(on)} control points; name one by its number"
+            raise InputError(f"--vary '{spec}': link '{name}' holds {why} of cable '{cable.name}' (held: "
+                             f"{', '.join(held) or 'none'})")
+        k = on[0]
+    if points[k].attached_to is None:
+        raise InputError(f"--vary '{spec}': control point {k + 1} of cable '{cable.name}' is held by no link; "
+                         f"vary those held ({', '.join(held) or 'none'})")
+    return k
+
+
+def sample(variables: tuple[Variable, ...], designs: int, seed: int = 0) -> np.ndarray:
+    """(designs, variables) values drawn by a scrambled Sobol sequence over the box, reproducible
+    by ``seed``."""
+    from scipy.stats import qmc
+
+    if not 1 <= designs <= MAX_DESIGNS:
+        raise InputError(f"--designs must be 1 to {MAX_DESIGNS}, not {designs}")
+    if not variables:
+        raise InputError("give at least one --vary")
+    unit = qmc.Sobol(len(variables), scramble=True, seed=seed).random_base2(max(0, math.ceil(math.log2(designs))))
+    low = np.array([v.low for v in variables])
+    high = np.array([v.high for v in variables])
+    return low + unit[:designs] * (high - low)
+
+
+def design(mech: Mechanism, cable: int, variables: tuple[Variable, ...], values) -> Mechanism:
+    """The mechanism with cable ``cable`` changed by one design's ``values``."""
+    c = mech.cables[cable]
+    points = list(c.control_points)
+    length = c.desired_length
+    for v, value in zip(variables, values):
+        if v.what == "length":
+            length = float(value)
+            continue
+        p = points[v.point]
+        if v.what in ("x", "y", "z"):
+            shift = np.zeros(3)
+            shift["xyz".index(v.what)] = value
+            points[v.point] = dataclasses.replace(p, position=tuple(float(a) for a in np.add(p.position, shift)))
+        elif p.direction is not None:
+            turn = euler_zyx_matrix(0.0, float(value), 0.0) if v.what == "pitch" else \
+                euler_zyx_matrix(0.0, 0.0, float(value))
+            points[v.point] = dataclasses.replace(p, direction=tuple(float(a) for a in turn @ p.unit_direction))
+    changed = dataclasses.replace(c, control_points=tuple(points), desired_length=length)
+    cables = list(mech.cables)
+    cables[cable] = changed
+    return dataclasses.replace(mech, cables=tuple(cables))
+
+
+def inside_links(mech: Mechanism, cable: int) -> list[str]:
+    """The attached control points of cable ``cable`` that lie inside a link's (closed) mesh at the
+    zero position, as "point N in LINK"."""
+    import trimesh
+
+    from ..errors import MeshNotFoundError
+    from ..geometry.meshes import link_mesh
+
+    out = []
+    for name in mech.graph.links:
+        try:
+            mesh = link_mesh(mech, name)
+        except MeshNotFoundError:
+            continue
+        if mesh is None or not mesh.is_watertight:
+            continue
+        for k, p in enumerate(mech.cables[cable].control_points):
+            if p.attached_to and trimesh.Trimesh(mesh.vertices, mesh.faces, process=False).contains(
+                    np.asarray([p.position]))[0]:
+                out.append(f"point {k + 1} in {name}")
+    return out
