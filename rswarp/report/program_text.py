@@ -46,7 +46,7 @@ def _head(doc: dict, files: list[str]) -> str:
     count = sum(1 for m in moves if m["kind"] != "wait")
     source = Path(files[0]).name if len(files) == 1 else f"{len(files)} files"
     head = (f"{doc['robot']}: {doc['routine']} of {source}, {count} move{'s' * (count != 1)}, "
-            f"{doc['duration_s']:.2f} s (zones blended; fine stops)")
+            f"{doc['duration_s']:.2f} s in all (zones blended; fine stops)")
     passes = doc["cycles_s"]
     if doc["main_loop"]:
         loop = doc["main_loop"]
