@@ -121,3 +121,13 @@ def test_a_program_that_pulls_the_hose_taut_is_caught_in_the_move_that_pulls(tmp
     assert len(taut) == 1 and taut[0]["line"] == 10 and taut[0]["routine"] == "main"
     assert 0.5 < taut[0]["t_s"] < 2.55
     assert int(re.search(r"at least (\d+) mm", taut[0]["advice"]).group(1)) >= 100
+
+
+def test_a_clamp_load_past_its_rating_fails(tmp_path):
+    """The pull's clamps hold the hose's whole stretch (E A x strain, kilonewtons): rated for
+    100 N, both fail; rated for 1 MN, neither."""
+    _, report = _run(tmp_path, "taut.rsxml", "pull.csv", max_clamp_load=100.0)
+    clamps = [f for f in report["findings"] if f["kind"] == "clamp"]
+    assert len(clamps) == 2 and all(f["value"] > 1000 and f["limit"] == 100 and f["unit"] == "N" for f in clamps)
+    _, report = _run(tmp_path, "taut.rsxml", "pull.csv", max_clamp_load=1e6)
+    assert not [f for f in report["findings"] if f["kind"] == "clamp"]

@@ -155,7 +155,8 @@ def _clamps(c: CableResult, e: int, at: When, r: Ratings) -> list[Finding]:
         force = float(c.clamp_force[e, a])
         if force > r.max_clamp_load:
             out.append(_make(c, e, at, "clamp", FAIL, f"{name} pulled with {force:.3g} N, over "
-                             f"{r.max_clamp_load:.3g} N", c.clamp_force_time[e, a], np.nan, value=force,
+                             f"{r.max_clamp_load:.3g} N (and turned by up to {c.clamp_moment[e, a]:.3g} N m)",
+                             c.clamp_force_time[e, a], np.nan, value=force,
                              limit=r.max_clamp_load, unit="N", advice="more slack on either side of the clamp"))
     return out
 
