@@ -4,6 +4,8 @@ sizing the efforts. The combined inertia is held against pinocchio's own sum of 
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -95,3 +97,16 @@ def test_estimated_efforts_carry_the_payload():
 def test_a_cable_run_over_a_program_names_its_payload(tmp_path):
     out = run_cables(str(IRB2600_DRESSPACK), str(tmp_path / "run"), program=[str(IRB2600_PROGRAM)], seconds=0.2)
     assert out.doc["payload"]["mass"] == 3.0 and "payload: 3 kg" in out.text
+
+
+def test_the_bundled_robots_estimated_efforts_are_the_docs():
+    """docs/export.md quotes these: with the rated 12 kg at the flange, J1 to J6 4063, 2745, 806,
+    454, 28 and 7 N m; without a payload axis 5 had 7.5 N m."""
+    from rswarp.report.exports import data_physics
+
+    mech = robot()
+    options = data_physics(str(IRB2600), mech)
+    rated = [j.effort for j in robot_physics(mech, options).joints.values()]
+    bare = robot_physics(mech, dataclasses.replace(options, rated_payload=None)).joints["J5"].effort
+    assert rated == pytest.approx([4063, 2745, 806, 454, 28.4, 7.2], rel=0.01)
+    assert bare == pytest.approx(7.5, rel=0.01)

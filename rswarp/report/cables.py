@@ -51,9 +51,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     unit."""
     envs = envs if envs is not None else 1 if program is not None else 16
     mech, report = load_mechanism(path)
-    for d in report.diagnostics:  # a hose with no slack: the run's answers depend on it, so it says so
-        if d.severity == "warning" and "desiredLength" in d.message:
-            warn(str(d))
+    _say_no_slack(report, warn)
     ratings = Ratings(max_strain, mech.si_length(static_bend_radius), np.radians(max_torsion), max_contact_force,
                       max_clamp_load)
     rated = rated_fatigue(rated_cycles, mech)
@@ -69,47 +67,71 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
-    moves = None  # a program's moves, for the video's program line
     if program is not None:
         from .program import program_plan, signal_values
 
         _, plan = program_plan(path, program, routine, io=signal_values(io), cycles=cycles,
                                 external_axes=external_axes, warn=warn, limits=limits)
-        trajectories, moves = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)], plan.moves
+    else:
+        plan = None
+    trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, seed, warn)
+    run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
+                          cluster=cluster_for(ray, device))
+    for w in run.warnings:
+        warn(w)
+    doc, text = _reported(run, mech, out, usd, trajectories, plan, ratings, rated)
+    if video is not None:
+        from .videos import cable_video
+
+        moves = plan.moves if plan is not None else None
+        doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size, moves)
+        text += f"\nvideo: {video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
+    return Output(doc, text)
+
+
+def _say_no_slack(report, warn: Warn) -> None:
+    """A hose with no slack: the run's answers depend on it, so the run says so, as check does."""
+    for d in report.diagnostics:
+        if d.severity == "warning" and "desiredLength" in d.message:
+            warn(str(d))
+
+
+def _trajectories(mech, options: CableOptions, plan, trajectory, random: bool, envs: int, seconds, seed: int,
+                  warn: Warn) -> list:
+    """What the environments follow: the program's ``plan``, random programs, or CSV files."""
+    if plan is not None:
+        trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
         if seconds is not None and seconds < trajectories[0].duration:
             warn(f"rswarp: warning: --seconds {seconds:g}: the task takes {trajectories[0].duration:.2f} s; the run "
                  f"covers its first {seconds:g} s")
     elif random:  # random programs: free of the floor (at the run's floor) and of the robot itself
         from ..sim.random_program import random_programs
 
-        trajectories = random_programs(mech, envs, seconds or RANDOM_SECONDS, seed,
-                                       0.0 if options.floor is None else options.floor, options)
+        return random_programs(mech, envs, seconds or RANDOM_SECONDS, seed,
+                               0.0 if options.floor is None else options.floor, options)
     else:
         trajectories = run_trajectories(mech, trajectory, False, envs, seconds, seed)
-    if not random and 0 < len(trajectories) < envs:
+    if 0 < len(trajectories) < envs:
         many = f"{len(trajectories)} trajectories" if len(trajectories) > 1 else "one trajectory"
         warn(f"rswarp: warning: --envs {envs}: {many} for {envs} environments; those that follow the same one "
              f"are alike")
-    run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
-                          cluster=cluster_for(ray, device))
-    for w in run.warnings:
-        warn(w)
-    load = task_payload(plan) if program is not None else None
-    found = run_findings(run, trajectories, moves, ratings)
+    return trajectories
+
+
+def _reported(run: CableRun, mech, out: str, usd: bool, trajectories, plan, ratings: Ratings, rated):
+    """(report, text) of a run: its verdicts and findings, written into ``out`` with its plots;
+    over a program, each finding's line, the fatigue a pass and the payload it carries."""
+    load = task_payload(plan) if plan is not None else None
+    found = run_findings(run, trajectories, plan.moves if plan is not None else None, ratings)
     doc = write_cables(run, mech, out, usd=usd, more={
         "payload": None if load is None else {"mass": load.mass, "cog": load.cog, "source": load.source},
         **verdict_data(run, found)})
-    passes = max(len(plan.cycles), 1) if program is not None else 1
+    passes = max(len(plan.cycles), 1) if plan is not None else 1
     text = cables_text(run, doc["files"], found, passes, rated)
     if load is not None:  # the joints are the plan's: a load changes no hose figure, and is said so
         text += (f"\npayload: {load.mass:g} kg ({load.source}); the robot follows its planned joints, which no "
                  "load changes here")
-    if video is not None:
-        from .videos import cable_video
-
-        doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size, moves)
-        text += f"\nvideo: {video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
-    return Output(doc, text)
+    return doc, text
 
 
 def rated_fatigue(spec: str | None, mech) -> tuple[float, float] | None:

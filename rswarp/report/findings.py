@@ -25,9 +25,10 @@ def move_findings(mech, p, move, tally, names, floor: float, tools=None) -> list
     if tally.outside[rows].any():
         out.append(_outside(mech, p, m, a + int(np.argmax(tally.outside[rows]))))
     hits = tally.hit[rows]
+    step = _step(p.times[max(a - 1, 0):b])
     for k in np.nonzero(hits.any(axis=0))[0]:
         first = a + int(np.argmax(hits[:, k]))
-        span = float(np.count_nonzero(hits[:, k])) * _step(p)
+        span = float(np.count_nonzero(hits[:, k])) * step
         out.append(at_time("collision", f"{names[k][0]} hits {names[k][1]} at t = {p.times[first]:.2f} s for "
                            f"{span:.2f} s", m, p.times[first], p.q[first], severity=FAIL, links=tuple(names[k]),
                            value=span, limit=0.0, unit="s",
@@ -46,9 +47,9 @@ def move_findings(mech, p, move, tally, names, floor: float, tools=None) -> list
     return out
 
 
-def _step(p) -> float:
-    """The time between samples (s)."""
-    return float(np.median(np.diff(p.times))) if len(p.times) > 1 else 0.0
+def _step(times: np.ndarray) -> float:
+    """The time between samples (s), from a move's own (not the whole trajectory's)."""
+    return float(np.median(np.diff(times))) if len(times) > 1 else 0.0
 
 
 def _outside(mech, p, m, row: int) -> Finding:

@@ -148,16 +148,15 @@ def inside_links(mech: Mechanism, cable: int) -> list[str]:
     from ..errors import MeshNotFoundError
     from ..geometry.meshes import link_mesh
 
+    held = [(k, p.position) for k, p in enumerate(mech.cables[cable].control_points) if p.attached_to]
     out = []
     for name in mech.graph.links:
         try:
             mesh = link_mesh(mech, name)
         except MeshNotFoundError:
             continue
-        if mesh is None or not mesh.is_watertight:
+        if mesh is None or not mesh.is_watertight or not held:
             continue
-        for k, p in enumerate(mech.cables[cable].control_points):
-            if p.attached_to and trimesh.Trimesh(mesh.vertices, mesh.faces, process=False).contains(
-                    np.asarray([p.position]))[0]:
-                out.append(f"point {k + 1} in {name}")
+        inside = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False).contains(np.array([p for _, p in held]))
+        out += [f"point {k + 1} in {name}" for (k, _), yes in zip(held, inside) if yes]
     return out
