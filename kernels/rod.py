@@ -67,34 +67,34 @@ def _start_frame(params: RodParams, e: int, stats_out: wp.array3d(dtype=F64), cl
 
 
 @wp.func
-def _contacts(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
+def _contacts(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
               q_s: wp.array2d(dtype=Q), work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact),
               count: wp.array2d(dtype=wp.int32), row: int, clear_out: wp.array3d(dtype=F64),
               at_out: wp.array3d(dtype=F64)):
     """The substep's contacts at its start (pose rows s and s + 1 before and after it)."""
-    for k in range(params.half.shape[0]):
+    for k in range(params.bodies[d]):
         count[row, k] = 0
-    for k in range(params.half.shape[0]):
-        ahead = params.margin + swept(params, work, x_s, q_s, e, row, k)
-        surfaces(params, poses, e, s, s + 1, k, x_s[e, k], q_s[e, k], ahead, 1, contacts, count, row, clear_out,
+    for k in range(params.bodies[d]):
+        ahead = params.margin[d] + swept(params, d, work, x_s, q_s, e, row, k)
+        surfaces(params, d, poses, e, s, s + 1, k, x_s[e, k], q_s[e, k], ahead, 1, contacts, count, row, clear_out,
                  at_out)
-    capsule_pairs(params, work, x_s, q_s, e, params.margin, 1, contacts, count, row, clear_out, at_out)
+    capsule_pairs(params, d, work, x_s, q_s, e, params.margin[d], 1, contacts, count, row, clear_out, at_out)
 
 
 @wp.func
-def _clearances(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
+def _clearances(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
                 q_s: wp.array2d(dtype=Q), work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact),
                 count: wp.array2d(dtype=wp.int32), row: int, clear_out: wp.array3d(dtype=F64),
                 at_out: wp.array3d(dtype=F64)):
     """The frame's end: every clearance within ``reach``."""
-    for k in range(params.half.shape[0]):
-        surfaces(params, poses, e, s, s, k, x_s[e, k], q_s[e, k], params.reach, 0, contacts, count, row,
+    for k in range(params.bodies[d]):
+        surfaces(params, d, poses, e, s, s, k, x_s[e, k], q_s[e, k], params.reach, 0, contacts, count, row,
                  clear_out, at_out)
-    capsule_pairs(params, work, x_s, q_s, e, params.reach, 0, contacts, count, row, clear_out, at_out)
+    capsule_pairs(params, d, work, x_s, q_s, e, params.reach, 0, contacts, count, row, clear_out, at_out)
 
 
 @wp.func
-def _substep(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64, iterations: int,
+def _substep(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64, iterations: int,
              work: wp.array2d(dtype=BodyWork), factor: wp.array2d(dtype=Factor), contacts: wp.array2d(dtype=Contact),
              count: wp.array2d(dtype=wp.int32), row: int, x_out: wp.array2d(dtype=V3), q_out: wp.array2d(dtype=Q),
              v_out: wp.array2d(dtype=V3), w_out: wp.array2d(dtype=V3), a_out: wp.array2d(dtype=V3),
@@ -105,19 +105,19 @@ def _substep(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h:
              load_out: wp.array3d(dtype=F64)) -> int:
     """Substep ``s``: predict, find contacts, iterate, measure and commit. RUNNING, or why the
     environment stops (nothing committed then)."""
-    predict(params, x_out, q_out, v_out, w_out, a_out, e, work, row, h)
-    _contacts(params, poses, e, s, x_out, q_out, work, contacts, count, row, clear_out, at_out)
-    free_start(params, work, count, row)
+    predict(params, d, x_out, q_out, v_out, w_out, a_out, e, work, row, h)
+    _contacts(params, d, poses, e, s, x_out, q_out, work, contacts, count, row, clear_out, at_out)
+    free_start(params, d, work, count, row)
     for _ in range(iterations):
         # Newton's step length bounds what is left of the error: a step under STEP_TOLERANCE ends
         # the substep's iterations (a cable at rest takes one; a moving or rubbing one, all)
-        if iterate(params, poses, e, s + 1, h, work, factor, contacts, count, row) < F64(STEP_TOLERANCE):
+        if iterate(params, d, poses, e, s + 1, h, work, factor, contacts, count, row) < F64(STEP_TOLERANCE):
             break
-    crushed = measure(params, poses, e, s + 1, h, work, contacts, count, row, stats_out, load_out, wear_time_out,
+    crushed = measure(params, d, poses, e, s + 1, h, work, contacts, count, row, stats_out, load_out, wear_time_out,
                       wear_peak_out, wear_out, bend_out, cycles_out)
     if crushed >= 0:
         return CRUSHED + crushed
-    return commit(params, work, row, h, x_out, q_out, v_out, w_out, a_out, e)
+    return commit(params, d, work, row, h, x_out, q_out, v_out, w_out, a_out, e)
 
 
 @cached
@@ -135,6 +135,7 @@ def rod_kernel():
         iterations: int,
         # In:
         poses: wp.array3d(dtype=M44),
+        design: wp.array(dtype=wp.int32),  # each environment's design: its row of the per-design arrays
         # Scratch:
         work: wp.array2d(dtype=BodyWork),
         factor: wp.array2d(dtype=Factor),
@@ -162,18 +163,19 @@ def rod_kernel():
         e = wp.tid()
         if status_out[e] != RUNNING:
             return
+        d = design[e]
         row = e  # this thread's rows of the scratch arrays
         _start_frame(params, e, stats_out, clear_out, at_out, load_out)
         substeps = poses.shape[1] - 1
         h = dt / F64(substeps)
         for s in range(substeps):
-            status = _substep(params, poses, e, s, h, iterations, work, factor, contacts, count, row, x_out, q_out,
+            status = _substep(params, d, poses, e, s, h, iterations, work, factor, contacts, count, row, x_out, q_out,
                               v_out, w_out, a_out, wear_time_out, wear_peak_out, wear_out, bend_out, cycles_out,
                               stats_out, clear_out, at_out, load_out)
             if status != RUNNING:
                 status_out[e] = status
                 return
-        frame_end(params, poses, e, substeps, x_out, q_out, stats_out)
-        _clearances(params, poses, e, substeps, x_out, q_out, work, contacts, count, row, clear_out, at_out)
+        frame_end(params, d, poses, e, substeps, x_out, q_out, stats_out)
+        _clearances(params, d, poses, e, substeps, x_out, q_out, work, contacts, count, row, clear_out, at_out)
 
     return step

@@ -21,22 +21,22 @@ AHEAD = 2.0
 
 
 @wp.func
-def swept(params: RodParams, work: wp.array2d(dtype=BodyWork), x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q),
-          e: int, row: int, k: int) -> F64:
+def swept(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x_s: wp.array2d(dtype=V3),
+          q_s: wp.array2d(dtype=Q), e: int, row: int, k: int) -> F64:
     """How far body k's capsule may move in the substep: AHEAD times its predicted sweep."""
     b = work[row, k]
     turn = wp.length(rotation_vector(b.q_pred * wp.quat_inverse(q_s[e, k])))
-    return F64(AHEAD) * (wp.length(b.x_pred - x_s[e, k]) + turn * params.half[k])
+    return F64(AHEAD) * (wp.length(b.x_pred - x_s[e, k]) + turn * params.half[d, k])
 
 
 @wp.func
-def surfaces(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s_old: int, s_new: int, k: int, x: V3, q: Q,
-             query: F64, make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
-             clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
+def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_old: int, s_new: int, k: int, x: V3,
+             q: Q, query: F64, make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
+             row: int, clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
     """Body k (at x, q) against every mesh it may touch and the floor."""
-    cable = params.cable[k]
-    r = params.radius[k]
-    half = params.half[k]
+    cable = params.cable[d, k]
+    r = params.radius[d, k]
+    half = params.half[d, k]
     axis = axis_of(q)
     a = x - half * axis
     b = x + half * axis
@@ -46,7 +46,7 @@ def surfaces(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s_old: int
             continue
         link = params.mesh_link[j]
         if link >= 0:
-            if params.touch[k, link] == 0:
+            if params.touch[d, k, link] == 0:
                 continue
         m_old = mesh_pose(params, poses, e, s_old, j)
         sp = params.sphere[j]
@@ -56,24 +56,24 @@ def surfaces(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s_old: int
         if found == 0:
             continue
         gap = dist - r
-        arc = params.arc[k] + t * F64(2.0) * half
+        arc = params.arc[d, k] + t * F64(2.0) * half
         note(clear_out, at_out, e, cable, j, gap, arc)
         if make != 0 and gap < query and gap > -r:  # deeper: the robot drove it through (``squash``)
             m_new = mesh_pose(params, poses, e, s_new, j)
             p = a + t * (b - a)
             moved = from_frame(m_new, s) - from_frame(m_old, s)
             keep(contacts, count, row, k, contact(j, wp.quat_rotate_inv(q, p - x), p, moved, turn(m_new, n), gap,
-                                                 r, params.contact_stiff[k], arc))
-    _floor(params, e, k, x, q, a, b, query, make, contacts, count, row, clear_out, at_out)
+                                                 r, params.contact_stiff[d, k], arc))
+    _floor(params, d, e, k, x, q, a, b, query, make, contacts, count, row, clear_out, at_out)
 
 
 @wp.func
-def _floor(params: RodParams, e: int, k: int, x: V3, q: Q, a: V3, b: V3, query: F64, make: int,
+def _floor(params: RodParams, d: int, e: int, k: int, x: V3, q: Q, a: V3, b: V3, query: F64, make: int,
            contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
            clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
     """Both ends of body k's capsule against the floor (a capsule lying on it rests on both)."""
     slot = params.mesh.shape[0]
-    r = params.radius[k]
+    r = params.radius[d, k]
     up = V3(F64(0.0), F64(0.0), F64(1.0))
     for end in range(2):
         p = a
@@ -82,67 +82,69 @@ def _floor(params: RodParams, e: int, k: int, x: V3, q: Q, a: V3, b: V3, query: 
             p = b
             t = F64(1.0)
         gap = p[2] - r - params.floor
-        arc = params.arc[k] + t * F64(2.0) * params.half[k]
-        note(clear_out, at_out, e, params.cable[k], slot, gap, arc)
+        arc = params.arc[d, k] + t * F64(2.0) * params.half[d, k]
+        note(clear_out, at_out, e, params.cable[d, k], slot, gap, arc)
         if make != 0 and gap < query and gap > -r:
             keep(contacts, count, row, k, contact(slot, wp.quat_rotate_inv(q, p - x), p, V3(), up, gap, r,
-                                                 params.contact_stiff[k], arc))
+                                                 params.contact_stiff[d, k], arc))
 
 
 @wp.func
-def capsule_pairs(params: RodParams, work: wp.array2d(dtype=BodyWork), x_s: wp.array2d(dtype=V3),
+def capsule_pairs(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x_s: wp.array2d(dtype=V3),
                   q_s: wp.array2d(dtype=Q), e: int, query: F64, make: int, contacts: wp.array2d(dtype=Contact),
                   count: wp.array2d(dtype=wp.int32), row: int, clear_out: wp.array3d(dtype=F64),
                   at_out: wp.array3d(dtype=F64)):
     """Every two capsules of the cables within ``query`` of each other (with ``make``, plus their
     sweeps), but for neighbours along one cable: a contact for each (each closes half the gap,
     drawn to the pair's mean motion)."""
-    bodies = params.half.shape[0]
+    bodies = params.bodies[d]
     for i in range(bodies):
         xi = x_s[e, i]
-        ri = params.radius[i]
-        hi = params.half[i]
+        ri = params.radius[d, i]
+        hi = params.half[d, i]
         for j in range(i + 1, bodies):
-            hj = params.half[j]
-            rj = params.radius[j]
-            if params.cable[i] == params.cable[j]:
-                if params.arc[j] - params.arc[i] - hi + hj < hi + hj + F64(NEIGHBOURS) * (ri + rj):
+            hj = params.half[d, j]
+            rj = params.radius[d, j]
+            if params.cable[d, i] == params.cable[d, j]:
+                if params.arc[d, j] - params.arc[d, i] - hi + hj < hi + hj + F64(NEIGHBOURS) * (ri + rj):
                     continue
             xj = x_s[e, j]
             ahead = query
             if make != 0:
-                ahead = query + swept(params, work, x_s, q_s, e, row, i) + swept(params, work, x_s, q_s, e, row, j)
+                ahead = query + swept(params, d, work, x_s, q_s, e, row, i) + \
+                    swept(params, d, work, x_s, q_s, e, row, j)
             if wp.length(xj - xi) >= hi + hj + ri + rj + ahead:
                 continue
-            _pair(params, work, q_s, e, i, j, xi, xj, ahead, make, contacts, count, row, clear_out, at_out)
+            _pair(params, d, work, q_s, e, i, j, xi, xj, ahead, make, contacts, count, row, clear_out, at_out)
 
 
 @wp.func
-def _pair(params: RodParams, work: wp.array2d(dtype=BodyWork), q_s: wp.array2d(dtype=Q), e: int, i: int, j: int,
+def _pair(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), q_s: wp.array2d(dtype=Q), e: int, i: int, j: int,
           xi: V3, xj: V3, query: F64, make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
           row: int, clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
     qi = q_s[e, i]
     qj = q_s[e, j]
-    ai = axis_of(qi) * params.half[i]
-    aj = axis_of(qj) * params.half[j]
+    ai = axis_of(qi) * params.half[d, i]
+    aj = axis_of(qj) * params.half[d, j]
     s, t = closest_on_segments(xi - ai, xi + ai, xj - aj, xj + aj)
     pi = xi - ai + s * F64(2.0) * ai
     pj = xj - aj + t * F64(2.0) * aj
-    d = pi - pj
-    dist = wp.length(d)
-    gap = dist - params.radius[i] - params.radius[j]
-    arc_i = params.arc[i] + s * F64(2.0) * params.half[i]
-    arc_j = params.arc[j] + t * F64(2.0) * params.half[j]
+    apart = pi - pj
+    dist = wp.length(apart)
+    gap = dist - params.radius[d, i] - params.radius[d, j]
+    arc_i = params.arc[d, i] + s * F64(2.0) * params.half[d, i]
+    arc_j = params.arc[d, j] + t * F64(2.0) * params.half[d, j]
     slot = params.mesh.shape[0] + 1
     # a hose cannot meet its own segments within pi allowed bend radii along it without folding
     # tighter than allowed: those are contacts, never its clearance to itself
-    if params.cable[i] != params.cable[j] or wp.abs(arc_j - arc_i) >= F64(FOLD) * params.allowed[params.cable[i]]:
-        note(clear_out, at_out, e, params.cable[i], slot, gap, arc_i)
-        note(clear_out, at_out, e, params.cable[j], slot, gap, arc_j)
-    give = wp.min(params.radius[i], params.radius[j])
+    ci = params.cable[d, i]
+    if ci != params.cable[d, j] or wp.abs(arc_j - arc_i) >= F64(FOLD) * params.allowed[ci]:
+        note(clear_out, at_out, e, ci, slot, gap, arc_i)
+        note(clear_out, at_out, e, params.cable[d, j], slot, gap, arc_j)
+    give = wp.min(params.radius[d, i], params.radius[d, j])
     if make == 0 or gap >= query or gap <= F64(-2.0) * give:
         return
-    n = d / wp.max(dist, F64(TINY))
+    n = apart / wp.max(dist, F64(TINY))
     if dist <= F64(TINY):  # axes that cross: apart across both
         n = wp.normalize(wp.cross(ai, aj))
     wi = work[row, i]
@@ -152,5 +154,5 @@ def _pair(params: RodParams, work: wp.array2d(dtype=BodyWork), q_s: wp.array2d(d
     mean = F64(0.5) * (wi.x_pred + wp.quat_rotate(wi.q_pred, ri) - pi + wj.x_pred + wp.quat_rotate(wj.q_pred, rj) - pj)
     half = F64(0.5)
     # each side takes half the gap, and may give its own radius (two cables squash each other)
-    keep(contacts, count, row, i, contact(slot, ri, pi, mean, n, half * gap, give, params.contact_stiff[i], arc_i))
-    keep(contacts, count, row, j, contact(slot, rj, pj, mean, -n, half * gap, give, params.contact_stiff[j], arc_j))
+    keep(contacts, count, row, i, contact(slot, ri, pi, mean, n, half * gap, give, params.contact_stiff[d, i], arc_i))
+    keep(contacts, count, row, j, contact(slot, rj, pj, mean, -n, half * gap, give, params.contact_stiff[d, j], arc_j))

@@ -89,17 +89,17 @@ def _load(load_out: wp.array3d(dtype=F64), e: int, a: int, force: V3, moment: V3
 
 
 @wp.func
-def _attachments(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, k: int, b: BodyWork,
+def _attachments(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, k: int, b: BodyWork,
                  stats_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64)) -> F64:
     """Body k's clamps: their joints' strain into the extremes, and the load each puts on its link
     (the force and moment the cable pulls it with, about the control point). The least bend radius
     at them."""
-    c = params.cable[k]
-    half = params.half[k]
+    c = params.cable[d, k]
+    half = params.half[d, k]
     least = F64(BIG)
-    for a in range(params.attach_first[k], params.attach_first[k + 1]):
-        p, f = attachment_pose(params, poses, e, s, a)
-        k6 = params.attach_stiff[a]
+    for a in range(params.attach_first[d, k], params.attach_first[d, k + 1]):
+        p, f = attachment_pose(params, d, poses, e, s, a)
+        k6 = params.attach_stiff[d, a]
         clamped = k6[5] > F64(0.0)
         if params.attach_end[a] > F64(0.0):
             gap, rot, rel = joint_strain(b.x, b.q, half, p, f, F64(0.0))
@@ -107,36 +107,36 @@ def _attachments(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int
             _load(load_out, e, a, fb, tb)
             if clamped:
                 least = wp.min(least, _joint(stats_out, e, c, gap, rot, rel, k6, axis_of(b.q), axis_of(f), half,
-                                             params.arc[k] + F64(2.0) * half))
+                                             params.arc[d, k] + F64(2.0) * half))
         else:
             gap, rot, rel = joint_strain(p, f, F64(0.0), b.x, b.q, -half)
             fb, tb, lever = joint_forces(p, f, F64(0.0), b.x, b.q, -half, k6)
             _load(load_out, e, a, -fb, -tb - wp.cross(lever, fb))
             if clamped:
                 least = wp.min(least, _joint(stats_out, e, c, gap, rot, rel, k6, axis_of(f), axis_of(b.q), half,
-                                             params.arc[k]))
+                                             params.arc[d, k]))
         if not clamped:  # a ball joint: the stretch only
             tension = k6[2] * gap[2]
             if tension > stats_out[e, c, TENSION]:
                 stats_out[e, c, TENSION] = tension
-                stats_out[e, c, TENSION_AT] = params.arc[k] + (F64(1.0) + params.attach_end[a]) * half
+                stats_out[e, c, TENSION_AT] = params.arc[d, k] + (F64(1.0) + params.attach_end[a]) * half
     return least
 
 
 @wp.func
-def _wear(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
+def _wear(params: RodParams, d: int, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
           count: wp.array2d(dtype=wp.int32), row: int, h: F64, e: int, stats_out: wp.array3d(dtype=F64),
           wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
           wear_out: wp.array3d(dtype=F64)):
     """Body k's contacts at the step's end: normal force and sliding into the wear map. The slot a
     contact is crushed into, or -1, and each contact's normal force."""
-    c = params.cable[k]
+    c = params.cable[d, k]
     total = F64(0.0)
     crushed = int(-1)
     forces = Forces()
     for i in range(count[row, k]):
         ct = contacts[row, k * MAX_CONTACTS + i]
-        force, slide, crush = contact_outcome(ct, b.x, b.q, params.contact_stiff[k])
+        force, slide, crush = contact_outcome(ct, b.x, b.q, params.contact_stiff[d, k])
         forces[i] = force
         if crush:
             crushed = ct.slot
@@ -154,13 +154,13 @@ def _wear(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Con
 
 
 @wp.func
-def _pinch(params: RodParams, k: int, forces: Forces, contacts: wp.array2d(dtype=Contact),
+def _pinch(params: RodParams, d: int, k: int, forces: Forces, contacts: wp.array2d(dtype=Contact),
            count: wp.array2d(dtype=wp.int32), row: int, e: int, stats_out: wp.array3d(dtype=F64)):
     """Body k's pinch at the step's end into its cable's extremes: over each pair of its contacts
     (normal ``forces`` from ``_wear``), the lesser force times how far their normals oppose (0 for
     a segment that only rests or leans on things; the lesser force where two surfaces press it
     from opposite sides), and the pair's slots."""
-    c = params.cable[k]
+    c = params.cable[d, k]
     for i in range(count[row, k]):
         ci = contacts[row, k * MAX_CONTACTS + i]
         for j in range(i + 1, count[row, k]):
@@ -174,7 +174,7 @@ def _pinch(params: RodParams, k: int, forces: Forces, contacts: wp.array2d(dtype
 
 
 @wp.func
-def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
+def measure(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
             work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
             row: int, stats_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64),
             wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
@@ -183,28 +183,28 @@ def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
     """The substep's strains, loads and contacts at its end, into the frame's extremes and the wear
     map; a body's curvature (its tighter joint); crossing back above the allowed radius is a cycle. The
     slot a cable was crushed into, or -1."""
-    bodies = params.half.shape[0]
+    bodies = params.bodies[d]
     crushed = int(-1)
     before = F64(BIG)  # the bend radius at the current body's start joint
     for k in range(bodies):
         b = work[row, k]
-        c = params.cable[k]
+        c = params.cable[d, k]
         after = F64(BIG)
         if k + 1 < bodies:
-            if params.stiff[k][2] > F64(0.0):
+            if params.stiff[d, k][2] > F64(0.0):
                 nb = work[row, k + 1]
-                gap, rot, rel = joint_strain(b.x, b.q, params.half[k], nb.x, nb.q, -params.half[k + 1])
-                after = _joint(stats_out, e, c, gap, rot, rel, params.stiff[k], axis_of(b.q), axis_of(nb.q),
-                               params.half[k] + params.half[k + 1], params.arc[k + 1])
-        least = wp.min(wp.min(before, after), _attachments(params, poses, e, s, k, b, stats_out, load_out))
+                gap, rot, rel = joint_strain(b.x, b.q, params.half[d, k], nb.x, nb.q, -params.half[d, k + 1])
+                after = _joint(stats_out, e, c, gap, rot, rel, params.stiff[d, k], axis_of(b.q), axis_of(nb.q),
+                               params.half[d, k] + params.half[d, k + 1], params.arc[d, k + 1])
+        least = wp.min(wp.min(before, after), _attachments(params, d, poses, e, s, k, b, stats_out, load_out))
         # its curvature (1/m), for fatigue; past the allowed one's and back is a cycle
         bend = F64(1.0) / wp.max(least, F64(TINY))
         if bend_out[e, k] * params.allowed[c] > F64(1.0) and least >= params.allowed[c]:
             cycles_out[e, k] = cycles_out[e, k] + 1
         bend_out[e, k] = bend
-        slot, forces = _wear(params, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out,
+        slot, forces = _wear(params, d, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out,
                              wear_out)
-        _pinch(params, k, forces, contacts, count, row, e, stats_out)
+        _pinch(params, d, k, forces, contacts, count, row, e, stats_out)
         if slot >= 0:
             crushed = slot
         before = after
@@ -212,7 +212,7 @@ def measure(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
 
 
 @wp.func
-def twist_between(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, c: int,
+def twist_between(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, c: int,
                   x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q)) -> F64:
     """The twist (rad) between cable c's clamped ends: each joint's turn about the cable, summed
     from the first clamp to the last; 0 unless both ends are clamped."""
@@ -220,30 +220,30 @@ def twist_between(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: in
     z = params.clamp_b[c]
     if a < 0 or z < 0:
         return F64(0.0)
-    first = params.attach_body[a]
-    last = params.attach_body[z]
-    pa, fa = attachment_pose(params, poses, e, s, a)
-    pz, fz = attachment_pose(params, poses, e, s, z)
-    gap, rot, rel = joint_strain(pa, fa, F64(0.0), x_s[e, first], q_s[e, first], -params.half[first])
+    first = params.attach_body[d, a]
+    last = params.attach_body[d, z]
+    pa, fa = attachment_pose(params, d, poses, e, s, a)
+    pz, fz = attachment_pose(params, d, poses, e, s, z)
+    gap, rot, rel = joint_strain(pa, fa, F64(0.0), x_s[e, first], q_s[e, first], -params.half[d, first])
     total = twist_angle(rel)
     for k in range(first, last):
-        gap, rot, rel = joint_strain(x_s[e, k], q_s[e, k], params.half[k], x_s[e, k + 1], q_s[e, k + 1],
-                                     -params.half[k + 1])
+        gap, rot, rel = joint_strain(x_s[e, k], q_s[e, k], params.half[d, k], x_s[e, k + 1], q_s[e, k + 1],
+                                     -params.half[d, k + 1])
         total = total + twist_angle(rel)
-    gap, rot, rel = joint_strain(x_s[e, last], q_s[e, last], params.half[last], pz, fz, F64(0.0))
+    gap, rot, rel = joint_strain(x_s[e, last], q_s[e, last], params.half[d, last], pz, fz, F64(0.0))
     return total + twist_angle(rel)
 
 
 @wp.func
-def frame_end(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
+def frame_end(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, x_s: wp.array2d(dtype=V3),
               q_s: wp.array2d(dtype=Q), stats_out: wp.array3d(dtype=F64)):
     """Each cable's twist between its clamps and the greatest straight distance between two
     consecutive attachments over the cable's length between them."""
-    for c in range(params.cable_first.shape[0] - 1):
-        stats_out[e, c, TWIST] = twist_between(params, poses, e, s, c, x_s, q_s)
+    for c in range(params.cable_first.shape[1] - 1):
+        stats_out[e, c, TWIST] = twist_between(params, d, poses, e, s, c, x_s, q_s)
         stats_out[e, c, STRETCH] = F64(0.0)
     for i in range(params.pair_a.shape[0]):
-        pa, fa = attachment_pose(params, poses, e, s, params.pair_a[i])
-        pb, fb = attachment_pose(params, poses, e, s, params.pair_b[i])
+        pa, fa = attachment_pose(params, d, poses, e, s, params.pair_a[i])
+        pb, fb = attachment_pose(params, d, poses, e, s, params.pair_b[i])
         c = params.pair_cable[i]
-        stats_out[e, c, STRETCH] = wp.max(stats_out[e, c, STRETCH], wp.length(pb - pa) / params.pair_length[i])
+        stats_out[e, c, STRETCH] = wp.max(stats_out[e, c, STRETCH], wp.length(pb - pa) / params.pair_length[d, i])

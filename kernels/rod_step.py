@@ -49,24 +49,24 @@ from .rod_types import (
 
 
 @wp.func
-def attachment_pose(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, a: int):
+def attachment_pose(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, a: int):
     """(point, frame) of attachment ``a`` in the world at pose row ``s``: carried by its link."""
     m = poses[e, s, params.attach_link[a]]
-    p = params.attach_point[a]
+    p = params.attach_point[d, a]
     rot = wp.mat33d(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
     turn = wp.quat_from_matrix(rot)
-    return rot * p + wp.vec3d(m[0, 3], m[1, 3], m[2, 3]), wp.normalize(turn * params.attach_frame[a])
+    return rot * p + wp.vec3d(m[0, 3], m[1, 3], m[2, 3]), wp.normalize(turn * params.attach_frame[d, a])
 
 
 @wp.func
-def predict(params: RodParams, x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), v_s: wp.array2d(dtype=V3),
+def predict(params: RodParams, d: int, x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), v_s: wp.array2d(dtype=V3),
             w_s: wp.array2d(dtype=V3), a_s: wp.array2d(dtype=V3), e: int, work: wp.array2d(dtype=BodyWork), row: int,
             h: F64):
     """Where each body would go unhindered (its velocity and gravity): the pose the step is drawn
     to. The first iterate goes on at the body's last acceleration instead of gravity's (as VBD's
     adaptive start does): a cable at rest or swinging freely starts at its solution, and the first
     step's length tells (``iterate``). Bodies in contact start again at ``free_start``."""
-    for k in range(params.half.shape[0]):
+    for k in range(params.bodies[d]):
         b = BodyWork()
         b.x = x_s[e, k] + h * v_s[e, k]
         b.x_pred = b.x + (h * h) * params.gravity
@@ -77,11 +77,12 @@ def predict(params: RodParams, x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=
 
 
 @wp.func
-def free_start(params: RodParams, work: wp.array2d(dtype=BodyWork), count: wp.array2d(dtype=wp.int32), row: int):
+def free_start(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), count: wp.array2d(dtype=wp.int32),
+               row: int):
     """A body in contact starts its iterations in free flight: its lagged friction (``contact_terms``)
     then meets the slip from above, and converges in the iterations given, where a start at the
     last acceleration holds a sliding body stuck for several substeps."""
-    for k in range(params.half.shape[0]):
+    for k in range(params.bodies[d]):
         if count[row, k] > 0:
             b = work[row, k]
             b.x = b.x_pred
@@ -89,41 +90,41 @@ def free_start(params: RodParams, work: wp.array2d(dtype=BodyWork), count: wp.ar
 
 
 @wp.func
-def _inertia(params: RodParams, k: int, b: BodyWork, h: F64):
+def _inertia(params: RodParams, d: int, k: int, b: BodyWork, h: F64):
     """(Hessian, gradient) of body k's pull towards its predicted pose."""
-    m = params.mass[k] / (h * h)
-    inertia = params.inertia[k] / (h * h)
+    m = params.mass[d, k] / (h * h)
+    inertia = params.inertia[d, k] / (h * h)
     iw = axial(inertia[0], inertia[1], axis_of(b.q))
     turn_left = rotation_vector(b.q * wp.quat_inverse(b.q_pred))
     return blocks(diag3(m, m, m), wp.mat33d(), wp.mat33d(), iw), pair(m * (b.x - b.x_pred), iw * turn_left)
 
 
 @wp.func
-def _attachments(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, k: int, b: BodyWork):
+def _attachments(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, k: int, b: BodyWork):
     """(Hessian, gradient) of the clamps and ball joints holding body k."""
     hess = M66()
     grad = V6()
-    half = params.half[k]
-    for a in range(params.attach_first[k], params.attach_first[k + 1]):
-        p, f = attachment_pose(params, poses, e, s, a)
+    half = params.half[d, k]
+    for a in range(params.attach_first[d, k], params.attach_first[d, k + 1]):
+        p, f = attachment_pose(params, d, poses, e, s, a)
         if params.attach_end[a] > F64(0.0):  # held at its end: the body is the joint's first
-            aa, ab, bb, ga, gb = joint_terms(b.x, b.q, half, p, f, F64(0.0), params.attach_stiff[a])
+            aa, ab, bb, ga, gb = joint_terms(b.x, b.q, half, p, f, F64(0.0), params.attach_stiff[d, a])
             hess = hess + aa
             grad = grad + ga
         else:  # held at its start: the clamp is the joint's first
-            aa, ab, bb, ga, gb = joint_terms(p, f, F64(0.0), b.x, b.q, -half, params.attach_stiff[a])
+            aa, ab, bb, ga, gb = joint_terms(p, f, F64(0.0), b.x, b.q, -half, params.attach_stiff[d, a])
             hess = hess + bb
             grad = grad + gb
     return hess, grad
 
 
 @wp.func
-def _contacts(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
+def _contacts(params: RodParams, d: int, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
               count: wp.array2d(dtype=wp.int32), row: int, h: F64):
     hess = M66()
     grad = V6()
     for i in range(count[row, k]):
-        hc, gc = contact_terms(contacts[row, k * MAX_CONTACTS + i], b.x, b.q, params.contact_stiff[k],
+        hc, gc = contact_terms(contacts[row, k * MAX_CONTACTS + i], b.x, b.q, params.contact_stiff[d, k],
                                params.friction, params.slip * h)
         hess = hess + hc
         grad = grad + gc
@@ -131,40 +132,40 @@ def _contacts(params: RodParams, k: int, b: BodyWork, contacts: wp.array2d(dtype
 
 
 @wp.func
-def iterate(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
+def iterate(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
             work: wp.array2d(dtype=BodyWork), factor: wp.array2d(dtype=Factor), contacts: wp.array2d(dtype=Contact),
             count: wp.array2d(dtype=wp.int32), row: int) -> F64:
     """One Gauss-Newton iteration on every body at once (pose row ``s`` holds the clamps); returns
     how far it moved a segment's surface at most (m), for the caller's convergence test."""
-    bodies = params.half.shape[0]
+    bodies = params.bodies[d]
     carry_d = M66()  # B_{k-1}^T D_{k-1}^-1 B_{k-1}
     carry_r = V6()  # B_{k-1}^T z_{k-1}
     carry_h = M66()  # the previous joint's block on this body
     carry_g = V6()
     for k in range(bodies):
         b = work[row, k]
-        hess, grad = _inertia(params, k, b, h)
+        hess, grad = _inertia(params, d, k, b, h)
         hess = hess + carry_h
         grad = grad + carry_g
         couple = M66()
         carry_h = M66()
         carry_g = V6()
         if k + 1 < bodies:
-            if params.stiff[k][2] > F64(0.0):  # a joint to the next body (not the next cable's)
+            if params.stiff[d, k][2] > F64(0.0):  # a joint to the next body (not the next cable's)
                 nb = work[row, k + 1]
-                aa, ab, bb, ga, gb = joint_terms(b.x, b.q, params.half[k], nb.x, nb.q, -params.half[k + 1],
-                                                 params.stiff[k])
+                aa, ab, bb, ga, gb = joint_terms(b.x, b.q, params.half[d, k], nb.x, nb.q, -params.half[d, k + 1],
+                                                 params.stiff[d, k])
                 hess = hess + aa
                 grad = grad + ga
                 couple = ab
                 carry_h = bb
                 carry_g = gb
-        if params.attach_first[k + 1] > params.attach_first[k]:
-            ha, ga2 = _attachments(params, poses, e, s, k, b)
+        if params.attach_first[d, k + 1] > params.attach_first[d, k]:
+            ha, ga2 = _attachments(params, d, poses, e, s, k, b)
             hess = hess + ha
             grad = grad + ga2
         if count[row, k] > 0:
-            hc, gc = _contacts(params, k, b, contacts, count, row, h)
+            hc, gc = _contacts(params, d, k, b, contacts, count, row, h)
             hess = hess + hc
             grad = grad + gc
         f = Factor()
@@ -180,7 +181,8 @@ def iterate(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
         k = bodies - 1 - kk
         f = factor[row, k]
         delta = backward(f.lo, f.y - f.w * delta)
-        moved = wp.max(moved, wp.length(top(delta)) + wp.length(bottom(delta)) * (params.half[k] + params.radius[k]))
+        reach = params.half[d, k] + params.radius[d, k]
+        moved = wp.max(moved, wp.length(top(delta)) + wp.length(bottom(delta)) * reach)
         b = work[row, k]
         b.x = b.x + top(delta)
         b.q = turned(b.q, bottom(delta))
@@ -189,23 +191,23 @@ def iterate(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, h: 
 
 
 @wp.func
-def commit(params: RodParams, work: wp.array2d(dtype=BodyWork), row: int, h: F64, x_s: wp.array2d(dtype=V3),
+def commit(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), row: int, h: F64, x_s: wp.array2d(dtype=V3),
            q_s: wp.array2d(dtype=Q), v_s: wp.array2d(dtype=V3), w_s: wp.array2d(dtype=V3), a_s: wp.array2d(dtype=V3),
            e: int) -> int:
     """The step's poses, damped velocities and accelerations into the state, unless one is not finite or a
     segment's surface moves faster than ``max_speed``: then the state stays and the failure is
     returned."""
     keep = wp.exp(-params.damping * h)
-    for k in range(params.half.shape[0]):
+    for k in range(params.bodies[d]):
         b = work[row, k]
         v = (b.x - x_s[e, k]) / h
         w = rotation_vector(b.q * wp.quat_inverse(q_s[e, k])) / h
-        speed = wp.length(v) + wp.length(w) * (params.half[k] + params.radius[k])
+        speed = wp.length(v) + wp.length(w) * (params.half[d, k] + params.radius[d, k])
         if not wp.isfinite(speed) or not wp.isfinite(b.q[3]):
             return NOT_FINITE
         if speed > params.max_speed:
             return RUNAWAY
-    for k in range(params.half.shape[0]):
+    for k in range(params.bodies[d]):
         b = work[row, k]
         v = (b.x - x_s[e, k]) / h * keep
         a_s[e, k] = (v - v_s[e, k]) / h

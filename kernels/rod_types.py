@@ -48,34 +48,40 @@ class RodParams:
     none), consecutive attachments for the stretch (``pair_*``).
     Per mesh a rod may touch (the links', then the environment's, fixed in the world): its
     ``wp.Mesh`` in its zero-position frame (id 0: none), a bounding sphere, the link that carries it
-    (-1: the world) and its fixed pose."""
+    (-1: the world) and its fixed pose.
 
-    half: wp.array(dtype=F64)
-    mass: wp.array(dtype=F64)
-    inertia: wp.array(dtype=wp.vec2d)
-    radius: wp.array(dtype=F64)
-    cable: wp.array(dtype=wp.int32)
-    arc: wp.array(dtype=F64)
-    stiff: wp.array(dtype=V6)
-    contact_stiff: wp.array(dtype=F64)
-    touch: wp.array2d(dtype=wp.int32)
+    Designs: each environment runs one design of the cables (the kernel's ``design`` input): every
+    per-body and per-cable-body array has a row per design, padded past its ``bodies``, and so have
+    the attachments' places, frames and stiffnesses and the lengths between them. The designs share
+    the attachments' order, ends and links, the clamps and the cables' ratings."""
+
+    bodies: wp.array(dtype=wp.int32)  # per design: its bodies (the per-body rows are padded past them)
+    half: wp.array2d(dtype=F64)
+    mass: wp.array2d(dtype=F64)
+    inertia: wp.array2d(dtype=wp.vec2d)
+    radius: wp.array2d(dtype=F64)
+    cable: wp.array2d(dtype=wp.int32)
+    arc: wp.array2d(dtype=F64)
+    stiff: wp.array2d(dtype=V6)
+    contact_stiff: wp.array2d(dtype=F64)
+    touch: wp.array3d(dtype=wp.int32)
     allowed: wp.array(dtype=F64)  # per cable: the least bend radius allowed (bending cycles count below it)
 
-    attach_body: wp.array(dtype=wp.int32)
+    attach_body: wp.array2d(dtype=wp.int32)
     attach_end: wp.array(dtype=F64)
     attach_link: wp.array(dtype=wp.int32)
-    attach_point: wp.array(dtype=V3)
-    attach_frame: wp.array(dtype=Q)
-    attach_stiff: wp.array(dtype=V6)
-    attach_first: wp.array(dtype=wp.int32)
+    attach_point: wp.array2d(dtype=V3)
+    attach_frame: wp.array2d(dtype=Q)
+    attach_stiff: wp.array2d(dtype=V6)
+    attach_first: wp.array2d(dtype=wp.int32)
 
-    cable_first: wp.array(dtype=wp.int32)
+    cable_first: wp.array2d(dtype=wp.int32)
     clamp_a: wp.array(dtype=wp.int32)
     clamp_b: wp.array(dtype=wp.int32)
     pair_a: wp.array(dtype=wp.int32)  # attachment indices
     pair_b: wp.array(dtype=wp.int32)
     pair_cable: wp.array(dtype=wp.int32)
-    pair_length: wp.array(dtype=F64)
+    pair_length: wp.array2d(dtype=F64)
 
     mesh: wp.array(dtype=wp.uint64)
     sphere: wp.array(dtype=wp.vec4d)
@@ -87,7 +93,7 @@ class RodParams:
     friction: F64  # Coulomb's coefficient
     slip: F64  # m/s: below this sliding speed a contact grips (the static regime)
     floor: F64  # z of the floor
-    margin: F64  # contact query distance beyond the radii, per substep
+    margin: wp.array(dtype=F64)  # per design: the contact query distance beyond the radii, per substep
     reach: F64  # clearance query distance beyond the radius, per frame
     max_speed: F64  # a point faster than this has blown up
 

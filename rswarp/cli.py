@@ -62,6 +62,10 @@ COMMANDS = {
                                                   "its own trajectory: slack, bend radius, tension, clamp loads, "
                                                   "twist and torque, contact and wear",
               ("json", "device", "ray", "seed", "out")),
+    "dresspack": ("dresspack:run_dresspack", "environment", "a design sweep of a dress-pack hose over a RAPID "
+                                                            "program: its length and clamps varied, every design "
+                                                            "run at once, the shortest that passes written out",
+                  ("json", "device", "ray", "seed", "out")),
     "program": ("program:run_program", "sample", "run a RAPID routine through the robot: targets by inverse "
                                                  "kinematics with their confdata, the trajectory, and its joint "
                                                  "limits, collisions, floor and singularities",

@@ -163,6 +163,29 @@ def cable(p: argparse.ArgumentParser) -> None:
                    help="simulated time (default: the longest trajectory; 10 with --random)")
     p.add_argument("--usd", action="store_true",
                    help="also write playback.usdc: environment 0's robot and cables over time, for usdview")
+    _hose(p)
+    p.add_argument("--cable-model", default="rod", metavar="MODEL",
+                   help="how the cables are simulated: a model of rswarp.sim.cable_models (default rod: "
+                        "discrete Cosserat rods)")
+
+
+def dresspack(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file, with its dress-pack Cable")
+    p.add_argument("--program", dest="programs", nargs="+", required=True, metavar="PATH",
+                   help="the RAPID task (module files, a folder, a .pgf) whose routine (--routine) every design runs")
+    _task(p)
+    p.add_argument("--vary", action="append", required=True, metavar="SPEC",
+                   help="a variable and its range: length=MIN:MAX (m), or POINT.x|y|z=MIN:MAX (m, along its link's "
+                        "axes) or POINT.pitch|yaw=MIN:MAX (deg), POINT a control point's link or number; repeat "
+                        "for more, or give one TOML file of them")
+    p.add_argument("--designs", type=argument("designs"), default=64,
+                   help="designs drawn by Sobol over the box, each run as its own environment (default 64)")
+    p.add_argument("--cable", metavar="NAME", help="the cable to vary (default: the only one)")
+    _hose(p)
+
+
+def _hose(p: argparse.ArgumentParser) -> None:
+    """The hose's ratings, the cell and the material: what a cable run holds the hose to."""
     p.add_argument("--min-bend-radius", type=argument("min-bend-radius"), metavar="R",
                    help=f"the hose's dynamic bend radius {LENGTH}: tighter while moving fails (default ten times "
                         "the diameter)")
@@ -196,9 +219,6 @@ def cable(p: argparse.ArgumentParser) -> None:
                    help=f"results per simulated second (default {FRAME_RATE:g})")
     p.add_argument("--substeps", type=argument("substeps"), default=SUBSTEPS,
                    help=f"steps per frame (default {SUBSTEPS})")
-    p.add_argument("--cable-model", default="rod", metavar="MODEL",
-                   help="how the cables are simulated: a model of rswarp.sim.cable_models (default rod: "
-                        "discrete Cosserat rods)")
 
 
 def demo(p: argparse.ArgumentParser) -> None:

@@ -4,6 +4,7 @@ the spread of the main quantities across environments (``Series``)."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -150,3 +151,15 @@ def worst_wear(c: CableResult, envs: np.ndarray) -> tuple[int, int, int] | None:
         return None
     e, s = np.unravel_index(int(np.argmax(total)), total.shape)
     return int(envs[e]), int(s), int(np.argmax(c.wear[envs[e], s]))
+
+
+def one_env(c: CableResult, e: int, info) -> CableResult:
+    """Environment ``e`` of ``c`` as a result of its own, with the cable as ``info`` (a
+    ``CableInfo``) gives it: its length and segments (a design's), the per-segment arrays cut to
+    them."""
+    segments, nodes = len(info.segments), len(info.arc)
+    rows = {k: getattr(c, k)[e:e + 1] for k in PER_ENV}
+    for k in ("wear_contact_time", "wear_peak_normal", "wear", "bend_cycles", "fatigue_cycles", "fatigue_sum"):
+        rows[k] = rows[k][:, :segments]
+    rows["final_points"] = rows["final_points"][:, :nodes]
+    return dataclasses.replace(c, length=info.length, segments=info.segments, **rows)

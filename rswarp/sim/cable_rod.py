@@ -58,24 +58,33 @@ class RodState:
     clear_at: object
     load: object
     joints: np.ndarray
+    design: object  # (envs,) each environment's design, on the device
+    designs: np.ndarray  # the same on the host
 
 
 class CosseratRod(CableSolver):
     """Frames of many environments of a mechanism's cables as discrete Cosserat rods."""
 
     kind = "rod"
+    designs_at_once = True
 
-    def __init__(self, mech: Mechanism, options: CableOptions = CableOptions(), meshes: ContactMeshes | None = None):
+    def __init__(self, mech: Mechanism, options: CableOptions = CableOptions(), meshes: ContactMeshes | None = None,
+                 designs: tuple[Mechanism, ...] = ()):
+        """``designs``: mechanisms alike but for their cables' lengths and control points; environment
+        e then runs design e modulo their number (``designs[0]`` as ``mech`` itself by default)."""
         from ..kernels.rod import rod_kernel
 
-        self.layout = layout = rod_layout(mech, options.density, options.poisson)
-        _above_floor(mech, layout, options.floor)
+        self.layouts = tuple(rod_layout(m, options.density, options.poisson) for m in (designs or (mech,)))
+        self.layout = self.layouts[0]
+        _alike(mech, self.layouts)
+        for m, lay in zip(designs or (mech,), self.layouts):
+            _above_floor(m, lay, options.floor)
         self.options, self.dof = options, mech.dof
         meshes = meshes or ContactMeshes((None,) * len(mech.graph.links))
         self.slots = (*mech.graph.links, *(m[0] for m in meshes.environment), *(m[0] for m in meshes.tool), "floor",
                       "cables")
-        self.cables = tuple(_info(c, layout, allowed_bend_radius(cable, options))
-                            for c, cable in zip(layout.cables, mech.cables))
+        self.designs = tuple(_infos(lay, m, options) for lay, m in zip(self.layouts, designs or (mech,)))
+        self.cables = self.designs[0]
         self.failures = FAILURES | {CRUSHED + j: f"the robot pressed a cable into {_what(name)} half its radius "
                                                  "deep: the trajectory drives it through" for j, name in
                                     enumerate(self.slots)}
@@ -85,38 +94,56 @@ class CosseratRod(CableSolver):
         self.launcher = Launcher(options.device, chunk=CHUNK, threads=options.threads)
         self.launcher.load(self.kernel)
         self._meshes: list = []  # Warp keeps a mesh's BVH only while the Mesh lives
-        self.params = self._params(layout, meshes, options)
+        self.bodies = max(lay.bodies for lay in self.layouts)
+        self.params = self._params(meshes, options)
+
+    @classmethod
+    def cable_infos(cls, mech: Mechanism, options: CableOptions) -> tuple[CableInfo, ...]:
+        """Its cables as a solver of ``mech`` would describe them (a design's, for its report)."""
+        return _infos(rod_layout(mech, options.density, options.poisson), mech, options)
 
     @classmethod
     def check(cls, mech: Mechanism, options: CableOptions) -> None:
         _above_floor(mech, rod_layout(mech, options.density, options.poisson), options.floor)
 
-    def _params(self, layout: RodLayout, meshes: ContactMeshes, options: CableOptions):
+    def _params(self, meshes: ContactMeshes, options: CableOptions):
+        """The kernel's model: every design's per-body and per-attachment arrays as a row each,
+        padded to the most bodies (a padded body is never read)."""
         from ..kernels.rod_types import RodParams
 
         wp = init_warp()
         dev = self.launcher.device
         arr = lambda a, dtype: wp.array(np.ascontiguousarray(a), dtype=dtype, device=dev)  # noqa: E731
+        rows = lambda get, fill=0.0: _rows([np.asarray(get(lay)) for lay in self.layouts], fill)  # noqa: E731
         v6 = wp.types.vector(6, wp.float64)
+        layout = self.layout
         p = RodParams()
-        for name in ("half", "mass", "radius", "arc", "contact_stiff", "attach_end"):
-            setattr(p, name, arr(getattr(layout, name), wp.float64))
-        for name in ("cable", "attach_body", "attach_link", "attach_first", "cable_first"):
-            setattr(p, name, arr(np.asarray(getattr(layout, name), np.int32), wp.int32))
-        p.inertia = arr(layout.inertia, wp.vec2d)
-        p.stiff, p.attach_stiff = arr(layout.stiff, v6), arr(layout.attach_stiff.reshape(-1, 6), v6)
-        p.touch = wp.array(layout.touch, dtype=wp.int32, device=dev)
-        p.attach_point, p.attach_frame = arr(layout.attach_point, wp.vec3d), arr(layout.attach_frame, wp.quatd)
+        p.bodies = arr(np.array([lay.bodies for lay in self.layouts], np.int32), wp.int32)
+        for name in ("half", "mass", "radius", "arc", "contact_stiff"):
+            setattr(p, name, arr(rows(lambda lay, n=name: getattr(lay, n)), wp.float64))
+        p.cable = arr(rows(lambda lay: lay.cable, -1).astype(np.int32), wp.int32)
+        for name in ("attach_body", "attach_first", "cable_first"):
+            setattr(p, name, arr(rows(lambda lay, n=name: np.asarray(getattr(lay, n), np.int32)).astype(np.int32),
+                                 wp.int32))
+        p.attach_end = arr(layout.attach_end, wp.float64)
+        p.attach_link = arr(np.asarray(layout.attach_link, np.int32), wp.int32)
+        p.inertia = arr(rows(lambda lay: lay.inertia), wp.vec2d)
+        p.stiff = arr(rows(lambda lay: lay.stiff), v6)
+        p.attach_stiff = arr(rows(lambda lay: lay.attach_stiff.reshape(-1, 6)), v6)
+        p.touch = arr(rows(lambda lay: lay.touch).astype(np.int32), wp.int32)
+        p.attach_point = arr(rows(lambda lay: lay.attach_point), wp.vec3d)
+        p.attach_frame = arr(rows(lambda lay: lay.attach_frame, 1.0), wp.quatd)
         p.allowed = arr([c.allowed_bend_radius for c in self.cables], wp.float64)
         p.clamp_a, p.clamp_b = (arr(a, wp.int32) for a in layout.clamps())
-        pair_a, pair_b, pair_cable, pair_length = layout.pairs()
+        pair_a, pair_b, pair_cable, _ = layout.pairs()
         p.pair_a, p.pair_b, p.pair_cable = arr(pair_a, wp.int32), arr(pair_b, wp.int32), arr(pair_cable, wp.int32)
-        p.pair_length = arr(pair_length, wp.float64)
+        p.pair_length = arr(rows(lambda lay: lay.pairs()[3]), wp.float64)
         self._mesh_arrays(p, meshes)
         p.gravity = wp.vec3d(*GRAVITY)
         p.damping, p.friction, p.slip = float(options.damping), float(options.friction), SLIP
         p.floor = NO_FLOOR if options.floor is None else float(options.floor)
-        p.margin, p.reach, p.max_speed = float(2 * layout.half.max()), REACH, MAX_SPEED
+        p.margin = arr([2 * lay.half.max() for lay in self.layouts], wp.float64)
+        p.reach, p.max_speed = REACH, MAX_SPEED
         return p
 
     def _mesh_arrays(self, p, meshes: ContactMeshes) -> None:
@@ -150,17 +177,18 @@ class CosseratRod(CableSolver):
 
         wp = init_warp()
         dev = self.launcher.device
-        lay = self.layout
-        rep = lambda a, dtype: wp.array(np.ascontiguousarray(np.repeat(a[None], envs, axis=0)), dtype=dtype,  # noqa
-                                        device=dev)
+        design = np.arange(envs, dtype=np.int32) % len(self.layouts)
+        start = lambda get, fill, dtype: wp.array(_rows([get(lay) for lay in self.layouts], fill)[design],  # noqa
+                                                  dtype=dtype, device=dev)
         zeros = lambda shape, dtype=wp.float64: wp.zeros(shape, dtype=dtype, device=dev)  # noqa: E731
-        b, c, slots = lay.bodies, len(lay.cables), len(self.slots)
+        b, c, slots = self.bodies, len(self.layout.cables), len(self.slots)
         vec = lambda: zeros((envs, b), wp.vec3d)  # noqa: E731
-        return RodState(rep(lay.x, wp.vec3d), rep(lay.q, wp.quatd), vec(), vec(), vec(), zeros(envs, wp.int32),
+        return RodState(start(lambda lay: lay.x, 0.0, wp.vec3d), start(lambda lay: lay.q, 1.0, wp.quatd), vec(),
+                        vec(), vec(), zeros(envs, wp.int32),
                         zeros((envs, b)), zeros((envs, b)), zeros((envs, b, slots)), zeros((envs, b)),
                         zeros((envs, b), wp.int32), zeros((envs, c, STATS)), zeros((envs, c, slots)),
-                        zeros((envs, c, slots)), zeros((envs, max(len(lay.attach_body), 1), LOADS)),
-                        np.zeros((envs, self.dof)))
+                        zeros((envs, c, slots)), zeros((envs, max(len(self.layout.attach_body), 1), LOADS)),
+                        np.zeros((envs, self.dof)), wp.array(design, dtype=wp.int32, device=dev), design)
 
     def set_damping(self, damping: float) -> None:
         self.params.damping = float(damping)
@@ -173,9 +201,9 @@ class CosseratRod(CableSolver):
         if qs.ndim != 3 or qs.shape[:2] != (envs, self.options.substeps):
             raise ValueError(f"qs must have shape ({envs}, {self.options.substeps}, dof), got {qs.shape}")
         poses = self._poses(state.joints, qs)
-        bodies = self.layout.bodies
+        bodies = self.bodies
         self.launcher.launch(self.kernel, envs, params=[self.params, float(dt), int(self.options.iterations)],
-                             inputs=[poses], scratch=(bodies, bodies, bodies * MAX_CONTACTS, bodies),
+                             inputs=[poses, state.design], scratch=(bodies, bodies, bodies * MAX_CONTACTS, bodies),
                              outputs=[state.x, state.q, state.v, state.w, state.a, state.status, state.wear_time,
                                       state.wear_peak, state.wear, state.bend, state.cycles, state.stats,
                                       state.clear, state.clear_at, state.load])
@@ -219,31 +247,54 @@ class CosseratRod(CableSolver):
     def totals(self, state: RodState) -> list[dict[str, np.ndarray]]:
         time, peak, wear, cycles = (a.numpy() for a in (state.wear_time, state.wear_peak, state.wear, state.cycles))
         out = []
-        for c in self.layout.cables:
-            own = slice(c.first, c.first + c.segments)
-            out.append({"contact_time": time[:, own].copy(), "peak_normal": peak[:, own].copy(),
-                        "wear": wear[:, own].copy(), "bend_cycles": cycles[:, own].astype(np.int64)})
+        for c in range(len(self.layout.cables)):
+            own = self._segments(state, c)
+            out.append({"contact_time": own(time), "peak_normal": own(peak), "wear": own(wear),
+                        "bend_cycles": own(cycles).astype(np.int64)})
         return out
 
     def curvatures(self, state: RodState) -> list[np.ndarray]:
         """Per cable, each environment's segments' curvature now (envs, segments), 1/m."""
         bend = state.bend.numpy()
-        return [bend[:, c.first:c.first + c.segments] for c in self.layout.cables]
+        return [self._segments(state, c)(bend) for c in range(len(self.layout.cables))]
+
+    def _segments(self, state: RodState, cable: int):
+        """A function taking a per-body array (envs, bodies, ...) to cable ``cable``'s segments in each
+        environment's design (envs, its most segments over the designs, ...), zero past a design's."""
+        first = np.array([lay.cables[cable].first for lay in self.layouts])[state.designs]
+        count = np.array([lay.cables[cable].segments for lay in self.layouts])[state.designs]
+        if len(self.layouts) == 1:
+            return lambda a: a[:, first[0]:first[0] + count[0]].copy()
+        s = np.arange(count.max())
+        have = s[None] < count[:, None]
+        rows, cols = np.arange(len(first))[:, None], np.where(have, first[:, None] + s[None], 0)
+
+        def own(a: np.ndarray) -> np.ndarray:
+            out = a[rows, cols]
+            out[~have] = 0
+            return out
+        return own
 
     def points(self, state: RodState, cable: int, env: int | None = None) -> np.ndarray:
-        c = self.layout.cables[cable]
-        own = slice(c.first, c.first + c.segments)
-        x = state.x.numpy()[:, own] if env is None else state.x[env].numpy()[None, own]
-        q = state.q.numpy()[:, own] if env is None else state.q[env].numpy()[None, own]
-        half = self.layout.half[own][None, :, None]
-        axis = _axes(q)
-        nodes = np.concatenate([x[:, :1] - half[:, :1] * axis[:, :1], x + half * axis], axis=1)
-        return nodes if env is None else nodes[0]
+        """(envs, nodes, 3) cable ``cable``'s nodes (NaN past a design's), or (nodes, 3) of ``env``'s."""
+        envs = range(state.x.shape[0]) if env is None else (env,)
+        x_all, q_all = state.x.numpy(), state.q.numpy()
+        rows = []
+        for e in envs:
+            lay = self.layouts[state.designs[e]]
+            c = lay.cables[cable]
+            own = slice(c.first, c.first + c.segments)
+            x, half, axis = x_all[e, own], lay.half[own][:, None], _axes(q_all[e, own])
+            rows.append(np.concatenate([x[:1] - half[:1] * axis[:1], x + half * axis]))
+        if env is not None:
+            return rows[0]
+        most = max(len(r) for r in rows)
+        return np.stack([np.pad(r, ((0, most - len(r)), (0, 0)), constant_values=np.nan) for r in rows])
 
     def frames(self, state: RodState, cable: int, env: int = 0) -> tuple[np.ndarray, np.ndarray]:
         """(centres (S, 3), frames (S, 3, 3): each segment's material axes as columns) of one
         environment's cable, for checks that read the material frame (twist, writhe)."""
-        c = self.layout.cables[cable]
+        c = self.layouts[state.designs[env]].cables[cable]
         own = slice(c.first, c.first + c.segments)
         return state.x[env].numpy()[own], _matrices(state.q[env].numpy()[own])
 
@@ -263,7 +314,28 @@ def _what(slot: str) -> str:
     return {"floor": "the floor", "cables": "a cable"}.get(slot, f"'{slot}'")
 
 
-def _info(c, layout: RodLayout, allowed: float) -> CableInfo:
+def _rows(arrays: list[np.ndarray], fill: float) -> np.ndarray:
+    """The arrays stacked as rows, each padded along its first axis to the longest with ``fill``."""
+    most = max(len(a) for a in arrays)
+    return np.stack([np.concatenate([a, np.full((most - len(a), *a.shape[1:]), fill, a.dtype)]) for a in arrays])
+
+
+def _alike(mech: Mechanism, layouts: tuple[RodLayout, ...]) -> None:
+    """Designs share their cables and attachments (ends, links, clamps): each design's differ only in
+    length and place."""
+    first = layouts[0]
+    for lay in layouts[1:]:
+        if len(lay.cables) != len(first.cables) or not np.array_equal(lay.attach_link, first.attach_link) or \
+                not np.array_equal(lay.attach_end, first.attach_end) or \
+                not all(np.array_equal(a, b) for a, b in zip(lay.clamps(), first.clamps())):
+            raise ValueError(f"{mech.name}: designs must share their cables' control points and what holds them")
+
+
+def _infos(layout: RodLayout, mech: Mechanism, options: CableOptions) -> tuple[CableInfo, ...]:
+    return tuple(_info(c, allowed_bend_radius(cable, options)) for c, cable in zip(layout.cables, mech.cables))
+
+
+def _info(c, allowed: float) -> CableInfo:
     return CableInfo(c.name, c.length, c.section.radius, allowed, c.section.axial, c.section.bending,
                      c.section.torsion, c.arc.copy(), c.centres, c.labels)
 

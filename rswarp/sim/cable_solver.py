@@ -178,6 +178,7 @@ class CableSolver(ABC):
     environment stopped, by status code; ``dof`` is the mechanism's joints that ``step`` takes."""
 
     kind: ClassVar[str]  # the name that chooses this model (CableOptions.cable_model)
+    designs_at_once: ClassVar[bool] = False  # it takes ``designs=``: environment e runs design e
     failures: Mapping[int, str] = FAILURES
 
     cables: tuple[CableInfo, ...]

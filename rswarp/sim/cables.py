@@ -25,9 +25,10 @@ from ..rsxml.model import Mechanism
 from .bodies import Environment
 from .cable_extremes import RunningExtremes
 from .cable_models import cable_model, make_solver
-from .cable_results import CableResult
+from .cable_results import CableResult, one_env
 from .cable_solver import FATIGUE_EXPONENT, FATIGUE_FLOOR, GRAVITY, CableOptions, CableSolver, contact_meshes
 from .cable_tally import MAX_VALUES_BYTES, CablePiece, CableTally, values_bytes
+from .designs import DesignSet
 from .engine import Job, run_batch
 from .rainflow import Rainflow
 
@@ -48,6 +49,7 @@ class CableRun:
     options: CableOptions = CableOptions()
     warnings: tuple[str, ...] = ()
     joints: tuple[tuple[str, bool], ...] = ()  # the active joints: name, and whether rotational
+    designs: tuple = ()  # a run of designs: per design (environment), its cables' ``CableInfo``
 
     @property
     def weights(self) -> tuple[float, ...]:
@@ -61,11 +63,12 @@ class CableRun:
 
 def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, seconds: float | None = None,
                     options: CableOptions = CableOptions(),
-                    progress: Callable[[float, float], None] | None = None, cluster=None) -> CableRun:
+                    progress: Callable[[float, float], None] | None = None, cluster=None,
+                    designs: DesignSet | None = None) -> CableRun:
     """Every cable of ``mech`` in ``envs`` environments, environment e following
     ``trajectories[assign(...)[e]]`` for ``seconds`` (default: the longest trajectory). ``cluster``
     (a ``rswarp.Cluster`` or a Ray address) runs the environments as tasks on Ray. ``progress``
-    counts environments."""
+    counts environments. With ``designs``, environment e runs design e (``envs`` is their number)."""
     if not mech.cables:
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if not trajectories:
@@ -74,17 +77,32 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     if seconds is None:
         seconds = _trajectory_seconds(trajectories, options)
     frames = run_frames(float(seconds), options)
-    job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options)
-    cable_model(options).check(mech, options)  # a cable the model cannot take fails before anything is built
+    job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options,
+                   designs)
+    mechs = designs.mechanisms(mech) if designs is not None else (mech,)
+    for m in mechs:  # a cable the model cannot take fails before anything is built
+        cable_model(options).check(m, options)
     meshes = contact_meshes(mech, options.environment, options.tool)
     if cluster is not None:
         _check_cut_run(mech, envs, frames)
-    tools = None if cluster is not None else make_solver(mech, options, meshes)
+    tools = None if cluster is not None else make_solver(mech, options, meshes, mechs if designs else ())
     tally = run_batch(job, mech, tools=tools, cluster=cluster, progress=progress)
     cables, recorded_q = tally.results()
     times = np.arange(1, frames + 1) / options.frame_rate
+    infos = () if designs is None else tools.designs if tools is not None else \
+        tuple(cable_model(options).cable_infos(m, options) for m in mechs)
     return CableRun(mech.name, cables, times, tuple(t.source for t in trajectories), job.who, recorded_q, options,
-                    meshes.warnings if meshes else (), tuple((j.name, j.revolute) for j in mech.active_joints))
+                    meshes.warnings if meshes else (), tuple((j.name, j.revolute) for j in mech.active_joints), infos)
+
+
+def design_runs(run: CableRun) -> tuple[CableRun, ...]:
+    """A run of designs (environment e ran design e) as one run per design, each with its cables'
+    own length and segments."""
+    out = []
+    for e, cables in enumerate(run.designs):
+        results = tuple(one_env(c, e, info) for c, info in zip(run.cables, cables))
+        out.append(dataclasses.replace(run, cables=results, assignment=(run.assignment[e],), designs=(cables,)))
+    return tuple(out)
 
 
 def _trajectory_seconds(trajectories: list[Trajectory], options: CableOptions) -> float:
@@ -144,6 +162,7 @@ class CableJob(Job):
     cables: int
     frames: int
     options: CableOptions
+    designs: DesignSet | None = None  # environment e runs design e
 
     @property
     def count(self) -> int:
@@ -155,12 +174,16 @@ class CableJob(Job):
     def for_task(self, span: range) -> "CableJob":
         used = sorted({self.who[e - self.first] for e in span})
         renumber = {k: n for n, k in enumerate(used)}
+        designs = None if self.designs is None else self.designs.take(range(span.start - self.first,
+                                                                            span.stop - self.first))
         return dataclasses.replace(self, trajectories=tuple(self.trajectories[k] for k in used),
-                                   who=tuple(renumber[self.who[e - self.first]] for e in span), first=span.start)
+                                   who=tuple(renumber[self.who[e - self.first]] for e in span), first=span.start,
+                                   designs=designs)
 
     def tools_key(self) -> tuple:
         env = tuple((e.name, e.path, e.pose.tobytes()) for e in self.options.environment)
-        return (dataclasses.replace(self.options, record=-1, threads=None, environment=()), env)
+        return (dataclasses.replace(self.options, record=-1, threads=None, environment=()), env,
+                None if self.designs is None else self.designs.key())
 
     def files(self) -> tuple[str, ...]:
         return tuple(e.path for e in self.options.environment)
@@ -170,7 +193,8 @@ class CableJob(Job):
         options = dataclasses.replace(self.options, device=device, threads=threads, environment=env)
         tool = self.options.tool
         meshes = model.cached(("contact meshes", env, tool), lambda: contact_meshes(model.mech, env, tool))
-        return make_solver(model.mech, options, meshes)
+        designs = self.designs.mechanisms(model.mech) if self.designs is not None else ()
+        return make_solver(model.mech, options, meshes, designs)
 
     def empty(self) -> CableTally:
         return CableTally(self.envs, self.frames, self.cables)

@@ -116,9 +116,13 @@ def sample(variables: tuple[Variable, ...], designs: int, seed: int = 0) -> np.n
     return low + unit[:designs] * (high - low)
 
 
-def design(mech: Mechanism, cable: int, variables: tuple[Variable, ...], values) -> Mechanism:
-    """The mechanism with cable ``cable`` changed by one design's ``values``."""
+def design(mech: Mechanism, cable: int, variables: tuple[Variable, ...], values,
+           axes: dict[int, np.ndarray] | None = None) -> Mechanism:
+    """The mechanism with cable ``cable`` changed by one design's ``values`` (SI): its length, a
+    point shifted along and its direction tilted about its link's axes at the zero position
+    (``axes``: each held point's, from ``link_axes``), SI as the model keeps them."""
     c = mech.cables[cable]
+    axes = link_axes(mech, cable) if axes is None else axes
     points = list(c.control_points)
     length = c.desired_length
     for v, value in zip(variables, values):
@@ -126,29 +130,46 @@ def design(mech: Mechanism, cable: int, variables: tuple[Variable, ...], values)
             length = float(value)
             continue
         p = points[v.point]
+        turn = axes.get(v.point, np.eye(3))
         if v.what in ("x", "y", "z"):
-            shift = np.zeros(3)
-            shift["xyz".index(v.what)] = value
+            shift = turn[:, "xyz".index(v.what)] * float(value)
             points[v.point] = dataclasses.replace(p, position=tuple(float(a) for a in np.add(p.position, shift)))
         elif p.direction is not None:
-            turn = euler_zyx_matrix(0.0, float(value), 0.0) if v.what == "pitch" else \
+            tilt = euler_zyx_matrix(0.0, float(value), 0.0) if v.what == "pitch" else \
                 euler_zyx_matrix(0.0, 0.0, float(value))
-            points[v.point] = dataclasses.replace(p, direction=tuple(float(a) for a in turn @ p.unit_direction))
+            turned = turn @ tilt @ turn.T @ p.unit_direction
+            points[v.point] = dataclasses.replace(p, direction=tuple(float(a) for a in turned))
     changed = dataclasses.replace(c, control_points=tuple(points), desired_length=length)
     cables = list(mech.cables)
     cables[cable] = changed
     return dataclasses.replace(mech, cables=tuple(cables))
 
 
-def inside_links(mech: Mechanism, cable: int) -> list[str]:
+def link_axes(mech: Mechanism, cable: int) -> dict[int, np.ndarray]:
+    """Each held control point's link's axes (3 x 3, world) at the zero position."""
+    from ..kinematics.kinematics import Kinematics
+    from ..rsxml.model import iter_parts
+
+    owner = {p.name: link.name for link in mech.links for p, _ in iter_parts(link)}
+    poses = Kinematics(mech).fk64(np.zeros((1, mech.dof)))[0] if mech.dof else None
+    out = {}
+    for k, cp in enumerate(mech.cables[cable].control_points):
+        if cp.attached_to is not None and poses is not None:
+            out[k] = poses[mech.graph.link_index(owner.get(cp.attached_to, cp.attached_to)), :3, :3].copy()
+    return out
+
+
+def inside_links(mech: Mechanism, cable: int, designs: tuple[Mechanism, ...] = ()) -> list[str]:
     """The attached control points of cable ``cable`` that lie inside a link's (closed) mesh at the
-    zero position, as "point N in LINK"."""
+    zero position, as "point N in LINK" (of ``mech``, or of each of ``designs``: "design D: point N
+    in LINK"), each link's mesh built once."""
     import trimesh
 
     from ..errors import MeshNotFoundError
     from ..geometry.meshes import link_mesh
 
-    held = [(k, p.position) for k, p in enumerate(mech.cables[cable].control_points) if p.attached_to]
+    held = [(d, k, p.position) for d, m in enumerate(designs or (mech,))
+            for k, p in enumerate(m.cables[cable].control_points) if p.attached_to]
     out = []
     for name in mech.graph.links:
         try:
@@ -157,6 +178,31 @@ def inside_links(mech: Mechanism, cable: int) -> list[str]:
             continue
         if mesh is None or not mesh.is_watertight or not held:
             continue
-        inside = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False).contains(np.array([p for _, p in held]))
-        out += [f"point {k + 1} in {name}" for (k, _), yes in zip(held, inside) if yes]
+        inside = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False).contains(np.array([p for *_, p in held]))
+        out += [f"{f'design {d + 1}: ' if designs else ''}point {k + 1} in {name}"
+                for (d, k, _), yes in zip(held, inside) if yes]
     return out
+
+
+@dataclass(frozen=True)
+class DesignSet:
+    """The designs of a sweep: cable ``cable`` of the mechanism changed by each row of ``values``
+    (designs, variables); environment e runs design e."""
+
+    cable: int
+    variables: tuple[Variable, ...]
+    values: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+    def mechanisms(self, mech: Mechanism) -> tuple[Mechanism, ...]:
+        axes = link_axes(mech, self.cable)
+        return tuple(design(mech, self.cable, self.variables, row, axes) for row in self.values)
+
+    def take(self, span: range) -> "DesignSet":
+        """The designs of environments ``span`` (a task's)."""
+        return dataclasses.replace(self, values=self.values[span.start:span.stop])
+
+    def key(self) -> tuple:
+        return (self.cable, self.variables, self.values.tobytes())

@@ -1,0 +1,333 @@
+"""``rswarp dresspack``: a design sweep of one dress-pack hose over a RAPID program. The designs
+(``--vary``: its length, its clamps shifted and tilted in their links' axes) are drawn by Sobol over
+the box and run at once, one environment each (``rswarp.sim.designs``); each gets the verdict
+``rswarp cable`` gives (``report.verdicts``) and its margins per rating. The shortest passing design
+is written as ``best.rsxml`` (with the robot data beside it, its meshes where they were), so that
+``rswarp cable best.rsxml --program ...`` runs the same hose and gives the same verdict."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import tomllib
+
+from ..errors import InputError
+from ..files import atomic_write, read_regular
+from ..kinematics.trajectory import Trajectory
+from ..outputs import atomic_folder
+from ..rsxml.cable_spans import cable_spans
+from ..rsxml.documents import load_mechanism
+from ..rsxml.robot_data import data_file
+from ..rsxml.write import to_rsxml
+from ..sim.cable_results import CableResult
+from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
+from ..sim.cables import design_runs, simulate_cables
+from ..sim.designs import DesignSet, Variable, inside_links, parse_vary, sample
+from ..sim.engine import cluster_for
+from .cables import check_cable_folder, run_findings
+from .dresspack_options import SweepOptions, cable_options, ratings_of, repeat_command
+from .figures import figure_png
+from .output import Output, Warn, ignore, json_bytes, json_safe
+from .verdicts import FAIL, MAX_STRAIN, MAX_TORSION, Ratings, verdict, verdict_lines
+
+MARGINS = ("bend", "taut", "torsion", "rub", "clamp")  # the ratings a design's margin is taken against
+
+
+@dataclass(frozen=True)
+class DesignRow:
+    """One design's outcome: its values (SI, tilts in rad), hose length, verdict, failing kinds, the
+    margin to each rating (1 - value/limit; for the bend radius limit/value's complement) and the
+    least of them, and its findings."""
+
+    index: int
+    values: tuple[float, ...]
+    length: float
+    verdict: str
+    fails: tuple[str, ...]
+    margins: dict
+    least: float
+    findings: tuple
+    result: CableResult
+
+
+def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], designs: int = 64,
+                  cable: str | None = None, seed: int = 0, device: str = "cpu", ray: str | None = None,
+                  routine: str = "main", io: list[str] | None = None, cycles: int = 1, external_axes: str = "error",
+                  limits: str | None = None, floor: float | None = 0.0, environment: list[str] | None = None,
+                  tool: str | None = None, min_bend_radius: float | None = None,
+                  static_bend_radius: float | None = None, max_strain: float = MAX_STRAIN,
+                  max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
+                  max_clamp_load: float | None = None, density: float = DENSITY, poisson: float = POISSON,
+                  friction: float = FRICTION, frame_rate: float = FRAME_RATE, substeps: int = SUBSTEPS,
+                  progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
+    """``rswarp dresspack``: ``designs`` designs of ``cable`` (``vary``: specs, or one TOML file of
+    them) over the RAPID task ``programs``, ranked, written into ``out``; the other options as
+    ``rswarp cable --program`` takes them (the robot file's length unit)."""
+    opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
+                        static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
+                        poisson, friction, frame_rate, substeps)
+    mech, _ = load_mechanism(path)
+    k = _cable_index(mech, cable)
+    variables = parse_vary(_specs(vary), mech.cables[k])
+    drawn = DesignSet(k, variables, sample(variables, designs, seed))
+    short = _too_short(mech, drawn)
+    chosen = DesignSet(k, variables, np.delete(drawn.values, list(short), axis=0))
+    if not len(chosen):
+        raise InputError(f"--vary: every design's hose is shorter than the path through its control points (design "
+                         f"1: {next(iter(short.values()))}); raise the length range")
+    _check_inside(mech, chosen)
+    ratings = ratings_of(mech, opts)
+    check_cable_folder(out)
+    options = cable_options(mech, opts, device)
+    from .program import program_plan, signal_values
+
+    _, plan = program_plan(path, programs, opts.routine, io=signal_values(opts.io), cycles=opts.cycles,
+                           external_axes=opts.external_axes, warn=warn, limits=opts.limits)
+    trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
+    start = time.perf_counter()
+    run = simulate_cables(mech, trajectories, len(chosen), None, options, progress=progress,
+                          cluster=cluster_for(ray, device), designs=chosen)
+    seconds = time.perf_counter() - start
+    kept = [i for i in range(len(drawn)) if i not in short]
+    rows = [_row(kept[i], chosen.values[i], r, k, trajectories, plan.moves, ratings)
+            for i, r in enumerate(design_runs(run))]
+    rows = sorted(rows + [_short_row(i, drawn.values[i], why) for i, why in short.items()], key=lambda r: r.index)
+    chosen = drawn
+    best = _best(rows)
+    command = repeat_command(out, programs, opts, best.verdict == "PASS")
+    doc = _doc(mech, chosen, rows, best, seconds, command, ratings)
+    _write(out, mech, chosen, rows, best, doc)
+    return Output(doc, _text(mech, chosen, rows, best, seconds, plan, command))
+
+
+def _cable_index(mech, name: str | None) -> int:
+    names = [c.name for c in mech.cables]
+    if not names:
+        raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to vary")
+    if name is None:
+        if len(names) > 1:
+            raise InputError(f"{mech.path}: {len(names)} cables ({', '.join(names)}); name the one to vary with "
+                             "--cable")
+        return 0
+    if name not in names:
+        raise InputError(f"--cable '{name}': {mech.path} has {', '.join(names)}")
+    return names.index(name)
+
+
+def _specs(vary: list[str]) -> list[str]:
+    """``--vary`` as specs: as given, or read from one TOML file (``NAME = "MIN:MAX"`` or
+    ``NAME = [MIN, MAX]``, under ``[vary]`` or at its top)."""
+    if not vary:
+        raise InputError("give at least one --vary (length=MIN:MAX, or LINK.x=MIN:MAX ...), or a TOML file of them")
+    if len(vary) != 1 or not vary[0].lower().endswith(".toml"):
+        return list(vary)
+    try:
+        table = tomllib.loads(read_regular(vary[0]).decode("utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"{vary[0]}: not a TOML file of variables ({exc})") from None
+    table = table.get("vary", table)
+    specs = []
+    for name, value in table.items():
+        if isinstance(value, list) and len(value) == 2:
+            value = f"{value[0]}:{value[1]}"
+        if not isinstance(value, str):
+            raise InputError(f"{vary[0]}: '{name}' must be \"MIN:MAX\" or [MIN, MAX]")
+        specs.append(f"{name}={value}")
+    return specs
+
+
+def _too_short(mech, drawn: DesignSet) -> dict[int, str]:
+    """The designs whose hose is shorter than the path through their control points at rest: they
+    cannot be laid out, so they are rows that fail, not environments."""
+    out = {}
+    for d, m in enumerate(drawn.mechanisms(mech)):
+        try:
+            cable_spans(m.cables[drawn.cable], m.length_factor)
+        except ValueError as exc:
+            out[d] = str(exc).split(": ", 1)[-1]
+    return out
+
+
+def _check_inside(mech, chosen: DesignSet) -> None:
+    """A design with a clamp inside its link at rest cannot be built: refused before any work."""
+    inside = inside_links(mech, chosen.cable, chosen.mechanisms(mech))
+    if inside:
+        more = f" (and {len(inside) - 1} more)" if len(inside) > 1 else ""
+        raise InputError(f"--vary: {inside[0]} at rest{more}: a clamp cannot sit inside its link; narrow the "
+                         "shift ranges")
+
+
+def _short_row(index: int, values, why: str) -> DesignRow:
+    return DesignRow(index, tuple(float(v) for v in values), math.nan, "FAIL", ("short",), {}, -math.inf,
+                     (why,), None)
+
+
+def _row(index: int, values, run, cable: int, trajectories, moves, ratings: Ratings) -> DesignRow:
+    """A design's verdict and margins; one that stopped has no margin (least: -inf)."""
+    c = run.cables[cable]
+    found = [f for f in run_findings(run, trajectories, moves, ratings) if f.cable == c.name]
+    stopped = str(c.status[0]) != "ok"
+    margins = {} if stopped else _margins(c, ratings)
+    least = -math.inf if stopped else min(margins.values())
+    fails = tuple(sorted({f.kind for f in found if f.severity == FAIL}))
+    return DesignRow(index, tuple(float(v) for v in values), c.length, verdict(found), fails, margins, least,
+                     tuple(found), c)
+
+
+def _margins(c: CableResult, r: Ratings) -> dict:
+    """Each rating's margin for environment 0: 1 - value/limit (the bend radius: 1 - allowed/value),
+    positive when within it."""
+    strain = float(c.peak_tension[0]) / c.axial_stiffness
+    out = {"bend": 1.0 - c.allowed_bend_radius / max(float(c.min_bend_radius[0]), 1e-12),
+           "taut": 1.0 - strain / r.max_strain, "torsion": 1.0 - float(c.max_twist_rate[0]) / r.max_torsion}
+    if r.max_contact_force is not None:
+        out["rub"] = 1.0 - float(c.peak_normal[0]) / r.max_contact_force
+    if r.max_clamp_load is not None and c.clamp_force.shape[1]:
+        out["clamp"] = 1.0 - float(np.nanmax(c.clamp_force[0])) / r.max_clamp_load
+    return out
+
+
+def _best(rows: list[DesignRow]) -> DesignRow:
+    """The passing design with the shortest hose (ties: the larger least margin); none passing,
+    the one with the fewest failing kinds and the largest least margin."""
+    passing = [r for r in rows if r.verdict == "PASS"]
+    if passing:
+        return min(passing, key=lambda r: (round(r.length, 9), -r.least))
+    return min(rows, key=lambda r: (r.least == -math.inf, len(r.fails), -r.least, r.length))
+
+
+def _values(variables: tuple[Variable, ...], values) -> str:
+    return ", ".join(f"{v.name} {_shown(v, x)}" for v, x in zip(variables, values))
+
+
+def _shown(v: Variable, x: float) -> str:
+    return f"{math.degrees(x):.1f} deg" if v.what in ("pitch", "yaw") else f"{x * 1000:.1f} mm" if v.what != "length" \
+        else f"{x:.4f} m"
+
+
+def _contrast(rows: list[DesignRow], best: DesignRow) -> DesignRow | None:
+    """A failing design to show beside the best: the failing one nearest it in length."""
+    failing = [r for r in rows if r.verdict == "FAIL" and r is not best and r.result is not None]
+    return min(failing, key=lambda r: abs(r.length - best.length)) if failing else None
+
+
+def _text(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, seconds: float, plan,
+          command: str) -> str:
+    passing = sum(r.verdict == "PASS" for r in rows)
+    short = sum(r.result is None for r in rows)
+    c = mech.cables[chosen.cable]
+    ranges = "; ".join(f"{v.name} {_shown(v, v.low)} to {_shown(v, v.high)}" for v in chosen.variables)
+    lines = [f"dresspack: {len(rows)} designs of cable '{c.name}' over {', '.join(plan.run.files)} "
+             f"({plan.times[-1]:.2f} s) in {seconds:.1f} s ({len(rows) / seconds:.1f} designs/s)",
+             f"  varied: {ranges}", f"  passing: {passing} of {len(rows)}" + (
+                 f" ({short} too short for the path through their control points, not run)" if short else "")]
+    head = "best: design {}, the shortest hose that passes" if passing else \
+        "no design passes; the closest: design {}"
+    lines += [head.format(best.index + 1) + f": {_values(chosen.variables, chosen.values[best.index])}, "
+              f"hose {best.length:.4f} m, least margin {best.least:.1%} ({_tightest(best)})"]
+    lines += verdict_lines(best.result, list(best.findings))
+    lines.append(f"  {command}")
+    other = _contrast(rows, best)
+    if other is not None and passing:
+        lines.append(f"a failing design beside it: design {other.index + 1}: "
+                     f"{_values(chosen.variables, chosen.values[other.index])}, hose {other.length:.4f} m")
+        lines += verdict_lines(other.result, list(other.findings))
+    return "\n".join(lines)
+
+
+def _tightest(row: DesignRow) -> str:
+    if not row.margins:
+        return "no rating measured"
+    kind = min(row.margins, key=row.margins.get)
+    return f"{kind} {row.margins[kind]:+.1%}"
+
+
+def _doc(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, seconds: float, command: str,
+         ratings: Ratings) -> dict:
+    return json_safe({
+        "robot": mech.path, "cable": mech.cables[chosen.cable].name, "designs": len(rows), "seconds": seconds,
+        "designs_per_second": len(rows) / seconds,
+        "variables": [{"name": v.name, "what": v.what, "point": v.point, "low": v.low, "high": v.high}
+                      for v in chosen.variables],
+        "ratings": {"max_strain": ratings.max_strain, "max_torsion": ratings.max_torsion,
+                    "max_contact_force": ratings.max_contact_force, "max_clamp_load": ratings.max_clamp_load},
+        "passing": sum(r.verdict == "PASS" for r in rows), "best": _row_dict(chosen, best, True),
+        "best_passes": best.verdict == "PASS", "check": command,
+        "rows": [_row_dict(chosen, r, False) for r in rows]})
+
+
+def _row_dict(chosen: DesignSet, r: DesignRow, findings: bool) -> dict:
+    out = {"design": r.index + 1, "values": dict(zip((v.name for v in chosen.variables), r.values)),
+           "length": r.length, "verdict": r.verdict, "fails": list(r.fails), "margins": r.margins,
+           "least_margin": r.least}
+    if findings:
+        out["findings"] = [f if isinstance(f, str) else f.record() for f in r.findings]
+    return out
+
+
+def _csv(chosen: DesignSet, rows: list[DesignRow]) -> bytes:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["design", *(v.name for v in chosen.variables), "hose_m", "verdict", "fails",
+                *(f"{k}_margin" for k in MARGINS), "least_margin", "bend_radius_m", "peak_tension_n"])
+    for r in rows:
+        w.writerow([r.index + 1, *(f"{x:.6g}" for x in r.values), f"{r.length:.6f}", r.verdict, " ".join(r.fails),
+                    *(f"{r.margins[k]:.4f}" if k in r.margins else "" for k in MARGINS), f"{r.least:.4f}",
+                    *((f"{float(r.result.min_bend_radius[0]):.4f}", f"{float(r.result.peak_tension[0]):.3f}")
+                      if r.result is not None else ("", ""))])
+    return buf.getvalue().encode()
+
+
+def _pareto(rows: list[DesignRow], best: DesignRow) -> bytes:
+    def draw(ax):
+        for ok, colour, mark, label in ((True, "tab:green", "o", "passes"), (False, "tab:red", "x", "fails")):
+            pick = [r for r in rows if (r.verdict == "PASS") == ok and "bend" in r.margins]
+            if pick:
+                ax.scatter([r.length for r in pick], [100 * r.margins["bend"] for r in pick], c=colour, marker=mark,
+                           s=18, label=label)
+        ax.scatter([best.length], [100 * best.margins.get("bend", np.nan)], s=160, marker="*", c="gold",
+                   edgecolors="black", label=f"design {best.index + 1}", zorder=3)
+        ax.axhline(0.0, color="black", lw=0.8)
+
+    return figure_png(draw, "Designs: hose length against bend-radius margin", "hose length (m)",
+                      "bend margin (%: 1 - allowed / least radius)")
+
+
+def _write(out: str, mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, doc: dict) -> None:
+    """designs.csv, pareto.png, the chosen design as best.rsxml (closest.rsxml when none passes),
+    with the robot data beside it, and report.json (``doc``, its files added), as one set."""
+    target = Path(out)
+    name = "best" if best.verdict == "PASS" else "closest"
+    data = data_file(mech.path)
+    files = {"designs": "designs.csv", "pareto": "pareto.png", name: f"{name}.rsxml", "report": "report.json"} | (
+        {"robot_data": f"{name}.robot.toml"} if data else {})
+    doc["files"] = {k: str(target / v) for k, v in files.items()}
+    xml = portable(to_rsxml(chosen.mechanisms(mech)[best.index]), Path(mech.path).parent, target)
+    with atomic_folder(target) as tmp:
+        atomic_write(tmp / files["designs"], _csv(chosen, rows))
+        atomic_write(tmp / files["pareto"], _pareto(rows, best))
+        atomic_write(tmp / files[name], xml)
+        if data:
+            atomic_write(tmp / files["robot_data"], read_regular(data))
+        atomic_write(tmp / files["report"], json_bytes(doc))
+
+
+def portable(xml: bytes, source_dir: Path, out_dir: Path) -> bytes:
+    """The RSXML with every relative ``source`` rewritten to be relative to ``out_dir``, so a file
+    written there finds the same meshes."""
+    from lxml import etree
+
+    root = etree.fromstring(xml, etree.XMLParser(resolve_entities=False, no_network=True))
+    for el in root.iter():
+        src = el.get("source")
+        if src and not os.path.isabs(src):
+            el.set("source", os.path.relpath(os.path.abspath(source_dir / src), os.path.abspath(out_dir)))
+    return etree.tostring(root, xml_declaration=True, encoding="utf-8", pretty_print=True)
