@@ -104,7 +104,8 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
                                                                  "IRB2600_12_165__01-service.csv",
                                                                  "IRB2600_12_165__01-cell.csv",
                                                                  "IRB2600_12_165__01-service.gif", "dresspack-program",
-                                                                 "dresspack-program.gif", "dresspack-random"] + [
+                                                                 "dresspack-program.gif", "dresspack-random",
+                                                                 "dresspack-sweep"] + [
         f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01", "IRB9460_110_240__01")
         for e in ("urdf", "srdf", "usdc")])
     assert "matrix disables 6 adjacent, 1 default, 0 always" in out
@@ -116,6 +117,8 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
     assert "program pick_place.mod (rswarp program, with --tool irb2600_12_165/gripper/Gripper.rsxml)" in out
     assert "== dress pack: IRB2600_12_165_DressPack_01.rsxml" in out and "rubs on Link4" in out
     assert "no meshes ship with this robot, so its hose meets only the floor" in out
+    assert "dresspack: 32 designs of cable 'ProcessHose'" in out and "the shortest hose that passes" in out
+    assert (tmp_path / "dresspack-sweep" / "best.rsxml").is_file()
     assert (tmp_path / "IRB2600ID_8_200__03-cables" / "report.json").is_file()
     assert (tmp_path / "IRB2600_12_165__01-collisions" / "collision_matrix.srdf").is_file()
     assert (tmp_path / "meshes" / "IRB2600_12_165__01" / "Link6.stl").is_file()  # each robot its own meshes
