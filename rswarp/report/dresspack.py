@@ -17,7 +17,6 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
-import tomllib
 
 from ..errors import InputError
 from ..files import atomic_write, read_regular
@@ -129,6 +128,10 @@ def _specs(vary: list[str]) -> list[str]:
         raise InputError("give at least one --vary (length=MIN:MAX, or LINK.x=MIN:MAX ...), or a TOML file of them")
     if len(vary) != 1 or not vary[0].lower().endswith(".toml"):
         return list(vary)
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
     try:
         table = tomllib.loads(read_regular(vary[0]).decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
