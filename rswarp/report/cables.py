@@ -18,14 +18,13 @@ from ..options import checked
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
-from ..sim.bodies import placed_environments
 from ..sim.cable_results import CableResult, worst_wear
 from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS, CableOptions, contact_meshes
 from ..sim.cables import CableRun, run_frames, simulate_cables
 from ..sim.engine import cluster_for
-from ..sim.tool import load_tool
 from .cable_lines import cable_lines, pinched
 from .cable_plots import cable_plots
+from .dresspack_options import SweepOptions, cable_options, ratings_of
 from .output import Output, Warn, ignore, json_bytes, json_safe
 from .payload import task_payload
 from .verdicts import MAX_STRAIN, MAX_TORSION, Ratings, cable_findings, moments, verdict, verdict_lines
@@ -52,16 +51,14 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     envs = envs if envs is not None else 1 if program is not None else 16
     mech, report = load_mechanism(path)
     _say_no_slack(report, warn)
-    ratings = Ratings(max_strain, mech.si_length(static_bend_radius), np.radians(max_torsion), max_contact_force,
-                      max_clamp_load)
+    hose = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
+                        static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
+                        poisson, friction, frame_rate, substeps)
+    ratings = ratings_of(mech, hose)
     rated = rated_fatigue(rated_cycles, mech)
     check_cable_folder(out)
     check_video_options(video, video_env, video_color, envs, out)
-    options = CableOptions(frame_rate=frame_rate, substeps=substeps, density=density, poisson=poisson,
-                           friction=friction, environment=placed_environments(mech, environment or []),
-                           cable_model=cable_model, min_bend_radius=mech.si_length(min_bend_radius),
-                           floor=mech.si_length(floor), record=0 if usd else -1, device=device,
-                           tool=load_tool(mech, tool), max_strain=max_strain)
+    options = cable_options(mech, hose, device, cable_model, record=0 if usd else -1)
     checked("envs", envs)
     if not mech.cables:  # before any trajectory is made
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")

@@ -29,7 +29,7 @@ from ..rsxml.write import to_rsxml
 from ..sim.cable_results import CableResult
 from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
 from ..sim.cables import design_runs, simulate_cables
-from ..sim.designs import DesignSet, Variable, inside_links, parse_vary, sample
+from ..sim.designs import DesignSet, Variable, design, inside_links, parse_vary, sample
 from ..sim.engine import cluster_for
 from .cables import check_cable_folder, run_findings
 from .dresspack_options import SweepOptions, cable_options, ratings_of, repeat_command
@@ -77,12 +77,13 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     k = _cable_index(mech, cable)
     variables = parse_vary(_specs(vary), mech.cables[k])
     drawn = DesignSet(k, variables, sample(variables, designs, seed))
-    short = _too_short(mech, drawn)
+    mechs = drawn.mechanisms(mech)
+    short = _too_short(mechs, k)
     chosen = DesignSet(k, variables, np.delete(drawn.values, list(short), axis=0))
     if not len(chosen):
         raise InputError(f"--vary: every design's hose is shorter than the path through its control points (design "
                          f"1: {next(iter(short.values()))}); raise the length range")
-    _check_inside(mech, chosen)
+    _check_inside(mech, k, [m for d, m in enumerate(mechs) if d not in short])
     ratings = ratings_of(mech, opts)
     check_cable_folder(out)
     options = cable_options(mech, opts, device)
@@ -147,21 +148,21 @@ def _specs(vary: list[str]) -> list[str]:
     return specs
 
 
-def _too_short(mech, drawn: DesignSet) -> dict[int, str]:
+def _too_short(mechs, cable: int) -> dict[int, str]:
     """The designs whose hose is shorter than the path through their control points at rest: they
     cannot be laid out, so they are rows that fail, not environments."""
     out = {}
-    for d, m in enumerate(drawn.mechanisms(mech)):
+    for d, m in enumerate(mechs):
         try:
-            cable_spans(m.cables[drawn.cable], m.length_factor)
+            cable_spans(m.cables[cable], m.length_factor)
         except ValueError as exc:
             out[d] = str(exc).split(": ", 1)[-1]
     return out
 
 
-def _check_inside(mech, chosen: DesignSet) -> None:
+def _check_inside(mech, cable: int, mechs) -> None:
     """A design with a clamp inside its link at rest cannot be built: refused before any work."""
-    inside = inside_links(mech, chosen.cable, chosen.mechanisms(mech))
+    inside = inside_links(mech, cable, tuple(mechs))
     if inside:
         more = f" (and {len(inside) - 1} more)" if len(inside) > 1 else ""
         raise InputError(f"--vary: {inside[0]} at rest{more}: a clamp cannot sit inside its link; narrow the "
@@ -313,7 +314,8 @@ def _write(out: str, mech, chosen: DesignSet, rows: list[DesignRow], best: Desig
     files = {"designs": "designs.csv", "pareto": "pareto.png", name: f"{name}.rsxml", "report": "report.json"} | (
         {"robot_data": f"{name}.robot.toml"} if data else {})
     doc["files"] = {k: str(target / v) for k, v in files.items()}
-    xml = portable(to_rsxml(chosen.mechanisms(mech)[best.index]), Path(mech.path).parent, target)
+    picked = design(mech, chosen.cable, chosen.variables, chosen.values[best.index])
+    xml = portable(to_rsxml(picked), Path(mech.path).parent, target)
     with atomic_folder(target) as tmp:
         atomic_write(tmp / files["designs"], _csv(chosen, rows))
         atomic_write(tmp / files["pareto"], _pareto(rows, best))

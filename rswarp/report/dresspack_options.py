@@ -1,6 +1,6 @@
-"""The options a design sweep shares with ``rswarp cable --program``: how the task runs, the cell,
-the hose's material and ratings. The sweep builds its cable options as the cable command does, so
-that ``rswarp cable best.rsxml --program ...`` with the same options (``repeat_command``) runs the
+"""The options ``rswarp cable`` and ``rswarp dresspack`` share: how the task runs, the cell, the
+hose's material and ratings. Both commands build their run's options and ratings here, so that
+``rswarp cable best.rsxml --program ...`` with the same options (``repeat_command``) runs the
 chosen design exactly as the sweep ran it."""
 
 from __future__ import annotations
@@ -41,12 +41,12 @@ class SweepOptions:
     substeps: int = SUBSTEPS
 
 
-def cable_options(mech, o: SweepOptions, device: str) -> CableOptions:
-    """The run's options as ``rswarp cable`` makes them (``report.cables.run_cables``)."""
+def cable_options(mech, o: SweepOptions, device: str, cable_model: str = "rod", record: int = -1) -> CableOptions:
+    """A run's options from the user's (``rswarp cable`` and ``rswarp dresspack`` alike)."""
     return CableOptions(frame_rate=o.frame_rate, substeps=o.substeps, density=o.density, poisson=o.poisson,
                         friction=o.friction, environment=placed_environments(mech, o.environment or []),
-                        cable_model="rod", min_bend_radius=mech.si_length(o.min_bend_radius),
-                        floor=mech.si_length(o.floor), record=-1, device=device, tool=load_tool(mech, o.tool),
+                        cable_model=cable_model, min_bend_radius=mech.si_length(o.min_bend_radius),
+                        floor=mech.si_length(o.floor), record=record, device=device, tool=load_tool(mech, o.tool),
                         max_strain=o.max_strain)
 
 

@@ -95,6 +95,9 @@ class CosseratRod(CableSolver):
         self.launcher.load(self.kernel)
         self._meshes: list = []  # Warp keeps a mesh's BVH only while the Mesh lives
         self.bodies = max(lay.bodies for lay in self.layouts)
+        # (designs, cables): where each design's cable starts among its bodies, and its segments
+        self._first = np.array([[c.first for c in lay.cables] for lay in self.layouts])
+        self._count = np.array([[c.segments for c in lay.cables] for lay in self.layouts])
         self.params = self._params(meshes, options)
 
     @classmethod
@@ -261,8 +264,7 @@ class CosseratRod(CableSolver):
     def _segments(self, state: RodState, cable: int):
         """A function taking a per-body array (envs, bodies, ...) to cable ``cable``'s segments in each
         environment's design (envs, its most segments over the designs, ...), zero past a design's."""
-        first = np.array([lay.cables[cable].first for lay in self.layouts])[state.designs]
-        count = np.array([lay.cables[cable].segments for lay in self.layouts])[state.designs]
+        first, count = self._first[state.designs, cable], self._count[state.designs, cable]
         if len(self.layouts) == 1:
             return lambda a: a[:, first[0]:first[0] + count[0]].copy()
         s = np.arange(count.max())

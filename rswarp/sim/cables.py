@@ -80,7 +80,8 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     job = CableJob(tuple(trajectories), tuple(assign(trajectories, envs)), 0, envs, len(mech.cables), frames, options,
                    designs)
     mechs = designs.mechanisms(mech) if designs is not None else (mech,)
-    for m in mechs:  # a cable the model cannot take fails before anything is built
+    # a cable the model cannot take fails before anything is built (here, the solver checks the rest)
+    for m in mechs if cluster is not None else mechs[:1]:
         cable_model(options).check(m, options)
     meshes = contact_meshes(mech, options.environment, options.tool)
     if cluster is not None:
