@@ -14,7 +14,7 @@ import sys
 import traceback
 
 from .errors import InputError, RsxmlError, one_line
-from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit
+from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit, note_interrupts
 from .options import argument
 
 RAY_HELP = ("run the batch as tasks on Ray: a local Ray instance on this machine, or the cluster at ADDRESS "
@@ -176,7 +176,7 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # a usage error is the user's (exit 1), --help is exit 0
         return 1 if exc.code else 0
     try:
-        with file_size_limit(int(args.max_file_size * 2**20)):
+        with note_interrupts(), file_size_limit(int(args.max_file_size * 2**20)):
             return _call(args)
     except RsxmlError as exc:
         for d in exc.diagnostics:

@@ -148,6 +148,29 @@ class Terminated(BaseException):
 
 
 _terminated = threading.Event()  # SIGTERM arrived during a write; set by the handler
+_interrupted = threading.Event()  # Ctrl-C arrived: set by ``note_interrupts``' handler
+
+
+def _interrupt(signum, frame) -> None:
+    _interrupted.set()
+    raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def note_interrupts() -> Iterator[None]:
+    """For the block, Ctrl-C raises KeyboardInterrupt as usual and is also noted, so that one
+    swallowed on its way (a library's catch-all around its optional imports: trimesh's around
+    scipy) still stops the next ``commit``: no output is put in place after a Ctrl-C."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    _interrupted.clear()
+    previous = signal.signal(signal.SIGINT, _interrupt)
+    try:
+        yield
+        stop_if_terminated()
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @contextlib.contextmanager
@@ -175,9 +198,17 @@ def cleanup_on_terminate() -> Iterator[None]:
 
 
 def stop_if_terminated() -> None:
-    """Raise ``Terminated`` if SIGTERM arrived during a write, even one swallowed on its way."""
+    """Raise ``Terminated`` if SIGTERM arrived during a write, and KeyboardInterrupt if Ctrl-C
+    did, even one swallowed on its way."""
     if _terminated.is_set():
         raise Terminated()
+    stop_if_interrupted()
+
+
+def stop_if_interrupted() -> None:
+    """Raise KeyboardInterrupt if Ctrl-C arrived and was swallowed on its way."""
+    if _interrupted.is_set():
+        raise KeyboardInterrupt
 
 
 def commit(src: str | Path, dst: str | Path) -> None:

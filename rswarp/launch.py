@@ -22,6 +22,7 @@ from typing import Sequence
 import numpy as np
 
 from .errors import InputError
+from .files import stop_if_interrupted
 
 DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
 MIN_SPLIT = 512  # items a CPU chunk holds at least: a smaller batch costs less on one thread than handed out
@@ -146,6 +147,7 @@ class Launcher:
     def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence = (), outputs: Sequence = (),
                scratch: int | Sequence[int] | None = None) -> None:
         """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk)."""
+        stop_if_interrupted()
         args = kernel.adj.args
         first = len(params)
         in_types = [args[first + k].type.dtype for k in range(len(inputs))]

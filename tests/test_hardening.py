@@ -15,6 +15,8 @@ import time
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 
 import rswarp
 from rswarp.cli import main
@@ -166,7 +168,28 @@ def test_a_hose_at_rest_on_a_robot_that_never_moves(tmp_path, capsys):
     soft = tmp_path / "soft.rsxml"
     soft.write_text(CABLE.read_text().replace('youngsModulus="2e7"', 'youngsModulus="1e-20"'))
     assert main(["check", str(soft)]) == 1
-    assert "youngsModulus must be 1000 to 1e+13 Pa" in capsys.readouterr().err
+    assert "youngsModulus must be 100000 to 1e+13 Pa" in capsys.readouterr().err
+
+
+def test_a_hose_whose_rest_shape_crosses_a_link_is_refused_at_its_line(tmp_path, capsys):
+    """The dress pack's routing point over the upper arm taken out: the span between the clamps,
+    bowed down to its length, runs through the arm. The run used to stop at its first frame and
+    blame the trajectory for a crush on a robot that never moved."""
+    text = IRB2600_DRESSPACK.read_text().replace('<ControlPoint position="0.72, 0, 1.67"/>', "")
+    assert text != IRB2600_DRESSPACK.read_text()
+    robot = tmp_path / "unrouted.rsxml"
+    robot.write_text(text)
+    for mesh in IRB2600_DRESSPACK.parent.iterdir():  # the meshes beside it, by their relative sources
+        if mesh.suffix != ".rsxml":
+            (tmp_path / mesh.name).symlink_to(mesh)
+    still = tmp_path / "still.csv"
+    still.write_text("time,J1,J2,J3,J4,J5,J6\n0,0,0,0,0,30,0\n2,0,0,0,0,30,0\n")
+    assert main(["cable", str(robot), "--trajectory", str(still), "--envs", "1", "--out", str(tmp_path / "run")]) == 1
+    err = capsys.readouterr().err.strip()
+    line = 1 + text[:text.index("<Cable ")].count("\n")
+    assert err.startswith(f"{robot}:{line}: cable 'ProcessHose' at rest lies ") and "deep in 'Link" in err
+    assert "between control points 1 and 2" in err and "add a ControlPoint" in err and "\n" not in err
+    assert not (tmp_path / "run").exists()
 
 
 def test_trajectories_that_last_no_time_or_too_long_are_said_as_such(tmp_path, capsys):
@@ -238,3 +261,101 @@ def test_a_signal_while_python_shuts_down_is_130_or_143_not_a_traceback(sig, cod
               f"atexit.register(lambda: (os.kill(os.getpid(), {int(sig)}), time.sleep(5)))\nprint('out')\ncli.run()\n")
     p = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=60)
     assert p.returncode == code and p.stdout == b"out\n" and b"Traceback" not in p.stderr
+
+
+def test_a_ctrl_c_a_library_swallows_still_ends_the_run_with_130_and_no_output(tmp_path):
+    """trimesh catches every exception around its optional imports, KeyboardInterrupt too: a
+    Ctrl-C then used to be lost, and the run ended 0 with all its outputs."""
+    csv = tmp_path / "t.csv"
+    script = ("import os, signal, time\nimport rswarp.cli as cli\ncall = cli._call\n"
+              "def swallowing(args):\n"
+              "    try:\n        os.kill(os.getpid(), signal.SIGINT)\n        time.sleep(1)\n"
+              "    except BaseException:\n        pass\n    return call(args)\n"
+              f"cli._call = swallowing\nimport sys\nsys.argv = ['rswarp', 'program', {str(IRB2600)!r}, "
+              f"{str(IRB2600_PROGRAM)!r}, '--csv', {str(csv)!r}]\ncli.run()\n")
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=300)
+    assert p.returncode == 130 and b"Traceback" not in p.stderr, p.stderr.decode()[-500:]
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("conf, message", [
+    ([0, 0, 0], r"conf must have the shape \(4,\) or \(1, 4\) for 1 pose, not \(3,\)"),
+    (np.zeros((3, 4)), r"not \(3, 4\)"),
+    ([0, 0.5, 0, 0], "whole numbers .* not 0.5"),
+    ([np.nan, 0, 0, 0], "whole numbers .* not nan"),
+    (["a"] * 4, "whole numbers, not <U1"),
+    ([0, 0, 0, 1e9], "is no quadrant"),
+])
+def test_ik_refuses_a_conf_that_is_not_confdata(conf, message):
+    kin = rswarp.Kinematics(rswarp.load(IRB2600))
+    pose = kin.flange(np.zeros((1, 6))).astype(np.float64)
+    with pytest.raises(InputError, match=message):
+        kin.ik64(pose, conf=conf)
+    q, found = kin.ik64(pose, conf=np.zeros((1, 4)))
+    assert found.all() and np.allclose(q, 0.0, atol=1e-6)  # a float32 pose
+
+
+def _robtarget(kin, q: np.ndarray) -> np.ndarray:
+    """The flange pose of ``q`` as a RAPID robtarget holds it: mm to 3 decimals, a quaternion to 6."""
+    from scipy.spatial.transform import Rotation
+
+    link, m = kin.flange_frame()
+    pose = kin.fk64(q[None])[0, link] @ m
+    x, y, z, w = Rotation.from_matrix(pose[:3, :3]).as_quat()
+    quat = np.round([w, x, y, z], 6)
+    out = np.eye(4)
+    out[:3, :3] = Rotation.from_quat([*quat[1:], quat[0]]).as_matrix()
+    out[:3, 3] = np.round(pose[:3, 3] * 1000, 3) / 1000
+    return out
+
+
+def _reached(kin, q: np.ndarray, q_now: np.ndarray) -> None:
+    """The robtarget of ``q``, with ``q``'s own confdata, is reached as the program reaches it: to
+    within the target's rounding, with that confdata."""
+    from rswarp.kinematics import targets as tg
+
+    pose, conf = _robtarget(kin, q)[None], kin.confdata(q[None])[0]
+    sol = kin.solutions64(pose)
+    tg.off_the_axis(kin, pose, sol, float(q_now[0]), [conf])
+    got, why = tg.pick(sol, 0, conf, q_now, True, "p", kin._ik_form(), kin.mech.bounds())
+    assert why is None, (np.degrees(q).round(3), conf, why)
+    link, m = kin.flange_frame()
+    reached = kin.fk64(got[None])[0, link] @ m
+    assert np.abs(reached[:3, 3] - pose[0, :3, 3]).max() < 2e-5
+    assert np.abs(reached[:3, :3] - pose[0, :3, :3]).max() < 1e-4
+
+
+@pytest.fixture(scope="module")
+def irb2600_kinematics():
+    return rswarp.Kinematics(rswarp.load(IRB2600))
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(q1=st.floats(-170, 170), q2=st.floats(-60, 90), q3=st.floats(-60, 60), q4=st.floats(-300, 300),
+       q6=st.floats(-300, 300))  # q3 clear of -83.5 deg, where the arm is straight (the elbow's singularity)
+def test_a_wrist_singular_robtarget_is_reached_with_its_own_confdata(irb2600_kinematics, q1, q2, q3, q4, q6):
+    """q5 = 0: axes 4 and 6 in line, only q4 + q6 counts. Rounded to a robtarget's digits, q5 is
+    1e-6 rad off zero and the closed form's split of q4 and q6 is noise; the target's confdata
+    picks the split, and q4 stays where the robot is where the quadrants let it."""
+    q = np.radians([q1, q2, q3, q4, 0.0, q6])
+    _reached(irb2600_kinematics, q, np.zeros(6))
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(q2=st.floats(-60, 60), q4=st.floats(-170, 170), q5=st.floats(-100, 100), q6=st.floats(-170, 170))
+def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confdata(irb2600_kinematics, q2, q4,
+                                                                                     q5, q6):
+    """The wrist centre on axis 1 (any q1 reaches it): rounding leaves it a micrometre in front of
+    or behind the axis, which the target's cfx must not be read against."""
+    from scipy.optimize import brentq
+
+    kin = irb2600_kinematics
+
+    def ahead(q3: float) -> float:  # how far the wrist centre is in front of axis 1 at q1 = 0
+        wrist, _ = kin.wrist_flange64(np.radians([[0.0, q2, q3, q4, q5, q6]]))
+        return float(wrist[0, 0])
+
+    q3 = brentq(ahead, -179.0, 0.0) if ahead(-179.0) * ahead(0.0) < 0 else None
+    assume(q3 is not None and q3 > -175)
+    q = np.radians([0.0, q2, q3, q4, q5, q6])
+    _reached(kin, q, np.zeros(6))

@@ -115,7 +115,8 @@ def turns(sol: IKSolutions, lower: np.ndarray, upper: np.ndarray, axes: tuple[in
     return IKSolutions(q, conf, status, sol.numerical)
 
 
-QUADRANT_SLACK = 1e-6  # rad: a joint this close to a quadrant's edge is in either (rounding, not a choice)
+QUADRANT_SLACK = 1e-5  # rad: a joint this close to a quadrant's edge is in either (rounding, not a choice:
+# a robtarget's quaternion of 6 decimals moves the joints by 2e-6)
 
 
 def quadrant_axes(form) -> tuple[tuple[int, int], ...]:
@@ -128,27 +129,38 @@ def quadrant_axes(form) -> tuple[tuple[int, int], ...]:
     return ()
 
 
-def conf_matches(q: np.ndarray, conf: np.ndarray, want, axes=()) -> np.ndarray:
+def wrist_axis(form) -> int | None:
+    """The joint whose sign is cfx's last bit (an arm's axis 5), or None (a palletizer has none)."""
+    return 4 if isinstance(form, ArmConstants) else None
+
+
+def conf_matches(q: np.ndarray, conf: np.ndarray, want, axes=(), wrist: int | None = None) -> np.ndarray:
     """(..., S) whether solutions ``q`` (..., S, dof) of configurations ``conf`` (..., S, 4) have
     ``want`` ((4,) or (..., 4)). A joint within QUADRANT_SLACK of its quadrant's edge counts in
-    either quadrant: a pose read at q1 = 0 (CRobT) solves to q1 = -1e-12 as often as to 0."""
+    either quadrant: a pose read at q1 = 0 (CRobT) solves to q1 = -1e-12 as often as to 0; so
+    does axis 5 (``wrist``) within it of 0 for cfx's last bit, its sign. An arm's axes 4 and 6
+    have it 1 / |sin q5| times over (up to 100)."""
     want = np.asarray(want, np.int64)[..., None, :]
     same = conf == want
     quarter = 0.5 * np.pi
+    # near the wrist's singularity axes 4 and 6 take a target's rounding 1 / |sin q5| times over
+    amplified = 1.0 if wrist is None else 1.0 / np.maximum(np.abs(np.sin(q[..., wrist])), 0.01)
     for column, axis in axes:
         x = q[..., axis] / quarter
         edge = np.round(x)
-        near = np.abs(x - edge) * quarter < QUADRANT_SLACK
+        near = np.abs(x - edge) * quarter < QUADRANT_SLACK * (1.0 if axis == 0 else amplified)
         w = want[..., column]
         same[..., column] |= near & ((w == edge) | (w == edge - 1))
+    if wrist is not None:
+        same[..., 3] |= (np.abs(q[..., wrist]) < QUADRANT_SLACK) & ((conf[..., 3] | 1) == (want[..., 3] | 1))
     return same.all(axis=-1)
 
 
-def pick(sol: IKSolutions, conf, axes=()) -> tuple[np.ndarray, np.ndarray]:
+def pick(sol: IKSolutions, conf, axes=(), wrist: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(q (N, dof), found (N,)): for each pose, the solution with configuration ``conf`` ((4,) or
     (N, 4)); NaN and False where none has it. ``axes``: ``quadrant_axes`` of the solver."""
     want = np.broadcast_to(np.asarray(conf, np.int32), (sol.q.shape[0], CONF))
-    match = sol.ok & conf_matches(sol.q, sol.conf, want, axes)
+    match = sol.ok & conf_matches(sol.q, sol.conf, want, axes, wrist)
     found = match.any(axis=1)
     first = np.argmax(match, axis=1)
     q = sol.q[np.arange(len(first)), first].copy()

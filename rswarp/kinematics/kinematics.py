@@ -27,6 +27,23 @@ FAR_M = 1000.0
 RIGID_TOL = 1e-5  # |R^T R - I| and the bottom row's error a pose may have: float32 rounding, no more
 
 
+def checked_conf(conf, n: int) -> np.ndarray:
+    """``conf`` as whole numbers of the shape (4,) or (n, 4) (cf1, cf4, cf6, cfx of n poses), or
+    an ``InputError`` saying what it is instead: never broadcast, truncated or rounded."""
+    a = np.asarray(conf)
+    if a.shape not in ((4,), (n, 4)):
+        raise InputError(f"conf must have the shape (4,) or ({n}, 4) for {n} pose{'s' * (n != 1)}, not {a.shape}")
+    if a.dtype.kind not in "fiu":
+        raise InputError(f"conf must hold whole numbers, not {a.dtype}")
+    if a.dtype.kind == "f" and not (np.isfinite(a).all() and (a == np.round(a)).all()):
+        bad = a[~(np.isfinite(a) & (a == np.round(np.nan_to_num(a))))].flat[0]
+        raise InputError(f"conf must hold whole numbers (quadrants and cfx), not {bad:g}")
+    if (np.abs(a) > 1000).any():
+        raise InputError(f"conf {a[np.abs(a) > 1000].flat[0]:g} is no quadrant: cf1, cf4, cf6 are a joint's turn "
+                         "in quarters, cfx 0..7")
+    return a.astype(np.int64)
+
+
 def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int | None = None) -> np.ndarray:
     """``poses`` as a C-contiguous (N, 4, 4) array of ``dtype``; ``InputError`` for a shape other
     than (4, 4) or (N, 4, 4) and, ``checked``, naming the first that is not a rigid transform (a
@@ -226,10 +243,13 @@ class Kinematics:
 
     def _ik(self, poses, conf, dtype):
         poses = self._poses(poses, dtype)
+        if conf is not None:
+            conf = checked_conf(conf, len(poses))
         sol = self._solve(self._ik_form(), poses, dtype)
         if conf is None:
             return sol
-        return ik.pick(self._turned(sol), conf, ik.quadrant_axes(self._ik_form()))
+        form = self._ik_form()
+        return ik.pick(self._turned(sol), conf, ik.quadrant_axes(form), ik.wrist_axis(form))
 
     def _poses(self, poses, dtype) -> np.ndarray:
         """Flange poses checked as rigid transforms: on the host, or by the arm's kernel."""

@@ -95,7 +95,8 @@ def _targets(planner, motions, out: list[Prepared]) -> None:
     if poses:
         poses = np.array(poses)
         sol = planner.kin.solutions64(poses)
-        tg.off_the_axis(planner.kin, poses, sol, float(planner.q[0]))
+        checked = [motions[k].targets[-1].conf if motions[k].conf else None for k in owners]
+        tg.off_the_axis(planner.kin, poses, sol, float(planner.q[0]), checked)
         for row, k in enumerate(owners):
             out[k].sol, out[k].row = sol, row
     if joints:

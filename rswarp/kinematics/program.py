@@ -127,7 +127,7 @@ class Planner:
         fr = self._frames_or_raise(tool, wobj)
         pose = fr.flange(target.pose.matrix()[None])
         sol = self.kin.solutions64(pose)
-        tg.off_the_axis(self.kin, pose, sol, float(self.q[0]))
+        tg.off_the_axis(self.kin, pose, sol, float(self.q[0]), [target.conf])
         q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget", self.form, self.bounds)
         return (None, why) if q is None else (tuple(float(v) for v in q), None)
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..kernels.ik import NO_LIMITS, OK, SHOULDER
 from ..rapid import data as rd
-from .ik import ArmConstants, conf_matches, quadrant_axes
+from .ik import QUADRANT_SLACK, ArmConstants, conf_matches, quadrant_axes, wrist_axis
 
 EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
 
@@ -65,9 +65,9 @@ def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=Non
         return None, unreachable(sol, k, name)
     cands = sol.q[k]
     if checked and not sol.numerical:
-        match = ok & conf_matches(cands, sol.conf[k], conf, quadrant_axes(arm))
+        match = ok & conf_matches(cands, sol.conf[k], conf, quadrant_axes(arm), wrist_axis(arm))
         if not match.any():
-            fitted = wrist_fit(arm, cands[ok], sol.conf[k][ok], conf, bounds)
+            fitted = wrist_fit(arm, cands[ok], sol.conf[k][ok], conf, bounds, q_now)
             if fitted is not None:
                 return fitted, None
             return None, f"'{name}' has no solution with confdata {list(conf)}; {nearest_confs(sol.conf[k][ok], conf)}"
@@ -85,13 +85,14 @@ def nearest_confs(confs: np.ndarray, conf, shown: int = 4) -> str:
     return f"the nearest it has: {text}{more}"
 
 
-WRIST_SINGULAR = 1e-6  # rad: |q5| below this, axes 4 and 6 are in line
+WRIST_SINGULAR = 1e-5  # rad: |q5| below this, axes 4 and 6 are in line (a quaternion's 6 decimals reach 2e-6)
 
 
-def wrist_fit(arm, cands: np.ndarray, confs: np.ndarray, conf, bounds=None) -> np.ndarray | None:
+def wrist_fit(arm, cands: np.ndarray, confs: np.ndarray, conf, bounds=None, q_now=None) -> np.ndarray | None:
     """A wrist-singular solution (|q5| < WRIST_SINGULAR) with q4 and q6 shared out so cf4 and cf6
     are ``conf``'s: q4 + d and q6 - d (q6 + d where the axes point opposite ways) leave the flange
-    where it is while axes 4 and 6 are in line."""
+    where it is while axes 4 and 6 are in line. q4 stays as near where the robot is (``q_now``)
+    as the quadrants let it: the split is rounding, the robot's own q4 is not."""
     if not isinstance(arm, ArmConstants):
         return None
     along = float(np.dot(arm.w4, arm.w6))
@@ -99,15 +100,17 @@ def wrist_fit(arm, cands: np.ndarray, confs: np.ndarray, conf, bounds=None) -> n
         return None
     sign = 1.0 if along > 0 else -1.0
     quarter = 0.5 * np.pi
-    a4, b4 = conf[1] * quarter, (conf[1] + 1) * quarter
-    a6, b6 = conf[2] * quarter, (conf[2] + 1) * quarter
+    slack = QUADRANT_SLACK  # a joint this near a quadrant's edge is in either
+    a4, b4 = conf[1] * quarter - slack, (conf[1] + 1) * quarter + slack
+    a6, b6 = conf[2] * quarter - slack, (conf[2] + 1) * quarter + slack
+    a1, b1 = conf[0] * quarter - slack, (conf[0] + 1) * quarter + slack
     for q, c in zip(cands, confs):
-        if abs(q[4]) >= WRIST_SINGULAR or c[0] != conf[0] or (int(c[3]) | 1) != (int(conf[3]) | 1):
+        if abs(q[4]) >= WRIST_SINGULAR or not a1 <= q[0] <= b1 or (int(c[3]) | 1) != (int(conf[3]) | 1):
             continue
         lo = max(a4 - q[3], q[5] - b6 if sign > 0 else a6 - q[5])
         hi = min(b4 - q[3], q[5] - a6 if sign > 0 else b6 - q[5])
         if lo < hi - 1e-9:
-            d = 0.5 * (lo + hi)
+            d = 0.5 * (lo + hi) if q_now is None else float(np.clip(q_now[3] - q[3], lo + 1e-9, hi - 1e-9))
             out = q.copy()
             out[3], out[4], out[5] = q[3] + d, 0.0, q[5] - sign * d
             if bounds is None or (np.all(out >= bounds[0]) and np.all(out <= bounds[1])):
@@ -118,21 +121,35 @@ def wrist_fit(arm, cands: np.ndarray, confs: np.ndarray, conf, bounds=None) -> n
 SHOULDER_STEP = 1e-6  # m: how far a wrist centre on axis 1 is moved off it to solve it
 
 
-def off_the_axis(kin, poses: np.ndarray, sol, q1: float) -> None:
-    """Poses whose wrist centre is on axis 1 (any q1 reaches them; the closed form has no q1 to
-    give) solved again with the centre moved ``SHOULDER_STEP`` towards where the arm points at
-    ``q1``, so the robot keeps its q1: the solutions, in ``sol`` (in place), miss the pose by
-    that step at most."""
+SHOULDER_SLACK = 1e-5  # m: a wrist centre this near axis 1 is on it (a robtarget's rounding, not a side)
+
+
+def off_the_axis(kin, poses: np.ndarray, sol, q1: float, confs=None) -> None:
+    """Poses whose wrist centre is on axis 1, or within SHOULDER_SLACK of it, solved again with
+    the centre put ``SHOULDER_STEP`` from the axis where the arm points at ``q1``: any q1 reaches
+    such a pose, and which side of the axis rounding left the centre on is no choice of the
+    programmer's. With ``confs`` ((N, 4), rows None where unchecked) q1 is kept within the
+    target's cf1 quadrant and the side is its cfx's. The solutions, in ``sol`` (in place), miss
+    the pose by SHOULDER_SLACK at most."""
     arm = kin._ik_form()
     if not isinstance(arm, ArmConstants):
         return
-    rows = np.flatnonzero(~(sol.status == OK).any(axis=1) & (sol.status == SHOULDER).any(axis=1))
+    w, h, cf = (np.asarray(v, float) for v in (arm.w1, arm.h0, arm.cf))
+    rel = poses[:, :3, :3] @ cf + poses[:, :3, 3] - np.asarray(arm.p1)
+    radial = rel - (rel @ w)[:, None] * w
+    on_axis = ~(sol.status == OK).any(axis=1) & (sol.status == SHOULDER).any(axis=1)
+    rows = np.flatnonzero(on_axis | (np.linalg.norm(radial, axis=1) < SHOULDER_SLACK))
     if not len(rows):
         return
-    w, h = np.asarray(arm.w1), np.asarray(arm.h0)
-    towards = h * np.cos(q1) + np.cross(w, h) * np.sin(q1) + w * np.dot(w, h) * (1 - np.cos(q1))
     moved = poses[rows].copy()
-    moved[:, :3, 3] += SHOULDER_STEP * towards
+    for i, row in enumerate(rows):
+        angle, conf = q1, None if confs is None else confs[row]
+        if conf is not None:
+            quarter = 0.5 * np.pi
+            angle = float(np.clip(q1, conf[0] * quarter, (conf[0] + 1) * quarter))  # an edge is in either
+            angle += np.pi if int(conf[3]) & 4 else 0.0
+        towards = h * np.cos(angle) + np.cross(w, h) * np.sin(angle) + w * np.dot(w, h) * (1 - np.cos(angle))
+        moved[i, :3, 3] += SHOULDER_STEP * towards - radial[row]
     again = kin.solutions64(moved)
     sol.q[rows], sol.conf[rows], sol.status[rows] = again.q, again.conf, again.status
 

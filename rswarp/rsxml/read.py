@@ -45,7 +45,7 @@ MECHANISM_SECTIONS = ("Attributes", "Links", "Joints", "Limits", "Flanges", "Bas
                       "JointMask", "AdditionalComponents")
 
 
-YOUNG_MIN, YOUNG_MAX = 1e3, 1e13  # Pa: a cable's Young's modulus, from a gel to past any metal
+YOUNG_MIN, YOUNG_MAX = 1e5, 1e13  # Pa: a cable's Young's modulus, softer than any hose to past any metal
 
 
 class Reader(ValueReader):
@@ -244,8 +244,9 @@ class Reader(ValueReader):
             if value is not None and value <= 0:
                 self.error(el, f"Cable {key} must be positive, not {el.get(key).strip()}")
         if young is not None and young > 0 and not YOUNG_MIN <= young <= YOUNG_MAX:
-            self.error(el, f"Cable youngsModulus must be {YOUNG_MIN:g} to {YOUNG_MAX:g} Pa (from a soft gel to past "
-                           f"steel's 2e11), not {el.get('youngsModulus').strip()}")
+            self.error(el, f"Cable youngsModulus must be {YOUNG_MIN:g} to {YOUNG_MAX:g} Pa (from softer than any "
+                           "hose's jacket, silicone's 1e6, to past steel's 2e11), not "
+                           f"{el.get('youngsModulus').strip()}")
         color = None
         if (rgb := self.floats(el, "color", 3)) is not None:
             if any(c != int(c) or not 0 <= c <= 255 for c in rgb):

@@ -37,6 +37,7 @@ class RunningExtremes:
             nan(envs, a)
         self.final_force, self.final_moment = np.zeros((envs, a, 3)), np.zeros((envs, a, 3))
         self.failed_t, self.failed_why = nan(envs), np.zeros(envs, np.int32)
+        self.settled = np.ones(envs, bool)
         self.series: dict[str, list] = {key: [] for key in SERIES}
         self.values = np.empty((frames, len(SERIES), envs), VALUE) if values else None
         self.record, self.stride = record, max(1, -(-frames // MAX_RECORDED))
@@ -44,9 +45,12 @@ class RunningExtremes:
         self.frame = 0
 
     def start(self, stats: dict) -> None:
-        """The twist at the end of settling: its turns are counted from here on."""
+        """The twist at the end of settling: its turns are counted from here on. An environment
+        that stopped while settling stopped at t = 0, before the trajectory."""
         self.twist_prev = stats["twist"].copy()
         self.twist = self.twist_prev.copy()
+        self.settled = stats["status"] == RUNNING
+        self.failed_t[~self.settled], self.failed_why[~self.settled] = 0.0, stats["status"][~self.settled]
 
     def add(self, stats: dict, t: float, q: np.ndarray, points=None) -> None:
         """One frame's statistics at trajectory time ``t``, the joints ``q`` (envs, dof) at its
@@ -111,9 +115,10 @@ class RunningExtremes:
         self.max_twist = np.maximum(self.max_twist, np.abs(self.twist))
 
     def result(self, slots: tuple[str, ...], failures, final: np.ndarray, totals: dict) -> CableResult:
-        """The cable's results: ``final`` its points at the end (envs, N, 3), ``totals`` its wear map."""
-        status = np.array(["ok" if np.isnan(t) else f"stopped at t = {t:.3f} s: {failures.get(int(k), 'failed')}"
-                           for t, k in zip(self.failed_t, self.failed_why)], dtype=object)
+        """The cable's results: ``final`` its points at the end (envs, N, 3), ``totals`` its wear map;
+        ``failures`` says why an environment stopped, by code: (in the run, while settling)."""
+        status = np.array([_status(t, k, settled, failures) for t, k, settled in
+                           zip(self.failed_t, self.failed_why, self.settled)], dtype=object)
         info = self.info
         recorded = np.asarray(self.recorded, np.float64).reshape(-1, final.shape[1], 3)
         series = {key: Series.of(self.series[key]) for key in SERIES}
@@ -158,3 +163,11 @@ def _take(better, best, value, t, when, where=None, at=None) -> None:
     when[better] = t
     if where is not None:
         where[better] = at[better]
+
+
+def _status(t: float, code: int, settled: bool, failures) -> str:
+    if np.isnan(t):
+        return "ok"
+    if not settled:
+        return f"stopped before t = 0, while settling: {failures[1].get(int(code), 'failed')}"
+    return f"stopped at t = {t:.3f} s: {failures[0].get(int(code), 'failed')}"

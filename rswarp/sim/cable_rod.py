@@ -11,7 +11,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import model_error
 from ..kinematics.kinematics import Kinematics
 from ..launch import Launcher, init_warp
 from ..rsxml.model import Mechanism
@@ -27,6 +26,7 @@ from .cable_solver import (
     ContactMeshes,
     allowed_bend_radius,
 )
+from .rest_checks import above_floor, outside_links
 from .rod_layout import RodLayout, rod_layout
 
 CRUSHED = 3  # the kernel's status CRUSHED + slot (``rswarp.kernels.rod_types``)
@@ -78,7 +78,7 @@ class CosseratRod(CableSolver):
         self.layout = self.layouts[0]
         _alike(mech, self.layouts)
         for m, lay in zip(designs or (mech,), self.layouts):
-            _above_floor(m, lay, options.floor)
+            above_floor(m, lay, options.floor)
         self.options, self.dof = options, mech.dof
         meshes = meshes or ContactMeshes((None,) * len(mech.graph.links))
         self.slots = (*mech.graph.links, *(m[0] for m in meshes.environment), *(m[0] for m in meshes.tool), "floor",
@@ -88,6 +88,10 @@ class CosseratRod(CableSolver):
         self.failures = FAILURES | {CRUSHED + j: f"the robot pressed a cable into {_what(name)} half its radius "
                                                  "deep: the trajectory drives it through" for j, name in
                                     enumerate(self.slots)}
+        self.settle_failures = FAILURES | {
+            CRUSHED + j: f"a cable lay half its radius deep in {_what(name)}: its rest shape crosses it, or the "
+                         "robot's move from the zero position to the trajectory's start drives it through"
+            for j, name in enumerate(self.slots)}
         self.kinematics = Kinematics(mech) if mech.dof else None
         self.links = len(mech.graph.links)
         self.kernel = rod_kernel()
@@ -106,8 +110,11 @@ class CosseratRod(CableSolver):
         return _infos(rod_layout(mech, options.density, options.poisson), mech, options)
 
     @classmethod
-    def check(cls, mech: Mechanism, options: CableOptions) -> None:
-        _above_floor(mech, rod_layout(mech, options.density, options.poisson), options.floor)
+    def check(cls, mech: Mechanism, options: CableOptions, links: bool = True) -> None:
+        layout = rod_layout(mech, options.density, options.poisson)
+        above_floor(mech, layout, options.floor)
+        if links:
+            outside_links(mech, layout)
 
     def _params(self, meshes: ContactMeshes, options: CableOptions):
         """The kernel's model: every design's per-body and per-attachment arrays as a row each,
@@ -299,17 +306,6 @@ class CosseratRod(CableSolver):
         c = self.layouts[state.designs[env]].cables[cable]
         own = slice(c.first, c.first + c.segments)
         return state.x[env].numpy()[own], _matrices(state.q[env].numpy()[own])
-
-
-def _above_floor(mech: Mechanism, layout: RodLayout, floor: float | None) -> None:
-    """A cable whose rest shape passes through the floor cannot be held up by it: an error at its line."""
-    if floor is None:
-        return
-    for c, cable in zip(layout.cables, mech.cables):
-        depth = floor - (c.points[:, 2] - c.section.radius).min()
-        if depth > c.section.radius / 2:
-            raise model_error(mech, f"cable '{cable.name}' starts {depth:.3g} m into the floor (z = {floor:g} m): "
-                                    "route it above the floor, or give a lower --floor", cable.line)
 
 
 def _what(slot: str) -> str:

@@ -175,11 +175,13 @@ class CableSolver(ABC):
     """Every cable of a mechanism in many environments. ``cables`` describes each; ``slots`` names
     what a cable can touch, in the order of every per-slot array (the links, the environment's
     meshes, then "floor" and "cables": any cable, itself included); ``failures`` says why an
-    environment stopped, by status code; ``dof`` is the mechanism's joints that ``step`` takes."""
+    environment stopped, by status code (``settle_failures``: while it settled, before t = 0);
+    ``dof`` is the mechanism's joints that ``step`` takes."""
 
     kind: ClassVar[str]  # the name that chooses this model (CableOptions.cable_model)
     designs_at_once: ClassVar[bool] = False  # it takes ``designs=``: environment e runs design e
     failures: Mapping[int, str] = FAILURES
+    settle_failures: Mapping[int, str] = FAILURES
 
     cables: tuple[CableInfo, ...]
     slots: tuple[str, ...]
@@ -187,8 +189,10 @@ class CableSolver(ABC):
 
     @classmethod
     @abstractmethod
-    def check(cls, mech: Mechanism, options: CableOptions) -> None:
-        """The error (at a cable's line) a run would give, found without compiling or allocating."""
+    def check(cls, mech: Mechanism, options: CableOptions, links: bool = True) -> None:
+        """The error (at a cable's line) a run would give, found without compiling or allocating;
+        with ``links``, a rest shape that starts inside a link too (a sweep's designs that do are
+        failing rows of it, not errors)."""
 
     @abstractmethod
     def state(self, envs: int) -> Any:

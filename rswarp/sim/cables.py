@@ -82,7 +82,7 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     mechs = designs.mechanisms(mech) if designs is not None else (mech,)
     # a cable the model cannot take fails before anything is built (here, the solver checks the rest)
     for m in mechs if cluster is not None else mechs[:1]:
-        cable_model(options).check(m, options)
+        cable_model(options).check(m, options, links=designs is None)
     meshes = contact_meshes(mech, options.environment, options.tool)
     if cluster is not None:
         _check_cut_run(mech, envs, frames)
@@ -300,7 +300,8 @@ class _CableEnvs:
             cycles, damage = flow.finish()
             shape = totals[c]["contact_time"].shape
             totals[c]["fatigue_cycles"], totals[c]["fatigue_sum"] = cycles.reshape(shape), damage.reshape(shape)
-        out = tuple(x.result(self.solver.slots, self.solver.failures, self.solver.points(self.state, c), totals[c])
+        failures = (self.solver.failures, self.solver.settle_failures)
+        out = tuple(x.result(self.solver.slots, failures, self.solver.points(self.state, c), totals[c])
                     for c, x in enumerate(self.extremes))
         if self.options.floor is None and "floor" in self.solver.slots:  # no floor: nothing to be clear of
             k = self.solver.slots.index("floor")
