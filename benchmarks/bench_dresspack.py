@@ -10,7 +10,8 @@ table says so. This is the fair baseline for the sweep's engine: a user's shell 
 Memory: the sweep's state is a few kilobytes per design (bodies x state and wear arrays), and the
 number of designs is capped (``--designs`` at most 65 536).
 
-Usage: python benchmarks/bench_dresspack.py [--designs N] [--alone K]. Ends with a JSON line.
+Usage: python benchmarks/bench_dresspack.py [--designs N] [--alone K] [--device cuda]. Ends with a JSON
+line.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--designs", type=int, default=1024)
     ap.add_argument("--alone", type=int, default=8, help="designs run one at a time (scaled to --designs)")
+    ap.add_argument("--device", default="cpu", help="the Warp device both sides run on (cpu, cuda)")
     args = ap.parse_args()
     path = str(examples.IRB2600_DRESSPACK)
     mech, _ = load_mechanism(path)
@@ -42,7 +44,7 @@ def main() -> None:
     designs = DesignSet(0, variables, sample(variables, args.designs, seed=0))
     _, plan = program_plan(path, [str(examples.IRB2600_PROGRAM)], "main")
     traj = [Trajectory("pick_place", plan.times, plan.q)]
-    options = CableOptions()
+    options = CableOptions(device=args.device)
     simulate_cables(mech, traj, 1, 0.1, options)  # compile and warm, untimed
 
     start = time.perf_counter()
@@ -57,15 +59,21 @@ def main() -> None:
     alone = (time.perf_counter() - start) / len(mechs) * len(designs)
 
     print(f"{len(designs)} designs of the IRB 2600 dress pack over pick_place.mod ({plan.times[-1]:.2f} s of "
-          f"program each), {os.cpu_count()} cores, CPU")
+          f"program each), {os.cpu_count()} cores, {_device(args.device)}")
     print("| how | seconds | designs/s |")
     print("|---|---:|---:|")
     print(f"| rswarp dresspack (all at once) | {together:.1f} | {len(designs) / together:.2f} |")
     print(f"| one at a time (first {len(mechs)} timed, scaled) | {alone:.1f} | {len(designs) / alone:.2f} |")
     print(f"ratio: {alone / together:.2f}x; designs that stopped: {stopped}")
-    print(json.dumps({"metric": f"dresspack_designs_per_s_n{len(designs)}", "ours": round(len(designs) / together, 3),
+    print(json.dumps({"metric": f"dresspack_designs_per_s_n{len(designs)}_{args.device}", "ours": round(len(designs) / together, 3),
                       "peer": round(len(designs) / alone, 3), "peer_name": "one rswarp cable run per design",
                       "ratio": round(alone / together, 2)}))
+
+
+def _device(name: str) -> str:
+    from rswarp.launch import warp_device
+
+    return "CPU" if name == "cpu" else f"{name} ({warp_device(name).name})"
 
 
 if __name__ == "__main__":
