@@ -66,8 +66,8 @@ def main() -> None:
     print(f"| one at a time (first {len(mechs)} timed, scaled) | {alone:.1f} | {len(designs) / alone:.2f} |")
     print(f"ratio: {alone / together:.2f}x; designs that stopped: {stopped}")
     print(json.dumps({"metric": f"dresspack_designs_per_s_n{len(designs)}_{args.device}",
-                      "ours": round(len(designs) / together, 3), "peer": round(len(designs) / alone, 3), "peer_name": "one rswarp cable run per design",
-                      "ratio": round(alone / together, 2)}))
+                      "ours": round(len(designs) / together, 3), "peer": round(len(designs) / alone, 3),
+                      "peer_name": "one rswarp cable run per design", "ratio": round(alone / together, 2)}))
 
 
 def _device(name: str) -> str:
