@@ -26,7 +26,7 @@ from rswarp.kinematics.trajectory import Trajectory
 from rswarp.report.program import program_plan
 from rswarp.rsxml.documents import load_mechanism
 from rswarp.sim.cable_solver import CableOptions
-from rswarp.sim.cables import simulate_cables
+from rswarp.sim.cables import SWING_AFTER, simulate_cables
 from rswarp.sim.designs import DesignSet, parse_vary, sample
 
 VARY = ["length=1.14:1.2", "Link6.z=0.03:0.08", "Link6.pitch=-12:0", "Link3.x=-0.06:0"]  # the demo's box
@@ -59,7 +59,7 @@ def main() -> None:
     alone = (time.perf_counter() - start) / len(mechs) * len(designs)
 
     print(f"{len(designs)} designs of the IRB 2600 dress pack over pick_place.mod ({plan.times[-1]:.2f} s of "
-          f"program each), {os.cpu_count()} cores, {_device(args.device)}")
+          f"program and {SWING_AFTER:g} s still after it, each), {os.cpu_count()} cores, {_device(args.device)}")
     print("| how | seconds | designs/s |")
     print("|---|---:|---:|")
     print(f"| rswarp dresspack (all at once) | {together:.1f} | {len(designs) / together:.2f} |")

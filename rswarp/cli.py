@@ -62,7 +62,7 @@ COMMANDS = {
                                                   "its own trajectory: slack, bend radius, tension, clamp loads, "
                                                   "twist and torque, contact and wear",
               ("json", "device", "ray", "seed", "out")),
-    "dresspack": ("dresspack:run_dresspack", "environment", "a design sweep of a dress-pack hose over a RAPID "
+    "dresspack": ("dresspack:run_dresspack", "design", "a design sweep of a dress-pack hose over a RAPID "
                                                             "program: its length and clamps varied, every design "
                                                             "run at once, the shortest that passes written out",
                   ("json", "device", "ray", "seed", "out")),

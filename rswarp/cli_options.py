@@ -181,6 +181,9 @@ def dresspack(p: argparse.ArgumentParser) -> None:
     p.add_argument("--designs", type=argument("designs"), default=64,
                    help="designs drawn by Sobol over the box, each run as its own environment (default 64)")
     p.add_argument("--cable", metavar="NAME", help="the cable to vary (default: the only one)")
+    p.add_argument("--min-margin", type=argument("min-margin"), default=0.0, metavar="PCT",
+                   help="the least margin to every rating the chosen design must keep, in %% (default 0: the "
+                        "shortest hose that passes at all)")
     _hose(p)
 
 

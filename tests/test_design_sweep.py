@@ -3,6 +3,7 @@ runs alone; the ranking; the chosen design written so that ``rswarp cable`` give
 again; designs that cannot be built refused before any work."""
 
 import csv
+import shlex
 from pathlib import Path
 
 import numpy as np
@@ -74,3 +75,23 @@ def test_designs_that_cannot_be_built_are_one_line_and_exit_1_before_any_work(tm
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 1 and len(err) == 1 and says in err[0], err
     assert not (tmp_path / "o").exists()
+
+
+def test_the_sweep_gives_each_columns_unit_and_keeps_the_margin_asked_for(tmp_path):
+    """designs.csv holds tilts in degrees, as --vary takes them, each column's unit in its name; a
+    --min-margin no design keeps is said, and the design with the most margin is written; the
+    command that repeats it names an output folder (rswarp cable needs one)."""
+    out = tmp_path / "sweep"
+    result = run_dresspack(str(RIGS / "taut.rsxml"), [str(RIGS / "pull_hold.mod")], str(out),
+                           ["length=1.15:1.25", "Slide.pitch=-10:10"], designs=4, min_bend_radius=150.0,
+                           min_margin=99.0)
+    rows = list(csv.DictReader((out / "designs.csv").open()))
+    assert {"length_m", "Slide.pitch_deg", "stopped"} <= set(rows[0])
+    tilts = [float(r["Slide.pitch_deg"]) for r in rows]
+    assert all(-10 <= t <= 10 for t in tilts) and max(abs(t) for t in tilts) > 1  # degrees, not radians
+    assert "no design passes with 99 % to every rating" in result.text
+    best = max((r for r in rows if r["verdict"] == "PASS"), key=lambda r: float(r["least_margin"]))
+    assert result.doc["best"]["design"] == int(best["design"])
+    words = shlex.split(result.doc["check"])
+    assert words[:3] == ["rswarp", "cable", str(out / "best.rsxml")] and words[words.index("--out") + 1] == \
+        f"{out}-best"

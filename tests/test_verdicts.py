@@ -131,3 +131,21 @@ def test_a_clamp_load_past_its_rating_fails(tmp_path):
     assert len(clamps) == 2 and all(f["value"] > 1000 and f["limit"] == 100 and f["unit"] == "N" for f in clamps)
     _, report = _run(tmp_path, "taut.rsxml", "pull.csv", max_clamp_load=1e6)
     assert not [f for f in report["findings"] if f["kind"] == "clamp"]
+
+
+def test_the_hose_counts_as_moving_until_the_robot_has_been_still_a_second():
+    """A bend tighter than the dynamic radius fails while the hose swings: while the robot moves,
+    and for a second after it stops (at the trajectory's end too, which a run goes past by a
+    second); only then is it at rest, where the same bend is a warning."""
+    from rswarp.kinematics.trajectory import Trajectory
+    from rswarp.report.verdicts import moments
+    from rswarp.sim.cable_solver import CableOptions
+    from rswarp.sim.cables import SWING_AFTER, _trajectory_seconds
+
+    times = np.linspace(0.0, 3.0, 31)
+    stops = Trajectory("stops", times, np.minimum(times, 1.0)[:, None])  # moves for 1 s, then still
+    ends_moving = Trajectory("ends", times, times[:, None])
+    at = moments([stops, ends_moving], [0, 1])
+    assert [at(0, t).moving for t in (0.5, 1.5, 1.95, 2.2, 3.5)] == [True, True, True, False, False]
+    assert [at(1, t).moving for t in (2.9, 3.5, 3.9, 4.2)] == [True, True, True, False]
+    assert _trajectory_seconds([stops], CableOptions()) == pytest.approx(3.0 + SWING_AFTER)

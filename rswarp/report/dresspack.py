@@ -28,7 +28,7 @@ from ..rsxml.robot_data import data_file
 from ..rsxml.write import to_rsxml
 from ..sim.cable_results import CableResult
 from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
-from ..sim.cables import design_runs, simulate_cables
+from ..sim.cables import SWING_AFTER, design_runs, simulate_cables
 from ..sim.designs import DesignSet, Variable, design, inside_links, parse_vary, sample
 from ..sim.engine import cluster_for
 from .cables import check_cable_folder, run_findings
@@ -38,6 +38,7 @@ from .output import Output, Warn, ignore, json_bytes, json_safe
 from .verdicts import FAIL, MAX_STRAIN, MAX_TORSION, Ratings, verdict, verdict_lines
 
 MARGINS = ("bend", "taut", "torsion", "rub", "clamp")  # the ratings a design's margin is taken against
+SLIM_MARGIN = 0.05  # a chosen design's least margin under this is said to be slim
 
 
 @dataclass(frozen=True)
@@ -66,9 +67,11 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
                   max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
                   max_clamp_load: float | None = None, density: float = DENSITY, poisson: float = POISSON,
                   friction: float = FRICTION, frame_rate: float = FRAME_RATE, substeps: int = SUBSTEPS,
-                  progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
+                  min_margin: float = 0.0, progress: Callable[[float, float], None] | None = None,
+                  warn: Warn = ignore) -> Output:
     """``rswarp dresspack``: ``designs`` designs of ``cable`` (``vary``: specs, or one TOML file of
-    them) over the RAPID task ``programs``, ranked, written into ``out``; the other options as
+    them) over the RAPID task ``programs``, ranked, written into ``out``: the chosen design is the
+    shortest hose that passes with ``min_margin`` % to every rating; the other options as
     ``rswarp cable --program`` takes them (the robot file's length unit)."""
     opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
                         static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
@@ -101,11 +104,11 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
             for i, r in enumerate(design_runs(run))]
     rows = sorted(rows + [_short_row(i, drawn.values[i], why) for i, why in short.items()], key=lambda r: r.index)
     chosen = drawn
-    best = _best(rows)
+    best = _best(rows, min_margin / 100.0)
     command = repeat_command(out, programs, opts, best.verdict == "PASS")
-    doc = _doc(mech, chosen, rows, best, seconds, command, ratings)
+    doc = _doc(mech, chosen, rows, best, seconds, command, ratings) | {"min_margin": min_margin / 100.0}
     _write(out, mech, chosen, rows, best, doc)
-    return Output(doc, _text(mech, chosen, rows, best, seconds, plan, command))
+    return Output(doc, _text(mech, chosen, rows, best, seconds, plan, command, min_margin))
 
 
 def _cable_index(mech, name: str | None) -> int:
@@ -199,17 +202,25 @@ def _margins(c: CableResult, r: Ratings) -> dict:
     return out
 
 
-def _best(rows: list[DesignRow]) -> DesignRow:
-    """The passing design with the shortest hose (ties: the larger least margin); none passing,
-    the one with the fewest failing kinds and the largest least margin."""
-    passing = [r for r in rows if r.verdict == "PASS"]
+def _best(rows: list[DesignRow], min_margin: float = 0.0) -> DesignRow:
+    """The passing design with the shortest hose (ties: the larger least margin) of those keeping
+    ``min_margin`` to every rating; none such, the one with the fewest failing kinds and the
+    largest least margin."""
+    passing = [r for r in rows if r.verdict == "PASS" and r.least >= min_margin]
     if passing:
         return min(passing, key=lambda r: (round(r.length, 9), -r.least))
     return min(rows, key=lambda r: (r.least == -math.inf, len(r.fails), -r.least, r.length))
 
 
-def _values(variables: tuple[Variable, ...], values) -> str:
-    return ", ".join(f"{v.name} {_shown(v, x)}" for v, x in zip(variables, values))
+def _values(variables: tuple[Variable, ...], values, length: bool = True) -> str:
+    """The variables' values as --vary names them (``length``: the hose's too, else it is said apart)."""
+    return ", ".join(f"{v.name} {_shown(v, x)}" for v, x in zip(variables, values) if length or v.what != "length")
+
+
+def _design(chosen: DesignSet, r: DesignRow) -> str:
+    """A design's hose length, then the other variables' values."""
+    rest = _values(chosen.variables, chosen.values[r.index], False)
+    return f"hose {r.length:.4f} m" + (f", {rest}" if rest else "")
 
 
 def _shown(v: Variable, x: float) -> str:
@@ -224,27 +235,40 @@ def _contrast(rows: list[DesignRow], best: DesignRow) -> DesignRow | None:
 
 
 def _text(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, seconds: float, plan,
-          command: str) -> str:
+          command: str, min_margin: float) -> str:
     passing = sum(r.verdict == "PASS" for r in rows)
     short = sum(r.result is None for r in rows)
+    stopped = sum(r.result is not None and not r.margins for r in rows)
     c = mech.cables[chosen.cable]
     ranges = "; ".join(f"{v.name} {_shown(v, v.low)} to {_shown(v, v.high)}" for v in chosen.variables)
     lines = [f"dresspack: {len(rows)} designs of cable '{c.name}' over {', '.join(plan.run.files)} "
-             f"({plan.times[-1]:.2f} s) in {seconds:.1f} s ({len(rows) / seconds:.1f} designs/s)",
+             f"({plan.times[-1]:.2f} s, and {SWING_AFTER:g} s still after it: the hose swings on) in {seconds:.1f} s "
+             f"({len(rows) / seconds:.1f} designs/s)",
              f"  varied: {ranges}", f"  passing: {passing} of {len(rows)}" + (
-                 f" ({short} too short for the path through their control points, not run)" if short else "")]
-    head = "best: design {}, the shortest hose that passes" if passing else \
-        "no design passes; the closest: design {}"
-    lines += [head.format(best.index + 1) + f": {_values(chosen.variables, chosen.values[best.index])}, "
-              f"hose {best.length:.4f} m, least margin {best.least:.1%} ({_tightest(best)})"]
+                 f"; {short} too short for the path through their control points, not run" if short else "") + (
+                 f"; {stopped} stopped (a crush, in designs.csv's 'stopped')" if stopped else "")]
+    lines += [_head(best, passing, min_margin) + f": {_design(chosen, best)}, " + (
+        f"least margin {best.least:.1%} ({_tightest(best)})" if math.isfinite(best.least) else _why_stopped(best))]
+    if best.verdict == "PASS" and best.least < SLIM_MARGIN and not min_margin:
+        lines.append(f"  its least margin is {best.least:.1%}: a design this near a rating passes or fails by the "
+                     "model's own error; --min-margin PCT chooses the shortest that keeps more")
     lines += verdict_lines(best.result, list(best.findings))
     lines.append(f"  {command}")
     other = _contrast(rows, best)
     if other is not None and passing:
-        lines.append(f"a failing design beside it: design {other.index + 1}: "
-                     f"{_values(chosen.variables, chosen.values[other.index])}, hose {other.length:.4f} m")
+        lines.append(f"a failing design beside it: design {other.index + 1}: {_design(chosen, other)}")
         lines += verdict_lines(other.result, list(other.findings))
     return "\n".join(lines)
+
+
+def _head(best: DesignRow, passing: int, min_margin: float) -> str:
+    if best.verdict == "PASS" and best.least >= min_margin / 100.0:
+        keeps = f" with {min_margin:g} % to every rating" if min_margin else ""
+        return f"best: design {best.index + 1}, the shortest hose that passes{keeps}"
+    if best.verdict == "PASS":
+        return (f"no design passes with {min_margin:g} % to every rating ({passing} pass); the one with the most: "
+                f"design {best.index + 1}")
+    return f"no design passes; the closest: design {best.index + 1}"
 
 
 def _tightest(row: DesignRow) -> str:
@@ -271,23 +295,44 @@ def _doc(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, second
 def _row_dict(chosen: DesignSet, r: DesignRow, findings: bool) -> dict:
     out = {"design": r.index + 1, "values": dict(zip((v.name for v in chosen.variables), r.values)),
            "length": r.length, "verdict": r.verdict, "fails": list(r.fails), "margins": r.margins,
-           "least_margin": r.least}
+           "least_margin": r.least if math.isfinite(r.least) else None, "stopped": _why_stopped(r) or None}
     if findings:
         out["findings"] = [f if isinstance(f, str) else f.record() for f in r.findings]
     return out
 
 
 def _csv(chosen: DesignSet, rows: list[DesignRow]) -> bytes:
+    """One row per design, each column's unit in its name (a tilt in degrees, as --vary takes it);
+    a design that stopped or was not run has no margins, radius or tension, and says why."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["design", *(v.name for v in chosen.variables), "hose_m", "verdict", "fails",
-                *(f"{k}_margin" for k in MARGINS), "least_margin", "bend_radius_m", "peak_tension_n"])
+    w.writerow(["design", *(f"{v.name}_{_unit(v)}" for v in chosen.variables), "hose_m", "verdict", "fails",
+                *(f"{k}_margin" for k in MARGINS), "least_margin", "bend_radius_m", "peak_tension_n", "stopped"])
     for r in rows:
-        w.writerow([r.index + 1, *(f"{x:.6g}" for x in r.values), f"{r.length:.6f}", r.verdict, " ".join(r.fails),
-                    *(f"{r.margins[k]:.4f}" if k in r.margins else "" for k in MARGINS), f"{r.least:.4f}",
+        ran = r.result is not None and math.isfinite(r.least)
+        w.writerow([r.index + 1, *(f"{_in_unit(v, x):.6g}" for v, x in zip(chosen.variables, r.values)),
+                    f"{r.length:.6f}", r.verdict, " ".join(r.fails),
+                    *(f"{r.margins[k]:.4f}" if k in r.margins else "" for k in MARGINS),
+                    f"{r.least:.4f}" if ran else "",
                     *((f"{float(r.result.min_bend_radius[0]):.4f}", f"{float(r.result.peak_tension[0]):.3f}")
-                      if r.result is not None else ("", ""))])
+                      if ran else ("", "")), _why_stopped(r)])
     return buf.getvalue().encode()
+
+
+def _unit(v: Variable) -> str:
+    return "deg" if v.what in ("pitch", "yaw") else "m"
+
+
+def _in_unit(v: Variable, x: float) -> float:
+    return math.degrees(x) if v.what in ("pitch", "yaw") else x
+
+
+def _why_stopped(r: DesignRow) -> str:
+    """Why a design has no margins: not run (its hose too short), or its run stopped."""
+    if r.result is None:
+        return f"not run: {r.findings[0]}" if r.findings else "not run"
+    status = str(r.result.status[0])
+    return "" if status == "ok" else status
 
 
 def _pareto(rows: list[DesignRow], best: DesignRow) -> bytes:
@@ -298,8 +343,13 @@ def _pareto(rows: list[DesignRow], best: DesignRow) -> bytes:
                 ax.scatter([r.length for r in pick], [100 * r.margins["bend"] for r in pick], c=colour, marker=mark,
                            s=18, label=label)
         ax.scatter([best.length], [100 * best.margins.get("bend", np.nan)], s=160, marker="*", c="gold",
-                   edgecolors="black", label=f"design {best.index + 1}", zorder=3)
+                   edgecolors="black", zorder=3,
+                   label=f"{'best' if best.verdict == 'PASS' else 'closest'}: design {best.index + 1}")
         ax.axhline(0.0, color="black", lw=0.8)
+        stopped = [r.length for r in rows if r.result is not None and not r.margins]
+        if stopped:  # no margin to plot: marked along the bottom
+            ax.scatter(stopped, [ax.get_ylim()[0]] * len(stopped), marker="v", c="dimgray", s=30, clip_on=False,
+                       label="stopped (a crush): no margin")
 
     return figure_png(draw, "Designs: hose length against bend-radius margin", "hose length (m)",
                       "bend margin (%: 1 - allowed / least radius)")

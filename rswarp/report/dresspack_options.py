@@ -64,9 +64,11 @@ _FLAGS = {"routine": "--routine", "cycles": "--cycles", "external_axes": "--exte
 
 
 def repeat_command(out: str, programs: list[str], o: SweepOptions, passed: bool) -> str:
-    """The ``rswarp cable`` command that runs the chosen design alone, with the options given."""
+    """The ``rswarp cable`` command that runs the chosen design alone, with the options given, into
+    a folder beside the sweep's."""
     name = "best" if passed else "closest"
-    words = ["rswarp", "cable", f"{out.rstrip('/')}/{name}.rsxml", "--program", *programs]
+    folder = out.rstrip("/") or "/"
+    words = ["rswarp", "cable", f"{folder}/{name}.rsxml", "--program", *programs, "--out", f"{folder}-{name}"]
     default = SweepOptions()
     for key, flag in _FLAGS.items():
         value = getattr(o, key)

@@ -18,6 +18,7 @@ STATIC_DIAMETERS = 5.0  # a hose's static (permanent-damage) bend radius: 5 diam
 MAX_STRAIN = 0.005  # axial strain of a hose that hangs rather than pulls
 MAX_TORSION = np.pi  # rad/m: 180 deg/m, the usual rating of a torsion-rated robot hose
 AT_REST = 1e-3  # rad/s (m/s): every joint slower than this is the robot at rest
+STILL_FOR = 1.0  # s: the robot at rest this long is a hose at rest; until then its swing goes on
 ORDER = ("crush", "pinch", "kink", "taut", "bend", "torsion", "clamp", "rub")  # the verdict's lines, worst kind first
 
 
@@ -196,7 +197,8 @@ def _badness(f: Finding) -> tuple:
 
 def moments(trajectories, assignment, moves=None) -> When:
     """``When`` of a run: each environment's trajectory (``assignment[e]``) interpolated at t, and
-    with a program's ``moves`` (``plan.moves``) the move under way then."""
+    with a program's ``moves`` (``plan.moves``) the move under way then. The hose is moving while
+    the robot moves and for STILL_FOR after it stops (it swings on), past the trajectory's end too."""
     starts = np.array([m.start for m in moves]) if moves else None
 
     def at(e: int, t: float) -> Moment:
@@ -205,8 +207,10 @@ def moments(trajectories, assignment, moves=None) -> When:
         q = np.array([np.interp(t, tr.times, tr.q[:, j]) for j in range(tr.q.shape[1])])
         moving = True
         if len(tr.times) > 1:
-            speed = np.abs(tr.q[k] - tr.q[k - 1]) / max(tr.times[k] - tr.times[k - 1], 1e-12)
-            moving = bool(speed.max() > AT_REST)
+            first = int(np.clip(np.searchsorted(tr.times, t - STILL_FOR), 1, k))
+            steps = np.abs(np.diff(tr.q[first - 1:k + 1], axis=0)) / np.maximum(np.diff(tr.times[first - 1:k + 1]),
+                                                                                1e-12)[:, None]
+            moving = bool(steps.max() > AT_REST) and t - tr.times[-1] < STILL_FOR
         if starts is None:
             return Moment(tuple(float(v) for v in q), moving=moving)
         m = moves[max(int(np.searchsorted(starts, t, side="right")) - 1, 0)].motion

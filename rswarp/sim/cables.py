@@ -33,6 +33,9 @@ from .engine import Job, run_batch
 from .rainflow import Rainflow
 
 SETTLE_MOVE, SETTLE_HOLD, SETTLE_DAMPING = 0.5, 0.5, 10.0  # s, s, 1/s
+# s a run goes on past the trajectory's end, the robot still at its last point, when no --seconds
+# is given: a hose swings on after the last move, and its tightest bend may come then
+SWING_AFTER = 1.0
 MAX_FRAMES = 1_000_000  # frames of one run (4.6 h at 60 fps)
 
 
@@ -107,8 +110,9 @@ def design_runs(run: CableRun) -> tuple[CableRun, ...]:
 
 
 def _trajectory_seconds(trajectories: list[Trajectory], options: CableOptions) -> float:
-    """How long a run over ``trajectories`` lasts when no --seconds is given: the longest; an
-    InputError naming the trajectory when that is no time at all, or longer than a run may be."""
+    """How long a run over ``trajectories`` lasts when no --seconds is given: the longest, and
+    SWING_AFTER more with the robot still at its end where a run may last that long; an InputError
+    naming the trajectory when that is no time at all, or longer than a run may be."""
     longest = max(trajectories, key=lambda t: t.duration)
     bound = BOUNDS["seconds"]
     if not longest.duration > 0:
@@ -117,12 +121,14 @@ def _trajectory_seconds(trajectories: list[Trajectory], options: CableOptions) -
     if longest.duration > bound.high:
         raise InputError(f"{longest.source}: the trajectory lasts {longest.duration:g} s, longer than a run may be "
                          f"({bound.high:g} s, a day); give --seconds to run its start")
-    try:
-        run_frames(longest.duration, options)
-    except InputError as exc:
-        raise InputError(f"{longest.source}: the trajectory lasts {longest.duration:g} s; {exc}; give --seconds to "
-                         "run its start, or a lower --frame-rate") from None
-    return longest.duration
+    for seconds in (longest.duration + SWING_AFTER, longest.duration):  # the swing where a run may hold it
+        try:
+            run_frames(seconds, options)
+            return seconds
+        except InputError as exc:
+            why = exc
+    raise InputError(f"{longest.source}: the trajectory lasts {longest.duration:g} s; {why}; give --seconds to "
+                     "run its start, or a lower --frame-rate") from None
 
 
 def run_frames(seconds: float, options: CableOptions) -> int:
