@@ -1,27 +1,32 @@
-"""Inverse kinematics: our closed form (every branch of every pose, on the CPU's cores) against
-pinocchio's damped least squares, roboticstoolbox-python's ``ik_LM`` and ikpy, in one process, on
-the bundled IRB 2600-12/1.65.
+"""Inverse kinematics: our closed form against the strongest peers, in one process, on the bundled
+IRB 2600-12/1.65, each peer set up as its own documentation says.
 
-The poses are the flange poses of configurations drawn uniformly within the joint limits, away
-from the wrist singularity (|q5| > 2 deg). Ours returns all eight branches of each pose (and their
-configuration data); each peer returns one solution per pose from a random start, asked for
-1e-10. The peers read the URDF that ``rswarp export`` writes. Figures:
+- **EAIK** (``pip install eaik``): closed form by subproblem decomposition in C++, every branch.
+  Built from the URDF that ``rswarp export`` writes (``eaik.IK_URDF.UrdfRobot``), asked through
+  its batched entry point ``IK_batched`` with as many worker threads as ours; only its exact
+  solutions count (``is_LS`` false). Its end frame is the last joint's at zero, so the poses are
+  given in it (a fixed transform, applied before the timing).
+- **ik-geo** (``pip install ik-geo``): closed form by subproblems in Rust, every branch; its
+  ``Robot.spherical_two_parallel`` from the arm's axes; one pose per call (it has no batched entry
+  point), single-threaded.
+- **pinocchio** 3: its CLIK example (Jlog6, damped Gauss-Newton), asked for 1e-10, the model
+  built before the timing; cold (a random start) and warm (the answer moved by 0.05 rad).
+- **roboticstoolbox-python** (``ets.ik_LM`` with its own defaults, the ETS built once) and
+  **ikpy**, cold and warm, where installed (``pip install -e '.[bench]'``).
 
-- poses per second (wall, all threads for ours; the peers are single-threaded);
-- error: the largest distance (m) and rotation (rad) between FK of a returned solution and its
-  pose (for ours, over every valid branch with |q5| > 2 deg: the other branches of a pose may be
-  near the wrist singularity; the peers' median);
-- success: the share of poses answered within 1e-9 m and 1e-9 rad (for ours: every pose with the
-  configuration it came from among its branches).
+Ours gives all eight branches of every pose with their ABB configuration data. The poses are
+the flange poses of configurations drawn within the joint limits, away from the wrist
+singularity (|q5| > 2 deg). Threads are stated per row: ours and EAIK on 1 and on all cores.
 
-Usage: python benchmarks/bench_ik.py [--quick]. Ends with a JSON line: the ratio is ours (float64,
-all branches) over the best peer's solved poses per second.
+Usage: python benchmarks/bench_ik.py [--quick]. Ends with a JSON line: the ratio is ours over
+EAIK, float64, every branch, on all cores for both.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import tempfile
 import time
 from pathlib import Path
@@ -34,6 +39,7 @@ from rswarp.kinematics import ik as ikm
 from rswarp.kinematics.kinematics import Kinematics
 
 TOL = 1e-9
+WARM = 0.05  # rad: how far a warm start is from the answer
 
 
 def poses(kin: Kinematics, n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -59,32 +65,108 @@ def errors(kin: Kinematics, q: np.ndarray, targets: np.ndarray) -> tuple[np.ndar
     return pos, rot
 
 
-def ours(kin: Kinematics, q: np.ndarray, targets: np.ndarray, dtype, check: int) -> dict:
-    t32 = np.ascontiguousarray(targets, dtype)
-    ikm.closed_form(kin.launcher, kin._ik_form(), t32[:64], dtype)  # compiled before timing
+def best_of(run, repeats: int = 3) -> float:
     best = np.inf
-    for _ in range(3):
+    for _ in range(repeats):
         t = time.perf_counter()
-        sol = ikm.closed_form(kin.launcher, kin._ik_form(), t32, dtype)
+        run()
         best = min(best, time.perf_counter() - t)
-    ok = sol.status[:check] == ikm.OK
-    rows = np.nonzero(ok & (np.abs(sol.q[:check, :, 4]) > np.radians(2)))  # away from the wrist singularity
-    pos, rot = errors(kin, sol.q[:check][rows].astype(np.float64), targets[:check][rows[0]])
-    near = np.abs(np.angle(np.exp(1j * (sol.q[:check] - q[:check, None])))).max(axis=-1)
+    return best
+
+
+def ours(mech, q: np.ndarray, targets: np.ndarray, dtype, threads: int, check: int) -> dict:
+    kin = Kinematics(mech, threads=threads)
+    t = np.ascontiguousarray(targets, dtype)
+    ikm.closed_form(kin.launcher, kin._ik_form(), t[:64], dtype)  # compiled before timing
+    wall = best_of(lambda: ikm.closed_form(kin.launcher, kin._ik_form(), t, dtype))
+    sol = ikm.closed_form(kin.launcher, kin._ik_form(), t[:check], dtype)
+    ok = sol.status == ikm.OK
+    rows = np.nonzero(ok & (np.abs(sol.q[:, :, 4]) > np.radians(2)))  # away from the wrist singularity
+    pos, rot = errors(kin, sol.q[rows].astype(np.float64), targets[:check][rows[0]])
+    near = np.abs(np.angle(np.exp(1j * (sol.q - q[:check, None])))).max(axis=-1)
     found = (near < (1e-6 if dtype == np.float64 else 1e-2)).any(axis=1)
-    return {"rate": len(targets) / best, "pos": pos.max(), "rot": rot.max(), "success": found.mean(),
-            "note": f"all 8 branches, {ok.sum() / check:.2f} valid per pose"}
+    return {"rate": len(targets) / wall, "solved_rate": len(targets) / wall, "pos": pos.max(), "rot": rot.max(),
+            "success": found.mean(), "threads": threads,
+            "note": f"all 8 branches, {ok.sum() / check:.2f} within the limits per pose"}
 
 
-def pinocchio_dls(urdf: Path, targets: np.ndarray, starts: np.ndarray) -> list:
-    """Pinocchio's inverse-kinematics example (CLIK with Jlog6), full Gauss-Newton steps."""
+def eaik_robot(urdf: Path, kin: Kinematics, q: np.ndarray, flange: np.ndarray):
+    """EAIK's robot from the URDF, and the fixed transform from our flange to its end frame."""
+    from eaik.IK_URDF import UrdfRobot
+
+    robot = UrdfRobot(str(urdf))
+    to_end = np.linalg.inv(flange[0]) @ robot.fwdKin(q[0])
+    for k in (1, 2, 3):
+        assert np.allclose(flange[k] @ to_end, robot.fwdKin(q[k]), atol=1e-9), "EAIK's end frame is not rigid to ours"
+    return robot, to_end
+
+
+def eaik(robot, to_end: np.ndarray, kin: Kinematics, q: np.ndarray, targets: np.ndarray, threads: int,
+         check: int) -> dict:
+    ends = targets @ to_end
+    batch = [ends[i] for i in range(len(ends))]  # its documented input: a list of 4x4 arrays
+    robot.IK_batched(batch[:64], num_worker_threads=threads)
+    wall = best_of(lambda: robot.IK_batched(batch, num_worker_threads=threads))
+    res = robot.IK_batched(batch[:check], num_worker_threads=threads)
+    sols, owners = [], []
+    for i, r in enumerate(res):
+        exact = ~np.asarray(r.is_LS, bool)
+        sols += list(np.asarray(r.Q)[exact])
+        owners += [i] * int(exact.sum())
+    sols, owners = np.asarray(sols), np.asarray(owners)
+    pos, rot = errors(kin, sols, targets[owners])
+    good = (pos < TOL) & (rot < TOL)
+    near = np.abs(np.angle(np.exp(1j * (sols - q[owners])))).max(axis=-1) < 1e-6
+    found = np.zeros(check, bool)
+    found[owners[near & good]] = True
+    return {"rate": len(targets) / wall, "solved_rate": len(targets) / wall, "pos": pos.max(), "rot": rot.max(),
+            "success": found.mean(), "threads": threads,
+            "note": f"every branch, {len(sols) / check:.2f} exact per pose (joint limits not applied)"}
+
+
+def ik_geo(kin: Kinematics, q: np.ndarray, targets: np.ndarray) -> dict:
+    """ik-geo's spherical-wrist, two-parallel-axes solver built from the arm's axes at zero."""
+    from ik_geo import Robot
+
+    arm = kin._ik_form()
+    h = np.array([arm.w1, arm.w2, arm.w2 if arm.s3 > 0 else -np.asarray(arm.w2), arm.w4, arm.w5, arm.w6])
+    link, off = kin.flange_frame()
+    zero = kin.fk64(np.zeros((1, kin.dof)))[0, link] @ off
+    c0, p1, p2, p3 = (np.asarray(v, float) for v in (arm.c0, arm.p1, arm.p2, arm.p3))
+    p = np.array([p1, p2 - p1, p3 - p2, c0 - p3, np.zeros(3), np.zeros(3), zero[:3, 3] - c0])
+    robot = Robot.spherical_two_parallel(h.tolist(), p.tolist())
+    rm = zero[:3, :3]  # its end frame is the world's at zero: ours turned by the flange's rotation
+    rots = [np.ascontiguousarray((t[:3, :3] @ rm.T).T).tolist() for t in targets]  # it reads a rotation by columns
+    trans = [t[:3, 3].tolist() for t in targets]
+    robot.get_ik(rots[0], trans[0])
+    start = time.perf_counter()
+    res = [robot.get_ik(r, p_) for r, p_ in zip(rots, trans)]
+    wall = time.perf_counter() - start
+    sols, owners = [], []
+    for i, branches in enumerate(res):
+        for qq, is_ls in branches:
+            if not is_ls:
+                sols.append(qq)
+                owners.append(i)
+    sols, owners = np.asarray(sols), np.asarray(owners)
+    pos, rot = errors(kin, sols, targets[owners])
+    good = (pos < TOL) & (rot < TOL)
+    near = np.abs(np.angle(np.exp(1j * (sols - q[owners])))).max(axis=-1) < 1e-6
+    found = np.zeros(len(targets), bool)
+    found[owners[near & good]] = True
+    return {"rate": len(targets) / wall, "solved_rate": len(targets) / wall, "pos": pos.max(), "rot": rot.max(),
+            "success": found.mean(), "threads": 1,
+            "note": f"every branch, {len(sols) / len(targets):.2f} exact per pose; one pose per call"}
+
+
+def pinocchio_setup(urdf: Path):
+    """Pinocchio's inverse-kinematics example (CLIK with Jlog6), the model built once."""
     import pinocchio as pin
 
     model = pin.buildModelFromUrdf(str(urdf))
-    data = model.createData()
-    fid = model.getFrameId("wrist")
-    out = []
-    for target, q in zip(targets, starts):
+    data, fid = model.createData(), model.getFrameId("wrist")
+
+    def solve(target: np.ndarray, q: np.ndarray) -> np.ndarray:
         want = pin.SE3(target[:3, :3], target[:3, 3])
         q = q.copy()
         for _ in range(200):
@@ -94,72 +176,93 @@ def pinocchio_dls(urdf: Path, targets: np.ndarray, starts: np.ndarray) -> list:
             if np.linalg.norm(err) < 1e-10:
                 break
             jac = -pin.Jlog6(imd.inverse()) @ pin.computeFrameJacobian(model, data, q, fid)
-            v = -jac.T @ np.linalg.solve(jac @ jac.T + 1e-12 * np.eye(6), err)
-            q = pin.integrate(model, q, v)
-        out.append(q)
-    return out
+            q = pin.integrate(model, q, -jac.T @ np.linalg.solve(jac @ jac.T + 1e-12 * np.eye(6), err))
+        return q
+
+    return solve
 
 
-def rtb_lm(urdf: Path, targets: np.ndarray, starts: np.ndarray) -> list:
+def rtb_setup(urdf: Path):
+    """roboticstoolbox-python's ``ets.ik_LM`` with its own defaults (tolerance, iterations), the
+    ETS built once (``robot.ik_LM`` would rebuild it every call)."""
     import roboticstoolbox as rtb
 
-    robot = rtb.Robot.URDF(str(urdf))
-    out = []
-    for target, q in zip(targets, starts):
-        sol = robot.ik_LM(target, q0=q, tol=1e-20, ilimit=200, slimit=1, end="wrist")
-        out.append(np.asarray(sol[0]))
-    return out
+    ets = rtb.Robot.URDF(str(urdf)).ets(end="wrist")
+    return lambda target, q: np.asarray(ets.ik_LM(target, q0=q)[0])
 
 
-def ikpy_chain(urdf: Path, targets: np.ndarray, starts: np.ndarray) -> list:
+def ikpy_setup(urdf: Path):
     from ikpy.chain import Chain
 
     chain = Chain.from_urdf_file(str(urdf), base_elements=["Base"], active_links_mask=[False] + [True] * 6 + [False])
-    out = []
-    for target, q in zip(targets, starts):
-        full = chain.inverse_kinematics_frame(target, initial_position=np.r_[0.0, q, 0.0], orientation_mode="all")
-        out.append(np.asarray(full[1:7]))
-    return out
+    return lambda target, q: np.asarray(chain.inverse_kinematics_frame(
+        target, initial_position=np.r_[0.0, q, 0.0], orientation_mode="all")[1:7])
 
 
-def peer(kin: Kinematics, fn, urdf: Path, targets: np.ndarray, starts: np.ndarray) -> dict:
-    t = time.perf_counter()
-    q = np.array(fn(urdf, targets, starts))
-    wall = time.perf_counter() - t
+def iterative(kin: Kinematics, solve, targets: np.ndarray, starts: np.ndarray, how: str) -> dict:
+    solve(targets[0], starts[0])
+    start = time.perf_counter()
+    q = np.array([solve(t, s) for t, s in zip(targets, starts)])
+    wall = time.perf_counter() - start
     pos, rot = errors(kin, q, targets)
     good = (pos < TOL) & (rot < TOL)
     return {"rate": len(targets) / wall, "solved_rate": good.sum() / wall, "pos": np.median(pos),
-            "rot": np.median(rot), "success": good.mean(), "note": "one solution from a random start"}
+            "rot": np.median(rot), "success": good.mean(), "threads": 1, "note": f"one solution, {how} start"}
+
+
+def peers(mech, kin: Kinematics, q: np.ndarray, targets: np.ndarray, m: int, threads: int, check: int) -> dict:
+    rows = {}
+    lo, hi = mech.bounds()
+    cold = np.random.default_rng(1).uniform(lo, hi, (m, kin.dof))
+    warm = q[:m] + np.random.default_rng(2).uniform(-WARM, WARM, (m, kin.dof))
+    with tempfile.TemporaryDirectory() as tmp:
+        urdf = Path(tmp) / "irb2600.urdf"
+        rswarp.to_urdf(mech, urdf)
+        link, off = kin.flange_frame()
+        robot, to_end = eaik_robot(urdf, kin, q, targets)
+        for t in sorted({1, threads}):
+            rows[f"EAIK, {t} thread{'s' * (t > 1)}"] = eaik(robot, to_end, kin, q, targets, t, check)
+        rows["ik-geo"] = ik_geo(kin, q[:check], targets[:check])
+        for name, setup, count in (("pinocchio CLIK", pinocchio_setup, m), ("rtb ets.ik_LM", rtb_setup, m),
+                                   ("ikpy", ikpy_setup, max(m // 10, 5))):
+            try:
+                solve = setup(urdf)
+            except ImportError as exc:
+                print(f"{name}: not installed ({exc.name}); pip install -e '.[bench]'")
+                continue
+            for how, starts in (("cold", cold), ("warm", warm)):
+                rows[f"{name}, {how}"] = iterative(kin, solve, targets[:count], starts[:count], how)
+    return rows
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer poses (a check that the script works)")
     args = ap.parse_args()
-    n, m = (100_000, 20) if args.quick else (1_000_000, 200)
+    n, m, check = (20_000, 20, 2_000) if args.quick else (1_000_000, 200, 20_000)
+    cores = os.cpu_count() or 1
     mech = rswarp.load(IRB2600)
     kin = Kinematics(mech)
     q, targets = poses(kin, n)
-    lo, hi = mech.bounds()
-    starts = np.random.default_rng(1).uniform(lo, hi, (m, kin.dof))
     rows = {}
-    for name, dtype in (("rswarp f64", np.float64), ("rswarp f32", np.float32)):
-        rows[name] = ours(kin, q, targets, dtype, check=min(n, 100_000))
-    with tempfile.TemporaryDirectory() as tmp:
-        urdf = Path(tmp) / "irb2600.urdf"
-        rswarp.to_urdf(mech, urdf)
-        for name, fn, count in (("pinocchio", pinocchio_dls, m), ("rtb ik_LM", rtb_lm, m),
-                                ("ikpy", ikpy_chain, max(m // 10, 5))):
-            rows[name] = peer(kin, fn, urdf, targets[:count], starts[:count])
-    print(f"IRB 2600-12/1.65, {n} poses (ours), the peers on {m} (ikpy on {max(m // 10, 5)}); 2-core CPU")
-    print(f"{'solver':>12} {'poses/s':>12} {'pos err m':>10} {'rot err rad':>11} {'success':>8}  note")
+    for t in sorted({1, cores}):
+        rows[f"rswarp f64, {t} thread{'s' * (t > 1)}"] = ours(mech, q, targets, np.float64, t, check)
+    rows[f"rswarp f32, {cores} threads"] = ours(mech, q, targets, np.float32, cores, check)
+    rows.update(peers(mech, kin, q, targets, m, cores, check))
+    print(f"IRB 2600-12/1.65: {n} poses for rswarp and EAIK, {check} for ik-geo, {m} for the iterative peers "
+          f"(ikpy {max(m // 10, 5)}); {cores}-core CPU")
+    print(f"{'solver':>28} {'threads':>7} {'poses/s':>12} {'pos err m':>10} {'rot err rad':>11} {'success':>8}  note")
     for name, r in rows.items():
-        print(f"{name:>12} {r['rate']:>12.4g} {r['pos']:>10.1e} {r['rot']:>11.1e} {r['success']:>8.1%}  {r['note']}")
-    best = max(r["solved_rate"] for k, r in rows.items() if not k.startswith("rswarp"))
-    ratio = rows["rswarp f64"]["rate"] / best
-    print(f"ratio: ours (f64, all branches) / best peer (solved poses per second): {ratio:.0f}x")
-    print(json.dumps({"metric": "IK poses per second, all branches, IRB 2600", "ours": rows["rswarp f64"]["rate"],
-                      "peer": best, "ratio": ratio}))
+        print(f"{name:>28} {r['threads']:>7} {r['rate']:>12.4g} {r['pos']:>10.1e} {r['rot']:>11.1e} "
+              f"{r['success']:>8.1%}  {r['note']}")
+    one = rows["rswarp f64, 1 thread"]["rate"] / rows["EAIK, 1 thread"]["rate"]
+    all_ = f"{cores} thread{'s' * (cores > 1)}"
+    ratio = rows[f"rswarp f64, {all_}"]["rate"] / rows[f"EAIK, {all_}"]["rate"]
+    print(f"ratio, ours (f64, every branch) over EAIK (every branch) at equal threads: {one:.2f}x on 1, "
+          f"{ratio:.2f}x on {cores}")
+    print(json.dumps({"metric": "IK poses per second, all branches, IRB 2600, float64", "ours":
+                      rows[f"rswarp f64, {all_}"]["rate"], "peer": rows[f"EAIK, {all_}"]["rate"],
+                      "peer_name": "EAIK IK_batched", "threads": cores, "ratio": ratio, "ratio_1_thread": one}))
 
 
 if __name__ == "__main__":
