@@ -9,6 +9,12 @@ as its body_q transforms. Ours is timed writing into a reused output buffer (as 
 its state), the flange too; the fresh-array figure, which adds first-touch page faults for the
 output, is shown too.
 
+Threads: Warp runs a CPU launch on one thread, so Newton's eval_fk uses one core; ours spreads its
+launches over every core. The ratio in the JSON line is at equal threads (ours on one thread
+against Newton); the all-core figure is beside it. Pinocchio's forwardKinematics (every joint's
+placement; its Python API takes one configuration a call) is timed on one thread over up to
+20 000 configurations, its model built from the URDF ``rswarp export`` writes before the timing.
+
 Run: python benchmarks/bench_fk.py [--sizes 10000,100000,1000000]
 """
 
@@ -74,16 +80,42 @@ def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, 
     return worlds, rate, build, float(np.abs(body_q[..., :3] - kin.fk(last)[..., :3, 3]).max())
 
 
-def print_table(rows: list[tuple]) -> None:
-    head = ("N", "worlds", "ours all links", "ours (fresh array)", "ours flange", "Newton all links",
-            "ratio all", "ratio flange", "Newton build", "max |dp| m")
+def pinocchio_rate(mech, q: np.ndarray) -> float:
+    """Pinocchio's forwardKinematics, one configuration a call, one thread: configurations/s."""
+    import tempfile
+    from pathlib import Path
+
+    import pinocchio as pin
+
+    import rswarp
+
+    with tempfile.TemporaryDirectory() as tmp:
+        urdf = Path(tmp) / "robot.urdf"
+        rswarp.to_urdf(mech, urdf)
+        model = pin.buildModelFromUrdf(str(urdf))
+    data = model.createData()
+    rows = [np.asarray(c, np.float64) for c in q[:20_000]]
+
+    def run():
+        for c in rows:
+            pin.forwardKinematics(model, data, c)
+
+    return len(rows) / median_time(run)
+
+
+def print_table(rows: list[tuple], cores: int) -> None:
+    head = ("N", "worlds", "ours all links, 1 thread", f"ours all links, {cores} threads", "ours (fresh array)",
+            "ours flange", "Newton all links (1 thread)", "pinocchio (1 thread)", "ratio, 1 thread",
+            f"ratio, ours on {cores}", "Newton build", "max |dp| m")
     print(" | ".join(head))
-    for n, worlds, a, fr, fl, p, nb, err in rows:
-        print(" | ".join([f"{n}", f"{worlds}", f"{a / 1e6:.2f} M/s", f"{fr / 1e6:.2f} M/s", f"{fl / 1e6:.2f} M/s",
-                          f"{p / 1e6:.2f} M/s", f"{a / p:.1f}x", f"{fl / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}"]))
-    n, _, a, _, _, p, _, _ = rows[-1]
-    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}", "ours": round(a), "peer": round(p),
-                      "ratio": round(a / p, 2)}))
+    for n, worlds, one, a, fr, fl, p, pin, nb, err in rows:
+        print(" | ".join([f"{n}", f"{worlds}", f"{one / 1e6:.2f} M/s", f"{a / 1e6:.2f} M/s", f"{fr / 1e6:.2f} M/s",
+                          f"{fl / 1e6:.2f} M/s", f"{p / 1e6:.2f} M/s", f"{pin / 1e6:.3f} M/s", f"{one / p:.1f}x",
+                          f"{a / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}"]))
+    n, _, one, a, _, _, p, pin, _, _ = rows[-1]
+    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}_1_thread", "ours": round(one), "peer": round(p),
+                      "peer_name": "Newton eval_fk (one thread)", "ratio": round(one / p, 2),
+                      "ours_all_cores": round(a), "ratio_all_cores": round(a / p, 2), "pinocchio": round(pin)}))
 
 
 def main() -> None:
@@ -114,19 +146,21 @@ def main() -> None:
     t = time.perf_counter()
     kin = Kinematics(mech)
     ours_build = time.perf_counter() - t
+    one = Kinematics(mech, threads=1)
     rows = []
     for n in (int(s) for s in args.sizes.split(",")):
         q = np.random.default_rng(n).uniform(*mech.bounds(), (n, mech.dof)).astype(np.float32)
         all_links, fresh, flange = ours_rates(kin, q)
+        single = ours_rates(one, q)[0]
         worlds, peer, build, err = newton_rate(mech, kin, q, args.max_worlds)
-        rows.append((n, worlds, all_links, fresh, flange, peer, build, err))
+        rows.append((n, worlds, single, all_links, fresh, flange, peer, pinocchio_rate(mech, q), build, err))
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
     first = "compiling into an empty cache" if args.cold_cache else \
         "building the kernels, compiled or loaded from Warp's cache"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
           f"{first}); Newton per row below (replicated worlds)")
-    print_table(rows)
+    print_table(rows, os.cpu_count() or 1)
 
 
 if __name__ == "__main__":
