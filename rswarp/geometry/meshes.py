@@ -175,6 +175,21 @@ def file_mesh(mech: Mechanism, path: Path, transform: np.ndarray | None = None):
     return trimesh.Trimesh(vertices, faces, visual=loaded.visual, process=False, validate=False)
 
 
+def closed_link_meshes(mech: Mechanism):
+    """(index, name, trimesh.Trimesh) of each link whose parts make one closed mesh (world, zero
+    position): the links an inside test can trust; the others are left to the run's winding
+    numbers."""
+    import trimesh
+
+    for j, name in enumerate(mech.graph.links):
+        try:
+            mesh = link_mesh(mech, name)
+        except MeshNotFoundError:
+            continue
+        if mesh is not None and mesh.is_watertight:
+            yield j, name, trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
+
+
 def link_mesh(mech: Mechanism, link: str):
     """All Parts of a link as one mesh (world, zero position, metres); None if it has no geometry."""
     import trimesh

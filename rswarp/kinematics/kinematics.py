@@ -35,9 +35,9 @@ def checked_conf(conf, n: int) -> np.ndarray:
         raise InputError(f"conf must have the shape (4,) or ({n}, 4) for {n} pose{'s' * (n != 1)}, not {a.shape}")
     if a.dtype.kind not in "fiu":
         raise InputError(f"conf must hold whole numbers, not {a.dtype}")
-    if a.dtype.kind == "f" and not (np.isfinite(a).all() and (a == np.round(a)).all()):
-        bad = a[~(np.isfinite(a) & (a == np.round(np.nan_to_num(a))))].flat[0]
-        raise InputError(f"conf must hold whole numbers (quadrants and cfx), not {bad:g}")
+    whole = np.isfinite(a) & (a == np.round(np.where(np.isfinite(a), a, 0)))
+    if not whole.all():
+        raise InputError(f"conf must hold whole numbers (quadrants and cfx), not {a[~whole].flat[0]:g}")
     if (np.abs(a) > 1000).any():
         raise InputError(f"conf {a[np.abs(a) > 1000].flat[0]:g} is no quadrant: cf1, cf4, cf6 are a joint's turn "
                          "in quarters, cfx 0..7")
@@ -245,10 +245,10 @@ class Kinematics:
         poses = self._poses(poses, dtype)
         if conf is not None:
             conf = checked_conf(conf, len(poses))
-        sol = self._solve(self._ik_form(), poses, dtype)
+        form = self._ik_form()
+        sol = self._solve(form, poses, dtype)
         if conf is None:
             return sol
-        form = self._ik_form()
         return ik.pick(self._turned(sol), conf, ik.quadrant_axes(form), ik.wrist_axis(form))
 
     def _poses(self, poses, dtype) -> np.ndarray:

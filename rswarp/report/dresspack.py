@@ -57,6 +57,11 @@ class DesignRow:
     findings: tuple
     result: CableResult
 
+    @property
+    def stopped(self) -> bool:
+        """Run, but stopped (a crush): no margin, no figures."""
+        return self.result is not None and not math.isfinite(self.least)
+
 
 def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], designs: int = 64,
                   cable: str | None = None, seed: int = 0, device: str = "cpu", ray: str | None = None,
@@ -104,11 +109,12 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
             for i, r in enumerate(design_runs(run))]
     rows = sorted(rows + [_short_row(i, drawn.values[i], why) for i, why in short.items()], key=lambda r: r.index)
     chosen = drawn
-    best = _best(rows, min_margin / 100.0)
+    keep = min_margin / 100.0
+    best = _best(rows, keep)
     command = repeat_command(out, programs, opts, best.verdict == "PASS")
-    doc = _doc(mech, chosen, rows, best, seconds, command, ratings) | {"min_margin": min_margin / 100.0}
+    doc = _doc(mech, chosen, rows, best, seconds, command, ratings) | {"min_margin": keep}
     _write(out, mech, chosen, rows, best, doc)
-    return Output(doc, _text(mech, chosen, rows, best, seconds, plan, command, min_margin))
+    return Output(doc, _text(mech, chosen, rows, best, seconds, plan, command, keep))
 
 
 def _cable_index(mech, name: str | None) -> int:
@@ -212,20 +218,14 @@ def _best(rows: list[DesignRow], min_margin: float = 0.0) -> DesignRow:
     return min(rows, key=lambda r: (r.least == -math.inf, len(r.fails), -r.least, r.length))
 
 
-def _values(variables: tuple[Variable, ...], values, length: bool = True) -> str:
-    """The variables' values as --vary names them (``length``: the hose's too, else it is said apart)."""
-    return ", ".join(f"{v.name} {_shown(v, x)}" for v, x in zip(variables, values) if length or v.what != "length")
-
-
 def _design(chosen: DesignSet, r: DesignRow) -> str:
-    """A design's hose length, then the other variables' values."""
-    rest = _values(chosen.variables, chosen.values[r.index], False)
-    return f"hose {r.length:.4f} m" + (f", {rest}" if rest else "")
+    """A design's hose length, then the other variables' values as --vary names them."""
+    rest = [f"{v.name} {_shown(v, x)}" for v, x in zip(chosen.variables, chosen.values[r.index]) if v.what != "length"]
+    return ", ".join([f"hose {r.length:.4f} m", *rest])
 
 
 def _shown(v: Variable, x: float) -> str:
-    return f"{math.degrees(x):.1f} deg" if v.what in ("pitch", "yaw") else f"{x * 1000:.1f} mm" if v.what != "length" \
-        else f"{x:.4f} m"
+    return f"{v.given(x):.1f} deg" if v.unit == "deg" else f"{x * 1000:.1f} mm" if v.what != "length" else f"{x:.4f} m"
 
 
 def _contrast(rows: list[DesignRow], best: DesignRow) -> DesignRow | None:
@@ -235,10 +235,10 @@ def _contrast(rows: list[DesignRow], best: DesignRow) -> DesignRow | None:
 
 
 def _text(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, seconds: float, plan,
-          command: str, min_margin: float) -> str:
+          command: str, keep: float) -> str:
     passing = sum(r.verdict == "PASS" for r in rows)
     short = sum(r.result is None for r in rows)
-    stopped = sum(r.result is not None and not r.margins for r in rows)
+    stopped = sum(r.stopped for r in rows)
     c = mech.cables[chosen.cable]
     ranges = "; ".join(f"{v.name} {_shown(v, v.low)} to {_shown(v, v.high)}" for v in chosen.variables)
     lines = [f"dresspack: {len(rows)} designs of cable '{c.name}' over {', '.join(plan.run.files)} "
@@ -247,9 +247,9 @@ def _text(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, secon
              f"  varied: {ranges}", f"  passing: {passing} of {len(rows)}" + (
                  f"; {short} too short for the path through their control points, not run" if short else "") + (
                  f"; {stopped} stopped (a crush, in designs.csv's 'stopped')" if stopped else "")]
-    lines += [_head(best, passing, min_margin) + f": {_design(chosen, best)}, " + (
+    lines += [_head(best, passing, keep) + f": {_design(chosen, best)}, " + (
         f"least margin {best.least:.1%} ({_tightest(best)})" if math.isfinite(best.least) else _why_stopped(best))]
-    if best.verdict == "PASS" and best.least < SLIM_MARGIN and not min_margin:
+    if best.verdict == "PASS" and best.least < SLIM_MARGIN and not keep:
         lines.append(f"  its least margin is {best.least:.1%}: a design this near a rating passes or fails by the "
                      "model's own error; --min-margin PCT chooses the shortest that keeps more")
     lines += verdict_lines(best.result, list(best.findings))
@@ -261,12 +261,14 @@ def _text(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, secon
     return "\n".join(lines)
 
 
-def _head(best: DesignRow, passing: int, min_margin: float) -> str:
-    if best.verdict == "PASS" and best.least >= min_margin / 100.0:
-        keeps = f" with {min_margin:g} % to every rating" if min_margin else ""
+def _head(best: DesignRow, passing: int, keep: float) -> str:
+    """The chosen design's heading: the shortest passing with ``keep`` (a fraction) to every rating,
+    the passing one with the most where none keeps it, or the closest to passing."""
+    if best.verdict == "PASS" and best.least >= keep:
+        keeps = f" with {keep * 100:g} % to every rating" if keep else ""
         return f"best: design {best.index + 1}, the shortest hose that passes{keeps}"
     if best.verdict == "PASS":
-        return (f"no design passes with {min_margin:g} % to every rating ({passing} pass); the one with the most: "
+        return (f"no design passes with {keep * 100:g} % to every rating ({passing} pass); the one with the most: "
                 f"design {best.index + 1}")
     return f"no design passes; the closest: design {best.index + 1}"
 
@@ -306,25 +308,17 @@ def _csv(chosen: DesignSet, rows: list[DesignRow]) -> bytes:
     a design that stopped or was not run has no margins, radius or tension, and says why."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["design", *(f"{v.name}_{_unit(v)}" for v in chosen.variables), "hose_m", "verdict", "fails",
+    w.writerow(["design", *(f"{v.name}_{v.unit}" for v in chosen.variables), "hose_m", "verdict", "fails",
                 *(f"{k}_margin" for k in MARGINS), "least_margin", "bend_radius_m", "peak_tension_n", "stopped"])
     for r in rows:
-        ran = r.result is not None and math.isfinite(r.least)
-        w.writerow([r.index + 1, *(f"{_in_unit(v, x):.6g}" for v, x in zip(chosen.variables, r.values)),
+        ran = math.isfinite(r.least)  # run to its end: its figures are there
+        w.writerow([r.index + 1, *(f"{v.given(x):.6g}" for v, x in zip(chosen.variables, r.values)),
                     f"{r.length:.6f}", r.verdict, " ".join(r.fails),
                     *(f"{r.margins[k]:.4f}" if k in r.margins else "" for k in MARGINS),
                     f"{r.least:.4f}" if ran else "",
                     *((f"{float(r.result.min_bend_radius[0]):.4f}", f"{float(r.result.peak_tension[0]):.3f}")
                       if ran else ("", "")), _why_stopped(r)])
     return buf.getvalue().encode()
-
-
-def _unit(v: Variable) -> str:
-    return "deg" if v.what in ("pitch", "yaw") else "m"
-
-
-def _in_unit(v: Variable, x: float) -> float:
-    return math.degrees(x) if v.what in ("pitch", "yaw") else x
 
 
 def _why_stopped(r: DesignRow) -> str:
@@ -346,7 +340,7 @@ def _pareto(rows: list[DesignRow], best: DesignRow) -> bytes:
                    edgecolors="black", zorder=3,
                    label=f"{'best' if best.verdict == 'PASS' else 'closest'}: design {best.index + 1}")
         ax.axhline(0.0, color="black", lw=0.8)
-        stopped = [r.length for r in rows if r.result is not None and not r.margins]
+        stopped = [r.length for r in rows if r.stopped]
         if stopped:  # no margin to plot: marked along the bottom
             ax.scatter(stopped, [ax.get_ylim()[0]] * len(stopped), marker="v", c="dimgray", s=30, clip_on=False,
                        label="stopped (a crush): no margin")

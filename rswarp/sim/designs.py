@@ -17,7 +17,8 @@ from ..errors import InputError
 from ..rsxml.model import Cable, Mechanism
 from ..transforms import euler_zyx_matrix
 
-PROPERTIES = ("x", "y", "z", "pitch", "yaw")  # a shift (m) along, or a tilt (deg) about y or z of, the link's axes
+TILTS = ("pitch", "yaw")
+PROPERTIES = ("x", "y", "z", *TILTS)  # a shift (m) along, or a tilt (deg) about y or z of, the link's axes
 MAX_DESIGNS = 1 << 16
 MAX_SHIFT = 1.0  # m: farther is another cell, not a clamp position
 MAX_TILT = 90.0  # deg
@@ -35,6 +36,15 @@ class Variable:
     low: float
     high: float
     point: int | None = None
+
+    @property
+    def unit(self) -> str:
+        """The unit --vary takes it in: degrees for a tilt, else metres."""
+        return "deg" if self.what in TILTS else "m"
+
+    def given(self, x: float) -> float:
+        """``x`` (SI) in the unit --vary takes."""
+        return math.degrees(x) if self.what in TILTS else x
 
 
 def parse_vary(specs: list[str], cable: Cable) -> tuple[Variable, ...]:
@@ -60,10 +70,10 @@ def parse_vary(specs: list[str], cable: Cable) -> tuple[Variable, ...]:
         if what not in PROPERTIES or not point_name:
             raise InputError(usage)
         point = _point(point_name, cable, spec)
-        bound = MAX_TILT if what in ("pitch", "yaw") else MAX_SHIFT
+        bound = MAX_TILT if what in TILTS else MAX_SHIFT
         if max(abs(low), abs(high)) > bound:
             raise InputError(f"--vary '{spec}': within ±{bound:g} {'deg' if bound == MAX_TILT else 'm'}, please")
-        scale = math.pi / 180.0 if what in ("pitch", "yaw") else 1.0
+        scale = math.pi / 180.0 if what in TILTS else 1.0
         out.append(Variable(name, what, low * scale, high * scale, point))
     if len({v.name for v in out}) < len(out):
         raise InputError("--vary names one variable twice")
@@ -163,22 +173,13 @@ def inside_links(mech: Mechanism, cable: int, designs: tuple[Mechanism, ...] = (
     """The attached control points of cable ``cable`` that lie inside a link's (closed) mesh at the
     zero position, as "point N in LINK" (of ``mech``, or of each of ``designs``: "design D: point N
     in LINK"), each link's mesh built once."""
-    import trimesh
-
-    from ..errors import MeshNotFoundError
-    from ..geometry.meshes import link_mesh
+    from ..geometry.meshes import closed_link_meshes
 
     held = [(d, k, p.position) for d, m in enumerate(designs or (mech,))
             for k, p in enumerate(m.cables[cable].control_points) if p.attached_to]
     out = []
-    for name in mech.graph.links:
-        try:
-            mesh = link_mesh(mech, name)
-        except MeshNotFoundError:
-            continue
-        if mesh is None or not mesh.is_watertight or not held:
-            continue
-        inside = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False).contains(np.array([p for *_, p in held]))
+    for _, name, mesh in closed_link_meshes(mech) if held else ():
+        inside = mesh.contains(np.array([p for *_, p in held]))
         out += [f"{f'design {d + 1}: ' if designs else ''}point {k + 1} in {name}"
                 for (d, k, _), yes in zip(held, inside) if yes]
     return out

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import MeshNotFoundError, model_error
+from ..errors import model_error
 from ..rsxml.model import Mechanism
 from .rod_layout import RodLayout
 
@@ -31,16 +31,9 @@ def outside_links(mech: Mechanism, layout: RodLayout) -> None:
     whose contact judges them by winding number."""
     import trimesh
 
-    from ..geometry.meshes import link_mesh
+    from ..geometry.meshes import closed_link_meshes
 
-    for j, name in enumerate(mech.graph.links):
-        try:
-            mesh = link_mesh(mech, name)
-        except MeshNotFoundError:
-            continue
-        if mesh is None or not mesh.is_watertight:
-            continue
-        closed = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
+    for j, name, closed in closed_link_meshes(mech):
         for c, cable in zip(layout.cables, mech.cables):
             free = layout.touch[c.first:c.first + c.segments, j] > 0
             if not free.any():
@@ -50,14 +43,15 @@ def outside_links(mech: Mechanism, layout: RodLayout) -> None:
             inside = trimesh.proximity.signed_distance(closed, samples).reshape(-1, len(ALONG)).max(axis=1)
             r = c.section.radius
             if inside.max() > -r / 2:
-                _crossing(mech, cable, c, np.flatnonzero(free)[int(np.argmax(inside))], name, inside.max() + r)
+                raise _crossing(mech, cable, c, np.flatnonzero(free)[int(np.argmax(inside))], name, inside.max() + r)
 
 
-def _crossing(mech: Mechanism, cable, c, segment: int, link: str, depth: float) -> None:
+def _crossing(mech: Mechanism, cable, c, segment: int, link: str, depth: float) -> Exception:
+    """The error for a rest shape ``depth`` m into ``link`` at ``segment``, naming its span."""
     nodes = [int(np.argmin(np.linalg.norm(c.points - np.asarray(p.position, float), axis=1)))
              for p in cable.control_points]  # each control point is a node of the rest shape
     span = max(sum(n <= segment for n in nodes), 1)
     at = 0.5 * (c.arc[segment] + c.arc[segment + 1])
-    raise model_error(mech, f"cable '{cable.name}' at rest lies {depth * 1000:.0f} mm deep in '{link}', {at:.3g} m "
+    return model_error(mech, f"cable '{cable.name}' at rest lies {depth * 1000:.0f} mm deep in '{link}', {at:.3g} m "
                             f"along it: its span between control points {span} and {span + 1}, bowed down to its "
                             "length, crosses the link; add a ControlPoint to route it around", cable.line)
