@@ -338,6 +338,10 @@ def test_a_wrist_singular_robtarget_is_reached_with_its_own_confdata(irb2600_kin
     1e-6 rad off zero and the closed form's split of q4 and q6 is noise; the target's confdata
     picks the split, and q4 stays where the robot is where the quadrants let it."""
     q = np.radians([q1, q2, q3, q4, 0.0, q6])
+    wrist, _ = irb2600_kinematics.wrist_flange64(q[None])
+    # near the shoulder's singularity too, a target's rounding moves q1 by 0.5 um over the wrist
+    # centre's distance from axis 1, more than the slacks: both at once is not claimed
+    assume(np.hypot(wrist[0, 0], wrist[0, 1]) > 0.05)
     _reached(irb2600_kinematics, q, np.zeros(6))
 
 

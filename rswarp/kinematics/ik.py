@@ -117,6 +117,7 @@ def turns(sol: IKSolutions, lower: np.ndarray, upper: np.ndarray, axes: tuple[in
 
 QUADRANT_SLACK = 1e-5  # rad: a joint this close to a quadrant's edge is in either (rounding, not a choice:
 # a robtarget's quaternion of 6 decimals moves the joints by 2e-6)
+WRIST_AMPLIFIED = 100.0  # at most this many times QUADRANT_SLACK for axes 4 and 6 near the wrist singularity
 
 
 def quadrant_axes(form) -> tuple[tuple[int, int], ...]:
@@ -144,7 +145,7 @@ def conf_matches(q: np.ndarray, conf: np.ndarray, want, axes=(), wrist: int | No
     same = conf == want
     quarter = 0.5 * np.pi
     # near the wrist's singularity axes 4 and 6 take a target's rounding 1 / |sin q5| times over
-    amplified = 1.0 if wrist is None else 1.0 / np.maximum(np.abs(np.sin(q[..., wrist])), 0.01)
+    amplified = 1.0 if wrist is None else 1.0 / np.maximum(np.abs(np.sin(q[..., wrist])), 1.0 / WRIST_AMPLIFIED)
     for column, axis in axes:
         x = q[..., axis] / quarter
         edge = np.round(x)

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..kernels.ik import NO_LIMITS, OK, SHOULDER
 from ..rapid import data as rd
-from .ik import QUADRANT_SLACK, ArmConstants, conf_matches, quadrant_axes, wrist_axis
+from .ik import QUADRANT_SLACK, WRIST_AMPLIFIED, ArmConstants, conf_matches, quadrant_axes, wrist_axis
 
 EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
 
@@ -100,9 +100,11 @@ def wrist_fit(arm, cands: np.ndarray, confs: np.ndarray, conf, bounds=None, q_no
         return None
     sign = 1.0 if along > 0 else -1.0
     quarter = 0.5 * np.pi
-    slack = QUADRANT_SLACK  # a joint this near a quadrant's edge is in either
-    a4, b4 = conf[1] * quarter - slack, (conf[1] + 1) * quarter + slack
-    a6, b6 = conf[2] * quarter - slack, (conf[2] + 1) * quarter + slack
+    # a joint this near a quadrant's edge is in either; axes 4 and 6 at the wrist singularity take a
+    # target's rounding amplified, as ``conf_matches`` has them (near the shoulder's too, q1's error)
+    slack, wide = QUADRANT_SLACK, QUADRANT_SLACK * WRIST_AMPLIFIED
+    a4, b4 = conf[1] * quarter - wide, (conf[1] + 1) * quarter + wide
+    a6, b6 = conf[2] * quarter - wide, (conf[2] + 1) * quarter + wide
     a1, b1 = conf[0] * quarter - slack, (conf[0] + 1) * quarter + slack
     for q, c in zip(cands, confs):
         if abs(q[4]) >= WRIST_SINGULAR or not a1 <= q[0] <= b1 or (int(c[3]) | 1) != (int(conf[3]) | 1):
