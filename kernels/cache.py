@@ -11,6 +11,10 @@ from typing import Any, Callable
 
 import numpy as np
 
+# Compiler flags for kernels whose inputs are checked finite and bounded: no NaN and no signed zero
+# lets the compiler fold a constant's zero components (0 * x) and fuse multiply-adds across lines
+FINITE_MATH = ("-fno-signed-zeros -menable-no-nans -ffp-contract=fast -Wno-unknown-warning-option"
+               " -Wno-nan-infinity-disabled")  # Warp's headers name NaN, to no harm here
 _BUILT: dict[tuple, Any] = {}
 
 
@@ -42,6 +46,19 @@ def content_digest(*args) -> str:
 def module_name(prefix: str, *args) -> str:
     """The Warp module of a factory's kernels: ``rswarp_<prefix>_<content digest>``."""
     return f"rswarp_{prefix}_{content_digest(*args)}"
+
+
+def finite_math(kernel):
+    """``kernel`` (the only one of its module) compiled for the CPU with ``FINITE_MATH``; its host
+    checks the inputs finite and the kernel bounds them before any product. A Warp without
+    per-module CPU flags compiles it as it is, slower."""
+    import warp as wp
+
+    options = kernel.module.options
+    flags = options.get("cpu_compiler_flags") or wp.config.cpu_compiler_flags or "-march=native"
+    if "cpu_compiler_flags" in options and not flags.endswith(FINITE_MATH):  # setting them again reloads it
+        wp.set_module_options({"cpu_compiler_flags": f"{flags} {FINITE_MATH}"}, module=kernel.module)
+    return kernel
 
 
 def cached(factory: Callable) -> Callable:

@@ -4,8 +4,10 @@ thread, all eight branches (shoulder, elbow, wrist flip) with their ABB configur
 
 Product of exponentials on the axes at the zero position (world): the wrist centre fixes q1
 (rotations about J2 and J3 keep its component along their common axis), then q3 and q2 (two
-parallel axes: a triangle in the arm's plane), then q4, q5, q6 (three axes through one point:
-Paden-Kahan subproblems 2 and 1). The arm's constants are folded into the code per robot."""
+parallel axes: a triangle in the arm's plane), then q4, q5, q6 (three axes through one point: Euler
+angles where the wrist is orthogonal, as ABB's are; Paden-Kahan subproblems 2 and 1 otherwise). The
+arm's constants are folded into the code per robot, and the module is compiled with
+``finite_math``: the host checks the poses finite, the kernel bounds them first."""
 
 from types import SimpleNamespace
 from typing import NamedTuple
@@ -13,7 +15,8 @@ from typing import NamedTuple
 import numpy as np
 import warp as wp
 
-from .cache import cached, module_name
+from .cache import cached, finite_math, module_name
+from .trig import trig_funcs
 from .types import types_of
 
 BRANCHES = 8  # shoulder (front, back) x elbow (up, down) x wrist (flip or not): index 4 s + 2 e + w
@@ -24,6 +27,7 @@ SINGULAR_Q5 = {8: 1e-7, 4: 1e-3}
 OK, NO_REACH, NO_LIMITS, SHOULDER, SAME = 0, 1, 2, 3, 4  # a branch's status (SAME: the singular wrist's flip)
 NOT_RIGID = 5  # the pose is not a rigid transform (a rotation scaled, sheared, mirrored; a bad bottom row)
 RIGID_TOL = 1e-5  # the error of RᵀR - I and of the bottom row a pose may have: float32 rounding
+FAR_M = 1000.0  # a pose's translation beyond this (m) is out of reach whatever rounding made of it
 
 
 class ArmConstants(NamedTuple):
@@ -78,6 +82,9 @@ def _folded(arm: ArmConstants, scalar) -> SimpleNamespace:
     n45 = np.cross(c["w4"], c["w5"])
     c45, c56 = float(c["w4"] @ c["w5"]), float(c["w5"] @ c["w6"])
     rmt = c["rm"].reshape(3, 3).T
+    w45 = np.cross(c["w4"], c["w5"])
+    f0 = np.stack([c["w6"], n6, np.cross(c["w6"], n6)], axis=1)  # axis 6, across it, their normal at zero
+    ce = np.stack([c["w4"], c["w5"], w45]) @ f0  # f0 in the frame of axes 4, 5 and 4 x 5
     vec = lambda v: V3(*(S(float(x)) for x in v))  # noqa: E731
     sca = lambda x: S(float(x))  # noqa: E731
     return SimpleNamespace(
@@ -92,6 +99,7 @@ def _folded(arm: ArmConstants, scalar) -> SimpleNamespace:
         A2=V2(sca(a2[0]), sca(a2[1])), B2=V2(sca(b2[0]), sca(b2[1])), CT0=sca(np.cos(turn0)),
         ST0=sca(np.sin(turn0)), P2D=V2(*(sca(x) for x in to2(c["p2"]))),
         LO=Q6(*(sca(x) for x in c["lo"])), HI=Q6(*(sca(x) for x in c["hi"])),
+        W45=vec(w45), CE1=vec(ce[1]), CE2=vec(ce[2]), S6=sca(np.sign(c["w4"] @ c["w6"])),
         FLIP=bool(abs(c45) < 1e-12 and abs(c56) < 1e-12 and np.linalg.norm(np.cross(c["w4"], c["w6"])) < 1e-12),
         # a joint whose limits span more than (-pi, pi] may need a whole turn to fit them
         TURNS=[bool(c["lo"][j] < -np.pi or c["hi"][j] > np.pi) for j in range(6)])
@@ -103,7 +111,8 @@ def angle_funcs(scalar):
     Rodrigues (``rot``), Paden-Kahan subproblem 1 (``turn_about``), ``wrapped`` into [-pi, pi),
     ``half_turn``."""
     S, V3, _, _, _ = types_of(scalar)
-    TAU, PI = S(2.0 * np.pi), S(np.pi)
+    TAU, PI, PER_TURN = S(2.0 * np.pi), S(np.pi), S(0.5 / np.pi)  # a product, where a division costs 4 or 5 of them
+    atan2 = trig_funcs(scalar).atan2
 
     @wp.func
     def rot(w: V3, ca: S, sa: S, v: V3) -> V3:
@@ -120,12 +129,12 @@ def angle_funcs(scalar):
         r = wp.sqrt(x * x + y * y)
         if r == S(0.0):
             return S(0.0), S(1.0), S(0.0)
-        return wp.atan2(y, x), x / r, y / r
+        return atan2(y, x), x / r, y / r
 
     @wp.func
     def wrapped(x: S) -> S:
         """x into [-pi, pi)."""
-        return x - TAU * wp.floor((x + PI) / TAU)
+        return x - TAU * wp.floor((x + PI) * PER_TURN)
 
     @wp.func
     def half_turn(x: S) -> S:
@@ -143,6 +152,7 @@ def shoulder_func(scalar, w1, p1, w2, d0: float):
     S, V3, _, _, _ = types_of(scalar)
     W1, P1, W2 = (V3(*(S(float(x)) for x in v)) for v in (w1, p1, w2))
     D0 = S(float(d0))
+    atan2, acos = trig_funcs(scalar).atan2, trig_funcs(scalar).acos
 
     @wp.func
     def shoulder(point: V3):
@@ -161,7 +171,7 @@ def shoulder_func(scalar, w1, p1, w2, d0: float):
             if wp.abs(ratio) > S(1.0):
                 status = NO_REACH
                 ratio = wp.clamp(ratio, S(-1.0), S(1.0))
-        return wp.atan2(b, a), wp.acos(ratio), ratio, a, b, rho, status
+        return atan2(b, a), acos(ratio), ratio, a, b, rho, status
 
     return shoulder
 
@@ -169,7 +179,7 @@ def shoulder_func(scalar, w1, p1, w2, d0: float):
 def _limits(k: SimpleNamespace) -> SimpleNamespace:
     """``fit`` (each joint turned into its limits where a whole turn fits) and ABB's ``quadrant``."""
     S, Q6, LO, HI, TURNS = k.S, k.Q6, k.LO, k.HI, k.TURNS
-    TAU, QUARTER = S(2.0 * np.pi), S(0.5 * np.pi)
+    TAU, PER_QUARTER = S(2.0 * np.pi), S(2.0 / np.pi)
 
     @wp.func
     def into(x: S, lo: S, hi: S) -> S:
@@ -193,7 +203,7 @@ def _limits(k: SimpleNamespace) -> SimpleNamespace:
 
     @wp.func
     def quadrant(x: S) -> int:
-        return int(wp.floor(x / QUARTER))
+        return int(wp.floor(x * PER_QUARTER))
 
     return SimpleNamespace(fit=fit, quadrant=quadrant)
 
@@ -232,6 +242,28 @@ def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
     C45, C56, C4556, C45X2, DET, G2 = k.C45, k.C56, k.C4556, k.C45X2, k.DET, k.G2
     rot, turn_about, half_turn, fit = h.rot, h.turn_about, h.half_turn, lim.fit
     branch_out = _branch_out(k, lim)
+    W45, CE1, CE2, S6 = k.W45, k.CE1, k.CE2, k.S6
+    atan2 = trig_funcs(scalar).atan2
+
+    @wp.func
+    def euler_angles(v: V3, vn: V3):
+        """As ``wrist_angles`` for an orthogonal wrist (axis 6 in line with axis 4 at zero), by
+        Euler angles: in the frame of axes 4, 5 and 4 x 5 the wrist turns by Rx(q4) Ry(q5)
+        Rx(+-q6), whose first column is axis 6's target ``v`` and whose first row is read from
+        ``v``, ``vn`` and their normal along axis 4. The branch whose sin q5 has the sign of
+        -(w4 . w6), as the Paden-Kahan form's first; the flip is the other."""
+        a1 = S6 * wp.dot(W5, v)
+        a2 = S6 * wp.dot(W45, v)
+        r = wp.sqrt(a1 * a1 + a2 * a2)  # |sin q5|
+        if r > SINGULAR:
+            d = V3(wp.dot(W4, v), wp.dot(W4, vn), wp.dot(W4, wp.cross(v, vn)))
+            sg = -S6
+            q4 = atan2(sg * a1, -sg * a2)
+            q5 = atan2(sg * r, S6 * d[0])
+            q6 = S6 * atan2(sg * wp.dot(CE1, d), sg * wp.dot(CE2, d))
+            return q4, q5, q6, int(0)
+        q6, c6, s6 = turn_about(W6, N6, vn)
+        return S(0.0), S(0.0), q6, int(1)
 
     @wp.func
     def wrist_angles(z: V3, v: V3, vn: V3):
@@ -258,15 +290,11 @@ def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
               q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
               status_out: wp.array2d(dtype=wp.int8)):
         """The two wrist branches (b, b + 1) of one arm solution, given where R4 R5 R6 must take
-        axis 6 (``v``) and the direction across it (``vn``): q4, q5 by Paden-Kahan subproblem 2,
-        q6 by subproblem 1."""
-        alpha = (wp.dot(W4, v) - C4556) / DET
-        beta = (C56 - C45 * wp.dot(W4, v)) / DET
-        g = (S(1.0) - alpha * alpha - beta * beta - C45X2 * alpha * beta) / G2
-        g = wp.sqrt(wp.max(g, S(0.0)))
+        axis 6 (``v``) and the direction across it (``vn``): by Euler angles for an orthogonal
+        wrist, else q4, q5 by Paden-Kahan subproblem 2 and q6 by subproblem 1."""
         if wp.static(FLIP):
             # an orthogonal wrist with axes 4 and 6 in line at zero: the flip is (q4 + pi, -q5, q6 + pi)
-            q4, q5, q6, singular = wrist_angles(W4 * alpha + W5 * beta + N45 * g, v, vn)
+            q4, q5, q6, singular = euler_angles(v, vn)
             twin = status
             if singular == 1 and twin == OK:
                 twin = SAME  # the flip is the same pose: one solution
@@ -274,6 +302,10 @@ def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
             branch_out(i, b + 1, fit(Q6(q1, q2, q3, half_turn(q4), -q5, half_turn(q6))), arm_conf, twin, q_out,
                        conf_out, status_out)
         else:
+            alpha = (wp.dot(W4, v) - C4556) / DET
+            beta = (C56 - C45 * wp.dot(W4, v)) / DET
+            g = (S(1.0) - alpha * alpha - beta * beta - C45X2 * alpha * beta) / G2
+            g = wp.sqrt(wp.max(g, S(0.0)))
             for f in range(2):
                 z = W4 * alpha + W5 * beta + N45 * (g * (S(1.0) - S(2.0) * S(float(f))))
                 q4, q5, q6, singular = wrist_angles(z, v, vn)
@@ -290,6 +322,7 @@ def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
     S, V3, V2, scalar = k.S, k.V3, k.V2, k.scalar
     W2, A2, B2, CT0, ST0, TURN0, SIDE0, S3 = k.W2, k.A2, k.B2, k.CT0, k.ST0, k.TURN0, k.SIDE0, k.S3
     rot, wrapped = h.rot, h.wrapped
+    atan2, acos = trig_funcs(scalar).atan2, trig_funcs(scalar).acos
 
     @wp.func
     def elbows(i: int, b: int, q1: S, yd: V2, d2: S, cg: S, behind1: bool, u6: V3, un: V3, status: int,
@@ -298,7 +331,7 @@ def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
         """The elbow-up and elbow-down arms (branches b..b + 3) of one q1: q3 from the triangle of
         the J2 axis, the J3 axis and the wrist centre (``cg``: its angle's cosine), then q2."""
         sg = wp.sqrt(S(1.0) - cg * cg)
-        gamma = wp.acos(cg)
+        gamma = acos(cg)
         for e in range(2):
             sign_e = S(1.0) - S(2.0) * S(float(e))
             phi3 = gamma * sign_e + TURN0
@@ -307,7 +340,7 @@ def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
             z = A2 + V2(zc * B2[0] - zs * B2[1], zs * B2[0] + zc * B2[1])
             cross = z[0] * yd[1] - z[1] * yd[0]
             dot = wp.dot(z, yd)
-            q2 = wp.atan2(cross, dot)
+            q2 = atan2(cross, dot)
             n = wp.max(d2, S(1e-30))
             c2 = dot / n  # |z| = |yd|: the turn's cos and sin without another transcendental
             s2 = cross / n
@@ -328,12 +361,20 @@ def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
 
 @cached
 def rigid_func(scalar):
-    """``rigid(pose, its rotation) -> bool``: the pose is a rotation and a translation (NaN fails)."""
+    """``rigid(pose, its rotation) -> bool``: the pose is a rotation and a translation. Its numbers
+    are the host's to check finite (``finite_math`` compiles NaN tests away); each is bounded here
+    before any product, so nothing after overflows."""
     S, _, M33, _, M44 = types_of(scalar)
     TOL = S(RIGID_TOL)
 
     @wp.func
     def rigid(m: M44, r: M33) -> bool:
+        big = S(0.0)
+        for a in range(4):
+            for b in range(3):
+                big = wp.max(big, wp.abs(m[a, b]))
+        if big > S(2.0):
+            return False
         e = wp.transpose(r) * r - wp.identity(n=3, dtype=S)
         worst = S(0.0)
         for a in range(3):
@@ -341,15 +382,12 @@ def rigid_func(scalar):
                 worst = wp.max(worst, wp.abs(e[a, b]))
         worst = wp.max(worst, wp.max(wp.abs(m[3, 0]), wp.max(wp.abs(m[3, 1]), wp.abs(m[3, 2]))))
         worst = wp.max(worst, wp.abs(m[3, 3] - S(1.0)))
-        total = S(0.0)  # NaN or inf anywhere makes the sum so (max() would pass a NaN over)
-        for a in range(4):
-            for b in range(4):
-                total = total + m[a, b]
-        return worst < TOL and wp.determinant(r) > S(0.0) and wp.isfinite(total)
+        return worst < TOL and wp.determinant(r) > S(0.0)
 
     return rigid
 
 
+@cached
 def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
     """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
     8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
@@ -364,6 +402,19 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
     W1, P1, CF, H0, K6, KN, EA, EB = k.W1, k.P1, k.CF, k.H0, k.K6, k.KN, k.EA, k.EB
     P2D, LSUM, LPROD = k.P2D, k.LSUM, k.LPROD
 
+    FAR = S(FAR_M)
+
+    @wp.func
+    def refuse(i: int, status: int, q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
+               status_out: wp.array2d(dtype=wp.int8)):
+        """Every branch of pose i refused with ``status``."""
+        for b in range(BRANCHES):
+            status_out[i, b] = wp.int8(status)
+            for c in range(6):
+                q_out[i, b, c] = S(0.0)
+            for c in range(CONF):
+                conf_out[i, b, c] = wp.int8(0)
+
     @wp.kernel(enable_backward=False, module=module_name("ik", arm, str(scalar)))
     def ik(
         # In: flange poses (world, metres)
@@ -377,12 +428,10 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
         m = poses[i]
         rt = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
         if not rigid(m, rt):
-            for b in range(BRANCHES):
-                status_out[i, b] = wp.int8(NOT_RIGID)
-                for c in range(6):
-                    q_out[i, b, c] = S(0.0)
-                for c in range(CONF):
-                    conf_out[i, b, c] = wp.int8(0)
+            refuse(i, NOT_RIGID, q_out, conf_out, status_out)
+            return
+        if wp.max(wp.abs(m[0, 3]), wp.max(wp.abs(m[1, 3]), wp.abs(m[2, 3]))) > FAR:
+            refuse(i, NO_REACH, q_out, conf_out, status_out)
             return
         wc = rt * CF + V3(m[0, 3], m[1, 3], m[2, 3])
         t6 = rt * K6  # where R1..R6 must take axis 6 and the direction across it
@@ -407,4 +456,4 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
             elbows(i, 4 * s, q1, yd, d2, wp.clamp(cg, S(-1.0), S(1.0)), behind1, rot(W1, c1, -s1, t6),
                    rot(W1, c1, -s1, tn), st, q_out, conf_out, status_out)
 
-    return ik
+    return finite_math(ik)

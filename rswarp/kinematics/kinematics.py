@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import InputError, model_error
 from ..kernels import fk as fk_kernels
 from ..kernels import walk
-from ..kernels.ik import NOT_RIGID
+from ..kernels.ik import FAR_M, NOT_RIGID
 from ..launch import DEFAULT_CHUNK, Launcher, init_warp
 from ..rsxml.model import Mechanism
 from . import ik, ik_numeric, ik_planar
@@ -23,7 +23,6 @@ LOOPS_CHUNK = 1 << 14  # configurations whose poses ``loops_close`` holds at onc
 
 # m: a flange pose this far from the world's origin is out of any arm's reach (float32's squares
 # overflow past 1e19 m, where a closed form would read noise as a solution)
-FAR_M = 1000.0
 RIGID_TOL = 1e-5  # |R^T R - I| and the bottom row's error a pose may have: float32 rounding, no more
 
 
@@ -48,8 +47,8 @@ def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int 
     """``poses`` as a C-contiguous (N, 4, 4) array of ``dtype``; ``InputError`` for a shape other
     than (4, 4) or (N, 4, 4) and, ``checked``, naming the first that is not a rigid transform (a
     rotation scaled, sheared or mirrored, a bottom row other than [0, 0, 0, 1], a number not
-    finite; counted from ``offset`` of ``total``). The arm's IK kernel checks the same on the
-    device (``NOT_RIGID``), for free."""
+    finite; counted from ``offset`` of ``total``). Not ``checked``, only the numbers are checked
+    finite: the arm's IK kernel checks the rest on the device (``NOT_RIGID``), for free."""
     a = np.asarray(poses)
     if a.ndim not in (2, 3) or a.shape[-2:] != (4, 4):
         raise InputError(f"poses must have the shape (4, 4) or (N, 4, 4), not {a.shape}")
@@ -64,6 +63,11 @@ def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int 
         a[:, :3, 3] = np.clip(a[:, :3, 3], -1e30, 1e30)
     a = np.ascontiguousarray(a, dtype)
     if not checked:
+        if not np.isfinite(a.sum()):  # one pass; the pose's reasons only when some number is not finite
+            bad = ~np.isfinite(a).all(axis=(1, 2))
+            if bad.any():
+                k = int(np.argmax(bad))
+                rigid_poses(a[k:k + 1], np.float64, offset=offset + k, total=total or len(a))
         return a
     x, y, z = (a[:, :3, k] for k in range(3))  # the rotation's columns
     dot = lambda u, v: np.einsum("ni,ni->n", u, v)  # noqa: E731
@@ -265,9 +269,10 @@ class Kinematics:
 
     def _solve(self, form, poses, dtype):
         sol = self._solve_form(form, poses, dtype)
-        far = np.abs(poses[:, :3, 3]).max(axis=1) > FAR_M
-        if far.any():  # out of reach, whatever a solver's rounding made of it
-            sol.status[far] = ik.NO_REACH
+        if not isinstance(form, ik.ArmConstants):  # the arm's kernel says so itself
+            far = np.abs(poses[:, :3, 3]).max(axis=1) > FAR_M
+            if far.any():  # out of reach, whatever a solver's rounding made of it
+                sol.status[far] = ik.NO_REACH
         return sol
 
     def _solve_form(self, form, poses, dtype):
@@ -276,7 +281,7 @@ class Kinematics:
             if key not in self._kernels:
                 self._kernels[key] = ik.ik_kernel(form, dtype)
             sol = ik.closed_form(self.launcher, form, poses, dtype, self._kernels[key])
-            bad = (sol.status == NOT_RIGID).any(axis=1)
+            bad = sol.status[:, 0] == NOT_RIGID  # the kernel refuses every branch of it
             if bad.any():
                 k = int(np.argmax(bad))
                 rigid_poses(poses[k:k + 1], np.float64, offset=k, total=len(poses))  # says why

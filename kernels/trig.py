@@ -1,0 +1,75 @@
+"""Inverse trigonometry inline in float64, for kernels that spend their time in it (the arm's
+closed-form IK takes 20 angles a pose): libm's ``atan2`` is a call the compiler cannot see
+through, and took half that kernel's time. Float32 goes through the same float64 polynomial.
+
+``atan2`` reduces to atan(s), s in [0, 1], then evaluates atan(s) = s + s^3 P(s^2) by Estrin's
+scheme. P's 19 coefficients are a Chebyshev fit of (atan(s) - s) / s^3 over t = s^2 in [0, 1]
+(mpmath's ``chebyfit`` at 40 digits; its error 1.9e-16), within 2 ulp of numpy's ``arctan2``
+(tests/test_trig.py). ``acos(x)`` is ``atan2(sqrt((1 + x)(1 - x)), x)``, accurate near +-1."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import warp as wp
+
+from .cache import cached
+
+ATAN_POLY = (  # P(t), from t^0 up
+    -0.33333333333333315, 0.1999999999998641, -0.14285714284072867, 0.11111111032045885,
+    -0.0909090706749639, 0.07692275905014771, -0.06666332509211019, 0.05879865489802981,
+    -0.05249518584337663, 0.04705209153071265, -0.04165211802350559, 0.03536066107263382,
+    -0.027590832895856107, 0.01880522404364234, -0.01059534604369583, 0.004642163938026353,
+    -0.0014627303082646208, 0.00029221739308086863, -2.7633793313601145e-05,
+)
+
+
+@cached
+def trig_funcs(scalar):
+    """``atan2(y, x)`` and ``acos(x)`` of one precision (``acos`` wants x in [-1, 1])."""
+    if scalar != wp.float64:
+        return _through_float64(scalar)
+    S = scalar
+    A = wp.types.vector(len(ATAN_POLY), S)(*(S(x) for x in ATAN_POLY))
+    HALF_PI, PI = S(0.5 * np.pi), S(np.pi)
+
+    @wp.func
+    def atan2(y: S, x: S) -> S:
+        ax = wp.abs(x)
+        ay = wp.abs(y)
+        swap = ay > ax  # past 45 degrees: atan(y/x) = pi/2 - atan(x/y)
+        den = wp.where(swap, ay, ax)
+        s = wp.where(swap, -ax, ay) / wp.where(den > S(0.0), den, S(1.0))  # atan2(0, 0) = 0
+        t = wp.max(s * s, S(1e-32))  # t^8 stays a normal number (subnormals are slow); s t P(t) is below s's ulp
+        t2 = t * t
+        t4 = t2 * t2
+        t8 = t4 * t4
+        p0 = (A[0] + A[1] * t) + (A[2] + A[3] * t) * t2
+        p1 = (A[4] + A[5] * t) + (A[6] + A[7] * t) * t2
+        p2 = (A[8] + A[9] * t) + (A[10] + A[11] * t) * t2
+        p3 = (A[12] + A[13] * t) + (A[14] + A[15] * t) * t2
+        p4 = (A[16] + A[17] * t) + A[18] * t2
+        r = s + s * (t * ((p0 + p1 * t4) + ((p2 + p3 * t4) + p4 * t8) * t8))
+        r = wp.where(swap, HALF_PI + r, r)
+        r = wp.where(x < S(0.0), PI - r, r)
+        return wp.where(y < S(0.0), -r, r)
+
+    @wp.func
+    def acos(x: S) -> S:
+        return atan2(wp.sqrt((S(1.0) + x) * (S(1.0) - x)), x)
+
+    return SimpleNamespace(atan2=atan2, acos=acos)
+
+
+def _through_float64(scalar):
+    """``atan2`` and ``acos`` of another precision, evaluated in float64."""
+    f = trig_funcs(wp.float64)
+
+    @wp.func
+    def atan2(y: scalar, x: scalar) -> scalar:
+        return scalar(f.atan2(wp.float64(y), wp.float64(x)))
+
+    @wp.func
+    def acos(x: scalar) -> scalar:
+        return scalar(f.acos(wp.float64(x)))
+
+    return SimpleNamespace(atan2=atan2, acos=acos)

@@ -1,0 +1,54 @@
+"""The kernels' inline atan2 and acos against NumPy's (libm's), in both precisions."""
+
+import numpy as np
+import pytest
+
+from rswarp.kernels.trig import trig_funcs
+from rswarp.launch import init_warp
+
+wp = init_warp()
+
+
+def _evaluate(scalar, y: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(atan2(y, x), acos(x clamped into [-1, 1])) by the device functions on the CPU."""
+    f = trig_funcs(scalar)
+
+    @wp.kernel(enable_backward=False, module="unique")
+    def run(y: wp.array(dtype=scalar), x: wp.array(dtype=scalar), a_out: wp.array(dtype=scalar),
+            c_out: wp.array(dtype=scalar)):
+        i = wp.tid()
+        a_out[i] = f.atan2(y[i], x[i])
+        c_out[i] = f.acos(wp.clamp(x[i], scalar(-1.0), scalar(1.0)))
+
+    dtype = np.float64 if scalar == wp.float64 else np.float32
+    ins = [wp.array(np.asarray(v, dtype), dtype=scalar, device="cpu") for v in (y, x)]
+    outs = [wp.zeros(len(x), dtype=scalar, device="cpu") for _ in range(2)]
+    wp.launch(run, len(x), inputs=ins, outputs=outs, device="cpu")
+    return outs[0].numpy(), outs[1].numpy()
+
+
+def _inputs(dtype) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(7)
+    y, x = rng.normal(size=(2, 100_000)) * 10.0 ** rng.integers(-6, 4, (2, 100_000))
+    edges = np.array([0.0, 1.0, -1.0, 1e-300, 3.0, -3.0])  # a zero's sign is not read: atan2(-0, -1) is pi
+    ey, ex = (a.ravel() for a in np.meshgrid(edges, edges))
+    near_one = 1.0 - np.logspace(-15, -1, 50)  # acos near +-1, where sqrt(1 - x^2) alone loses digits
+    y = np.concatenate([y, ey, np.ones(100), np.ones(100), near_one, near_one])
+    x = np.concatenate([x, ex, np.linspace(-1, 1, 100), np.tan(np.linspace(-1.5, 1.5, 100)), near_one, -near_one])
+    return y.astype(dtype), x.astype(dtype)
+
+
+@pytest.mark.parametrize("scalar, ulps", [(wp.float64, 2), (wp.float32, 1)])
+def test_atan2_and_acos_are_within_two_ulp_of_libm(scalar, ulps):
+    dtype = np.float64 if scalar == wp.float64 else np.float32
+    y, x = _inputs(dtype)
+    got_atan, got_acos = _evaluate(scalar, y, x)
+    want_atan = np.arctan2(y.astype(np.float64), x.astype(np.float64))
+    want_acos = np.arccos(np.clip(x.astype(np.float64), -1.0, 1.0))
+    for got, want in ((got_atan, want_atan), (got_acos, want_acos)):
+        ulp = np.spacing(np.maximum(np.abs(want), np.finfo(dtype).tiny).astype(dtype)).astype(np.float64)
+        err = np.abs(got.astype(np.float64) - want) / ulp
+        assert err.max() <= ulps, (err.max(), y[np.argmax(err)], x[np.argmax(err)])
+    # the quadrants, signed: atan2(0, -1) is pi and atan2(-1, 0) is -pi/2
+    assert (got_atan[(y == 0) & (x == -1)] == np.pi).all()
+    assert np.allclose(got_atan[(y == -1) & (x == 0)], -np.pi / 2)
