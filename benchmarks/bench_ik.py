@@ -236,6 +236,15 @@ def peers(mech, kin: Kinematics, q: np.ndarray, targets: np.ndarray, m: int, thr
     return rows
 
 
+def clock_ghz() -> float | None:
+    """The CPU's clock as /proc/cpuinfo gives it (Linux), for cycles per pose."""
+    try:
+        mhz = [float(line.split(":")[1]) for line in open("/proc/cpuinfo") if line.startswith("cpu MHz")]
+    except OSError:
+        return None
+    return max(mhz) / 1000 if mhz else None
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer poses (a check that the script works)")
@@ -261,6 +270,11 @@ def main() -> None:
     ratio = rows[f"rswarp f64, {all_}"]["rate"] / rows[f"EAIK, {all_}"]["rate"]
     print(f"ratio, ours (f64, every branch) over EAIK (every branch) at equal threads: {one:.2f}x on 1, "
           f"{ratio:.2f}x on {cores}")
+    ns = 1e9 / rows["rswarp f64, 1 thread"]["rate"]
+    ghz = clock_ghz()
+    if ghz:
+        print(f"rswarp f64 on one thread: {ns:.0f} ns a pose, {ns * ghz:.0f} cycles at the {ghz:.2f} GHz "
+              "/proc/cpuinfo gives")
     print(json.dumps({"metric": "IK poses per second, all branches, IRB 2600, float64", "ours":
                       rows[f"rswarp f64, {all_}"]["rate"], "peer": rows[f"EAIK, {all_}"]["rate"],
                       "peer_name": "EAIK IK_batched", "threads": cores, "ratio": ratio, "ratio_1_thread": one}))

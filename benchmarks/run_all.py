@@ -6,6 +6,10 @@ table are read from this file by ``tests/test_measured.py``.
 Usage: python benchmarks/run_all.py [--only bench_ik,bench_fk] [--quick]. ``--only`` runs those
 and keeps the others' entries from the file as they were. Scripts run in turn, never side by side:
 each has the machine to itself.
+
+A run on another machine (a lent GPU) is recorded beside them, with that machine said:
+``python benchmarks/run_all.py --record bench_dresspack_h200 OUTPUT --on "NVIDIA H200, 16-core host"
+--command "python benchmarks/bench_dresspack.py --device cuda"``, OUTPUT being what it printed.
 """
 
 from __future__ import annotations
@@ -85,12 +89,34 @@ def run(name: str, quick: bool) -> dict:
             "returncode": code, "results": lines, "output": out[-20000:], "errors": err[-4000:]}
 
 
+def record(name: str, output: Path, on: str, command: str) -> dict:
+    """An entry for a run made elsewhere: its machine, its command and what it printed."""
+    if not any(name.startswith(f"{r}_") for r in RUNS):
+        sys.exit(f"run_all.py: a recorded run is named after its script, as bench_dresspack_h200, not {name}")
+    out = output.read_text()
+    lines = [json.loads(line) for line in out.splitlines() if line.startswith("{") and '"metric"' in line]
+    date = datetime.date.fromtimestamp(output.stat().st_mtime).isoformat()
+    return {"command": command.split(), "machine": on, "returncode": 0, "results": lines, "output": out,
+            "errors": "", "date": date}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--record", nargs=2, metavar=("NAME", "OUTPUT"), help="add a run made on another machine")
+    ap.add_argument("--on", help="with --record: the machine it ran on")
+    ap.add_argument("--command", help="with --record: the command it ran")
     ap.add_argument("--only", help="comma-separated names (bench_fk, ...): run these, keep the others' entries")
     ap.add_argument("--quick", action="store_true", help="small sizes, into results-quick.json: a check that every "
                                                           "script runs, not the docs' figures")
     args = ap.parse_args()
+    if args.record:
+        if not (args.on and args.command):
+            sys.exit("run_all.py: --record needs --on MACHINE and --command COMMAND")
+        doc = json.loads(RESULTS.read_text())
+        doc["benchmarks"][args.record[0]] = record(args.record[0], Path(args.record[1]), args.on, args.command)
+        RESULTS.write_text(json.dumps(doc, indent=1) + "\n")
+        print(f"recorded {args.record[0]} in {RESULTS}")
+        return
     names = list(RUNS) if not args.only else [n.strip() for n in args.only.split(",")]
     unknown = [n for n in names if n not in RUNS]
     if unknown:

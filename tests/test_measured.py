@@ -49,3 +49,35 @@ def test_each_measured_figure_is_in_the_output_of_the_script_it_names(row):
     for figure in _figures(row):
         pattern = re.compile(rf"(?<![\d.]){re.escape(figure)}(?!\d)")
         assert any(pattern.search(out) for out in outputs), f"{figure} is not in the output of {benches or tests}"
+
+
+def _doc_tables() -> list[tuple[str, list[str], list[str]]]:
+    """(doc, benchmarks named, rows) of each table in docs/ that follows text naming a benchmark
+    (``bench_x``) under the same heading: a table of measured figures."""
+    found = []
+    for md in sorted((ROOT / "docs").glob("*.md")):
+        named, table = [], []
+        for line in [*md.read_text().splitlines(), ""]:
+            if line.startswith("|"):
+                table.append(line)
+                continue
+            if table and named:
+                found.append((md.name, sorted(set(named)), table))
+            table = [] if table else table
+            named = [] if line.startswith("#") else named + re.findall(r"(bench_\w+?)(?:\.py|`)", line)
+    return found
+
+
+def test_docs_name_their_benchmarks():
+    assert {doc for doc, _, _ in _doc_tables()} >= {"cables.md", "collisions.md", "kinematics.md", "ray.md"}
+
+
+@pytest.mark.parametrize("doc, benches, rows", _doc_tables(), ids=lambda v: v if isinstance(v, str) else None)
+def test_each_figure_in_a_docs_table_is_in_the_output_of_its_benchmark(doc, benches, rows):
+    runs = json.loads(RESULTS.read_text())["benchmarks"]
+    outputs = [e["output"] for b in benches for k, e in runs.items() if k == b or k.startswith(f"{b}_")]
+    assert outputs, f"{doc}: {benches} not in results.json"
+    for row in rows:
+        for figure in _figures("| " + row.strip("|")):
+            pattern = re.compile(rf"(?<![\d.]){re.escape(figure)}(?!\d)")
+            assert any(pattern.search(out) for out in outputs), f"{doc}: {figure} ({row}) is not in {benches}"
