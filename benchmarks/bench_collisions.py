@@ -198,15 +198,19 @@ def main() -> None:
     best_peer = max(rates, key=rates.get) if rates else "none"
     fcl_row = [r for r in rows if r[0].startswith("python-fcl pair")]
     peer_rate = fcl_row[0][1] / fcl_row[0][2] if fcl_row else float("nan")
-    print(f"ratio over python-fcl at equal threads (1): {one / peer_rate:.1f}x; ours on every core: "
-          f"{all_cores / peer_rate:.1f}x")
+    if fcl_row:
+        print(f"ratio over python-fcl at equal threads (1): {one / peer_rate:.1f}x; ours on every core: "
+              f"{all_cores / peer_rate:.1f}x")
     if rates:
         print(f"ratio over the fastest peer ({best_peer}) at equal threads (1): {one / rates[best_peer]:.1f}x")
+    else:
+        print("no ratio: neither python-fcl nor Coal is installed (pip install -e '.[test]')")
     top = rates.get(best_peer, float("nan"))
-    print(json.dumps({"metric": "self-collision states/s, IRB 2600, 15 pairs, 1 thread", "ours": round(one),
-                      "peer": round(top), "peer_name": best_peer, "ratio": round(one / top, 2),
-                      "ours_all_cores": round(all_cores), "ratio_all_cores": round(all_cores / top, 2),
-                      "python_fcl_pairs": round(peer_rate), "ratio_python_fcl_pairs": round(one / peer_rate, 2)}))
+    num = lambda x, digits=None: round(x, digits) if np.isfinite(x) else None  # noqa: E731  (JSON has no NaN)
+    print(json.dumps({"metric": "self-collision states/s, IRB 2600, 15 pairs, 1 thread", "ours": num(one),
+                      "peer": num(top), "peer_name": best_peer, "ratio": num(one / top, 2),
+                      "ours_all_cores": num(all_cores), "ratio_all_cores": num(all_cores / top, 2),
+                      "python_fcl_pairs": num(peer_rate), "ratio_python_fcl_pairs": num(one / peer_rate, 2)}))
 
 
 if __name__ == "__main__":

@@ -132,6 +132,9 @@ def main() -> None:
     tmp.write_text(json.dumps(doc, indent=1) + "\n")
     os.replace(tmp, path)
     print(f"wrote {path}")
+    failed = [n for n in names if results[n]["returncode"] != 0]
+    if failed:
+        sys.exit(f"run_all.py: {', '.join(failed)} failed (their output and errors are in {path.name})")
 
 
 if __name__ == "__main__":

@@ -83,8 +83,7 @@ def _folded(arm: ArmConstants, scalar) -> SimpleNamespace:
     c45, c56 = float(c["w4"] @ c["w5"]), float(c["w5"] @ c["w6"])
     rmt = c["rm"].reshape(3, 3).T
     w45 = np.cross(c["w4"], c["w5"])
-    f0 = np.stack([c["w6"], n6, np.cross(c["w6"], n6)], axis=1)  # axis 6, across it, their normal at zero
-    ce = np.stack([c["w4"], c["w5"], w45]) @ f0  # f0 in the frame of axes 4, 5 and 4 x 5
+    n0 = np.stack([c["w4"], c["w5"], w45]) @ n6  # the direction across axis 6, in the frame of axes 4, 5, 4 x 5
     vec = lambda v: V3(*(S(float(x)) for x in v))  # noqa: E731
     sca = lambda x: S(float(x))  # noqa: E731
     return SimpleNamespace(
@@ -99,7 +98,7 @@ def _folded(arm: ArmConstants, scalar) -> SimpleNamespace:
         A2=V2(sca(a2[0]), sca(a2[1])), B2=V2(sca(b2[0]), sca(b2[1])), CT0=sca(np.cos(turn0)),
         ST0=sca(np.sin(turn0)), P2D=V2(*(sca(x) for x in to2(c["p2"]))),
         LO=Q6(*(sca(x) for x in c["lo"])), HI=Q6(*(sca(x) for x in c["hi"])),
-        W45=vec(w45), CE1=vec(ce[1]), CE2=vec(ce[2]), S6=sca(np.sign(c["w4"] @ c["w6"])),
+        W45=vec(w45), N01=sca(n0[1]), N02=sca(n0[2]), S6=sca(np.sign(c["w4"] @ c["w6"])),
         FLIP=bool(abs(c45) < 1e-12 and abs(c56) < 1e-12 and np.linalg.norm(np.cross(c["w4"], c["w6"])) < 1e-12),
         # a joint whose limits span more than (-pi, pi] may need a whole turn to fit them
         TURNS=[bool(c["lo"][j] < -np.pi or c["hi"][j] > np.pi) for j in range(6)])
@@ -242,25 +241,32 @@ def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
     C45, C56, C4556, C45X2, DET, G2 = k.C45, k.C56, k.C4556, k.C45X2, k.DET, k.G2
     rot, turn_about, half_turn, fit = h.rot, h.turn_about, h.half_turn, lim.fit
     branch_out = _branch_out(k, lim)
-    W45, CE1, CE2, S6 = k.W45, k.CE1, k.CE2, k.S6
+    W45, N01, N02, S6 = k.W45, k.N01, k.N02, k.S6
     atan2 = trig_funcs(scalar).atan2
 
     @wp.func
     def euler_angles(v: V3, vn: V3):
         """As ``wrist_angles`` for an orthogonal wrist (axis 6 in line with axis 4 at zero), by
         Euler angles: in the frame of axes 4, 5 and 4 x 5 the wrist turns by Rx(q4) Ry(q5)
-        Rx(+-q6), whose first column is axis 6's target ``v`` and whose first row is read from
-        ``v``, ``vn`` and their normal along axis 4. The branch whose sin q5 has the sign of
-        -(w4 . w6), as the Paden-Kahan form's first; the flip is the other."""
+        Rx(+-q6), whose first column is axis 6's target ``v``: q4 and q5 from it. q6 turns the
+        direction across axis 6 onto Ry(q5)^T Rx(q4)^T ``vn``, so that near the singularity, where
+        q4 is rounding, q6 still makes up the rest of the turn. The branch whose sin q5 has the
+        sign of -(w4 . w6), as the Paden-Kahan form's first; the flip is the other."""
+        a0 = S6 * wp.dot(W4, v)
         a1 = S6 * wp.dot(W5, v)
         a2 = S6 * wp.dot(W45, v)
         r = wp.sqrt(a1 * a1 + a2 * a2)  # |sin q5|
         if r > SINGULAR:
-            d = V3(wp.dot(W4, v), wp.dot(W4, vn), wp.dot(W4, wp.cross(v, vn)))
             sg = -S6
             q4 = atan2(sg * a1, -sg * a2)
-            q5 = atan2(sg * r, S6 * d[0])
-            q6 = S6 * atan2(sg * wp.dot(CE1, d), sg * wp.dot(CE2, d))
+            q5 = atan2(sg * r, a0)
+            # vn in the frame of axes 4, 5, 4 x 5 turned back by q4, then q5, times r (cos and sin
+            # of q4 are -sg a2 / r and sg a1 / r; of q5, a0 and sg r): the angle is the same
+            n1 = wp.dot(W5, vn)
+            n2 = wp.dot(W45, vn)
+            w1 = sg * (a1 * n2 - a2 * n1)
+            w2 = sg * (r * r * wp.dot(W4, vn) - a0 * (a1 * n1 + a2 * n2))
+            q6 = S6 * atan2(N01 * w2 - N02 * w1, N01 * w1 + N02 * w2)
             return q4, q5, q6, int(0)
         q6, c6, s6 = turn_about(W6, N6, vn)
         return S(0.0), S(0.0), q6, int(1)

@@ -42,6 +42,10 @@ _LAZY = {
 
 
 def __getattr__(name):
+    if name == "examples":  # the bundled robots' paths: rswarp.examples.IRB2600 after import rswarp
+        import importlib
+
+        return importlib.import_module(".examples", __name__)
     if name in _LAZY:
         import importlib
 

@@ -194,8 +194,8 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # a bug, not bad input: exit 2, with its traceback under --debug
         if args.debug or os.environ.get("RSWARP_DEBUG"):
             traceback.print_exc()
-        print(f"rswarp: internal error: {type(exc).__name__}: {one_line(str(exc))} (rerun with --debug for the "
-              "traceback)", file=sys.stderr)
+        hint = "" if args.debug or os.environ.get("RSWARP_DEBUG") else " (rerun with --debug for the traceback)"
+        print(f"rswarp: internal error: {type(exc).__name__}: {one_line(str(exc))}{hint}", file=sys.stderr)
         return 2
 
 

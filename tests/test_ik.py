@@ -147,6 +147,21 @@ def test_wrist_singularity_gives_one_solution_holding_q4_at_zero():
     assert mismatch(kin, sol.q[0, [first]], poses).max() < 1e-9
 
 
+@pytest.mark.parametrize("path", ARMS, ids=lambda p: p.stem)
+def test_near_the_wrist_singularity_rounded_poses_are_met_by_every_branch(path):
+    """float32 flange poses (``kin.flange``, rounded to 1e-7) with |q5| < 1e-3, solved in float64:
+    where the rounding sets q4, q6 makes up the rest of the turn, so every valid branch meets the
+    pose within its rounding (a new user's first flow once met it 0.08 rad off)."""
+    kin = kinematics(path)
+    q = configurations(kin, 5000, seed=3)
+    q[:, 4] = np.random.default_rng(4).uniform(-1e-3, 1e-3, len(q))
+    poses = kin.flange(q).astype(np.float64)
+    sol = kin.ik64(poses)
+    rows = np.nonzero(sol.ok)
+    assert len(rows[0]) >= len(q)
+    assert mismatch(kin, sol.q[rows], poses[rows[0]]).max() < 1e-5
+
+
 def test_the_palletizer_closed_form_through_its_loops():
     """10^6 configurations of the IRB 9460 (its parallel rods solved as loops): every branch meets
     its pose, the configuration is among them, and its confdata picks it."""

@@ -63,7 +63,7 @@ def _doc_tables() -> list[tuple[str, list[str], list[str]]]:
                 continue
             if table and named:
                 found.append((md.name, sorted(set(named)), table))
-            table = [] if table else table
+            table = []
             named = [] if line.startswith("#") else named + re.findall(r"(bench_\w+?)(?:\.py|`)", line)
     return found
 

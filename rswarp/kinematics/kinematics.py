@@ -43,6 +43,7 @@ def checked_conf(conf, n: int) -> np.ndarray:
     return a.astype(np.int64)
 
 
+@np.errstate(over="ignore", invalid="ignore")  # a number beyond float32 is said so below, not warned of
 def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int | None = None) -> np.ndarray:
     """``poses`` as a C-contiguous (N, 4, 4) array of ``dtype``; ``InputError`` for a shape other
     than (4, 4) or (N, 4, 4) and, ``checked``, naming the first that is not a rigid transform (a
@@ -58,9 +59,10 @@ def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int 
         a = np.ascontiguousarray(a, np.float64).reshape(-1, 4, 4)
     except (TypeError, ValueError) as exc:
         raise InputError(f"poses must hold real numbers: {exc}") from None
-    if dtype != np.float64 and (np.abs(a[:, :3, 3]) > 1e30).any():  # beyond float32: out of reach all the same
+    far = np.isfinite(a[:, :3, 3]) & (np.abs(a[:, :3, 3]) > 1e30)
+    if dtype != np.float64 and far.any():  # beyond float32, finite: out of reach all the same
         a = a.copy()
-        a[:, :3, 3] = np.clip(a[:, :3, 3], -1e30, 1e30)
+        a[:, :3, 3] = np.where(far, np.clip(a[:, :3, 3], -1e30, 1e30), a[:, :3, 3])
     a = np.ascontiguousarray(a, dtype)
     if not checked:
         if not np.isfinite(a.sum()):  # one pass; the pose's reasons only when some number is not finite
