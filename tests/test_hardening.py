@@ -285,6 +285,7 @@ def test_a_ctrl_c_a_library_swallows_still_ends_the_run_with_130_and_no_output(t
     ([np.nan, 0, 0, 0], "whole numbers .* not nan"),
     (["a"] * 4, "whole numbers, not <U1"),
     ([0, 0, 0, 1e9], "is no quadrant"),
+    ([0, 0, 0, 10**30], "1e[+]30 is no quadrant"),  # past int64: NumPy holds it as an object
 ])
 def test_ik_refuses_a_conf_that_is_not_confdata(conf, message):
     kin = rswarp.Kinematics(rswarp.load(IRB2600))

@@ -32,6 +32,11 @@ def checked_conf(conf, n: int) -> np.ndarray:
     a = np.asarray(conf)
     if a.shape not in ((4,), (n, 4)):
         raise InputError(f"conf must have the shape (4,) or ({n}, 4) for {n} pose{'s' * (n != 1)}, not {a.shape}")
+    if a.dtype.kind == "O":  # Python ints past int64 (10**30), or anything else: as numbers, if they are
+        try:
+            a = a.astype(np.float64)
+        except (TypeError, ValueError, OverflowError):
+            pass
     if a.dtype.kind not in "fiu":
         raise InputError(f"conf must hold whole numbers, not {a.dtype}")
     whole = np.isfinite(a) & (a == np.round(np.where(np.isfinite(a), a, 0)))
