@@ -27,7 +27,9 @@ SINGULAR_Q5 = {8: 1e-7, 4: 1e-3}
 OK, NO_REACH, NO_LIMITS, SHOULDER, SAME = 0, 1, 2, 3, 4  # a branch's status (SAME: the singular wrist's flip)
 NOT_RIGID = 5  # the pose is not a rigid transform (a rotation scaled, sheared, mirrored; a bad bottom row)
 RIGID_TOL = 1e-5  # the error of RᵀR - I and of the bottom row a pose may have: float32 rounding
-FAR_M = 1000.0  # a pose's translation beyond this (m) is out of reach whatever rounding made of it
+# m: a flange pose this far from the world's origin is out of any arm's reach, whatever rounding
+# made of it (float32's squares overflow past 1e19 m, where a closed form would read noise as a solution)
+FAR_M = 1000.0
 
 
 class ArmConstants(NamedTuple):
@@ -233,16 +235,11 @@ def _branch_out(k: SimpleNamespace, lim: SimpleNamespace):
     return branch_out
 
 
-def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
-    """``wrist``: the two wrist branches of one arm solution, written out with their configuration
-    data and status."""
-    S, V3, Q6, scalar = k.S, k.V3, k.Q6, k.scalar
-    W4, W5, W6, N6, N45, SINGULAR, FLIP = k.W4, k.W5, k.W6, k.N6, k.N45, k.SINGULAR, k.FLIP
-    C45, C56, C4556, C45X2, DET, G2 = k.C45, k.C56, k.C4556, k.C45X2, k.DET, k.G2
-    rot, turn_about, half_turn, fit = h.rot, h.turn_about, h.half_turn, lim.fit
-    branch_out = _branch_out(k, lim)
-    W45, N01, N02, S6 = k.W45, k.N01, k.N02, k.S6
-    atan2 = trig_funcs(scalar).atan2
+def _euler_angles(k: SimpleNamespace, h: SimpleNamespace):
+    """``euler_angles(v, vn) -> (q4, q5, q6, singular)`` of an orthogonal wrist."""
+    S, V3, SINGULAR = k.S, k.V3, k.SINGULAR
+    W4, W5, W6, N6, W45, N01, N02, S6 = k.W4, k.W5, k.W6, k.N6, k.W45, k.N01, k.N02, k.S6
+    turn_about, atan2 = h.turn_about, trig_funcs(k.scalar).atan2
 
     @wp.func
     def euler_angles(v: V3, vn: V3):
@@ -271,6 +268,15 @@ def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
         q6, c6, s6 = turn_about(W6, N6, vn)
         return S(0.0), S(0.0), q6, int(1)
 
+    return euler_angles
+
+
+def _paden_kahan_angles(k: SimpleNamespace, h: SimpleNamespace):
+    """``wrist_angles(z, v, vn) -> (q4, q5, q6, singular)`` of any spherical wrist."""
+    S, V3, SINGULAR = k.S, k.V3, k.SINGULAR
+    W4, W5, W6, N6 = k.W4, k.W5, k.W6, k.N6
+    rot, turn_about = h.rot, h.turn_about
+
     @wp.func
     def wrist_angles(z: V3, v: V3, vn: V3):
         """(q4, q5, q6, singular) of the wrist that turns axis 6 onto ``z`` by q5, ``z`` onto ``v``
@@ -290,6 +296,19 @@ def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
             s5 = S(0.0)
         q6, c6, s6 = turn_about(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))  # R6 N6 = R5^T R4^T vn
         return q4, q5, q6, singular
+
+    return wrist_angles
+
+
+def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
+    """``wrist``: the two wrist branches of one arm solution, written out with their configuration
+    data and status."""
+    S, V3, Q6, scalar = k.S, k.V3, k.Q6, k.scalar
+    W4, W5, N45, FLIP = k.W4, k.W5, k.N45, k.FLIP
+    C45, C56, C4556, C45X2, DET, G2 = k.C45, k.C56, k.C4556, k.C45X2, k.DET, k.G2
+    half_turn, fit = h.half_turn, lim.fit
+    branch_out = _branch_out(k, lim)
+    euler_angles, wrist_angles = _euler_angles(k, h), _paden_kahan_angles(k, h)
 
     @wp.func
     def wrist(i: int, b: int, q1: S, q2: S, q3: S, v: V3, vn: V3, arm_conf: int, status: int,
@@ -393,27 +412,15 @@ def rigid_func(scalar):
     return rigid
 
 
-@cached
-def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
-    """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
-    8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
-    turn nearest zero), configuration data and status (OK or why not)."""
-    S, V3, M33, _, M44 = types_of(scalar)
-    k = _folded(arm, scalar)
-    h = angle_funcs(scalar)
-    elbows = _elbows(k, h, _wrist(k, h, _limits(k)))
-    shoulder = shoulder_func(scalar, arm.w1, arm.p1, arm.w2, float(np.dot(arm.w2, arm.c0) - np.dot(arm.w2, arm.p1)))
-    rigid = rigid_func(scalar)
-    rot, wrapped, V2 = h.rot, h.wrapped, k.V2
-    W1, P1, CF, H0, K6, KN, EA, EB = k.W1, k.P1, k.CF, k.H0, k.K6, k.KN, k.EA, k.EB
-    P2D, LSUM, LPROD = k.P2D, k.LSUM, k.LPROD
 
-    FAR = S(FAR_M)
+
+def _refuse(k: SimpleNamespace):
+    """``refuse(i, status, outputs)``: every branch of pose i refused with ``status``."""
+    S, scalar = k.S, k.scalar
 
     @wp.func
     def refuse(i: int, status: int, q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
                status_out: wp.array2d(dtype=wp.int8)):
-        """Every branch of pose i refused with ``status``."""
         for b in range(BRANCHES):
             status_out[i, b] = wp.int8(status)
             for c in range(6):
@@ -421,27 +428,21 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
             for c in range(CONF):
                 conf_out[i, b, c] = wp.int8(0)
 
-    @wp.kernel(enable_backward=False, module=module_name("ik", arm, str(scalar)))
-    def ik(
-        # In: flange poses (world, metres)
-        poses: wp.array(dtype=M44),
-        # Out: per branch, joints, configuration data and status
-        q_out: wp.array3d(dtype=scalar),
-        conf_out: wp.array3d(dtype=wp.int8),
-        status_out: wp.array2d(dtype=wp.int8),
-    ):
-        i = wp.tid()
-        m = poses[i]
-        rt = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
-        if not rigid(m, rt):
-            refuse(i, NOT_RIGID, q_out, conf_out, status_out)
-            return
-        if wp.max(wp.abs(m[0, 3]), wp.max(wp.abs(m[1, 3]), wp.abs(m[2, 3]))) > FAR:
-            refuse(i, NO_REACH, q_out, conf_out, status_out)
-            return
-        wc = rt * CF + V3(m[0, 3], m[1, 3], m[2, 3])
-        t6 = rt * K6  # where R1..R6 must take axis 6 and the direction across it
-        tn = rt * KN
+    return refuse
+
+
+def _shoulders(arm: ArmConstants, k: SimpleNamespace, h: SimpleNamespace, elbows):
+    """``shoulders(i, wc, t6, tn, outputs)``: the front and back q1 of the wrist centre ``wc``,
+    each with its elbows and wrists, given where R1..R6 must take axis 6 (``t6``) and the direction
+    across it (``tn``)."""
+    S, V3, V2, scalar = k.S, k.V3, k.V2, k.scalar
+    shoulder = shoulder_func(scalar, arm.w1, arm.p1, arm.w2, float(np.dot(arm.w2, arm.c0) - np.dot(arm.w2, arm.p1)))
+    rot, wrapped = h.rot, h.wrapped
+    W1, P1, H0, EA, EB, P2D, LSUM, LPROD = k.W1, k.P1, k.H0, k.EA, k.EB, k.P2D, k.LSUM, k.LPROD
+
+    @wp.func
+    def shoulders(i: int, wc: V3, t6: V3, tn: V3, q_out: wp.array3d(dtype=scalar),
+                  conf_out: wp.array3d(dtype=wp.int8), status_out: wp.array2d(dtype=wp.int8)):
         u = wc - P1
         phi, spread, ratio, a, bb, rho, shoulder_status = shoulder(wc)
         cs = wp.sqrt(S(1.0) - ratio * ratio)
@@ -461,5 +462,41 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
             # R1^T of axis 6's target and the direction across it
             elbows(i, 4 * s, q1, yd, d2, wp.clamp(cg, S(-1.0), S(1.0)), behind1, rot(W1, c1, -s1, t6),
                    rot(W1, c1, -s1, tn), st, q_out, conf_out, status_out)
+
+    return shoulders
+
+
+@cached
+def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
+    """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
+    8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
+    turn nearest zero), configuration data and status (OK or why not)."""
+    S, V3, M33, _, M44 = types_of(scalar)
+    k = _folded(arm, scalar)
+    h = angle_funcs(scalar)
+    shoulders = _shoulders(arm, k, h, _elbows(k, h, _wrist(k, h, _limits(k))))
+    refuse, rigid = _refuse(k), rigid_func(scalar)
+    CF, K6, KN, FAR = k.CF, k.K6, k.KN, S(FAR_M)
+
+    @wp.kernel(enable_backward=False, module=module_name("ik", arm, str(scalar)))
+    def ik(
+        # In: flange poses (world, metres)
+        poses: wp.array(dtype=M44),
+        # Out: per branch, joints, configuration data and status
+        q_out: wp.array3d(dtype=scalar),
+        conf_out: wp.array3d(dtype=wp.int8),
+        status_out: wp.array2d(dtype=wp.int8),
+    ):
+        i = wp.tid()
+        m = poses[i]
+        rt = M33(m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2])
+        if not rigid(m, rt):
+            refuse(i, NOT_RIGID, q_out, conf_out, status_out)
+            return
+        if wp.max(wp.abs(m[0, 3]), wp.max(wp.abs(m[1, 3]), wp.abs(m[2, 3]))) > FAR:
+            refuse(i, NO_REACH, q_out, conf_out, status_out)
+            return
+        # the wrist centre, and where R1..R6 must take axis 6 and the direction across it
+        shoulders(i, rt * CF + V3(m[0, 3], m[1, 3], m[2, 3]), rt * K6, rt * KN, q_out, conf_out, status_out)
 
     return finite_math(ik)

@@ -38,19 +38,17 @@ _LAZY = {
     "to_usd": ("export.usd_layout", "to_usd"),
     "to_newton": ("export.newton", "to_newton"),
     "to_urdf": ("export.urdf", "to_urdf"),
+    "examples": ("examples", None),  # the bundled robots' paths, a module
 }
 
 
 def __getattr__(name):
-    if name == "examples":  # the bundled robots' paths: rswarp.examples.IRB2600 after import rswarp
-        import importlib
-
-        return importlib.import_module(".examples", __name__)
     if name in _LAZY:
         import importlib
 
         module, attr = _LAZY[name]
-        return getattr(importlib.import_module(f".{module}", __name__), attr)
+        found = importlib.import_module(f".{module}", __name__)
+        return found if attr is None else getattr(found, attr)
     raise AttributeError(f"module 'rswarp' has no attribute '{name}'")
 
 

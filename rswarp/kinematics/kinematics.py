@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import InputError, model_error
 from ..kernels import fk as fk_kernels
 from ..kernels import walk
-from ..kernels.ik import FAR_M, NOT_RIGID
+from ..kernels.ik import FAR_M, NOT_RIGID, RIGID_TOL
 from ..launch import DEFAULT_CHUNK, Launcher, init_warp
 from ..rsxml.model import Mechanism
 from . import ik, ik_numeric, ik_planar
@@ -20,10 +20,6 @@ from .loops import passive_values
 
 LOOPS_CHUNK = 1 << 14  # configurations whose poses ``loops_close`` holds at once
 
-
-# m: a flange pose this far from the world's origin is out of any arm's reach (float32's squares
-# overflow past 1e19 m, where a closed form would read noise as a solution)
-RIGID_TOL = 1e-5  # |R^T R - I| and the bottom row's error a pose may have: float32 rounding, no more
 
 
 def checked_conf(conf, n: int) -> np.ndarray:
@@ -64,10 +60,11 @@ def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int 
         a = np.ascontiguousarray(a, np.float64).reshape(-1, 4, 4)
     except (TypeError, ValueError) as exc:
         raise InputError(f"poses must hold real numbers: {exc}") from None
-    far = np.isfinite(a[:, :3, 3]) & (np.abs(a[:, :3, 3]) > 1e30)
-    if dtype != np.float64 and far.any():  # beyond float32, finite: out of reach all the same
-        a = a.copy()
-        a[:, :3, 3] = np.where(far, np.clip(a[:, :3, 3], -1e30, 1e30), a[:, :3, 3])
+    if dtype != np.float64:  # beyond float32, finite: out of reach all the same
+        far = np.isfinite(a[:, :3, 3]) & (np.abs(a[:, :3, 3]) > 1e30)
+        if far.any():
+            a = a.copy()
+            a[:, :3, 3] = np.where(far, np.clip(a[:, :3, 3], -1e30, 1e30), a[:, :3, 3])
     a = np.ascontiguousarray(a, dtype)
     if not checked:
         if not np.isfinite(a.sum()):  # one pass; the pose's reasons only when some number is not finite
