@@ -117,11 +117,15 @@ def _task(p: argparse.ArgumentParser) -> None:
     p.add_argument("--routine", default="main", help="the routine to run (default main)")
     p.add_argument("--io", action="append", metavar="NAME=VALUE",
                    help="an I/O signal's value (default 0 for every signal); repeat for more")
+    p.add_argument("--input", dest="inputs", action="append", metavar="NAME=VALUE",
+                   help="what a live read gives (SocketReceive, ReadNum, TPReadNum, UINumEntry, ...): NAME is the "
+                        "data it stores into, or a function's own name; repeat a name for each read, in order")
     p.add_argument("--cycles", type=argument("cycles"), default=1,
                    help="passes of a main loop that never ends (WHILE TRUE), or runs of the routine (default 1)")
-    p.add_argument("--external-axes", choices=["error", "ignore"], default="error",
-                   help="a target that moves an axis the robot does not have (a track, a positioner): an error "
-                        "(default), or run the robot's own axes with a warning")
+    p.add_argument("--external-axes", choices=["auto", "error", "ignore"], default="auto",
+                   help="auto (default): as the controller, a target's value for an external axis the robot "
+                        "does not have is ignored (one warning an axis), a work object a unit moves is an error; "
+                        "error: both are errors; ignore: both are ignored with a warning")
     _limits(p)
 
 

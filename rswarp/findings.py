@@ -1,10 +1,10 @@
 """One finding record for everything a run finds (a program's moves, a collision sweep, a hose):
 what it is (``kind``), how bad (``severity``), where (the program's ``file``/``line``/``routine``,
-the ``links`` involved, a cable's ``env`` and arc length ``at_m``), when (``t_s`` and the
-``joints`` then), how much (``value`` against ``limit``, in ``unit``, SI) and what to change
-(``advice``), with ``text``, the same in words. It sits beside ``errors`` at the bottom of the
-package because the planner makes findings as well as the reports; ``report.findings`` prints
-them."""
+its call ``chain`` and where its target is ``declared``, the ``links`` involved, a cable's ``env``
+and arc length ``at_m``), when (``t_s`` and the ``joints`` then), how much (``value`` against
+``limit``, in ``unit``, SI) and what to change (``advice``), with ``text``, the same in words. It
+sits beside ``errors`` at the bottom of the package because the planner makes findings as well as
+the reports; ``report.findings`` prints them."""
 
 from __future__ import annotations
 
@@ -59,6 +59,8 @@ class Finding:
     cable: str | None = None
     env: int | None = None
     at_m: float | None = None  # arc length along a cable from its first clamp
+    chain: tuple[str, ...] = ()  # the calls that led to the move, outermost first: ``main (file:line)``
+    declared: str | None = None  # ``file:line`` of the data its target is or is built from
 
     def __post_init__(self):
         if self.kind not in KINDS or self.severity not in (FAIL, WARN):
@@ -84,7 +86,10 @@ def _plain(v):
 
 
 def at_time(kind: str, text: str, motion, t_s: float | None, joints=None, **more) -> Finding:
-    """A finding of a program's move ``motion`` (its file, line and routine), at ``t_s``."""
+    """A finding of a program's move ``motion`` (its file, line, routine, call chain and where its
+    target's data is declared), at ``t_s``."""
     q = None if joints is None else tuple(float(v) for v in np.asarray(joints, float))
+    where = getattr(motion, "declared", ())
     return Finding(kind, text, file=motion.file, line=motion.line, routine=motion.routine,
+                   chain=tuple(getattr(motion, "chain", ())), declared=where[-1] or None if where else None,
                    t_s=None if t_s is None else float(t_s), joints=q, **more)

@@ -25,5 +25,6 @@ def test_its_record_is_json_with_every_field_and_plain_numbers():
     assert record["t_s"] == 1.5 and record["links"] == ["Link4"] and record["joints"] == [0.5, 0.25]
     assert record["env"] == 3 and record["at_m"] is None and record["advice"] is None
     assert set(record) == {"kind", "text", "severity", "file", "line", "routine", "t_s", "links", "joint", "joints",
-                           "value", "limit", "unit", "advice", "cable", "env", "at_m"}
+                           "value", "limit", "unit", "advice", "cable", "env", "at_m", "chain", "declared"}
+    assert record["chain"] == [] and record["declared"] is None
     assert "floor" in KINDS

@@ -163,7 +163,6 @@ def test_names_declared_twice_are_errors_naming_both_places(tmp_path):
     ("MODULE M\n  CONST num n := 1;\n  PROC main()\n    n := 2;\n  ENDPROC\nENDMODULE\n", 4, "cannot assign to the constant 'n'"),
     ("MODULE M\n  PROC main()\n    Again;\n  ENDPROC\n  PROC Again()\n    Again;\n  ENDPROC\nENDMODULE\n", 6,
      "calls nest deeper than 100"),
-    ("MODULE M\n  PROC main()\n    reg1 := Foo(1);\n  ENDPROC\nENDMODULE\n", 3, "rswarp does not evaluate the function 'Foo'"),
     ("MODULE M\n  PROC main()\n    Visit 1, 2;\n  ENDPROC\n  PROC Visit(num a)\n  ENDPROC\nENDMODULE\n", 3,
      "'Visit' takes 1 argument (a), given 2"),
     ("MODULE M\n  FUNC num F()\n  ENDFUNC\n  PROC main()\n    reg1 := F();\n  ENDPROC\nENDMODULE\n", 2,
@@ -197,13 +196,14 @@ def test_a_loop_that_never_ends_stops_at_a_bound_and_one_that_cannot_change_ends
 
 
 def test_what_cannot_change_the_motion_is_silent_and_what_could_is_a_warning(tmp_path):
-    path = module(tmp_path, "MODULE M\n  PROC main()\n    TPWrite \"hi\";\n    SetDO doLamp, 1;\n    Open \"HOME:\" \\File:=\"a\", io;\n"
-                            "    PDispSet pose0;\n    MyOptionInstr 1;\n  ENDPROC\nENDMODULE\n")
+    path = module(tmp_path, "MODULE M\n  VAR iodev io;\n  PROC main()\n    TPWrite \"hi\";\n    SetDO doLamp, 1;\n"
+                            "    Open \"HOME:\" \\File:=\"a\", io;\n    PDispSet pose0;\n    MyOptionInstr 1;\n"
+                            "    RenameFile \"HOME:/a\", \"HOME:/b\";\n  ENDPROC\nENDMODULE\n")
     _, r = run(path)
     said = [(w.line, w.message) for w in r.warnings]
-    assert [line for line, _ in said] == [6, 7]
+    assert [line for line, _ in said] == [7, 8]
     assert "PDispSet could change the motion and is not modelled" in said[0][1]
-    assert "'MyOptionInstr' is neither a routine of the task nor an instruction rswarp knows" in said[1][1]
+    assert "'MyOptionInstr' is neither a routine of the task nor a RAPID instruction" in said[1][1]
 
 
 def test_signals_are_zero_unless_given_and_set_by_the_program(tmp_path):
@@ -402,8 +402,8 @@ def test_quaternions_are_normalized_within_the_controllers_slack_or_refused(tmp_
 def test_speeds_above_zero_run_and_others_are_refused(tmp_path, v_tcp, v_ori):
     path = _target_module(tmp_path, (0, 0, 1, 0), (v_tcp, v_ori))
     if v_tcp > 0 and v_ori > 0:
-        _, r = run(path)
-        assert r.motions[0].speed.v_tcp == pytest.approx(v_tcp / 1000)
+        _, r = run(path)  # the controller runs a TCP speed above the robot's top speed at the top speed
+        assert r.motions[0].speed.v_tcp == pytest.approx(min(v_tcp, 7000.0) / 1000)
     else:
         with pytest.raises(RsxmlError, match="both must be above 0") as exc:
             run(path)
@@ -449,7 +449,7 @@ def test_syntax_errors_are_said_where_they_were_made(tmp_path, text, line, messa
 def test_misspelt_names_are_errors_and_undeclared_signals_are_not(tmp_path):
     typo = module(tmp_path, "MODULE T\n  VAR num nDelays := 1;\n  PROC main()\n    WaitTime nDelay;\n  ENDPROC\n"
                             "ENDMODULE\n")
-    with pytest.raises(RsxmlError, match=r"unknown name 'nDelay' \(did you mean 'nDelays'\?\)") as exc:
+    with pytest.raises(RsxmlError, match=r"'nDelay' is declared nowhere in the task \(did you mean 'nDelays'\?\)") as exc:
         run(typo)
     assert exc.value.line == 4
     proc = module(tmp_path, "MODULE T\n  PROC main()\n    MovL p, v100, fine, tool0;\n  ENDPROC\nENDMODULE\n", "p.mod")
@@ -457,12 +457,15 @@ def test_misspelt_names_are_errors_and_undeclared_signals_are_not(tmp_path):
         run(proc)
     missing = module(tmp_path, "MODULE T\n  VAR num n;\n  PROC main()\n    n := patBoxes.cols;\n  ENDPROC\nENDMODULE\n",
                      "m.mod")
-    with pytest.raises(RsxmlError, match=r"unknown name 'patBoxes'"):
+    with pytest.raises(RsxmlError, match=r"'patBoxes' is declared nowhere in the task"):
         run(missing)
-    _, r = run(module(tmp_path, "MODULE T\n  PROC main()\n    reg1 := diStart;\n  ENDPROC\nENDMODULE\n", "s.mod"),
-               io={"diStrat": 1})
+    with pytest.raises(RsxmlError, match=r"'diStart' is declared nowhere in the task: .* or an I/O signal") as exc:
+        run(module(tmp_path, "MODULE T\n  PROC main()\n    reg1 := diStart;\n  ENDPROC\nENDMODULE\n", "u.mod"))
+    assert exc.value.line == 3  # read as data, declared nowhere: the controller would not load the task
+    _, r = run(module(tmp_path, "MODULE T\n  PROC main()\n    reg1 := diStart;\n    WaitDI diStart, 0;\n  ENDPROC\n"
+                                "ENDMODULE\n", "s.mod"), io={"diStrat": 1})
     said = [w.message for w in r.warnings]
-    assert any("'diStart' is declared nowhere" in w for w in said)
+    assert any("'diStart' is declared nowhere" in w for w in said)  # a signal where RAPID expects one: read bare
     assert "--io diStrat: the task uses no signal of that name (did you mean diStart?)" in said
 
 
@@ -489,8 +492,12 @@ def test_the_task_is_checked_as_the_controller_loads_it_in_branches_never_run(tm
     assert exc.value.line == 9 and message in exc.value.message
 
 
-def test_names_in_branches_never_run_that_may_be_signals_are_not_refused_at_load(tmp_path):
-    """A name read but declared nowhere may be an I/O signal; only a name the program assigns or
-    moves to must be data."""
-    interp, _ = run(module(tmp_path, _UNREACHED.replace("{}", "WaitDI diPartOk, 1;\n      IF doGrip = 1 reg1 := 2;")))
+def test_names_in_branches_never_run_that_are_signals_are_not_refused_at_load(tmp_path):
+    """A name declared nowhere is a signal where the task uses it as one (WaitDI, SetDO), even in a
+    branch that never runs; read bare elsewhere it is then that signal."""
+    interp, _ = run(module(tmp_path, _UNREACHED.replace("{}", "WaitDI diPartOk, 1;\n      IF doGrip = 1 reg1 := 2;\n"
+                                                              "      SetDO doGrip, 0;")))
     assert value(interp, "nMode") == 1
+    with pytest.raises(RsxmlError, match="'doGrip' is declared nowhere in the task") as exc:
+        run(module(tmp_path, _UNREACHED.replace("{}", "IF doGrip = 1 reg1 := 2;"), "n.mod"))
+    assert exc.value.line == 9

@@ -132,3 +132,55 @@ def test_the_exported_irb2600_has_the_datasheet_mass_and_ros_industrials_speeds(
     assert np.allclose(velocity, ROS_VELOCITY, rtol=0.01)
     plain = run_export(str(plain_robot(tmp_path)), str(tmp_path / "plain.urdf"), limits=str(LIMITS / "joint_limits.yaml"))
     assert "joint_limits.yaml" in plain.doc["axis_limits"] and "from IRB2600" not in plain.text
+
+
+def test_a_move_shorter_than_its_turn_is_timed_by_its_reorientation():
+    """The TCP moves 0.014 mm while the tool turns (``reorient.mod``): v_ori decides, as on the
+    controller (the slower of the TCP's travel at v_tcp and the turn at v_ori). 10 deg at v100's
+    500 deg/s is 0.02 s of turning, a triangle of two 0.25 s ramps: 2 sqrt(0.02 x 0.25) s;
+    90 deg at 30 deg/s is 3 s of turning plus a 0.25 s ramp; a move to where the TCP is takes none."""
+    from rswarp.kinematics.timing import ACCEL_TIME, duration_for
+
+    _, p = program_plan(str(IRB2600), [str(RAPID / "reorient.mod")])
+    small, quarter, still = (mv.end - mv.start for mv in p.moves[1:4])
+    assert small == pytest.approx(duration_for(10 / 500, ACCEL_TIME), abs=0.005)
+    assert quarter == pytest.approx(3.0 + ACCEL_TIME, abs=0.01)
+    assert still == 0.0
+    kin = Kinematics(mech())
+    link, m = kin.flange_frame()
+    tcp = kin.fk64(p.q)[:, link] @ m
+    rows = slice(*p.moves[2].rows)
+    turn = np.degrees(np.arccos(np.clip(tcp[rows, 0, 0] * tcp[rows.stop - 1, 0, 0] + tcp[rows, 1, 0] *
+                                        tcp[rows.stop - 1, 1, 0], -1, 1)))
+    rate = np.abs(np.diff(turn)) / np.diff(p.times[rows])
+    assert rate.max() <= 30 * 1.01  # v_ori holds all the way
+
+
+def test_a_path_cut_at_its_second_probe_speeds_up_and_slows_down_between_them():
+    """A MoveL 0.014 mm long turning 179 deg, axis 5 leaving its limit at the second probe
+    (``reorient_cut.mod``): the move stops there in a fraction of a second with its finding (two
+    probes both at rest once made it 6.4e9 s)."""
+    _, p = program_plan(str(IRB2600), [str(RAPID / "reorient_cut.mod")])
+    mv = p.moves[1]
+    assert 0.0 < mv.end - mv.start < 0.2
+    assert [f.kind for f in mv.findings] == ["path"] and "J5" in mv.findings[0].text
+
+
+def test_a_zone_larger_than_half_its_move_is_cut_to_half(tmp_path):
+    """z200 at the corner of two 100 mm MoveL (``zone_half.mod``) blends as z50, half of either
+    move, as the controller cuts it; z40 is smaller than half and blends later."""
+    text = (RAPID / "zone_half.mod").read_text()
+    plans = {}
+    for zone in ("z200", "z50", "z40"):
+        path = tmp_path / f"{zone}.mod"
+        path.write_text(text.replace("z200", zone))
+        plans[zone] = program_plan(str(IRB2600), [str(path)])[1]
+    assert [mv.end for mv in plans["z200"].moves] == [mv.end for mv in plans["z50"].moves]
+    assert np.array_equal(plans["z200"].q, plans["z50"].q)
+    assert plans["z200"].moves[1].end < plans["z40"].moves[1].end
+    kin = Kinematics(mech())
+    link, m = kin.flange_frame()
+    p = plans["z200"]
+    switch = kin.fk64(p.q[p.moves[1].rows[1] - 1][None])[:, link] @ m  # where the next move takes over
+    corner = np.array([1.0, 0.05, 0.7])
+    assert 0.045 < np.linalg.norm(switch[0, :3, 3] - corner) <= 0.0501

@@ -102,3 +102,73 @@ def _arc(a: np.ndarray, b: np.ndarray, c: np.ndarray):
         return centre + r * (np.outer(np.cos(t), e1) + np.outer(np.sin(t), e2))
 
     return point, r * sweep
+
+
+def quaternions(m: np.ndarray) -> np.ndarray:
+    """``quaternion`` of rotation matrices (N, 3+, 3+) at once, the same arithmetic row by row."""
+    (a, b, c), (d, e, f), (g, h, i) = (m[:, r, :3].T for r in range(3))
+    tr = a + e + i
+    first = tr >= np.maximum(np.maximum(a, e), i)
+    second = ~first & (a >= e) & (a >= i)
+    third = ~first & ~second & (e >= i)
+    q = np.empty((len(m), 4))
+    for rows, root, parts in ((first, lambda k: tr[k] + 1.0, _q_trace), (second, lambda k: 1.0 + a[k] - e[k] - i[k], _q_x),
+                              (third, lambda k: 1.0 + e[k] - a[k] - i[k], _q_y),
+                              (~(first | second | third), lambda k: 1.0 + i[k] - a[k] - e[k], _q_z)):
+        k = np.flatnonzero(rows)
+        if len(k):
+            r = 2.0 * np.sqrt(root(k))
+            q[k] = np.column_stack(parts(r, *(v[k] for v in (a, b, c, d, e, f, g, h, i))))
+    n = np.sqrt(q[:, 0] * q[:, 0] + q[:, 1] * q[:, 1] + q[:, 2] * q[:, 2] + q[:, 3] * q[:, 3])
+    return q / n[:, None]
+
+
+def _q_trace(r, a, b, c, d, e, f, g, h, i):
+    return 0.25 * r, (h - f) / r, (c - g) / r, (d - b) / r
+
+
+def _q_x(r, a, b, c, d, e, f, g, h, i):
+    return (h - f) / r, 0.25 * r, (b + d) / r, (c + g) / r
+
+
+def _q_y(r, a, b, c, d, e, f, g, h, i):
+    return (c - g) / r, (b + d) / r, 0.25 * r, (f + h) / r
+
+
+def _q_z(r, a, b, c, d, e, f, g, h, i):
+    return (d - b) / r, (c + g) / r, (f + h) / r, 0.25 * r
+
+
+def lines(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``path``'s measures of straight moves from poses ``start`` to ``end`` (N, 4, 4) at once:
+    (length (N,), turn (N,), q0, q1 (N, 4), q1 on q0's side)."""
+    q0, q1 = quaternions(start), quaternions(end)
+    dot = np.array([a @ b for a, b in zip(q0, q1)])  # as ``path`` takes it: the turn's arccos magnifies its rounding
+    q1 = np.where((dot < 0)[:, None], -q1, q1)
+    turn = 2.0 * np.arccos(np.minimum(1.0, np.abs(dot)))
+    length = np.array([np.linalg.norm(v) for v in end[:, :3, 3] - start[:, :3, 3]])
+    return length, turn, q0, q1
+
+
+def poses_along(u: np.ndarray, q0: np.ndarray, q1: np.ndarray, half: np.ndarray, p0: np.ndarray,
+                p1: np.ndarray) -> np.ndarray:
+    """Poses (N, 4, 4) at shares ``u`` (N,) of straight moves, each row its own move's start and
+    end (``q0``, ``q1``, ``p0``, ``p1``, rows of (N, 4) and (N, 3), ``half`` its half turn): the
+    TCP on its line, the orientation slerped, as ``path``'s ``at`` computes each."""
+    out = np.zeros((len(u), 4, 4))
+    out[:, :3, :3] = rotations(slerps(q0, q1, u, half))
+    out[:, :3, 3] = p0 + u[:, None] * (p1 - p0)
+    out[:, 3, 3] = 1.0
+    return out
+
+
+def slerps(q0: np.ndarray, q1: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """``slerp`` row by row: quaternion rows ``q0``, ``q1`` (N, 4), shares ``u`` and half angles ``half`` (N,)."""
+    out = np.empty_like(q0)
+    near = half < 1e-9
+    k = np.flatnonzero(near)
+    out[k] = q0[k] + u[k, None] * (q1[k] - q0[k])
+    k = np.flatnonzero(~near)
+    h, s = half[k], np.sin(half[k])
+    out[k] = (np.sin((1 - u[k]) * h) / s)[:, None] * q0[k] + (np.sin(u[k] * h) / s)[:, None] * q1[k]
+    return out / np.linalg.norm(out, axis=1, keepdims=True)

@@ -1,13 +1,14 @@
 """The planner's three steps over a batch of motions, so that the kinematics run in a few large
-launches, not one per move:
+launches and the arithmetic in a few large arrays, not one per move:
 
 1. ``prepare``: each move's frames, its target's flange pose and every solution of it, and each
-   linear or circular move's path probed from where the move before it ends, all solved at once;
+   linear or circular move's path probed from where the move before it ends, all solved at once
+   (a target or a path the batch holds twice, as a loop's moves do, solved once);
 2. ``resolve``, move by move: the joints each goes to (the solution the controller picks), and a
    path's joints followed from where the robot is (probes solved again only where a move ended
-   elsewhere than its target);
-3. ``time_all``: the joint moves' TCP paths posed in one batch, then every move timed and
-   sampled in order."""
+   elsewhere than its target; a path already followed from the same joints taken as it was);
+3. ``time_all``: the joint moves' TCP paths posed in one batch, every move timed in arrays over
+   the batch (``timing_batch``), then sampled and appended in order."""
 
 from __future__ import annotations
 
@@ -17,10 +18,10 @@ import numpy as np
 
 from ..findings import FAIL, at_time
 from . import targets as tg
-from . import timing
+from . import timing, timing_batch
 from .follow import follow
 from .ik import IKSolutions
-from .paths import path
+from .paths import lines, path, poses_along
 from .tcp import Frames, frames
 
 
@@ -36,6 +37,7 @@ class Prepared:
     start: np.ndarray | None = None  # the flange pose a path's probes assume it starts from
     path: tuple | None = None  # (u, length, turn, flanges) of a linear or circular move
     probe_sol: IKSolutions | None = None  # the probes' branches
+    followed: dict | None = None  # joints a path starts from -> ``follow``'s answer (shared by equal paths)
 
 
 @dataclass
@@ -53,6 +55,15 @@ class Step:
     turn: float = 0.0
     findings: list = field(default_factory=list)
     end_conf: tuple | None = None
+    timed: object = None  # (t, q, share) the batch timed it at, or the TooLong it met
+
+    def timing(self, compute):
+        """(t, q, share): the batch's, else ``compute()``'s; the batch's TooLong raised here."""
+        if self.timed is None:
+            return compute()
+        if isinstance(self.timed, Exception):
+            raise self.timed
+        return self.timed
 
 
 def prepare(planner, motions) -> list[Prepared]:
@@ -78,15 +89,33 @@ def _frames(planner, m) -> Prepared:
     return Prepared(error=made) if isinstance(made, str) else Prepared(made)
 
 
+def _by_frames(motions, out: list[Prepared], kinds=None) -> dict:
+    """{id(frames): (frames, [move index])} of the moves with frames (of ``kinds``)."""
+    groups: dict = {}
+    for k, (m, p) in enumerate(zip(motions, out)):
+        if p.frames is not None and (kinds is None or m.kind in kinds):
+            groups.setdefault(id(p.frames), (p.frames, []))[1].append(k)
+    return groups
+
+
 def _targets(planner, motions, out: list[Prepared]) -> None:
-    """Each target's flange pose: a robtarget's by its frames (and all its solutions), a
-    jointtarget's by forward kinematics."""
-    poses, owners, joints, absolute = [], [], [], []
+    """Each target's flange pose: a robtarget's by its frames (and all its solutions, each pose
+    and checked confdata solved once), a jointtarget's by forward kinematics."""
+    for fr, ks in _by_frames(motions, out).values():
+        for k, end in zip(ks, fr.flange(np.array([motions[k].targets[-1].pose.matrix() for k in ks]))):
+            out[k].end = end
+    rows: dict = {}
+    poses, checked = [], []
+    joints, absolute = [], []
     for k, (m, p) in enumerate(zip(motions, out)):
         if p.frames is not None:
-            p.end = p.frames.flange(m.targets[-1].pose.matrix()[None])[0]
-            poses.append(p.end)
-            owners.append(k)
+            conf = m.targets[-1].conf if m.conf else None
+            key = (p.end.tobytes(), conf)
+            p.row = rows.get(key, -1)
+            if p.row < 0:
+                p.row = rows[key] = len(poses)
+                poses.append(p.end)
+                checked.append(conf)
         elif m.kind == "absolute":
             q, why = tg.joint_values(planner.mech, m.targets[0], m.names[0])
             if q is not None and why is None:
@@ -95,10 +124,10 @@ def _targets(planner, motions, out: list[Prepared]) -> None:
     if poses:
         poses = np.array(poses)
         sol = planner.kin.solutions64(poses)
-        checked = [motions[k].targets[-1].conf if motions[k].conf else None for k in owners]
         tg.off_the_axis(planner.kin, poses, sol, float(planner.q[0]), checked)
-        for row, k in enumerate(owners):
-            out[k].sol, out[k].row = sol, row
+        for p in out:
+            if p.frames is not None:
+                p.sol = sol
     if joints:
         for k, flange in zip(absolute, planner.flanges(np.array(joints))):
             out[k].end = flange
@@ -106,31 +135,73 @@ def _targets(planner, motions, out: list[Prepared]) -> None:
 
 def _paths(planner, motions, out: list[Prepared]) -> None:
     """The probes of every linear and circular move, from the end of the move before it, solved
-    in one launch."""
+    in one launch (a path the batch holds twice, from the same start, once)."""
     before = planner.flange_now
-    flanges, owners = [], []
-    for k, (m, p) in enumerate(zip(motions, out)):
+    for m, p in zip(motions, out):
         if m.kind in ("linear", "circular") and p.frames is not None:
-            start = before if before is not None else planner.flange_at(planner.q)
-            try:
-                p.path = probe_path(p.frames, m, start)
-            except ValueError as exc:
-                p.error = str(exc)
-            else:
-                p.start = start
-                if p.path is not None:
-                    flanges.append(p.path[3])
-                    owners.append(k)
+            p.start = before if before is not None else planner.flange_at(planner.q)
+            if m.kind == "circular":
+                try:
+                    p.path = probe_path(p.frames, m, p.start)
+                except ValueError as exc:
+                    p.error, p.start = str(exc), None
         if m.kind != "wait" and p.end is not None and p.error is None:
             before = p.end
-    if flanges:
-        sol = planner.kin.ik64(np.concatenate(flanges))
-        at = 0
-        for k in owners:
-            n = len(out[k].path[0])
-            out[k].probe_sol = IKSolutions(sol.q[at:at + n], sol.conf[at:at + n], sol.status[at:at + n],
-                                           sol.numerical)
+    for fr, ks in _by_frames(motions, out, ("linear",)).values():
+        _lines(fr, [motions[k] for k in ks], [out[k] for k in ks])
+    owners, seen = [], {}
+    for p in out:
+        if p.path is not None and id(p.path) not in seen:
+            seen[id(p.path)] = p.followed = {}
+            owners.append(p)
+        elif p.path is not None:
+            p.followed = seen[id(p.path)]
+    if owners:
+        sol = planner.kin.ik64(np.concatenate([p.path[3] for p in owners]))
+        at, solved = 0, {}
+        for p in owners:
+            n = len(p.path[0])
+            solved[id(p.path)] = IKSolutions(sol.q[at:at + n], sol.conf[at:at + n], sol.status[at:at + n],
+                                             sol.numerical)
             at += n
+        for p in out:
+            if p.path is not None:
+                p.probe_sol = solved[id(p.path)]
+
+
+def _lines(fr: Frames, motions: list, out: list[Prepared]) -> None:
+    """``probe_path`` of linear moves with frames ``fr``, at once: their probes' flange poses
+    made in a few array operations; moves from the same start to the same target share one."""
+    rel = fr.relative(np.array([p.start for p in out]))
+    ends = np.array([m.targets[-1].pose.matrix() for m in motions])
+    length, turn, q0, q1 = lines(rel, ends)
+    moving = ~((length < timing.STILL) & (turn < timing.STILL))
+    count = np.minimum(np.maximum(length / timing.PROBE_STEP, turn / timing.PROBE_TURN) + 1,
+                       timing.MAX_PROBES).astype(int)
+    count = np.maximum(count, timing.MIN_PROBES)
+    unique, keys = [], {}
+    for k, p in enumerate(out):
+        if moving[k]:
+            key = (p.start.tobytes(), ends[k].tobytes())
+            if key not in keys:
+                keys[key] = k
+                unique.append(k)
+    if not unique:
+        return
+    n = count[unique]
+    row = np.repeat(np.arange(len(unique)), n)
+    first = np.concatenate([[0], np.cumsum(n)[:-1]])
+    u = (np.arange(len(row)) - first[row]) * (1.0 / (n - 1))[row] + 0.0  # np.linspace(0, 1, n), row by row
+    u[np.cumsum(n) - 1] = 1.0
+    who = np.asarray(unique)[row]
+    flanges = fr.flange(poses_along(u, q0[who], q1[who], turn[who] / 2, rel[who, :3, 3], ends[who, :3, 3]))
+    made = {}
+    for j, k in enumerate(unique):
+        lo = first[j]
+        made[k] = (u[lo:lo + n[j]], float(length[k]), float(turn[k]), flanges[lo:lo + n[j]])
+    for k, p in enumerate(out):
+        if moving[k]:
+            p.path = made[keys[(p.start.tobytes(), ends[k].tobytes())]]
 
 
 def probe_path(fr: Frames, m, start: np.ndarray):
@@ -147,11 +218,10 @@ def probe_path(fr: Frames, m, start: np.ndarray):
 
 def resolve(planner, m, p: Prepared) -> Step:
     """Where a motion takes the robot (``planner.q`` moves on), or why it cannot."""
-    ext = tg.external_axes(m, planner.mech.name) if m.kind != "wait" else None
-    if ext is not None and planner.ignore_external:
-        planner.note(m, f"{ext.split(' (')[0]}: ignored (--external-axes ignore)")
-    elif ext is not None:
-        return Step(m, "skip", ext)
+    if m.kind != "wait":
+        why = planner.external(m)  # an axis the robot lacks: ignored as the controller does, or why not
+        if why is not None:
+            return Step(m, "skip", why)
     if p.error is not None:
         return Step(m, "skip", p.error)
     if m.kind == "wait":
@@ -174,14 +244,20 @@ def resolve(planner, m, p: Prepared) -> Step:
 def _follow(planner, m, p: Prepared) -> Step:
     """A linear or circular move followed from where the robot is."""
     now = planner.flange_now if planner.flange_now is not None else planner.flange_at(planner.q)
-    path_, sol = p.path, p.probe_sol
+    path_, sol, memo = p.path, p.probe_sol, p.followed
     if p.start is None or np.max(np.abs(now - p.start)) > 1e-9:  # the move before ended elsewhere
         path_ = probe_path(p.frames, m, now)
-        sol = planner.kin.ik64(path_[3]) if path_ is not None else None
+        sol, memo = (planner.kin.ik64(path_[3]) if path_ is not None else None), None
     if path_ is None:
         return Step(m, "path", q0=planner.q, u=np.zeros(0), q=np.zeros((0, len(planner.q))))
     u, length, turn, flanges = path_
-    q, stop, why, conf = follow(planner.kin, sol, planner.q)
+    key = planner.q.tobytes()
+    found = memo.get(key) if memo is not None else None
+    if found is None:
+        found = follow(planner.kin, sol, planner.q)
+        if memo is not None:
+            memo[key] = found
+    q, stop, why, conf = found
     step = Step(m, "path", q0=planner.q, u=u, q=q, length=length, turn=turn, end_conf=conf)
     if stop is not None:
         step.findings.append(at_time("path", f"cannot follow its {'line' if m.kind == 'linear' else 'circle'}: "
@@ -197,7 +273,8 @@ def _follow(planner, m, p: Prepared) -> Step:
 
 
 def time_all(planner, steps: list[Step]) -> None:
-    """Every step timed and sampled, in order: the joint moves' TCP paths posed in one batch."""
+    """Every step timed and sampled, in order: the joint moves' TCP paths posed in one batch,
+    the linear and circular moves timed together."""
     joint = [s for s in steps if s.kind == "joint" and s.motion.duration is None and np.any(s.q1 != s.q0)]
     tcp = {}
     if joint:
@@ -205,5 +282,7 @@ def time_all(planner, steps: list[Step]) -> None:
         n = timing.JOINT_PROBES
         for k, s in enumerate(joint):
             tcp[id(s)] = planner.world(s.motion, flanges[k * n:(k + 1) * n])
+    timed = timing_batch.path_moves(steps, planner.limits, planner.rate)
     for s in steps:
+        s.timed = timed.get(id(s))
         planner.time_step(s, tcp.get(id(s)))

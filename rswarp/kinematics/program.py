@@ -16,9 +16,10 @@ from ..rapid import data as rd
 from ..rapid.errors import fail
 from ..rapid.motion import Motion, Run
 from ..rsxml.robot_data import AxisLimits, axis_limits
-from . import plan_steps, timing, zones
+from . import misses, plan_steps, timing, zones
 from . import targets as tg
 from .ik import ArmConstants
+from .shortfall import Shortfall
 from .tcp import Frames, frames, pose_of
 
 SINGULAR_DEG = 1.0  # |q5| below this along a linear or circular move: a finding
@@ -38,6 +39,7 @@ class Target:
     conf: tuple[int, int, int, int] | None
     limit_margin: float = 0.0
     reach_margin: float | None = None
+    ignored: str | None = None  # external-axis values the robot has no axis for, ignored as the controller does
 
 
 @dataclass(frozen=True)
@@ -51,6 +53,7 @@ class PlannedMove:
     rows: tuple[int, int]
     findings: list[Finding] = field(default_factory=list)
     error: str | None = None
+    shortfall: Shortfall | None = None  # how far a target it skipped is beyond the reach or a limit
 
     @property
     def line(self) -> int:
@@ -77,16 +80,22 @@ class Plan:
 
     @property
     def cycle_s(self) -> float:
-        """The time of one pass of the main loop (the last), or of the whole routine."""
+        """The time of one pass of the main loop (the last), or of the whole routine; None where the
+        run stopped (a live input) before a pass ended."""
+        if self.run.stopped is not None:
+            return self.cycles[-1] if self.cycles else None
         return self.cycles[-1] if self.cycles else float(self.times[-1])
 
 
 class Planner:
     """Plans motions as the task makes them; what the interpreter asks of the robot."""
 
-    def __init__(self, kin, rate: float = timing.RATE, external_axes: str = "error", limits: AxisLimits | None = None):
+    def __init__(self, kin, rate: float = timing.RATE, external_axes: str = "auto", limits: AxisLimits | None = None):
         self.kin, self.mech, self.rate = kin, kin.mech, rate
         self.ignore_external = external_axes == "ignore"
+        self.strict_external = external_axes == "error"
+        self.ignored: dict = {}  # external axis -> [targets, lowest, highest, file, line]: values ignored
+        self.ignored_at: dict = {}  # (file, line, target) -> the axes ignored there, in words
         self.q = np.asarray(self.mech.home_position(), float)
         self.limits = limits if limits is not None else axis_limits(self.mech)
         self.zoned: tuple | None = None  # (segment, zone) of the last move, while the next may blend into it
@@ -149,15 +158,16 @@ class Planner:
     def finish(self, run: Run) -> Plan:
         self.extend(run.motions)
         times, q = np.concatenate(self.times), np.vstack(self.rows)
-        errors = tuple(e if self.repeats[(e.file, e.line, e.message)] == 1 else
-                       Diagnostic(e.file, e.line, f"{e.message} ({self.repeats[(e.file, e.line, e.message)]} times)")
-                       for e in self.errors)
-        return Plan(run, self._targets(), tuple(self.moves), times, q, errors, self._cycles(run), self.limits)
+        moves, errors = misses.explained(self)  # each skipped target by how much; an error per line, counted
+        self.notes += self._ignored_notes()
+        return Plan(run, self._targets(), moves, times, q, errors, self._cycles(run), self.limits)
 
     def time_step(self, s, tcp) -> None:
         """One resolved step timed, sampled and appended to the trajectory (``tcp``: a joint move's
         TCP along its probes)."""
         m = s.motion
+        if s.kind == "path":
+            s.findings = misses.path_findings(self, s)  # a path it cannot follow, by how much
         try:
             if s.kind == "skip":
                 return self._skip(m, s.why)
@@ -165,12 +175,12 @@ class Planner:
                 t = np.array([m.seconds]) if m.seconds > 0 else np.zeros(0)
                 return self._append(m, t, np.repeat(s.q0[None], len(t), axis=0), [])
             if s.kind == "joint":
-                t, seg, share = timing.joint_move(s.q0, s.q1, m, self.limits, self.rate, tcp)
+                t, seg, share = s.timing(lambda: timing.joint_move(s.q0, s.q1, m, self.limits, self.rate, tcp))
                 piece = zones.jointed(t, seg, share, s.q0, tcp) if tcp is not None and len(t) else None
                 return self._append(m, t, seg, [], piece)
             if len(s.u) < 2:
                 return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
-            t, seg, share = timing.path_move(s.u, s.q, s.length, s.turn, m, self.limits, self.rate)
+            t, seg, share = s.timing(lambda: timing.path_move(s.u, s.q, s.length, s.turn, m, self.limits, self.rate))
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
         piece = zones.straight(t, seg, share, s.q0, s.length, s.turn) if len(t) else None
@@ -189,6 +199,36 @@ class Planner:
         base = self.mech.base_frame.matrix() if self.mech.base_frame is not None else np.eye(4)
         tool = m.tool.tframe.matrix() if m.tool is not None and m.tool.robhold else np.eye(4)
         return base @ flanges @ tool
+
+    def external(self, m: Motion) -> str | None:
+        """Why a motion cannot run for an axis the robot lacks, or None. As the controller, a
+        target's value for an external axis the robot does not have is ignored (tallied, said once
+        an axis); a work object a unit moves is an error, unless --external-axes ignore."""
+        values = tg.extax_values(m)
+        if values and self.strict_external:
+            return tg.external_axes(m, self.mech.name)
+        for axis, v in values:
+            seen = self.ignored.setdefault(axis, [0, v, v, m.file, m.line])
+            seen[0], seen[1], seen[2] = seen[0] + 1, min(seen[1], v), max(seen[2], v)
+        if values:
+            words = ", ".join(sorted({f"{axis} {v:g}" for axis, v in values}))
+            self.ignored_at[(m.file, m.line, m.names[-1])] = f"{words}: ignored, '{self.mech.name}' has no such axis"
+        why = tg.coordinated(m, self.mech.name)
+        if why is not None and self.ignore_external:
+            self.note(m, f"{why.split(' (')[0]}: ignored (--external-axes ignore)")
+            return None
+        return why
+
+    def _ignored_notes(self) -> list[Diagnostic]:
+        """One warning an external axis whose values were ignored: how many, their range."""
+        out = []
+        for axis, (count, lo, hi, file, line) in sorted(self.ignored.items()):
+            span = f"{lo:g}" if lo == hi else f"{lo:g} to {hi:g}"
+            out.append(Diagnostic(file, line, f"{count} target{'s' * (count != 1)} give {axis} ({span}); "
+                                              f"'{self.mech.name}' has no external axis, and the controller ignores "
+                                              "the value: so does rswarp (--external-axes error refuses them)",
+                                  "warning"))
+        return out
 
     def note(self, m: Motion, message: str) -> None:
         self.notes.append(Diagnostic(m.file, m.line, message, "warning"))
@@ -279,7 +319,7 @@ class Planner:
         limit, reach = tg.margins(self.kin, q)
         confs = self.kin.confdata(q) if self.kin.ik_method != "numerical" else [None] * len(q)
         return tuple(Target(name, file, line, joints, None if c is None else tuple(int(v) for v in c), float(limit[k]),
-                            None if reach is None else float(reach[k]))
+                            None if reach is None else float(reach[k]), self.ignored_at.get((file, line, name)))
                      for k, ((name, file, line, joints), c) in enumerate(zip(found, confs)))
 
     def _cycles(self, run: Run) -> tuple[float, ...]:
@@ -290,7 +330,7 @@ class Planner:
         return tuple(float(b - a) for a, b in zip(starts, starts[1:]))
 
 
-def plan(kin, run: Run, rate: float = timing.RATE, external_axes: str = "error",
+def plan(kin, run: Run, rate: float = timing.RATE, external_axes: str = "auto",
          limits: AxisLimits | None = None) -> Plan:
     """The trajectory of a task already run (no CRobT answered mid-run): ``Planner`` over its motions."""
     return Planner(kin, rate, external_axes, limits).finish(run)

@@ -11,8 +11,24 @@ import numpy as np
 from ..kernels.ik import NO_LIMITS, OK, SHOULDER
 from ..rapid import data as rd
 from .ik import QUADRANT_SLACK, WRIST_AMPLIFIED, ArmConstants, conf_matches, quadrant_axes, wrist_axis
+from .shortfall import arm_reach
 
 EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
+
+
+def extax_values(motion) -> list[tuple[str, float]]:
+    """(axis, value) of each external-axis value the motion's targets give (not 9E9)."""
+    return [(axis, value) for target in motion.targets for axis, value in zip(EXTERNAL, target.extax)
+            if value is not None]
+
+
+def coordinated(motion, robot: str) -> str | None:
+    """Why the motion's work object needs a unit the robot does not have, or None."""
+    if motion.wobj is not None and motion.wobj.coordinated:
+        unit = motion.wobj.ufmec or "a mechanical unit"
+        return (f"the work object is moved by {unit} (ufprog FALSE), an axis '{robot}' does not have "
+                "(--external-axes ignore runs it as a fixed frame)")
+    return None
 
 
 def external_axes(motion, robot: str) -> str | None:
@@ -173,10 +189,10 @@ def margins(kin, q: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
     form = kin._ik_form()
     if not isinstance(form, ArmConstants) or not len(q):
         return limit, None
-    w2, p2, p3, c0 = (np.asarray(v) for v in (form.w2, form.p2, form.p3, form.c0))
-    across = lambda v: np.linalg.norm(v - (v @ w2)[..., None] * w2, axis=-1)  # noqa: E731
-    reach = across(p3 - p2) + across(c0 - p3)
+    reach = arm_reach(form)[0]  # the upper arm and the forearm across axis 2, stretched (``shortfall``)
     wrist, _ = kin.wrist_flange64(q)
     link = kin.graph.link_index(kin.graph.active[1].child)
-    j2 = kin.fk64(q)[:, link]
-    return limit, reach - across(wrist - (j2[:, :3, :3] @ p2 + j2[:, :3, 3]))
+    moved = kin.fk64(q)[:, link] @ np.linalg.inv(kin.fk64(np.zeros((1, q.shape[1])))[0, link])  # from zero
+    w2 = moved[:, :3, :3] @ np.asarray(form.w2)  # axis 2 where the joints put it, not where it is at zero
+    v = wrist - (moved[:, :3, :3] @ np.asarray(form.p2) + moved[:, :3, 3])
+    return limit, reach - np.linalg.norm(v - np.sum(v * w2, axis=1)[:, None] * w2, axis=1)

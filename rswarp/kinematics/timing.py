@@ -103,6 +103,7 @@ def trapezoid(top: float, accel: float) -> tuple[float, float]:
 def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, limits, rate: float):
     """(times, q, progress) of a linear or circular move solved at probes ``u`` (joints ``q``) of
     a path of ``length`` (m) and ``turn`` (rad): the speed curve's times, sampled at ``rate``."""
+    u, q = split_single(u, q)
     speeds, axis_accel = limits.velocity * motion.override, limits.acceleration * motion.accel
     if motion.duration is None:
         v_tcp, v_ori = tcp_speeds(motion)
@@ -128,6 +129,15 @@ def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, 
     k = np.clip(np.searchsorted(u, along, side="right"), 1, len(u) - 1)  # along lies in [u[k-1], u[k]]
     w = ((along - u[k - 1]) / (u[k] - u[k - 1]))[:, None]
     return t, q[k - 1] * (1.0 - w) + q[k] * w, along
+
+
+def split_single(u: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A path of two probes (one cut at its second by a limit) with a third between them, the
+    joints halfway: the robot starts and stops at rest, so it speeds up to the middle and slows
+    down from it (two probes both at rest would take an endless time)."""
+    if len(u) != 2:
+        return u, q
+    return np.array([u[0], 0.5 * (u[0] + u[1]), u[1]]), np.vstack([q[0], 0.5 * (q[0] + q[1]), q[1]])
 
 
 def probes(length: float, turn: float) -> np.ndarray:

@@ -8,6 +8,7 @@ from __future__ import annotations
 from . import data as rd
 from . import nodes as n
 from .errors import fail
+from .live import Live, LiveValue
 from .values import Mismatch, Rec
 
 
@@ -38,6 +39,8 @@ class Arguments:
         """Required argument ``k`` (negative from the end), as ``type_`` when given."""
         expr = self.required[k].expr
         v = self.interp.ev(expr, self.frame)
+        if v.__class__ is Live:
+            raise LiveValue(v)
         if type_ is None:
             return v
         if self.interp.undeclared(expr, self.frame) and self.interp.types.base(type_) not in ("num", "dnum"):
@@ -63,6 +66,8 @@ class Arguments:
         if expr is None:
             return True
         v = self.interp.ev(expr, self.frame)
+        if v.__class__ is Live:
+            raise LiveValue(v)
         if type_ is None:
             return v
         try:

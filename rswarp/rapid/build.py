@@ -40,10 +40,14 @@ def literal_regex(depth: int = 4) -> str:
     return level
 
 
+# RAPID's names: a letter, then letters, digits and '_'; its letters are ISO 8859-1's (accented ones too).
+_LETTER = "A-Za-z\u00C0-\u00D6\u00D8-\u00F6\u00F8-\u00FF"
+NAME_RE = f"[{_LETTER}_][{_LETTER}0-9_]*"
 # A declaration whose value is such an aggregate or a number: most lines of a module of targets.
-DECLARATION = (r"(?i:(?:(?:LOCAL|TASK)\s+)?(?:CONST|VAR|PERS)\s+)[A-Za-z_]\w*\s+[A-Za-z_]\w*\s*:=\s*(?:"
+DECLARATION = (r"(?i:(?:(?:LOCAL|TASK)\s+)?(?:CONST|VAR|PERS)\s+)" + NAME_RE + r"\s+" + NAME_RE + r"\s*:=\s*(?:"
                + literal_regex() + "|" + NUMBER + r")\s*;")
-DECLARATION_PARTS = re.compile(r"[ \t]*(?:(LOCAL|TASK)\s+)?(CONST|VAR|PERS)\s+([A-Za-z_]\w*)\s+([A-Za-z_]\w*)\s*:=\s*("
+DECLARATION_PARTS = re.compile(r"[ \t]*(?:(LOCAL|TASK)\s+)?(CONST|VAR|PERS)\s+(" + NAME_RE + r")\s+(" + NAME_RE
+                               + r")\s*:=\s*("
                                 + literal_regex() + "|" + NUMBER + r")\s*;", re.I)
 _HUGE = re.compile(r"[eE][-+]?\d{3}|\d{300}")  # where a number may be too large for a float
 RUN_MARK = "\x01"  # brackets a run's number in the text lark reads (see ``runs``); \x02 a run of calls

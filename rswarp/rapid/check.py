@@ -1,29 +1,35 @@
 """What the controller checks when it loads a task, in every routine whether it runs or not:
 procedures called by a name one or two letters from one that exists; routines called with
-arguments that do not fit their parameters; data assigned to, or moved to, that is declared
-nowhere; GOTO to a label the routine lacks. ``file:line`` errors before any statement runs.
-Elsewhere a name declared nowhere may be an I/O signal, and an instruction or function rswarp
-does not know may be the controller's: the run says so where it meets them."""
+arguments that do not fit their parameters; a name that is declared nowhere; GOTO to a label the
+routine lacks. ``file:line`` errors before any statement runs.
+
+A name declared nowhere is a signal where RAPID expects one (an argument the reference manual
+types as a signal: ``SetDO``, ``WaitDI``, ``DInput``, ``\\DOp``, a routine's signal parameter), or
+where the I/O configuration (a backup's EIO.cfg, ``--io``) declares it; anything else is an error
+saying what its use makes it and where such data usually lives. Arguments of a procedure that
+neither RAPID nor the task defines (an option's) are not checked: only that option knows them."""
 
 from __future__ import annotations
 
 import difflib
 
 from . import nodes as n
+from . import words
 from .binding import ArgumentError, match_arguments
 from .errors import fail
 from .instructions import KNOWN
 from .moves import MOVES
 from .predefined import error_number
 from .task import Task
+from .values import SIGNALS
 
-# Optional arguments of a move that name data, never a signal.
-_DATA_OPTIONS = {"wobj", "tload", "v", "t", "z", "inpos"}
+_FUNCTIONS: set[str] = set()  # filled below: the functions rswarp evaluates
 
 
 def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
     """Every routine of ``task`` checked as the controller checks it at load (``predefined``: the
     controller's own data by lower-case name; ``signals``: those ``--io`` names)."""
+    signals = set(signals) | set(task.signals) | signal_uses(task)
     for module in task.modules:
         own = task.locals.get(module.name.lower(), {})
         data = {k for k, s in task.globals.items() if isinstance(s.node, n.Data)}
@@ -32,14 +38,16 @@ def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
         routines.update({k: s.node for k, s in own.items() if isinstance(s.node, n.Routine)})
         names = {k: s.node.name for k, s in {**task.globals, **own}.items() if isinstance(s.node, n.Data)}
         for r in module.routines:
-            _Routine(module.file, r, data | predefined | signals, names, routines).check()
+            _Routine(module.file, r, data | predefined, names, routines, signals).check()
 
 
 class _Routine:
     """One routine's walk: its parameters, data and FOR variables, then the module's names."""
 
-    def __init__(self, file: str, routine: n.Routine, known: set[str], names: dict, routines: dict):
+    def __init__(self, file: str, routine: n.Routine, known: set[str], names: dict, routines: dict,
+                 signals: set[str] = frozenset()):
         self.file, self.routine, self.known, self.routines = file, routine, known, routines
+        self.signals = signals
         self.own = {p.key: p.name for p in routine.params}
         self.own.update({d.name.lower(): d.name for d in routine.body.statements if d.__class__ is n.Data})
         self.names = {**names, **self.own}  # what a misspelt name may be meant for
@@ -91,19 +99,20 @@ class _Routine:
             if routine.kind != "proc":
                 fail(self.file, s.line, f"'{s.name}' is a {routine.kind.upper()}, not a procedure")
             self.arguments(routine, s.args, s.line)
-        elif s.key not in KNOWN:
+        elif s.key not in KNOWN and words.word(s.key) is None:
             near = difflib.get_close_matches(s.key, list(KNOWN) + list(self.routines), n=1, cutoff=0.8)
             if near:
                 fail(self.file, s.line, f"unknown procedure '{s.name}' (did you mean {self._written(near[0])}?)")
+            return  # an option's instruction: only the option knows what its arguments name
         spec = MOVES.get(s.key) if routine is None else None
         count = sum(1 for a in s.args if not a.optional and a.name is None)
         index = 0
         for a in s.args:
             plain = not a.optional and a.name is None
-            data = spec is not None and ((plain and _data_argument(spec, index, count)) or
-                                         (a.optional and a.name.lower() in _DATA_OPTIONS))
+            role = _role(spec, index, count) if spec is not None and plain else \
+                _OPTION_ROLES.get(a.name.lower()) if spec is not None and a.optional else None
             index += plain
-            self.expr(a.expr, s.line, declared=data)
+            self.expr(a.expr, s.line, role=role)
 
     def _written(self, key: str) -> str:
         routine = self.routines.get(key)
@@ -119,14 +128,14 @@ class _Routine:
                 fail(self.file, line, f"\\{a.name}?{a.condition}: '{a.condition}' is not a parameter of "
                                       f"'{self.routine.name}'")
 
-    def expr(self, e, line: int, declared: bool = False) -> None:
-        """Every name and call in expression ``e``; ``declared``: it must be declared data (a
-        move's target, speed, zone or tool: never a signal)."""
+    def expr(self, e, line: int, role: str | None = None, declared: bool = False) -> None:
+        """Every name and call in expression ``e``; ``role``: the data type its place makes it (a
+        move's robtarget, speeddata, zonedata, tooldata or wobjdata: never a signal)."""
         if e is None:
             return
         kind = e.__class__
         if kind is n.Name:
-            self.name(e, line, declared)
+            self.name(e, line, declared, role)
         elif kind is n.Call:
             self.call(e, line)
         for sub in _subexpressions(e):
@@ -138,28 +147,110 @@ class _Routine:
             if routine.kind != "func":
                 fail(self.file, e.line, f"'{e.name}' is a {routine.kind.upper()}, not a function")
             self.arguments(routine, e.args, e.line)
+        elif words.word(e.key) is None and e.key not in _FUNCTIONS:
+            return  # an option's function: only the option knows what its arguments name
         for a in e.args:
             self.expr(a.expr, e.line)
 
-    def name(self, e: n.Name, line: int, declared: bool) -> None:
-        """A name that must be data (assigned to, a move's target, speed, zone, tool or work
-        object) and is declared nowhere; elsewhere a name declared nowhere may be a signal, which
-        only the I/O configuration knows, and the run says so where it reads one."""
+    def name(self, e: n.Name, line: int, declared: bool, role: str | None = None) -> None:
+        """A name declared nowhere: an error, unless it is read where a signal may stand (the I/O
+        configuration's, or one the task uses as a signal)."""
         key = e.key
-        if not declared or key in self.own or key in self.known or error_number(key) is not None:
+        if key in self.own or key in self.known or error_number(key) is not None:
+            return
+        if not (declared or role) and key in self.signals:
             return
         near = difflib.get_close_matches(key, list(self.names), n=1, cutoff=0.85)
-        hint = f" (did you mean '{self.names[near[0]]}'?)" if near else ""
+        hint = f" (did you mean '{self.names[near[0]]}'?)" if near else _lives(role)
         fail(self.file, e.line or line, f"'{e.name}' is declared nowhere in the task{hint}")
 
 
-def _data_argument(spec, index: int, count: int) -> bool:
-    """Whether positional argument ``index`` of a move (of ``count``) is a target, speed, zone or
-    tool: data, never a signal."""
-    places = {k % count for k in (*spec.targets, spec.speed, spec.tool) if -count <= k < count}
-    if spec.zone is not None and -count <= spec.zone < count:
-        places.add(spec.zone % count)
-    return index in places
+def _role(spec, index: int, count: int) -> str | None:
+    """The data type positional argument ``index`` of a move (of ``count``) must be: its target,
+    speed, zone or tool, never a signal; None for the others."""
+    target = "jointtarget" if spec.kind == "absolute" else "robtarget"
+    places = [(k, target) for k in spec.targets] + [(spec.speed, "speeddata"), (spec.tool, "tooldata")]
+    if spec.zone is not None:
+        places.append((spec.zone, "zonedata"))
+    for k, type_ in places:
+        if -count <= k < count and k % count == index:
+            return type_
+    return None
+
+
+_OPTION_ROLES = {"wobj": "wobjdata", "tload": "loaddata", "v": "num", "t": "num", "z": "num", "inpos": "stoppointdata"}
+_HOMES = {"tooldata": "tools usually live in CalibData.mod or user.sys",
+          "wobjdata": "work objects usually live in CalibData.mod or user.sys",
+          "loaddata": "loads usually live in CalibData.mod or user.sys",
+          "robtarget": "targets live in the program's modules or a module of targets",
+          "jointtarget": "targets live in the program's modules or a module of targets",
+          "speeddata": "speeds usually live in user.sys or a module of data",
+          "zonedata": "zones usually live in user.sys or a module of data"}
+
+
+def _lives(role: str | None) -> str:
+    """What a name's place makes it and where such data usually lives: the file to add."""
+    if role in _HOMES:
+        return f": a {role} here ({_HOMES[role]}: add that module to the task)"
+    return (": data of a module the task lacks (user.sys, an option's module), or an I/O signal (a backup's "
+            "SYSPAR/EIO.cfg, or --io NAME=VALUE, declares it)")
+
+
+def signal_uses(task: Task) -> set[str]:
+    """The names the task uses where RAPID expects a signal: the manual's signal parameters of its
+    instructions and functions, and signal parameters of the task's own routines."""
+    routines = {s.node.name.lower(): s.node for s in task._all() if isinstance(s.node, n.Routine)}
+    out: set[str] = set()
+    for module in task.modules:
+        for r in module.routines:
+            for e in _calls(r.body, r.error):
+                out |= _signal_arguments(e, routines.get(e.key))
+    return out
+
+
+def _signal_arguments(call, routine) -> set[str]:
+    """The bare names a call passes where a signal is expected."""
+    if routine is not None:
+        places = tuple(k for k, p in enumerate(q for q in routine.params if not q.optional)
+                       if p.type.lower() in SIGNALS)
+        options = frozenset(p.key for p in routine.params if p.optional and p.type.lower() in SIGNALS)
+    else:
+        places, options = words.signal_params(call.key), words.signal_options(call.key)
+    out = set()
+    plain = [a for a in call.args if not a.optional and a.name is None]
+    for k in places:
+        if k < len(plain) and plain[k].expr.__class__ is n.Name:
+            out.add(plain[k].expr.key)
+    for a in call.args:
+        if a.optional and a.name.lower() in options and a.expr.__class__ is n.Name:
+            out.add(a.expr.key)
+    return out
+
+
+def _calls(*bodies):
+    """Every procedure and function call in the bodies, nested ones included."""
+    for body in bodies:
+        if body is None:
+            continue
+        for s in body.statements:
+            if s.__class__ is n.ProcCall:
+                yield s
+            exprs = [a.expr for a in s.args] if s.__class__ is n.ProcCall else \
+                [s.expr] if s.__class__ is n.Assign else _expressions(s)
+            for e in exprs:
+                yield from _nested_calls(e)
+            yield from _calls(*_bodies(s))
+
+
+def _nested_calls(e):
+    if e is None:
+        return
+    if e.__class__ is n.Call:
+        yield e
+        for a in e.args:
+            yield from _nested_calls(a.expr)
+    for sub in _subexpressions(e):
+        yield from _nested_calls(sub)
 
 
 def _bodies(s) -> list:
@@ -204,3 +295,12 @@ def _subexpressions(e) -> list:
     if kind is n.Aggregate:
         return list(e.items)
     return []
+
+
+def _evaluated() -> set[str]:
+    from .functions import FUNCTIONS
+
+    return set(FUNCTIONS)
+
+
+_FUNCTIONS.update(_evaluated())

@@ -18,6 +18,7 @@ MAX_MM = 1e6  # 1 km, the bound of every length rswarp reads
 MAX_AXIS = 1e5  # degrees or mm of a joint value
 QUAT_SLACK = 0.1  # |q1²+q2²+q3²+q4² - 1| the controller normalizes; beyond, it refuses the orientation
 MAX_SPEED = 1e5  # mm/s or deg/s
+TOP_TCP_SPEED = 7000.0  # mm/s: the controller runs a faster v_tcp at the robot's top speed (v7000, ABB's largest)
 
 
 @dataclass(frozen=True)
@@ -181,7 +182,7 @@ def work_object(value: Rec, what: str) -> WorkObject:
 
 
 def speed(value: Rec, what: str) -> Speed:
-    v_tcp, v_ori, v_leax, v_reax = _numbers(value.vals, what, MAX_SPEED)
+    v_tcp, v_ori, v_leax, v_reax = _numbers(value.vals, what, 1e30)  # the controller caps, never refuses, a speed
     if not v_tcp > 0 or not v_ori > 0:
         raise Mismatch(f"{what} has v_tcp {v_tcp:g} mm/s and v_ori {v_ori:g} deg/s: both must be above 0")
     if v_leax < 0 or v_reax < 0:

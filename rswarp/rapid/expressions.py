@@ -11,6 +11,7 @@ import math
 
 from . import nodes as n
 from .errors import fail, rapid_error
+from .live import Live, LiveValue
 from .scope import PENDING, Cell
 from .values import SIGNALS, Arr, Mismatch, Rec, describe, field_index, whole
 
@@ -89,6 +90,8 @@ class Evaluator:
         return self.select(value, node.selectors, frame, node) if node.selectors else value
 
     def select(self, value, selectors, frame, node):
+        if value.__class__ is Live:  # a component of what a live read gives is as unknown
+            return value
         for s in selectors:
             if s.__class__ is n.Field:
                 k = field_index(self.types, value, s.key)
@@ -111,6 +114,8 @@ class Evaluator:
 
     def whole(self, node, frame, what: str) -> int:
         v = self.ev(node, frame)
+        if v.__class__ is Live:
+            raise LiveValue(v)
         if not whole(v):
             fail(self.path, getattr(node, "line", 0), f"{what} must be a whole number, not {describe(v)}")
         return int(v)
@@ -122,6 +127,8 @@ class Evaluator:
     def boolean(self, node, frame) -> bool:
         v = self.ev(node, frame)
         if v.__class__ is not bool:
+            if v.__class__ is Live:
+                raise LiveValue(v)
             fail(self.path, getattr(node, "line", 0), f"a condition must be TRUE or FALSE, not {describe(v)}")
         return v
 
@@ -130,10 +137,14 @@ class Evaluator:
         if v.__class__ is not float:
             if isinstance(v, int) and not isinstance(v, bool):
                 return float(v)
+            if v.__class__ is Live:
+                raise LiveValue(v)
             fail(self.path, getattr(node, "line", 0), f"{what} must be a number, not {describe(v)}")
         return v
 
     def coerce(self, value, type_: str, line: int, where: str):
+        if value.__class__ is Live:  # unknown until the cell gives it: of any type
+            return value
         try:
             return self.types.coerce(value, type_, where)
         except Mismatch as exc:
@@ -147,6 +158,8 @@ class Evaluator:
 
     def _prefix(self, node: n.Prefix, frame):
         value = self.ev(node.operand, frame)
+        if value.__class__ is Live:
+            return value
         for op in reversed(node.ops):
             if op == "not":
                 if value.__class__ is not bool:
@@ -162,6 +175,8 @@ class Evaluator:
         """``a op b`` with RAPID's types."""
         if a.__class__ is float and b.__class__ is float:
             return self._numbers(op, a, b, line)
+        if a.__class__ is Live or b.__class__ is Live:  # what a live read decides stays unknown
+            return a if a.__class__ is Live else b
         if op in ("and", "or", "xor"):
             if a.__class__ is not bool or b.__class__ is not bool:
                 fail(self.path, line, f"{op.upper()} needs TRUE or FALSE, not {describe(a)} and {describe(b)}")
@@ -200,7 +215,7 @@ class Evaluator:
         return r
 
     def _records(self, op: str, a, b, line: int):
-        """pos + pos, pos - pos, num * pos, pos * num, pos * pos (the dot product), orient * orient; an
+        """pos + pos, pos - pos, num * pos, pos * num, pos * pos (the vector product), orient * orient; an
         aggregate beside a record is a record of its type."""
         if isinstance(a, Rec) and isinstance(b, (list, tuple)):
             b = self.coerce(b, a.type, line, "the aggregate")
@@ -210,8 +225,10 @@ class Evaluator:
         if op in "+-" and pos_a and pos_b:
             sign = 1.0 if op == "+" else -1.0
             return Rec("pos", tuple(x + sign * y for x, y in zip(a.vals, b.vals)))
-        if op == "*" and pos_a and pos_b:
-            return float(sum(x * y for x, y in zip(a.vals, b.vals)))
+        if op == "*" and pos_a and pos_b:  # RAPID's pos * pos is the vector (cross) product
+            from .poses import cross
+
+            return Rec("pos", cross(a.vals, b.vals))
         if op == "*" and pos_b and _numeric(a):
             return Rec("pos", tuple(float(a) * y for y in b.vals))
         if op in "*/" and pos_a and _numeric(b):

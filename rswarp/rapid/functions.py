@@ -2,29 +2,50 @@
 RelTool, OrientZYX, EulerZYX, PoseMult, PoseInv, PoseVect, NOrient, DefFrame, ...), I/O reads,
 clocks, and the robot's state (CRobT, CJointT, CPos, CalcJointT, CalcRobT), which the task's
 ``Robot`` answers. A function rswarp does not evaluate is a ``file:line`` error: its value would
-be a guess."""
+be a guess: one RAPID defines and rswarp does not compute, or one only the cell answers (a
+socket, a file, the operator), gives a ``Live`` value, unknown until ``--input`` gives it."""
 
 from __future__ import annotations
 
 import math
 import time
 
+from . import byname, poses, strings, words
 from . import data as rd
-from . import poses
 from .arguments import Arguments
 from .errors import fail, rapid_error
+from .live import Live, LiveValue
 from .values import Arr, Rec, describe, whole
 
 
 def call_function(interp, node, frame):
     entry = FUNCTIONS.get(node.key)
     if entry is None:
-        fail(interp.path, node.line, f"rswarp does not evaluate the function '{node.name}'")
+        entry = _unevaluated(node.key)
     args = Arguments(interp, node.name, node.args, frame, node.line)
-    value = entry(interp, args)
+    try:
+        value = entry(interp, args)
+    except LiveValue as lv:  # a function of what a live read gave is as unknown, and so is what it writes
+        _unknown_outputs(interp, node, args, lv.live)
+        return lv.live
     if isinstance(value, float) and not math.isfinite(value):
         fail(interp.path, node.line, f"{node.name} has no finite value here")
     return value
+
+
+def _unknown_outputs(interp, node, args: Arguments, live: Live) -> None:
+    """The data a function writes (StrToVal's value, ...) made unknown like its inputs."""
+    from . import nodes as n
+
+    places = words.positions(node.key)
+    for p in words.outputs(node.key):
+        k = next((i for i, group in enumerate(places) if p in group), None)
+        expr = args.optional.get(p.name.lower()) if p.optional else args.node(k) if k is not None and k < len(args) \
+            else None
+        if expr.__class__ is n.Name and not expr.selectors:
+            cell = args.frame.cells.get(expr.key) or args.frame.module.get(expr.key)
+            if cell is not None and cell.kind not in ("const", "loop"):
+                cell.set(live)
 
 
 def _math(fn, count: int = 1, degrees_in: bool = False, degrees_out: bool = False):
@@ -71,19 +92,6 @@ def _strfind(interp, a: Arguments) -> float:
         if (s[k] in chars) != outside:
             return float(k + 1)
     return float(len(s) + 1)
-
-
-def _strtoval(interp, a: Arguments) -> bool:
-    a.need(2)
-    text, target = a.value(0, "string"), a.reference(1)
-    try:
-        value = float(text)
-    except ValueError:
-        return False
-    if not math.isfinite(value):
-        return False
-    target.set(value)
-    return True
 
 
 def _valtostr(interp, a: Arguments) -> str:
@@ -226,12 +234,40 @@ def _clkread(interp, a: Arguments) -> float:
     return interp.clock_read(a.reference(0))
 
 
-def _live(default):
-    """A function that reads what only a running cell has (a file, a socket, the operator)."""
-    def run(interp, a: Arguments):
-        interp.warn(a.line, f"{a.name} reads live input rswarp does not have: taken as {default!r}")
-        return default
-    return run
+def _live(interp, a: Arguments):
+    """A function whose value only the running cell has (a file, a socket, the operator): what
+    ``--input NAME=VALUE`` gives under its own name, else unknown."""
+    live = Live(a.name, None, interp.path, a.line)
+    text = interp.inputs.take(a.name)
+    return live if text is None else interp.given_text(text, a.name, a.line)
+
+
+def _unevaluated(key: str):
+    """A function RAPID defines and rswarp does not compute, or one no one defines (an option's,
+    a module's not in the task): a value rswarp does not have, so unknown, never a guess."""
+    w = words.word(key)
+    if w is not None and w.kind == "function" and key in words.STATE_VALUES:
+        value = words.STATE_VALUES[key]
+        return lambda interp, a: value
+    return _live
+
+
+def _crossprod(interp, a: Arguments) -> Rec:
+    """CrossProd, and ``pos * pos``: the vector product."""
+    a.need(2)
+    return poses.pos(poses.cross(a.value(0, "pos").vals, a.value(1, "pos").vals))
+
+
+def _type(interp, a: Arguments) -> str:
+    """Type(Data): the name of the data type of the data given (its alias's, unless \\BaseName)."""
+    a.need(1)
+    node = a.node(0)
+    cell = a.frame.cells.get(getattr(node, "key", "")) or a.frame.module.get(getattr(node, "key", ""))
+    type_ = cell.type if cell is not None and not getattr(node, "selectors", ()) else getattr(a.value(0), "type", "")
+    if not type_:
+        v = a.value(0)
+        type_ = "bool" if isinstance(v, bool) else "num" if isinstance(v, float) else "string"
+    return interp.types.base(type_) if a.has("BaseName") else type_
 
 
 _N = lambda v: (lambda interp, a: v)  # noqa: E731  a constant answer
@@ -246,7 +282,7 @@ FUNCTIONS = {
     "trunc": lambda i, a: _round(i, a, True), "truncdnum": lambda i, a: _round(i, a, True),
     "numtodnum": _math(float), "dnumtonum": _math(float), "dim": _dim, "present": _present,
     "numtostr": _numtostr, "dnumtostr": _numtostr, "strlen": lambda i, a: float(len(a.value(0, "string"))),
-    "strpart": _strpart, "strfind": _strfind, "strtoval": _strtoval, "valtostr": _valtostr,
+    "strpart": _strpart, "strfind": _strfind, "valtostr": _valtostr,
     "strmemb": lambda i, a: a.value(0, "string")[int(a.number(1)) - 1:int(a.number(1))] in a.value(2, "string"),
     "strorder": lambda i, a: a.value(0, "string") <= a.value(1, "string"),
     "bitand": _bits(lambda x, y: x & y, 2), "bitor": _bits(lambda x, y: x | y, 2),
@@ -272,14 +308,32 @@ FUNCTIONS = {
     "clkread": _clkread, "ctime": lambda i, a: time.strftime("%H:%M:%S"),
     "cdate": lambda i, a: time.strftime("%Y-%m-%d"),
     "gettime": lambda i, a: 0.0, "robos": _N(True), "opmode": _N(0.0), "runmode": _N(0.0),
-    "ismechunitactive": _N(True), "issyncmoveon": _N(False), "isstopmoveact": _N(False), "taskrunrob": _N(True),
+    "ismechunitactive": _N(True), "issyncmoveon": lambda i, a: bool(i.state.get("sync")),
+    "isstopmoveact": _N(False), "taskrunrob": _N(True),
     "taskrunmec": _N(True), "gettaskname": _N("T_ROB1"), "robname": _N("ROB_1"), "getmecunitname": _N("ROB_1"),
     "modexist": _N(True), "ispers": _N(False), "isvar": _N(True),
     "argname": lambda i, a: getattr(a.node(0), "name", ""),
-    "readnum": _live(0.0), "readstr": _live(""), "readbin": _live(0.0), "readmotor": _live(0.0),
-    "readstrbin": _live(""), "socketgetstatus": _N(0.0), "isfile": _N(False), "filesize": _N(0.0),
-    "testandset": lambda i, a: _test_and_set(i, a),
+    "socketgetstatus": _N(0.0), "testandset": lambda i, a: _test_and_set(i, a),
+    "crossprod": _crossprod, "type": _type, "maxrobspeed": lambda i, a: rd.TOP_TCP_SPEED,
+    "orobt": lambda i, a: a.value(0, "robtarget"), "mirpos": lambda i, a: poses.mir_pos(
+        a.value(0, "robtarget"), a.value(1, "wobjdata"), a.has("MirY")),
+    "defdframe": lambda i, a: _defdframe(i, a), "rawbyteslen": _live,
+    **strings.FUNCTIONS, **byname.FUNCTIONS,
 }
+LIVE = {w: _live for w in ("readnum", "readstr", "readbin", "readmotor", "readstrbin", "readanybin", "readvar",
+                           "uinumentry", "uidnumentry", "uialphaentry", "uinumtune", "uidnumtune", "uilistview",
+                           "uimessagebox", "socketpeek", "isfile", "filesize", "fssize", "readdir")}
+FUNCTIONS.update(LIVE)
+
+
+def _defdframe(interp, a: Arguments) -> Rec:
+    """DefDFrame: the displacement frame that takes three old points to three new ones."""
+    a.need(6)
+    p = [a.value(k, "robtarget").vals[0].vals for k in range(6)]
+    old, new = poses.def_frame(*p[:3]), poses.def_frame(*p[3:])
+    if old is None or new is None:
+        fail(interp.path, a.line, "DefDFrame: three of the points are on one line")
+    return poses.pose_mult(new, poses.pose_inv(old))
 
 
 def _test_and_set(interp, a: Arguments) -> bool:

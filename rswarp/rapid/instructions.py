@@ -1,17 +1,22 @@
 """RAPID's built-in instructions: motion (``moves``), waits, the motion settings (ConfJ, ConfL,
-AccSet, VelSet, SingArea), data (Incr, Add, Clear), signals (SetDO and kin, kept in the run's
-signal table), clocks, ExitCycle and CallByVar, and operator input (taken as an answer, with a
-warning). An instruction that cannot change the motion (TPWrite, file and socket I/O,
-interrupts) runs as nothing, silently; one that could and is not modelled (program displacement,
-independent axes, MultiMove) is a warning at its line, as is a procedure nobody declared."""
+AccSet, VelSet, SingArea), data (Incr, Add, Clear, data by name), signals (SetDO and kin, kept in
+the run's signal table), clocks, ExitCycle and CallByVar. The rest is as the word table
+(``words``) says: an instruction that cannot change the motion (TPWrite, file and socket I/O,
+interrupts) runs as nothing, silently; a live read (SocketReceive, TPReadNum, ...) stores what
+``--input`` gives, else an unknown value; one that could change the motion and is not modelled
+(program displacement, independent axes) is a warning at its line, as is a procedure that
+neither RAPID nor the task defines (an option's, a module's not in the task)."""
 
 from __future__ import annotations
 
 import difflib
 
+from . import byname, words
+from . import nodes as n
 from .arguments import Arguments
 from .errors import fail
 from .flow import ExitCycle
+from .live import Live
 from .moves import MOVES, run_move, wait
 from .nodes import written
 from .scope import Cell
@@ -44,19 +49,67 @@ def run_instruction(interp, s, frame) -> None:
         run_move(interp, MOVES[key], a, s, frame)
     elif key in _HANDLERS:
         _HANDLERS[key](interp, a, s, frame)
-    elif key in SILENT:
-        if key in ("setdo", "setao", "setgo", "set", "reset", "invertdo") and len(a) >= 1:
+    elif key in SIGNAL_SETTERS:
+        if len(a) >= 1:
             _set_signal(interp, a, key)
-    elif key in LIVE:
-        interp.warn(s.line, f"{s.name} reads live input rswarp does not have (a socket, a file, the operator): "
-                            "nothing is read")
-    elif key in UNMODELLED:
-        interp.warn(s.line, f"{s.name} could change the motion and is not modelled: skipped")
     else:
-        near = difflib.get_close_matches(key, list(KNOWN) + list(frame.module.routines()), n=1, cutoff=0.8)
+        _by_table(interp, a, s, frame)
+
+
+def _by_table(interp, a: Arguments, s, frame) -> None:
+    """An instruction as the word table handles it; one no one defines is skipped with a warning,
+    and one a letter or two from a known name is an error."""
+    w = words.word(s.key)
+    handling = w.handling if w is not None and w.kind == "instruction" else None
+    if handling is None and s.key in LIVE:
+        handling = "live"
+    if handling == "live":
+        live_read(interp, a, s, frame)
+    elif handling == "unmodelled" or (handling is None and s.key in UNMODELLED):
+        interp.warn(s.line, f"{s.name} could change the motion and is not modelled: skipped")
+    elif handling is None and s.key not in SILENT:
+        near = difflib.get_close_matches(s.key, list(KNOWN) + list(frame.module.routines()), n=1, cutoff=0.8)
         if near:
             fail(interp.path, s.line, f"unknown procedure '{s.name}' (did you mean {KNOWN.get(near[0], near[0])}?)")
-        interp.warn(s.line, f"'{s.name}' is neither a routine of the task nor an instruction rswarp knows: skipped")
+        interp.warn_once(("unknown", s.key), s.line,
+                         f"'{s.name}' is neither a routine of the task nor a RAPID instruction (an option's, or a "
+                         "module's not in the task): skipped wherever it is called")
+
+
+def live_read(interp, a: Arguments, s, frame) -> None:
+    """A read only the cell answers (SocketReceive, TPReadNum, ReadAnyBin, ...): each data it
+    writes gets what ``--input`` gives under that data's name, else an unknown value."""
+    for node in _output_nodes(a, s.key):
+        if not isinstance(node, n.Name):
+            continue
+        holder, path, type_ = interp.target(node, frame)
+        value = interp.live_input(Live(s.name, node.name, interp.path, s.line), node.name, type_, s.line)
+        holder.set(_replace(holder.get(), path, value) if path else value)
+
+
+def _output_nodes(a: Arguments, key: str) -> list:
+    """The argument expressions a live read writes into, as the manual lays out its parameters."""
+    outs = words.outputs(key)
+    if not outs:
+        return [a.node(0)] if len(a) else []
+    places = words.positions(key)
+    nodes = []
+    for p in outs:
+        if p.optional:
+            expr = a.optional.get(p.name.lower())
+            if expr is not None:
+                nodes.append(expr)
+        else:
+            k = next((i for i, group in enumerate(places) if p in group), None)
+            if k is not None and k < len(a):
+                nodes.append(a.node(k))
+    return nodes
+
+
+def _replace(root, path, value):
+    from .scope import replace
+
+    return replace(root, path, value) if value.__class__ is not Live else value
 
 
 def _set_signal(interp, a: Arguments, key: str) -> None:
@@ -176,12 +229,15 @@ def _book_error(interp, a: Arguments, s, frame) -> None:
     a.reference(0).set(float(interp.booked))
 
 
-def _operator(default: float):
-    """TPReadFK, TPReadNum: the operator's answer, which only a running cell has."""
+def _sync(on: bool | None):
+    """SyncMoveOn, SyncMoveOff, WaitSyncTask: MultiMove's meeting points and synchronized moves,
+    run as this task's robot alone."""
     def run(interp, a: Arguments, s, frame) -> None:
-        a.need(1, 99)
-        a.reference(0).set(default)
-        interp.warn(s.line, f"{s.name} asks the operator: the answer is taken as {default:g}")
+        if on is not None:
+            interp.state["sync"] = on
+        interp.warn_once(("multimove",), s.line,
+                         f"{s.name}: MultiMove; rswarp runs this task's own robot, not the other tasks' robots it "
+                         "waits for and moves with (their \\ID and synchronization are read, not timed)")
     return run
 
 
@@ -192,8 +248,10 @@ _HANDLERS = {
     "incr": _data("incr"), "decr": _data("decr"), "add": _data("add"), "clear": _data("clear"),
     "clkstart": _clock("start"), "clkstop": _clock("stop"), "clkreset": _clock("reset"),
     "exitcycle": _exit_cycle, "callbyvar": _call_by_var, "stop": _stop, "break": _stop, "bookerrno": _book_error,
-    "tpreadfk": _operator(1.0), "tpreadnum": _operator(0.0), "tpreaddnum": _operator(0.0),
+    "syncmoveon": _sync(True), "syncmoveoff": _sync(False), "syncmoveundo": _sync(False),
+    "waitsynctask": _sync(None), **byname.INSTRUCTIONS,
 }
+SIGNAL_SETTERS = {"setdo", "setao", "setgo", "set", "reset", "invertdo", "pulsedo"}
 
 
 def clock_read(interp, ref) -> float:

@@ -27,6 +27,7 @@ from .expressions import Evaluator
 from .flow import ExitCycle, ExitTask, Goto, Returned
 from .functions import call_function
 from .instructions import clock_read, run_instruction
+from .live import Inputs, Live, LiveValue, NeedsInput, parse_input
 from .motion import Cycle, Motion, NoRobot, Run
 from .predefined import error_number, predefined
 from .scope import PENDING, Cell, Frame, replace
@@ -42,7 +43,8 @@ MAX_CYCLES = 1000
 class Interpreter(Evaluator):
     """One run of a task. ``io`` sets signals (name -> value); ``robot`` answers CRobT and kin."""
 
-    def __init__(self, task: Task, robot=None, io: dict | None = None, cycles: int = 1):
+    def __init__(self, task: Task, robot=None, io: dict | None = None, cycles: int = 1,
+                 inputs: dict[str, list[str]] | None = None):
         if not 1 <= cycles <= MAX_CYCLES:
             raise ValueError(f"cycles must be 1 to {MAX_CYCLES}")
         self.task, self.types, self.robot = task, task.types, robot or NoRobot()
@@ -51,6 +53,8 @@ class Interpreter(Evaluator):
         self.given_names = list(io or {})
         self.used_signals: set[str] = set()
         self.signals = {k.lower(): Cell(float(v), "signal", "var", "", 0, k) for k, v in (io or {}).items()}
+        for key, sig in task.signals.items():  # a backup's I/O configuration: its signals at their defaults
+            self.signals.setdefault(key, Cell(sig.default, "signal", "var", sig.file, sig.line, sig.name))
         self.motions: list[Motion] = []
         self.warnings = Diagnostics()
         self._warned: set = set()
@@ -68,8 +72,16 @@ class Interpreter(Evaluator):
         self.pass_index = 0
         self._pending: dict = {}
         self.converted: dict = {}  # records already converted to SI motion data (Arguments.si)
+        self.inputs = Inputs(inputs)  # --input: what live reads give, name by name
+        self.stopped: NeedsInput | None = None  # where the run stopped for a live input
 
     # -- reporting ------------------------------------------------------------------------------
+    def warn_once(self, key, line: int, message: str) -> None:
+        """A warning said once a task for ``key``, at its first line."""
+        if key not in self._warned:
+            self._warned.add(key)
+            self.warnings.append(Diagnostic(self.path, line, message, "warning"))
+
     def warn(self, line: int, message: str) -> None:
         key = (self.path, line, message)
         if key not in self._warned:
@@ -91,6 +103,9 @@ class Interpreter(Evaluator):
                     pass
                 except ExitTask:
                     break
+                except NeedsInput as stop:  # every move before it stands, planned and timed
+                    self.stopped = stop
+                    break
                 if self.main_loop is not None:
                     break
                 self.pass_index += 1
@@ -99,13 +114,20 @@ class Interpreter(Evaluator):
             hint = f" (did you mean {self.signals[near[0]].name}?)" if near else ""
             self.warnings.append(Diagnostic("rswarp", 0, f"--io {name}: the task uses no signal of that name{hint}",
                                             "warning"))
+        for name in self.inputs.unused():
+            self.warnings.append(Diagnostic("rswarp", 0, f"--input {name}: the task reads no live input into that name",
+                                            "warning"))
         if self.main_loop is not None:
             node, file, passes = self.main_loop
-            cycle = Cycle(file, node.line, tuple(p[0] for p in passes) + (len(self.motions),))
+            ends = () if self.stopped else (len(self.motions),)  # a pass the stop cut short is no cycle
+            cycle = Cycle(file, node.line, tuple(p[0] for p in passes) + ends)
         else:
-            cycle = Cycle(entry.file, entry.line, tuple(starts) + (len(self.motions),), endless=False)
+            done = tuple(starts) if not self.stopped else tuple(starts[:-1])
+            cycle = Cycle(entry.file, entry.line, done + (() if self.stopped else (len(self.motions),)), endless=False)
         return Run(tuple(self.motions), tuple(self.task.notes) + tuple(self.warnings.finish()), cycle,
-                   tuple(self.task.files), entry.name, self.statements)
+                   tuple(self.task.files), entry.name, self.statements,
+                   stopped=self.stopped.diagnostic() if self.stopped else None,
+                   needs_input=self.stopped.record() if self.stopped else None)
 
     # -- data -------------------------------------------------------------------------------------
     def _declare_all(self) -> None:
@@ -170,7 +192,10 @@ class Interpreter(Evaluator):
                 fail(self.path, d.line, str(exc))
         if d.init is None:
             return self.types.default(d.type)
-        return self.coerce(self.ev(d.init, frame), d.type, d.line, f"'{d.name}'")
+        value = self.ev(d.init, frame)
+        if value.__class__ is Live:
+            value = self.live_input(value, d.name, d.type, d.line)
+        return self.coerce(value, d.type, d.line, f"'{d.name}'")
 
     def initialize(self, cell: Cell):
         """A module's data object read before its declaration's turn: made now."""
@@ -204,6 +229,8 @@ class Interpreter(Evaluator):
                                                    "that never ends?")
         try:
             _RUN[s.__class__](self, s, frame)
+        except LiveValue as lv:
+            raise NeedsInput(self.path, getattr(s, "line", 0), lv.live) from None
         except RapidError as err:
             if not handlers.takes(self, frame, err):
                 raise
@@ -217,10 +244,47 @@ class Interpreter(Evaluator):
         if holder.kind in ("const", "loop"):
             what = "the constant" if holder.kind == "const" else "the FOR variable"
             fail(self.path, s.line, f"cannot assign to {what} '{s.target.name}'")
-        value = self.coerce(self.ev(s.expr, frame), type_, s.line, f"'{n.written(s.target)}'")
+        value = self.ev(s.expr, frame)
+        if value.__class__ is Live:
+            value = self.live_input(value, s.target.name, type_, s.line)
+        root = holder.get()
+        if path and (value.__class__ is Live or root.__class__ is Live):  # a part unknown: the whole is
+            holder.set(root if root.__class__ is Live else value)
+            return
+        current = root if not path else None
+        if current.__class__ is Arr and value.__class__ is not Live:  # a whole array, from one or its aggregate
+            try:
+                value = self.types.array(current.type, current.dims, value, n.written(s.target))
+            except Mismatch as exc:
+                fail(self.path, s.line, str(exc))
+            holder.set(value)
+            return
+        value = self.coerce(value, type_, s.line, f"'{n.written(s.target)}'")
         if isinstance(value, Arr):
             value = value.copy()
         holder.set(replace(holder.get(), path, value) if path else value)
+
+    def live_input(self, live: Live, name: str, type_: str, line: int):
+        """What ``--input`` gives ``name`` for a live read stored there, else the read, unknown."""
+        text = self.inputs.take(name)
+        if text is None:
+            return live.named(name)
+        base = self.types.base(type_)
+        try:
+            value = parse_input(text, base)
+            return self.types.coerce(value, type_, f"--input {name}")
+        except (ValueError, Mismatch) as exc:
+            fail(self.path, line, f"--input {name}={text}: {name} is a {base}, and the value is not one ({exc})")
+
+    def given_text(self, text: str, name: str, line: int):
+        """An ``--input`` for a live function's value: a number, TRUE or FALSE, an aggregate, else
+        the text as a string."""
+        for base in ("num", "bool"):
+            try:
+                return parse_input(text, base)
+            except ValueError:
+                pass
+        return parse_input(text, "string")
 
     def target(self, node: n.Name, frame: Frame):
         """(cell, path, type) of an assignment's target or a reference argument."""
@@ -238,7 +302,9 @@ class Interpreter(Evaluator):
                     fail(self.path, node.line, f"'{n.written(node)}': a {self.types.base(type_)} has no component "
                                                f"'{s.name}'")
                 type_ = fields[k][1]
-                value = value.vals[k]
+                value = value.vals[k] if value.__class__ is not Live else value
+            elif value.__class__ is Live:  # an element of what a live read gave
+                k = 0
             else:
                 k = self.offset(value, s, frame, node)
                 type_ = value.type
@@ -326,6 +392,8 @@ class Interpreter(Evaluator):
 
     def _test(self, s: n.Test, frame: Frame) -> None:
         value = self.ev(s.expr, frame)
+        if value.__class__ is Live:
+            raise LiveValue(value)
         for values, body in s.cases:
             if any(self.operate("=", value, self.ev(v, frame), s.line) for v in values):
                 self.body(body, frame)

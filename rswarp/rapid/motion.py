@@ -42,6 +42,7 @@ class Motion:
     duration: float | None = None
     seconds: float = 0.0
     cycle: int = 0
+    declared: tuple[str, ...] = ()  # per target, "file:line" of the data it is or is built from ("" inline)
 
 
 class Robot(Protocol):
@@ -105,3 +106,5 @@ class Run:
     routine: str = "main"
     statements: int = 0
     notes: tuple[str, ...] = field(default=())
+    stopped: Diagnostic | None = None  # where the run stopped for a live input no --input gave
+    needs_input: dict | None = None  # that input: name, source, file, line, read_file, read_line

@@ -7,6 +7,7 @@ settings in force (ConfJ, ConfL, AccSet, VelSet). A process move runs its motion
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from . import data as rd
@@ -59,16 +60,19 @@ def run_move(interp, spec: MoveSpec, a: Arguments, s: n.ProcCall, frame) -> None
         fail(interp.path, s.line, f"{s.name} takes at least {spec.least} arguments, given {len(a)}")
     kind = "jointtarget" if spec.kind == "absolute" else "robtarget"
     convert = rd.jointtarget if spec.kind == "absolute" else rd.robtarget
-    targets, names = [], []
+    targets, names, declared = [], [], []
     for k in spec.targets:
         node = a.node(k)
         if interp.undeclared(node, frame):
             fail(interp.path, s.line, f"unknown name '{node.name}'")
+        declared.append(_declared(node, frame))
         written = n.written(node)
         names.append(written if len(written) <= 60 else written[:57] + "...")
         targets.append(a.si(convert, a.value(k, kind, f"{s.name}'s target '{names[-1]}'"), f"'{names[-1]}'"))
     speed = a.si(rd.speed, a.value(spec.speed, "speeddata"), "the speeddata")
     speed, duration = _overrides(interp, a, speed, s)
+    if speed.v_tcp * 1000.0 > rd.TOP_TCP_SPEED or speed.v_ori > _TOP_ORI:
+        speed = _top_speed(interp, speed, s, n.written(a.node(spec.speed)))
     if s.key in WELDING and len(a) > spec.speed + 2:
         speed = _weld_speed(interp, a.value(spec.speed + 2), speed, s)
     zone = rd.FINE if spec.zone is None or a.has("Inpos") else a.si(rd.zone, a.value(spec.zone, "zonedata"),
@@ -86,8 +90,18 @@ def run_move(interp, spec: MoveSpec, a: Arguments, s: n.ProcCall, frame) -> None
     conf = state["conf_j"] if spec.kind == "joint" else state["conf_l"] if spec.kind != "absolute" else True
     interp.emit(Motion(spec.kind, s.name, interp.path, s.line, frame.routine.name, frame.chain(), tuple(targets),
                        tuple(names), speed, zone, tool, wobj, conf, state["accel"], state["ramp"], state["override"],
-                       state["vmax"], duration, 0.0, interp.pass_index))
+                       state["vmax"], duration, 0.0, interp.pass_index, tuple(declared)))
     _after(interp, s, a, spec, frame)
+
+
+def _declared(node, frame) -> str:
+    """``file:line`` of the data a target is or is built from (``Offs(p, ...)``: p's), "" where none."""
+    while isinstance(node, n.Call):
+        node = next((g.expr for g in node.args if not g.optional), None)
+    cell = frame.cells.get(node.key) or frame.module.get(node.key) if isinstance(node, n.Name) else None
+    cell = getattr(cell, "cell", cell)
+    named = getattr(cell, "file", "") and cell.kind != "in" and cell.type in ("robtarget", "jointtarget")
+    return f"{cell.file}:{cell.line}" if named else ""  # an IN parameter's is its call's: not said
 
 
 WELDING = {"arcl", "arcc", "arclend", "arccend"}  # the arc burns: the TCP goes at the welddata's weld_speed
@@ -107,12 +121,26 @@ def _weld_speed(interp, weld, speed: rd.Speed, s) -> rd.Speed:
     return speed
 
 
+_TOP_ORI = math.radians(rd.MAX_SPEED)  # rad/s: a turn faster than any axis, capped like the TCP's speed
+
+
+def _top_speed(interp, speed: rd.Speed, s, name: str) -> rd.Speed:
+    """A speed above the robot's top speed, run at the top speed as the controller runs it (one
+    warning per speeddata and task)."""
+    v = speed.v_tcp * 1000.0
+    if v > rd.TOP_TCP_SPEED:
+        interp.warn_once(("top speed", name.lower()), s.line,
+                         f"{s.name}: '{name}' asks {v:g} mm/s of the TCP: the controller limits it to the robot's "
+                         f"top speed, {rd.TOP_TCP_SPEED:g} mm/s, and so does rswarp (said once for '{name}')")
+    return rd.Speed(min(speed.v_tcp, rd.TOP_TCP_SPEED / 1000.0), min(speed.v_ori, _TOP_ORI))
+
+
 def _overrides(interp, a: Arguments, speed: rd.Speed, s) -> tuple[rd.Speed, float | None]:
     """``\\V`` (the TCP's speed, mm/s) and ``\\T`` (the move's time, s) of a move."""
     v = a.option("V", "num")
     if v is not None:
-        if not 0 < v <= rd.MAX_SPEED:
-            fail(interp.path, s.line, f"{s.name}: \\V must be above 0 and at most {rd.MAX_SPEED:g} mm/s, not {v:g}")
+        if not 0 < v < 1e30:
+            fail(interp.path, s.line, f"{s.name}: \\V must be above 0 mm/s, not {v:g}")
         speed = rd.Speed(v / 1000.0, speed.v_ori)
     t = a.option("T", "num")
     if t is not None and not 0 < t <= MAX_WAIT:

@@ -171,3 +171,21 @@ def _unit(a: Vec) -> Vec | None:
 
 def distance(a: Vec, b: Vec) -> float:
     return _length(_sub(a, b))
+
+
+def cross(a: Vec, b: Vec) -> Vec:
+    """The vector product (CrossProd, and RAPID's ``pos * pos``)."""
+    return _cross(a, b)
+
+
+def mir_pos(target: Rec, plane: Rec, mir_y: bool = False) -> Rec:
+    """MirPos: the robtarget mirrored in the xy-plane of the work object's frame (uframe then
+    oframe); the tool's x axis turned back (its y axis with \\MirY), so the frame stays right-handed."""
+    f = compose(frame(plane.vals[3]), frame(plane.vals[4]))
+    t, q = compose(invert(f), frame(target))
+    cols = [rotate(q, e) for e in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))]
+    cols = [(c[0], c[1], -c[2]) for c in cols]  # every axis mirrored in the plane
+    flip = 1 if mir_y else 0
+    cols[flip] = tuple(-c for c in cols[flip])
+    t2, q2 = compose(f, ((t[0], t[1], -t[2]), matrix_quat(cols)))
+    return Rec(target.type, (pos(t2), orient(q2)) + target.vals[2:])

@@ -11,20 +11,21 @@ import re
 from lark import Token
 
 from . import nodes as n
-from .build import DECLARATION_PARTS, JSON_VALUE, RUN_MARK, Builder, Run
+from .build import DECLARATION_PARTS, JSON_VALUE, NAME_RE, RUN_MARK, Builder, Run
 
 CALLS_MARK = "\x02"  # brackets a run that holds calls, which only a routine may hold
 
 # A declaration whose value is an aggregate of numbers written as JSON writes them (JSON's parser
 # checks it): a cheaper match than DECLARATION_PARTS, which the rest take.
-_NUMBERS_PARTS = re.compile(r"[ \t]*(?:(LOCAL|TASK)\s+)?(CONST|VAR|PERS)\s+([A-Za-z_]\w*)\s+([A-Za-z_]\w*)\s*:=\s*"
+_NUMBERS_PARTS = re.compile(r"[ \t]*(?:(LOCAL|TASK)\s+)?(CONST|VAR|PERS)\s+(" + NAME_RE + r")\s+(" + NAME_RE
+                            + r")\s*:=\s*"
                             r"(\[[-+\d.eE,\s\[\]]*\])\s*;", re.I)
 _START = re.compile(r"^[ \t]*(?:(?:(?:LOCAL|TASK)\s+)?(?:CONST|VAR|PERS)\s|(?:Move|Trigg|Arc|Search)\w*[ \t])",
                     re.I | re.M)
 _HEAD = re.compile(r"[ \t]*((?:Move|Trigg|Arc|Search)\w*)[ \t]+", re.I)
 _AFTER = re.compile(r"[ \t]*(?:(,)[ \t]*|(;)|(?=\\))")  # what may follow an argument
-_OPTION = re.compile(r"\\([A-Za-z_]\w*)[ \t]*(:=)?[ \t]*")
-_NAME = re.compile(r"[A-Za-z_]\w*")
+_OPTION = re.compile(r"\\(" + NAME_RE + r")[ \t]*(:=)?[ \t]*")
+_NAME = re.compile(NAME_RE)
 _NUMBER = re.compile(r"\d+(?:\.\d*)?(?:[eE][+-]?\d+)?")
 _NOT_NUMBERS = re.compile(r"[^-+\d.eE,\s\[\]]")
 _EMPTY = re.compile(r"\[\s*\]")

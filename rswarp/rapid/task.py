@@ -43,6 +43,7 @@ class Task:
     globals: dict[str, Symbol] = field(default_factory=dict)
     locals: dict[str, dict[str, Symbol]] = field(default_factory=dict)
     notes: list = field(default_factory=list)
+    signals: dict = field(default_factory=dict)  # lower-case name -> eio.Signal, from a backup's EIO.cfg
 
     def routine(self, name: str) -> nodes.Routine:
         """The entry routine: a global (or the only) PROC without parameters; an error for one that
@@ -139,8 +140,23 @@ def load_task(paths: list[str | Path]) -> Task:
         return _load_task(paths)
 
 
+def _io_configuration(paths: list[str | Path], notes: list) -> dict:
+    """The signals of the backup a folder given belongs to (its SYSPAR/EIO.cfg), said in a note."""
+    from .eio import find_eio, read_eio
+
+    for p in map(Path, paths):
+        cfg = find_eio(p) if p.is_dir() else None
+        if cfg is not None:
+            signals = read_eio(cfg)
+            notes.append(warning(str(cfg), 0, f"the I/O configuration: {len(signals)} signals read (their names are "
+                                              "signals in the task, at their default values unless --io sets them)"))
+            return signals
+    return {}
+
+
 def _load_task(paths: list[str | Path]) -> Task:
     files, notes = task_files(paths)
+    signals = _io_configuration(paths, notes)
     modules: list[nodes.Module] = []
     names: dict[str, nodes.Module] = {}
     total = 0
@@ -155,7 +171,7 @@ def _load_task(paths: list[str | Path]) -> Task:
                 fail(m.file, m.line, f"a second module '{m.name}': the first is at {other.file}:{other.line}")
             names[m.name.lower()] = m
             modules.append(m)
-    task = Task(modules, [str(f) for f in files], Types(), notes=notes)
+    task = Task(modules, [str(f) for f in files], Types(), notes=notes, signals=signals)
     for m in modules:
         for r in m.records:
             task.types.add_record(r.name, r.components)

@@ -12,7 +12,8 @@ from dataclasses import dataclass
 NUMBERS = {"num", "dnum", "byte", "intnum", "errnum", "dionum", "identno", "errdomain", "errtype", "opnum",
            "symnum", "event_type", "handler_type", "iounit_state", "signalorigin", "triggmode", "bool_num",
            "trapdata_num", "listitem", "paridnum", "paridvalidnum", "sensorstate", "opcalc", "icondata",
-           "buttondata", "btnres", "restartdata_num", "triggstatus"}
+           "buttondata", "btnres", "restartdata_num", "triggstatus", "socketstatus", "exec_level", "busstate",
+           "tunetype", "aiotrigg"}
 SIGNALS = {"signaldi", "signaldo", "signalgi", "signalgo", "signalai", "signalao"}
 MAX_ELEMENTS = 1_000_000  # elements of one array: memory stays bounded
 
@@ -136,7 +137,7 @@ class Types:
 
     def __init__(self):
         self.records = dict(RECORDS)
-        self.aliases: dict[str, str] = {}
+        self.aliases: dict[str, str] = {"errstr": "string", "stringdig": "string"}  # RAPID's own aliases
         self._converters: dict = {}
 
     def add_record(self, name: str, components) -> None:

@@ -38,12 +38,13 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                friction: float = FRICTION, environment: list[str] | None = None, frame_rate: float = FRAME_RATE,
                substeps: int = SUBSTEPS, cable_model: str = "rod", device: str = "cpu", ray: str | None = None,
                program: list[str] | None = None, routine: str = "main", io: list[str] | None = None,
-               cycles: int = 1, external_axes: str = "error", limits: str | None = None, video: str | None = None,
+               cycles: int = 1, external_axes: str = "auto", limits: str | None = None, video: str | None = None,
                video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
                tool: str | None = None, max_strain: float = MAX_STRAIN, static_bend_radius: float | None = None,
                max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
                max_clamp_load: float | None = None, rated_cycles: str | None = None,
-               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
+               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore,
+               inputs: list[str] | None = None) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
@@ -65,10 +66,10 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
     if program is not None:
-        from .program import program_plan, signal_values
+        from .program import input_values, program_plan, signal_values
 
         _, plan = program_plan(path, program, routine, io=signal_values(io), cycles=cycles,
-                                external_axes=external_axes, warn=warn, limits=limits)
+                                external_axes=external_axes, warn=warn, limits=limits, inputs=input_values(inputs))
     else:
         plan = None
     trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, seed, warn)

@@ -65,7 +65,7 @@ class DesignRow:
 
 def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], designs: int = 64,
                   cable: str | None = None, seed: int = 0, device: str = "cpu", ray: str | None = None,
-                  routine: str = "main", io: list[str] | None = None, cycles: int = 1, external_axes: str = "error",
+                  routine: str = "main", io: list[str] | None = None, cycles: int = 1, external_axes: str = "auto",
                   limits: str | None = None, floor: float | None = 0.0, environment: list[str] | None = None,
                   tool: str | None = None, min_bend_radius: float | None = None,
                   static_bend_radius: float | None = None, max_strain: float = MAX_STRAIN,
@@ -73,14 +73,14 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
                   max_clamp_load: float | None = None, density: float = DENSITY, poisson: float = POISSON,
                   friction: float = FRICTION, frame_rate: float = FRAME_RATE, substeps: int = SUBSTEPS,
                   min_margin: float = 0.0, progress: Callable[[float, float], None] | None = None,
-                  warn: Warn = ignore) -> Output:
+                  warn: Warn = ignore, inputs: list[str] | None = None) -> Output:
     """``rswarp dresspack``: ``designs`` designs of ``cable`` (``vary``: specs, or one TOML file of
     them) over the RAPID task ``programs``, ranked, written into ``out``: the chosen design is the
     shortest hose that passes with ``min_margin`` % to every rating; the other options as
     ``rswarp cable --program`` takes them (the robot file's length unit)."""
     opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
                         static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
-                        poisson, friction, frame_rate, substeps)
+                        poisson, friction, frame_rate, substeps, inputs)
     mech, _ = load_mechanism(path)
     k = _cable_index(mech, cable)
     variables = parse_vary(_specs(vary), mech.cables[k])
@@ -95,10 +95,11 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     ratings = ratings_of(mech, opts)
     check_cable_folder(out)
     options = cable_options(mech, opts, device)
-    from .program import program_plan, signal_values
+    from .program import input_values, program_plan, signal_values
 
     _, plan = program_plan(path, programs, opts.routine, io=signal_values(opts.io), cycles=opts.cycles,
-                           external_axes=opts.external_axes, warn=warn, limits=opts.limits)
+                           external_axes=opts.external_axes, warn=warn, limits=opts.limits,
+                           inputs=input_values(inputs))
     trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
     start = time.perf_counter()
     run = simulate_cables(mech, trajectories, len(chosen), None, options, progress=progress,

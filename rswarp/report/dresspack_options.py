@@ -23,7 +23,7 @@ class SweepOptions:
     routine: str = "main"
     io: list | None = None
     cycles: int = 1
-    external_axes: str = "error"
+    external_axes: str = "auto"
     limits: str | None = None
     floor: float | None = 0.0
     environment: list = field(default_factory=list)
@@ -39,6 +39,7 @@ class SweepOptions:
     friction: float = FRICTION
     frame_rate: float = FRAME_RATE
     substeps: int = SUBSTEPS
+    inputs: list | None = None  # --input NAME=VALUE: what the task's live reads give
 
 
 def cable_options(mech, o: SweepOptions, device: str, cable_model: str = "rod", record: int = -1) -> CableOptions:
@@ -77,6 +78,8 @@ def repeat_command(out: str, programs: list[str], o: SweepOptions, passed: bool)
     words += ["--no-floor"] if o.floor is None else ["--floor", f"{o.floor:g}"] if o.floor != 0.0 else []
     for pair in o.io or []:
         words += ["--io", pair]
+    for pair in o.inputs or []:
+        words += ["--input", pair]
     for env in o.environment or []:
         words += ["--env", env]
     return shlex.join(words)

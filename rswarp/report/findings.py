@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..findings import FAIL, Finding, at_time
+from ..kinematics.misses import declared_words
 from ..sim.program_check import SINGULAR, lowest_body
 from ..sim.tool import TCP_GAP, tcp_gap
 
@@ -83,17 +84,66 @@ ERROR_KINDS = (("out of reach", "unreachable"), ("reachable only outside", "join
                ("outside its limits", "joint_limit"), ("singularity", "singularity"))
 
 
-def error_findings(p) -> list[Finding]:
-    """Each move the robot could not make, once per line and reason, as a ``fail`` record."""
-    out, seen = [], set()
-    for move in p.moves:
-        if move.error is None or (move.motion.file, move.motion.line, move.error) in seen:
-            continue
-        seen.add((move.motion.file, move.motion.line, move.error))
-        kind = next((k for words, k in ERROR_KINDS if words in move.error), "target")
-        out.append(at_time(kind, f"{move.motion.instruction}: {move.error} (the move is skipped)", move.motion,
-                           move.start, severity=FAIL))
-    return out
+def skipped_finding(move) -> Finding:
+    """A move the robot could not make, as a ``fail`` record: how far beyond the reach or past
+    which limit its target is, where it has a figure."""
+    kind = next((k for words, k in ERROR_KINDS if words in move.error), "target")
+    s = getattr(move, "shortfall", None)
+    figures = {} if s is None else {"value": s.value, "limit": s.limit, "unit": s.unit, "joint": s.joint,
+                                    "advice": s.advice()}
+    return at_time(kind, f"{move.motion.instruction}: {move.error}; the move is skipped", move.motion, move.start,
+                   severity=FAIL, **figures)
+
+
+def grouped(found: list[tuple[dict, dict]]) -> list[dict]:
+    """Records (each with its move's record) of one kind at one move line and its links or joint
+    made one, in time order: the worst with ``count`` and ``times_s``, its text saying where the
+    move's target is declared, how many times, in which passes of the main loop and, where the
+    figures differ, from what to what."""
+    groups: dict = {}
+    for f, move in found:
+        key = (f["file"], f["line"], f["kind"], f["severity"], tuple(f["links"]), f["joint"])
+        groups.setdefault(key, []).append((f, move))
+    out = []
+    for members in groups.values():
+        records = [f for f, _ in members]
+        worst = max(records, key=_past)
+        times = [f["t_s"] for f in records]
+        text = worst["text"] + declared_words(members[0][1]["target"].split(", ")[-1], worst.get("declared"))
+        if len(records) > 1:
+            text += f" ({_times(records, [m['cycle'] for _, m in members])})"
+        out.append(dict(worst, text=text, count=len(records), times_s=times))
+    return sorted(out, key=lambda f: min((t for t in f["times_s"] if t is not None), default=np.inf))
+
+
+def _past(f: dict) -> float:
+    """How far a record's figure is past its bound (0 where it has none)."""
+    return abs(f["value"] - f["limit"]) if f["value"] is not None and f["limit"] is not None else 0.0
+
+
+def _times(records: list[dict], cycles: list[int]) -> str:
+    """``12 times, passes 1-3; 7 to 80 mm, the worst shown``: the count, the main loop's passes where there are
+    several, and the spread of the figures where they differ (the worst is the one shown)."""
+    text = f"{len(records)} times"
+    passes = sorted({c + 1 for c in cycles})
+    if len(passes) > 1:
+        runs = passes[-1] - passes[0] + 1 == len(passes)
+        text += f", passes {passes[0]}-{passes[-1]}" if runs else f", passes {', '.join(map(str, passes))}"
+    figured = [_past(f) for f in records if f["value"] is not None and f["limit"] is not None]
+    if figured:
+        low, high = (_figure(v, records[0]["unit"]) for v in (min(figured), max(figured)))
+        if low != high:
+            text += f"; {low.split()[0] if low.split()[-1] == high.split()[-1] else low} to {high}, the worst shown"
+    return text
+
+
+def _figure(v: float, unit: str | None) -> str:
+    """A figure in the words a programmer reads: mm, degrees, seconds."""
+    if unit == "m":
+        return f"{1000 * v:.0f} mm" if 1000 * v >= 9.95 else f"{1000 * v:.1f} mm"
+    if unit == "rad":
+        return f"{np.degrees(v):.1f}°"
+    return f"{v:.2f} s" if unit == "s" else f"{v:.3g}"
 
 
 TCP_MATCH = (1e-3, np.radians(1.0))  # m, rad: a tooldata this near a Tool mechanism's own TCP matches it

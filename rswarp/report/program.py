@@ -24,11 +24,11 @@ from ..rsxml.robot_data import axis_limits
 from ..sim.bodies import placed_environments
 from ..sim.program_check import check_program
 from ..sim.tool import load_tool
-from .findings import error_findings, move_findings, tool_findings
+from .findings import grouped, move_findings, skipped_finding, tool_findings
 from .output import Output, Warn, ignore, json_safe
 from .program_text import program_text
 
-EXTERNAL_AXES = ("error", "ignore")
+EXTERNAL_AXES = ("auto", "error", "ignore")
 
 
 def signal_values(pairs: list[str] | None) -> dict[str, float]:
@@ -46,9 +46,22 @@ def signal_values(pairs: list[str] | None) -> dict[str, float]:
     return out
 
 
+def input_values(pairs: list[str] | None) -> dict[str, list[str]]:
+    """``--input NAME=VALUE`` options as each name's values in order; an InputError for one that
+    is not NAME=VALUE."""
+    out: dict[str, list[str]] = {}
+    for pair in pairs or []:
+        name, sep, value = pair.partition("=")
+        if not sep or not name.strip().replace("_", "a").isalnum():
+            raise InputError(f"--input takes NAME=VALUE (the data a live read stores into, and its value), not "
+                             f"'{pair}'")
+        out.setdefault(name.strip(), []).append(value)
+    return out
+
+
 def program_plan(path: str, programs, routine: str = "main", device: str = "cpu", io: dict | None = None,
-                 cycles: int = 1, external_axes: str = "error", warn: Warn = ignore, strict: bool = True,
-                 limits: str | None = None):
+                 cycles: int = 1, external_axes: str = "auto", warn: Warn = ignore, strict: bool = True,
+                 limits: str | None = None, inputs: dict | None = None):
     """(mechanism, plan) of ``routine`` of the RAPID task in ``programs`` (module files, folders,
     .pgf files) on the robot at ``path``; with ``strict`` an RsxmlError lists every target the
     robot cannot take."""
@@ -59,20 +72,23 @@ def program_plan(path: str, programs, routine: str = "main", device: str = "cpu"
     mech, _ = load_mechanism(path)
     task = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
     planner = Planner(Kinematics(mech, device), external_axes=external_axes, limits=axis_limits(mech, limits))
-    run = Interpreter(task, planner, io, int(cycles)).run(routine)
+    run = Interpreter(task, planner, io, int(cycles), inputs).run(routine)
     plan = planner.finish(run)
     for w in (*run.warnings, *planner.notes):
         warn(str(w))
+    if run.stopped is not None:
+        warn(str(run.stopped))
     if strict and plan.errors:
         raise RsxmlError(list(plan.errors))
     return mech, plan
 
 
 def run_program(path: str, programs: list[str], routine: str = "main", csv: str | None = None,
-                io: list[str] | None = None, cycles: int = 1, external_axes: str = "error",
+                io: list[str] | None = None, cycles: int = 1, external_axes: str = "auto",
                 environment: list[str] | None = None, collision_matrix: str | None = None, floor: float = 0.0,
                 video: str | None = None, video_size: int = 512, device: str = "cpu", ray: str | None = None,
-                limits: str | None = None, tool: str | None = None, progress=None, warn: Warn = ignore) -> Output:
+                limits: str | None = None, tool: str | None = None, progress=None, warn: Warn = ignore,
+                inputs: list[str] | None = None) -> Output:
     """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory.
     Targets the robot cannot take are all reported (exit 1), with the rest of the report."""
     from ..export.srdf import read_srdf
@@ -84,14 +100,14 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
         from .videos import claim_video
 
         claim_video(video)
-    signals = signal_values(io)
+    signals, given = signal_values(io), input_values(inputs)
     robot, _ = load_mechanism(path)  # every option and input checked before any work
     floor = checked("floor", robot.si_length(floor))
     env = placed_environments(robot, environment or [])
     mounted = load_tool(robot, tool)
     disabled = read_srdf(collision_matrix, robot.link_names) if collision_matrix else ()
     mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
-                           cycles, external_axes, warn, strict=False, limits=limits)
+                           cycles, external_axes, warn, strict=False, limits=limits, inputs=given)
     if p.errors:
         doc = _document(mech, p, None, [], None, csv=None)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
@@ -110,24 +126,26 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
 
 
 def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, tools=None, tool=None) -> dict:
-    """The run as data (SI): its moves with their findings as records, and every finding (the
-    targets it could not take included) in time order."""
+    """The run as data (SI): its moves with their findings as records (a target it could not take
+    among them), and every finding once per move line, kind and links, counted, in time order."""
     run = p.run
     ends = _move_ends(Kinematics(mech), p)
     moves = [_move(mech, p, m, tally, names, floor, ends[k], tools) for k, m in enumerate(p.moves)]
     for f in tool_findings(p, tool):  # the tooldata against the tool, at the first move that used it
         next(m for m in moves if (m["file"], m["line"]) == (f.file, f.line))["findings"].append(f.record())
-    found = [f for m in moves for f in m["findings"]] + [f.record() for f in error_findings(p)]
+    found = grouped([(f, m) for m in moves for f in m["findings"]])
     cycle = run.cycle
     return {"robot": mech.name, "files": list(run.files), "routine": run.routine,
             "duration_s": float(p.times[-1]), "cycle_s": p.cycle_s, "cycles_s": list(p.cycles),
             "main_loop": f"{cycle.file}:{cycle.line}" if cycle is not None and cycle.endless else None,
             "samples": len(p.times), "statements": run.statements, "axis_limits": _limits_dict(p.limits),
             "targets": [{"name": t.name, "file": t.file, "line": t.line, "joints": t.joints, "conf": t.conf,
-                         "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin} for t in p.targets],
+                         "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin,
+                         "ignored": t.ignored} for t in p.targets],
             "tool": None if tool is None else {"name": tool.name, "given": tool.source},
-            "moves": moves, "findings": sorted(found, key=lambda f: f["t_s"]),
+            "moves": moves, "findings": found,
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
+            "stopped": str(run.stopped) if run.stopped is not None else None, "needs_input": run.needs_input,
             "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
 
 
@@ -157,11 +175,20 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
     m = move.motion
     out = {"file": m.file, "line": m.line, "routine": m.routine, "chain": list(m.chain), "instruction": m.instruction,
            "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
-           "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2],
+           "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2], "target_m": _target_m(m),
+           "declared": (m.declared[-1] or None) if m.declared else None,
            "findings": [f.record() for f in move_findings(mech, p, move, tally, names, floor, tools)]}
     if move.error:
         out["error"] = move.error
+        out["findings"].append(skipped_finding(move).record())
     return out
+
+
+def _target_m(m) -> list[float] | None:
+    """A robtarget move's target as resolved: its position in the move's work object (m)."""
+    if m.kind in ("wait", "absolute") or not m.targets:
+        return None
+    return [float(v) for v in m.targets[-1].pose.trans]
 
 
 def trajectory_csv(mech, p: Plan) -> str:

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .findings import grouped
+
 MAX_ROWS = 200  # moves shown one by one; a longer task's table is cut, its findings are not
 
 
@@ -16,24 +18,22 @@ def program_text(mech, doc: dict) -> str:
     routines = len({m["routine"] for m in moves}) > 1
     lines = [_head(doc, files)]
     rows = [["line" if not several else "file:line"] + (["routine"] if routines else []) +
-            ["instruction", "target", "start [s]", "duration [s]", "findings"]]
+            ["instruction", "target", "resolved [mm]", "start [s]", "duration [s]", "findings"]]
     for m in moves[:MAX_ROWS]:
         where = f"{Path(m['file']).name}:{m['line']}" if several else str(m["line"])
         count = "error" if m.get("error") else str(len(m["findings"])) if m["findings"] else "-"
         rows.append([where] + ([m["routine"]] if routines else []) +
-                    [m["instruction"], m["target"], f"{m['start_s']:.2f}", f"{m['end_s'] - m['start_s']:.2f}", count])
+                    [m["instruction"], m["target"], _resolved(m), f"{m['start_s']:.2f}",
+                     f"{m['end_s'] - m['start_s']:.2f}", count])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
     if len(moves) > MAX_ROWS:
         lines.append(f"... {len(moves) - MAX_ROWS} more moves and waits (--json lists them all)")
-    found = [f for m in moves for f in m["findings"]]
-    fails = sum(1 for f in found if f["severity"] == "fail")
-    lines.append(f"findings: {len(found)} ({fails} fail, {len(found) - fails} warn)" if found else "findings: none")
-    lines += [f"  {_where(f, several)}: {f['severity']}: {f['text']}" for f in found[:MAX_ROWS]]
-    if len(found) > MAX_ROWS:
-        lines.append(f"  ... {len(found) - MAX_ROWS} more (--json lists them all)")
+    lines += _findings(moves, several)
     if doc["errors"]:
         lines.append(f"errors: {len(doc['errors'])} (targets the robot cannot take; their moves are skipped)")
+    if doc.get("stopped"):
+        lines.append(f"stopped: {doc['stopped']} (every move before it is planned and timed)")
     if doc["csv"]:
         lines.append(f"trajectory: {doc['csv']}")
     if doc.get("video"):
@@ -48,7 +48,9 @@ def _head(doc: dict, files: list[str]) -> str:
     head = (f"{doc['robot']}: {doc['routine']} of {source}, {count} move{'s' * (count != 1)}, "
             f"{doc['duration_s']:.2f} s in all (zones blended; fine stops)")
     passes = doc["cycles_s"]
-    if doc["main_loop"]:
+    if doc["cycle_s"] is None:
+        head += "\ncycle: none: the run stopped before a pass ended (see 'stopped' below)"
+    elif doc["main_loop"]:
         loop = doc["main_loop"]
         where = f"{Path(loop.rsplit(':', 1)[0]).name}:{loop.rsplit(':', 1)[1]}"
         what = f"one pass of the main loop at {where}"
@@ -69,6 +71,29 @@ def _head(doc: dict, files: list[str]) -> str:
 def _seconds(values: list[float], shown: int = 6) -> str:
     text = ", ".join(f"{v:.2f}" for v in values[:shown])
     return text + (f", ... ({len(values) - shown} more)" if len(values) > shown else "")
+
+
+def _findings(moves: list[dict], several: bool) -> list[str]:
+    """The findings of the moves made (a target the robot could not take is an error, said
+    apart), one line per move line, kind and links, with how many times."""
+    found = [(f, m) for m in moves if not m.get("error") for f in m["findings"]]
+    if not found:
+        return ["findings: none"]
+    fails = sum(1 for f, _ in found if f["severity"] == "fail")
+    shown = grouped(found)
+    head = f"findings: {len(found)} ({fails} fail, {len(found) - fails} warn)"
+    if len(shown) < len(found):
+        head += f" at {len(shown)} place{'s' * (len(shown) != 1)}"
+    lines = [head] + [f"  {_where(f, several)}: {f['severity']}: {f['text']}" for f in shown[:MAX_ROWS]]
+    if len(shown) > MAX_ROWS:
+        lines.append(f"  ... {len(shown) - MAX_ROWS} more (--json lists them all)")
+    return lines
+
+
+def _resolved(m: dict) -> str:
+    """The move's target as resolved (its TCP's end for a MoveAbsJ), in its work object, mm."""
+    at = m.get("target_m") or (m.get("tcp_m") if m["kind"] == "absolute" else None)
+    return "-" if at is None else "[" + ", ".join(f"{1000 * v:.1f}" for v in at) + "]"
 
 
 def _where(m: dict, several: bool) -> str:
