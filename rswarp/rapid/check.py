@@ -110,7 +110,8 @@ class _Routine:
         for a in s.args:
             plain = not a.optional and a.name is None
             role = _role(spec, index, count) if spec is not None and plain else \
-                _OPTION_ROLES.get(a.name.lower()) if spec is not None and a.optional else None
+                _OPTION_ROLES.get(a.name.lower()) if spec is not None and a.optional else \
+                _typed(words.positions(s.key), index) if routine is None and plain else None
             index += plain
             self.expr(a.expr, s.line, role=role)
 
@@ -149,8 +150,13 @@ class _Routine:
             self.arguments(routine, e.args, e.line)
         elif words.word(e.key) is None and e.key not in _FUNCTIONS:
             return  # an option's function: only the option knows what its arguments name
+        places = words.positions(e.key) if routine is None else ()
+        index = 0
         for a in e.args:
-            self.expr(a.expr, e.line)
+            plain = not a.optional and a.name is None
+            role = _typed(places, index) if plain else None
+            index += plain
+            self.expr(a.expr, e.line, role=role)
 
     def name(self, e: n.Name, line: int, declared: bool, role: str | None = None) -> None:
         """A name declared nowhere: an error, unless it is read where a signal may stand (the I/O
@@ -186,6 +192,16 @@ _HOMES = {"tooldata": "tools usually live in CalibData.mod or user.sys",
           "jointtarget": "targets live in the program's modules or a module of targets",
           "speeddata": "speeds usually live in user.sys or a module of data",
           "zonedata": "zones usually live in user.sys or a module of data"}
+
+
+def _typed(places, index: int) -> str | None:
+    """The record type the manual gives a built-in's argument ``index``, where it is one whose
+    home this says (a robtarget, a tooldata, ...): never a signal."""
+    if index < len(places):
+        types = {p.type.lower() for p in places[index]}
+        if len(types) == 1 and next(iter(types)) in _HOMES:
+            return next(iter(types))
+    return None
 
 
 def _lives(role: str | None) -> str:

@@ -70,10 +70,14 @@ def _round(interp, a: Arguments, trunc: bool = False) -> float:
 
 
 def _numtostr(interp, a: Arguments) -> str:
+    """NumToStr: ``dec`` decimals, the last rounded half away from zero as the controller rounds."""
     a.need(2)
-    x, dec = a.number(0), int(a.number(1))
-    text = f"{x:.{max(dec, 0)}E}" if a.has("Exp") else f"{x:.{max(dec, 0)}f}"
-    return text
+    x, dec = a.number(0), max(int(a.number(1)), 0)
+    if a.has("Exp"):
+        return f"{x:.{dec}E}"
+    f = 10.0 ** dec
+    rounded = math.floor(abs(x) * f + 0.5 + 1e-9) / f
+    return f"{math.copysign(rounded, x) if rounded else 0.0:.{dec}f}"
 
 
 def _strpart(interp, a: Arguments) -> str:
@@ -95,15 +99,25 @@ def _strfind(interp, a: Arguments) -> float:
 
 
 def _valtostr(interp, a: Arguments) -> str:
+    """ValToStr: a value written as RAPID writes it (a num to 6 significant digits, a record as its
+    aggregate ``[100,250,0]``), at most RAPID's 80 characters."""
     a.need(1)
     v = a.value(0)
-    if isinstance(v, float):
-        return f"{v:g}"
+    return v if isinstance(v, str) else rapid_text(v)[:80]
+
+
+def rapid_text(v) -> str:
     if isinstance(v, bool):
         return "TRUE" if v else "FALSE"
+    if isinstance(v, float):
+        return f"{v:.6g}".upper()
     if isinstance(v, str):
-        return v
-    return repr(v)[:80]
+        return f'"{v}"'
+    if isinstance(v, Rec):
+        return "[" + ",".join(rapid_text(x) for x in v.vals) + "]"
+    if isinstance(v, Arr):
+        return "[" + ",".join(rapid_text(x) for x in v.items) + "]"
+    return describe(v)
 
 
 def _bits(fn, count: int):
@@ -288,7 +302,7 @@ FUNCTIONS = {
     "bitand": _bits(lambda x, y: x & y, 2), "bitor": _bits(lambda x, y: x | y, 2),
     "bitxor": _bits(lambda x, y: x ^ y, 2), "bitneg": _bits(lambda x: ~x & 0xFF, 1),
     "bitlsh": _bits(lambda x, k: (x << k) & 0xFF, 2), "bitrsh": _bits(lambda x, k: x >> k, 2),
-    "bitcheck": lambda i, a: bool(int(a.number(0)) >> (int(a.number(1)) - 1) & 1),
+    "bitcheck": lambda i, a: _bits(lambda x, k: (x >> (k - 1)) & 1 if 1 <= k <= 64 else 0, 2)(i, a) == 1.0,
     "offs": _offs, "reltool": _reltool,
     "orientzyx": lambda i, a: poses.orient_zyx(a.number(0), a.number(1), a.number(2)),
     "eulerzyx": _euler, "posemult": lambda i, a: poses.pose_mult(a.value(0, "pose"), a.value(1, "pose")),

@@ -14,6 +14,7 @@ from ..errors import InputError, RsxmlError
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..kinematics.program import Plan, Planner
+from ..kinematics.targets import joint_values
 from ..kinematics.tcp import frames
 from ..options import checked
 from ..outputs import claim, record
@@ -129,8 +130,10 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
     """The run as data (SI): its moves with their findings as records (a target it could not take
     among them), and every finding once per move line, kind and links, counted, in time order."""
     run = p.run
-    ends = _move_ends(Kinematics(mech), p)
-    moves = [_move(mech, p, m, tally, names, floor, ends[k], tools) for k, m in enumerate(p.moves)]
+    kin = Kinematics(mech)
+    ends = _move_ends(kin, p)
+    moves = [_move(mech, p, m, tally, names, floor, ends[k] + (_target_m(kin, m.motion),), tools)
+             for k, m in enumerate(p.moves)]
     for f in tool_findings(p, tool):  # the tooldata against the tool, at the first move that used it
         next(m for m in moves if (m["file"], m["line"]) == (f.file, f.line))["findings"].append(f.record())
     found = grouped([(f, m) for m in moves for f in m["findings"]])
@@ -175,7 +178,7 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
     m = move.motion
     out = {"file": m.file, "line": m.line, "routine": m.routine, "chain": list(m.chain), "instruction": m.instruction,
            "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
-           "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2], "target_m": _target_m(m),
+           "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2], "target_m": end[3],
            "declared": (m.declared[-1] or None) if m.declared else None,
            "findings": [f.record() for f in move_findings(mech, p, move, tally, names, floor, tools)]}
     if move.error:
@@ -184,11 +187,22 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
     return out
 
 
-def _target_m(m) -> list[float] | None:
-    """A robtarget move's target as resolved: its position in the move's work object (m)."""
-    if m.kind in ("wait", "absolute") or not m.targets:
+def _target_m(kin, m) -> list[float] | None:
+    """A move's target as resolved: a robtarget's position in the move's work object (m), or where
+    a jointtarget puts the TCP in it; None for a wait or a jointtarget the robot cannot take."""
+    if m.kind == "wait" or not m.targets:
         return None
-    return [float(v) for v in m.targets[-1].pose.trans]
+    if m.kind != "absolute":
+        return [float(v) for v in m.targets[-1].pose.trans]
+    q, why = joint_values(kin.mech, m.targets[0], m.names[0])
+    if q is None or why is not None or m.tool is None:
+        return None
+    try:
+        fr = frames(kin.mech, m.tool, m.wobj)
+    except ValueError:
+        return None
+    link, offset = kin.flange_frame()
+    return [float(v) for v in fr.relative(kin.fk64(q[None])[:, link] @ offset)[0, :3, 3]]
 
 
 def trajectory_csv(mech, p: Plan) -> str:

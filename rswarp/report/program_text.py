@@ -91,8 +91,8 @@ def _findings(moves: list[dict], several: bool) -> list[str]:
 
 
 def _resolved(m: dict) -> str:
-    """The move's target as resolved (its TCP's end for a MoveAbsJ), in its work object, mm."""
-    at = m.get("target_m") or (m.get("tcp_m") if m["kind"] == "absolute" else None)
+    """The move's target as resolved (where a jointtarget puts the TCP), in its work object, mm."""
+    at = m.get("target_m")
     return "-" if at is None else "[" + ", ".join(f"{1000 * v:.1f}" for v in at) + "]"
 
 
