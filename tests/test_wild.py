@@ -112,16 +112,17 @@ def test_a_socket_loop_stops_where_the_motion_first_needs_what_the_socket_gives(
     assert not any("StrPart" in w or "StrFind" in w or "StrToVal" in w for w in (*warned, *doc["errors"]))
 
 
-def test_a_socket_loop_makes_a_pass_for_each_value_given_then_stops_again():
-    """Two values of receive_string: two picks at the places they say, the third receive stops the
-    run at the same line."""
+def test_a_socket_loop_makes_a_pass_for_each_value_given():
+    """Two values of receive_string: the main loop runs on while values are left (past --cycles 1),
+    two picks at the places they say, then the loop ends as a main loop does."""
     doc, _, code, warned = program("socket_pick", inputs=("receive_string=950,120", "receive_string=1000,-150"))
     assert code == 0 and not doc["errors"]
-    assert doc["stopped"].endswith(SOCKET_STOP)
+    assert doc["stopped"] is None and len(doc["cycles_s"]) == 2
     assert len(moves(doc)) == 1 + 2 * 6
     picks = at_line(doc, 38)
     assert len(picks) == 2 and near(picks[0], [950, 120, 400]) and near(picks[1], [1000, -150, 400])
-    assert all(near(m, [850, -300, 450]) for m in at_line(doc, 44))
+    places = at_line(doc, 43)
+    assert len(places) == 2 and all(near(m, [850, -300, 450]) for m in places)
     assert not any("--input receive_string" in w for w in warned)
 
 
@@ -166,14 +167,14 @@ def test_operator_reads_given_every_value_run_to_the_end():
 # -- every RAPID word known -----------------------------------------------------------------------------------------
 
 def test_words_that_cannot_change_the_motion_are_silent_and_an_options_procedure_is_one_warning():
-    """File I/O, RenameFile, raw bytes, ErrLog, TPWrite, IError run as nothing without a word; PmDoAction
-    (PickMaster's, its module absent) is skipped with one warning for its two calls; PmGetPartCount,
+    """File I/O, RenameFile, raw bytes, ErrLog, TPWrite, IError run as nothing without a word;
+    CellGripAction (a cell module's, absent) is skipped with one warning for its two calls; PmGetPartCount,
     a function no one defines, is unknown and harms nothing the motion does not need."""
     path = WILD / "silent_words.mod"
     _, run = interpret(path)
     assert run.stopped is None and sum(m.kind != "wait" for m in run.motions) == 3
     assert not [w for w in run.warnings if 20 <= w.line <= 29], [str(w) for w in run.warnings]
-    options = [w for w in run.warnings if "PmDoAction" in w.message]
+    options = [w for w in run.warnings if "CellGripAction" in w.message]
     assert len(options) == 1 and options[0].line == 30
 
 

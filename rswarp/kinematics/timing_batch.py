@@ -2,10 +2,12 @@
 a few array operations over many moves at once, the same arithmetic in the same order, so the
 same times and joints, for a fraction of the per-move cost of NumPy on small arrays.
 
-Linear and circular moves are padded to a common number of probes per bucket (powers of two):
-a padded probe repeats the last one and is kept out of the speed curve's passes. Each result is
-``(t, q, share)`` as the one-move function returns it, or the ``TooLong`` it raises; moves with
-``\\T`` (the time given) are left to the one-move functions."""
+Linear and circular moves are padded to a common number of probes per bucket (at most an eighth
+more than their own): a padded probe repeats the last one and is kept out of the speed curve's
+passes. Samples of all moves are laid end to end; each lookup ``np.interp`` and
+``np.searchsorted`` would make is found from an estimate set right by exact comparisons. Each
+result is ``(t, q, share)`` as the one-move function returns it, or the ``TooLong`` it raises;
+moves with ``\\T`` (the time given) are left to the one-move functions."""
 
 from __future__ import annotations
 
@@ -17,49 +19,135 @@ from . import timing
 def path_moves(steps, limits, rate: float) -> dict:
     """{id(step): (t, q, share) or TooLong} of the linear and circular steps timed by their
     speed data."""
-    todo = [s for s in steps if s.kind == "path" and len(s.u) >= 2 and s.motion.duration is None]
     buckets: dict = {}
-    for s in todo:
-        n = max(len(s.u), 3)  # two probes get a third between them (``timing.split_single``)
-        buckets.setdefault(max(16, 1 << (n - 1).bit_length()), []).append(s)
+    for s in steps:
+        if s.kind == "path" and len(s.u) >= 2 and s.motion.duration is None:
+            buckets.setdefault(bucket_size(max(len(s.u), 3)), []).append(s)  # two probes get a third
     out: dict = {}
     for size, group in buckets.items():
         _path_bucket(group, size, limits, rate, out)
     return out
 
 
+def bucket_size(n: int) -> int:
+    """The padded length of a row of ``n`` probes: 16 at least, at most an eighth more than n."""
+    if n <= 16:
+        return 16
+    grain = 1 << max((n - 1).bit_length() - 3, 0)
+    return -(-n // grain) * grain
+
+
 def _path_bucket(group: list, size: int, limits, rate: float, out: dict) -> None:
     """Steps of at most ``size`` probes each, timed in (moves, size) arrays."""
-    count, dof = len(group), len(limits.velocity)
-    u_all, q_all = np.empty((count, size)), np.empty((count, size, dof))
-    n = np.empty(count, int)
-    nominal, accel = np.empty(count), np.empty(count)
-    speeds, axis_accel = np.empty((count, dof)), np.empty((count, dof))
-    for r, s in enumerate(group):
-        u, q = timing.split_single(s.u, s.q)
-        k = n[r] = len(u)
-        u_all[r, :k], u_all[r, k:] = u, u[-1]
-        q_all[r, :k], q_all[r, k:] = q, q[-1]
-        m = s.motion
-        v_tcp, v_ori = timing.tcp_speeds(m)
-        nominal[r] = min(v_tcp / s.length if s.length > 0 else np.inf, v_ori / s.turn if s.turn > 0 else np.inf)
-        accel[r] = nominal[r] * m.accel / timing.ACCEL_TIME
-        speeds[r] = limits.velocity * m.override
-        axis_accel[r] = limits.acceleration * m.accel
+    split = [timing.split_single(s.u, s.q) for s in group]
+    n = np.array([len(u) for u, _ in split])
+    u_all = _padded(np.concatenate([u for u, _ in split]), n, size)
+    q_all = _padded(np.concatenate([q for _, q in split]), n, size)
+    motions = [s.motion for s in group]
+    v_tcp, v_ori = np.array([timing.tcp_speeds(m) for m in motions]).T
+    length, turn = np.array([s.length for s in group]), np.array([s.turn for s in group])
+    accel_set, override = np.array([m.accel for m in motions]), np.array([m.override for m in motions])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        nominal = np.minimum(np.where(length > 0, v_tcp / length, np.inf), np.where(turn > 0, v_ori / turn, np.inf))
+    accel = nominal * accel_set / timing.ACCEL_TIME
+    speeds = limits.velocity[None, :] * override[:, None]
+    axis_accel = limits.acceleration[None, :] * accel_set[:, None]
     v = speed_curves(u_all, q_all, n, nominal, speeds, accel, axis_accel)
     at_probe = path_times(u_all, v)
-    for r, s in enumerate(group):
-        k = n[r]
-        try:
-            t = timing.samples(float(at_probe[r, k - 1]), rate)
-        except timing.TooLong as exc:
-            out[id(s)] = exc
-            continue
-        u, q = u_all[r, :k], q_all[r, :k]
-        along = np.interp(t, at_probe[r, :k], u)
-        j = np.clip(np.searchsorted(u, along, side="right"), 1, k - 1)  # along lies in [u[j-1], u[j]]
-        w = ((along - u[j - 1]) / (u[j] - u[j - 1]))[:, None]
-        out[id(s)] = (t, q[j - 1] * (1.0 - w) + q[j] * w, along)
+    grid = Grid(at_probe[np.arange(len(group)), n - 1], rate)
+    along = grid.interp(at_probe, u_all, n)
+    k = grid.row_index(u_all, n, along)  # along lies in [u[k-1], u[k]]
+    lo, hi = u_all[grid.row, k - 1], u_all[grid.row, k]
+    w = ((along - lo) / (hi - lo))[:, None]
+    seg = q_all[grid.row, k - 1] * (1.0 - w) + q_all[grid.row, k] * w
+    grid.hand_out(group, out, seg, along)
+
+
+def _padded(flat: np.ndarray, n: np.ndarray, size: int) -> np.ndarray:
+    """Rows of ``n`` values each (laid end to end in ``flat``) in a (rows, size, ...) array, each
+    padded with its last value."""
+    ends = np.cumsum(n)
+    out = np.repeat(flat[ends - 1][:, None], size, axis=1)
+    row = np.repeat(np.arange(len(n)), n)
+    out[row, np.arange(len(flat)) - (ends - n)[row]] = flat
+    return out
+
+
+class Grid:
+    """The sample times of moves of ``durations`` at ``rate`` (``timing.samples`` of each), laid
+    end to end: ``t``, the move of each (``row``), where each move's start (``first``); moves too
+    long for a trajectory keep their ``TooLong``."""
+
+    def __init__(self, durations: np.ndarray, rate: float):
+        self.durations, self.rate = durations, rate
+        self.long = ~(durations * rate <= timing.MAX_SAMPLES)
+        with np.errstate(invalid="ignore", over="ignore"):
+            count = np.where(self.long, 0, np.maximum(np.ceil(durations * rate), 1)).astype(int)
+        self.count, self.step = count, durations / np.maximum(count, 1)
+        self.row = np.repeat(np.arange(len(count)), count)
+        ends = np.cumsum(count)
+        self.first = ends - count
+        self.index = np.arange(len(self.row)) - self.first[self.row] + 1  # 1 to count within its move
+        self.t = self.at(self.row, self.index)
+
+    def at(self, row: np.ndarray, i: np.ndarray) -> np.ndarray:
+        """Sample ``i`` (0 to count) of moves ``row``: ``np.linspace(0, d, count + 1)``'s values."""
+        return np.where(i == self.count[row], self.durations[row], i * self.step[row])
+
+    def interp(self, at: np.ndarray, u: np.ndarray, n: np.ndarray) -> np.ndarray:
+        """``np.interp(t, at[r, :n[r]], u[r, :n[r]])`` of each move's samples, row ``r`` its move's."""
+        j = self._probe_before(at, n)
+        rows, last = self.row, n[self.row] - 1
+        jj = np.minimum(j, last - 1)
+        a0, a1 = at[rows, jj], at[rows, jj + 1]
+        u0, u1 = u[rows, jj], u[rows, jj + 1]
+        out = (u1 - u0) / (a1 - a0) * (self.t - a0) + u0
+        out = np.where(at[rows, j] == self.t, u[rows, j], out)
+        return np.where(j == last, u[rows, last], out)
+
+    def _probe_before(self, at: np.ndarray, n: np.ndarray) -> np.ndarray:
+        """Per sample, the last probe of its move at or before it (probe times ``at``, rows sorted)."""
+        prow = np.repeat(np.arange(len(n)), n)
+        pk = np.arange(len(prow)) - (np.cumsum(n) - n)[prow]
+        keep = ~self.long[prow]
+        prow, a = prow[keep], at[prow[keep], pk[keep]]
+        # the first sample at or after each probe: an estimate, set right by comparing
+        with np.errstate(divide="ignore", invalid="ignore"):
+            first = np.clip(np.nan_to_num(np.ceil(a / self.step[prow]), nan=1.0), 1, self.count[prow]).astype(int)
+        while True:
+            down = (first > 1) & (self.at(prow, first - 1) >= a)
+            up = (first < self.count[prow]) & (self.at(prow, first) < a)
+            if not (down.any() or up.any()):
+                break
+            first += up.astype(int) - down.astype(int)
+        counted = np.cumsum(np.bincount(self.first[prow] + first - 1, minlength=len(self.t)))
+        before = np.concatenate([[0], counted])[self.first]  # probes counted before each move's samples
+        return counted - before[self.row] - 1
+
+    def row_index(self, u: np.ndarray, n: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """``np.clip(np.searchsorted(u[r, :n[r]], x, side="right"), 1, n[r] - 1)`` per sample."""
+        rows, top = self.row, n[self.row]
+        step = u[rows, 1] - u[rows, 0]
+        k = np.clip(np.floor(x / step).astype(int) + 1, 1, top - 1)
+        while True:
+            up = (k < top) & (u[rows, np.minimum(k, top - 1)] <= x)
+            down = (k > 0) & (u[rows, np.maximum(k - 1, 0)] > x)
+            if not (up.any() or down.any()):
+                break
+            k += up.astype(int) - down.astype(int)
+        return np.clip(k, 1, top - 1)
+
+    def hand_out(self, steps: list, out: dict, q: np.ndarray, share: np.ndarray) -> None:
+        """Each move's (t, q, share) of the rows laid end to end, or its TooLong."""
+        for r, s in enumerate(steps):
+            if self.long[r]:
+                try:
+                    timing.samples(float(self.durations[r]), self.rate)
+                except timing.TooLong as exc:
+                    out[id(s)] = exc
+                continue
+            lo, hi = self.first[r], self.first[r] + self.count[r]
+            out[id(s)] = (self.t[lo:hi], q[lo:hi], share[lo:hi])
 
 
 def speed_curves(u: np.ndarray, q: np.ndarray, n: np.ndarray, nominal: np.ndarray, speeds: np.ndarray,
@@ -75,7 +163,7 @@ def speed_curves(u: np.ndarray, q: np.ndarray, n: np.ndarray, nominal: np.ndarra
     dq[:, 0] = (q[:, 1] - q[:, 0]) / (u[:, 1] - u[:, 0])[:, None]
     dq[rows, last] = (q[rows, last] - q[rows, last - 1]) / (u[rows, last] - u[rows, last - 1])[:, None]
     dq[pad] = 0.0
-    slope = np.maximum(np.abs(dq), 1e-300)
+    slope = np.maximum(np.abs(dq, out=dq), 1e-300, out=dq)
     with np.errstate(divide="ignore"):
         joint = np.min(speeds[:, None, :] / slope, axis=2)
         a = np.minimum(accel[:, None], np.min(axis_accel[:, None, :] / slope, axis=2))
@@ -84,7 +172,6 @@ def speed_curves(u: np.ndarray, q: np.ndarray, n: np.ndarray, nominal: np.ndarra
     w[rows, last] = 0.0
     w[pad] = np.inf  # never the least of the backward pass
     step = 2.0 * np.minimum(a[:, 1:], a[:, :-1]) * np.diff(u, axis=1)
-    step[pad[:, 1:]] = 0.0
     up = np.zeros_like(u)
     np.cumsum(step, axis=1, out=up[:, 1:])
     forward = up + np.minimum.accumulate(w - up, axis=1)

@@ -77,23 +77,22 @@ def set_all_data_val(interp, a: Arguments, s, frame) -> None:
 
 
 def set_data_search(interp, a: Arguments, s, frame) -> None:
-    """SetDataSearch Type [\\Object] ..., Handle: the objects GetNextSym then gives one by one."""
-    a.need(2)
+    """SetDataSearch Type [\\Object] ...: the task's search, whose objects GetNextSym then gives
+    one by one."""
+    a.need(1)
     type_ = interp.types.base(a.value(0, "string"))
-    names = [c.name for c in _matching(interp, a, type_, a.option("Object", "string"))]
-    a.reference(1).set(Opaque("datapos", names))
+    interp.state["symbols"] = [c.name for c in _matching(interp, a, type_, a.option("Object", "string"))]
 
 
 def get_next_sym(interp, a: Arguments) -> bool:
-    """GetNextSym(Object, Block): the next name of the search, FALSE when none is left."""
+    """GetNextSym(Object, Block): the next name of the task's search, FALSE when none is left."""
     a.need(2)
-    handle = a.reference(1)
-    found = handle.get()
-    names = list(found.value) if isinstance(found, Opaque) and isinstance(found.value, list) else []
+    names = interp.state.get("symbols") or []
     if not names:
         return False
-    a.reference(0).set(names.pop(0))
-    handle.set(Opaque("datapos", names))
+    name = names.pop(0)
+    a.reference(0).set(name)
+    a.reference(1).set(Opaque("datapos", name))
     return True
 
 

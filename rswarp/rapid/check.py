@@ -21,7 +21,6 @@ from .instructions import KNOWN
 from .moves import MOVES
 from .predefined import error_number
 from .task import Task
-from .values import SIGNALS
 
 _FUNCTIONS: set[str] = set()  # filled below: the functions rswarp evaluates
 
@@ -228,8 +227,8 @@ def _signal_arguments(call, routine) -> set[str]:
     """The bare names a call passes where a signal is expected."""
     if routine is not None:
         places = tuple(k for k, p in enumerate(q for q in routine.params if not q.optional)
-                       if p.type.lower() in SIGNALS)
-        options = frozenset(p.key for p in routine.params if p.optional and p.type.lower() in SIGNALS)
+                       if p.type.lower() in words.CONFIGURED_TYPES)
+        options = frozenset(p.key for p in routine.params if p.optional and p.type.lower() in words.CONFIGURED_TYPES)
     else:
         places, options = words.signal_params(call.key), words.signal_options(call.key)
     out = set()

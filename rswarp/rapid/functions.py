@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import time
 
-from . import byname, poses, strings, words
+from . import byname, calibration, poses, strings, words
 from . import data as rd
 from .arguments import Arguments
 from .errors import fail, rapid_error
@@ -332,7 +332,7 @@ FUNCTIONS = {
     "orobt": lambda i, a: a.value(0, "robtarget"), "mirpos": lambda i, a: poses.mir_pos(
         a.value(0, "robtarget"), a.value(1, "wobjdata"), a.has("MirY")),
     "defdframe": lambda i, a: _defdframe(i, a), "rawbyteslen": _live,
-    **strings.FUNCTIONS, **byname.FUNCTIONS,
+    **strings.FUNCTIONS, **byname.FUNCTIONS, **calibration.FUNCTIONS,
 }
 LIVE = {w: _live for w in ("readnum", "readstr", "readbin", "readmotor", "readstrbin", "readanybin", "readvar",
                            "uinumentry", "uidnumentry", "uialphaentry", "uinumtune", "uidnumtune", "uilistview",

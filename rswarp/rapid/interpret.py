@@ -115,8 +115,9 @@ class Interpreter(Evaluator):
             self.warnings.append(Diagnostic("rswarp", 0, f"--io {name}: the task uses no signal of that name{hint}",
                                             "warning"))
         for name in self.inputs.unused():
-            self.warnings.append(Diagnostic("rswarp", 0, f"--input {name}: the task reads no live input into that name",
-                                            "warning"))
+            said = "values were left unread" if name.lower() in self.inputs.asked else \
+                "the task reads no live input into that name"
+            self.warnings.append(Diagnostic("rswarp", 0, f"--input {name}: {said}", "warning"))
         if self.main_loop is not None:
             node, file, passes = self.main_loop
             ends = () if self.stopped else (len(self.motions),)  # a pass the stop cut short is no cycle
@@ -382,7 +383,7 @@ class Interpreter(Evaluator):
             return True
         if self.main_loop is None or self.main_loop[0] is node:
             self.main_loop = (node, self.path, starts)
-            if len(starts) >= self.cycles:
+            if len(starts) >= self.cycles and (not self.inputs.pending() or len(starts) >= MAX_CYCLES):
                 self.warn(node.line, f"the main loop never ends: ran {self.cycles} pass"
                                      f"{'es' if self.cycles > 1 else ''} (--cycles)")
                 return True

@@ -90,8 +90,12 @@ class Inputs:
         queue = self.queues.get(key)
         return queue.popleft() if queue else None
 
+    def pending(self) -> bool:
+        """Whether values are left for a name the task has read: its main loop runs on for them."""
+        return any(self.queues[k] for k in self.asked if k in self.queues)
+
     def unused(self) -> list[str]:
-        return sorted(self.names[k] for k in self.queues if k not in self.asked)
+        return sorted(self.names[k] for k in self.queues if k not in self.asked or self.queues[k])
 
 
 _WORD = re.compile(r"\b(TRUE|FALSE)\b", re.I)

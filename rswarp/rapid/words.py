@@ -17,6 +17,8 @@ MEANINGS = {
     "state": "the controller's state, a fixed answer offline (`STATE_VALUES`)",
 }
 SIGNAL_TYPES = frozenset({"signalai", "signalao", "signaldi", "signaldo", "signalgi", "signalgo", "signalxx"})
+# What the controller's configuration declares, never the task: signals, mechanical units, cameras.
+CONFIGURED_TYPES = SIGNAL_TYPES | frozenset({"mecunit", "cameradev"})
 # Handles rather than values: a read never writes data into them.
 DEVICE_TYPES = SIGNAL_TYPES | frozenset({
     "switch", "iodev", "socketdev", "intnum", "dir", "cameradev", "rmqslot", "mecunit", "egmident", "sensor",
@@ -353,14 +355,15 @@ def positions(key: str) -> tuple[tuple[Param, ...], ...]:
 
 
 def signal_params(key: str) -> tuple[int, ...]:
-    """Positions among the required arguments where the word takes a signal (SetDO's 0)."""
-    return tuple(k for k, group in enumerate(positions(key)) if any(p.type in SIGNAL_TYPES for p in group))
+    """Positions among the required arguments where the word takes a signal (SetDO's 0), or another
+    object the configuration declares (ActUnit's mechanical unit)."""
+    return tuple(k for k, group in enumerate(positions(key)) if any(p.type in CONFIGURED_TYPES for p in group))
 
 
 def signal_options(key: str) -> frozenset[str]:
     """Lower-case names of the optional parameters taking a signal (TPReadNum's 'dibreak')."""
     w = word(key)
-    return frozenset(p.name.lower() for p in (w.params if w else ()) if p.optional and p.type in SIGNAL_TYPES)
+    return frozenset(p.name.lower() for p in (w.params if w else ()) if p.optional and p.type in CONFIGURED_TYPES)
 
 
 def outputs(key: str) -> tuple[Param, ...]:

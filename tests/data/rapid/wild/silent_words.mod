@@ -27,10 +27,10 @@ MODULE CellLog
     ErrLog 4800,"CellLog","cycle started","","","";
     TPWrite "Cycle started";
     IError COMMON_ERR,TYPE_ALL,irFault;
-    PmDoAction "Grip";
+    CellGripAction "Grip";
     nParts:=PmGetPartCount(1);
     MoveL pB,v500,fine,tool0;
-    PmDoAction "Release";
+    CellGripAction "Release";
     MoveL pA,v500,fine,tool0;
   ENDPROC
 ENDMODULE
