@@ -9,13 +9,13 @@ from __future__ import annotations
 import math
 
 import pytest
+from test_rapid import module, value
 
 from rswarp.errors import RsxmlError
 from rswarp.rapid.interpret import Interpreter
 from rswarp.rapid.task import load_task
 
 from conftest import DATA
-from test_rapid import module, value
 
 LIVE = DATA / "rapid" / "live"
 

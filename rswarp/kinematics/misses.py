@@ -41,6 +41,13 @@ def _flange(planner, m) -> np.ndarray | None:
     return fr.flange(m.targets[-1].pose.matrix()[None])[0]
 
 
+def figured(planner, flange: np.ndarray, why: str) -> str:
+    """``why`` a pose cannot be taken, with by how much where it is out of reach or past a limit."""
+    limit = next((lim for words, lim in FIGURED if why.endswith(words)), None)
+    s = sf.shortfalls(planner.kin, flange[None], limit)[0] if limit is not None else None
+    return why if s is None else f"{why}: {s.words()}"
+
+
 def explained(planner) -> tuple[tuple, tuple[Diagnostic, ...]]:
     """The planner's moves, each it skipped for reach or a limit with its shortfall (and its error
     saying it); its errors once per line and reason, with the count and the worst figure."""

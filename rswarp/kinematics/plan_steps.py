@@ -278,11 +278,14 @@ def time_all(planner, steps: list[Step]) -> None:
     joint = [s for s in steps if s.kind == "joint" and s.motion.duration is None and np.any(s.q1 != s.q0)]
     tcp = {}
     if joint:
-        flanges = planner.flanges(np.concatenate([timing.joint_probes(s.q0, s.q1) for s in joint]))
-        n = timing.JOINT_PROBES
-        for k, s in enumerate(joint):
-            tcp[id(s)] = planner.world(s.motion, flanges[k * n:(k + 1) * n])
+        q0, q1 = np.array([s.q0 for s in joint]), np.array([s.q1 for s in joint])
+        shares = np.linspace(0, 1, timing.JOINT_PROBES)[None, :, None]
+        flanges = planner.flanges((q0[:, None] + shares * (q1 - q0)[:, None]).reshape(-1, q0.shape[1]))
+        flanges = flanges.reshape(len(joint), timing.JOINT_PROBES, 4, 4)  # at each's ``timing.joint_probes``
+        poses = np.array([planner.world(s.motion, f) for s, f in zip(joint, flanges)])
+        tcp = {id(s): path for s, path in zip(joint, timing_batch.tcp_paths(poses))}
     timed = timing_batch.path_moves(steps, planner.limits, planner.rate)
+    timed.update(timing_batch.joint_moves(steps, tcp, planner.limits, planner.rate))
     for s in steps:
         s.timed = timed.get(id(s))
         planner.time_step(s, tcp.get(id(s)))

@@ -138,7 +138,7 @@ class Planner:
         sol = self.kin.solutions64(pose)
         tg.off_the_axis(self.kin, pose, sol, float(self.q[0]), [target.conf])
         q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget", self.form, self.bounds)
-        return (None, why) if q is None else (tuple(float(v) for v in q), None)
+        return (None, misses.figured(self, pose[0], why)) if q is None else (tuple(float(v) for v in q), None)
 
     def _frames_or_raise(self, tool, wobj) -> Frames:
         try:

@@ -13,6 +13,8 @@ is not public; docs/program.md states the model).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .paths import turn_between
@@ -63,10 +65,28 @@ def joint_probes(q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
     return q0 + np.linspace(0, 1, JOINT_PROBES)[:, None] * (q1 - q0)
 
 
-def joint_move(q0: np.ndarray, q1: np.ndarray, motion, limits, rate: float, tcp: np.ndarray | None):
+@dataclass(frozen=True)
+class TcpPath:
+    """A joint move's TCP at its ``joint_probes``: the world poses, the length gone at each (m),
+    the whole length (the steps summed as NumPy sums them) and the turn from first to last (rad)."""
+
+    poses: np.ndarray
+    gone: np.ndarray
+    length: float
+    turn: float
+
+
+def tcp_path(poses: np.ndarray) -> TcpPath:
+    """The ``TcpPath`` of one joint move's TCP poses (``timing_batch.tcp_paths`` makes many)."""
+    steps = np.linalg.norm(np.diff(poses[:, :3, 3], axis=0), axis=1)
+    gone = np.concatenate([[0.0], np.cumsum(steps)])
+    return TcpPath(poses, gone, float(steps.sum()), turn_between(poses[0, :3, :3], poses[-1, :3, :3]))
+
+
+def joint_move(q0: np.ndarray, q1: np.ndarray, motion, limits, rate: float, tcp: TcpPath | None):
     r"""(times, q, progress) of a synchronized joint move from q0 to q1: one trapezoid in the
     share of the way, as fast as every axis's speed and acceleration (``limits``) allow, the TCP
-    within v_tcp and its turn within v_ori; ``tcp``: the TCP's world poses at its
+    within v_tcp and its turn within v_ori; ``tcp``: the TCP's path (``TcpPath``) at its
     ``joint_probes`` (None with ``\T``, which sets the time)."""
     if not np.any(q1 != q0):
         return np.zeros(0), np.zeros((0, len(q0))), np.zeros(0)
@@ -76,10 +96,8 @@ def joint_move(q0: np.ndarray, q1: np.ndarray, motion, limits, rate: float, tcp:
     accel = float(np.min(limits.acceleration[moving] * motion.accel / d[moving]))  # a second squared
     axes_top = top
     if tcp is not None:
-        length = float(np.linalg.norm(np.diff(tcp[:, :3, 3], axis=0), axis=1).sum())
-        turn = turn_between(tcp[0, :3, :3], tcp[-1, :3, :3])
         v_tcp, v_ori = tcp_speeds(motion)
-        top = min(top, v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
+        top = min(top, v_tcp / tcp.length if tcp.length > 0 else np.inf, v_ori / tcp.turn if tcp.turn > 0 else np.inf)
     if motion.duration is None:
         duration, ta = trapezoid(top, accel)
     else:  # \T: that time, where the axes allow it

@@ -29,6 +29,56 @@ def path_moves(steps, limits, rate: float) -> dict:
     return out
 
 
+def joint_moves(steps, tcp: dict, limits, rate: float) -> dict:
+    """{id(step): (t, q, share) or TooLong} of the joint steps with a TCP path in ``tcp`` (those
+    timed by their speed data), ``timing.joint_move`` of each."""
+    group = [s for s in steps if s.kind == "joint" and id(s) in tcp]
+    out: dict = {}
+    if not group:
+        return out
+    q0, q1 = np.array([s.q0 for s in group]), np.array([s.q1 for s in group])
+    motions, paths = [s.motion for s in group], [tcp[id(s)] for s in group]
+    d = np.abs(q1 - q0)
+    moving = d > 0
+    override, accel_set = np.array([m.override for m in motions]), np.array([m.accel for m in motions])
+    v_tcp, v_ori = np.array([timing.tcp_speeds(m) for m in motions]).T
+    length, turn = np.array([p.length for p in paths]), np.array([p.turn for p in paths])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        top = np.where(moving, limits.velocity * override[:, None] / d, np.inf).min(axis=1)
+        accel = np.where(moving, limits.acceleration * accel_set[:, None] / d, np.inf).min(axis=1)
+        top = np.minimum(top, np.minimum(np.where(length > 0, v_tcp / length, np.inf),
+                                         np.where(turn > 0, v_ori / turn, np.inf)))
+    ta = top / accel  # ``timing.trapezoid``
+    triangle = top * ta >= 1.0
+    ta = np.where(triangle, np.sqrt(1.0 / accel), ta)
+    duration = np.where(triangle, 2.0 * ta, 1.0 / top + ta)
+    grid = Grid(duration, rate)
+    share = _trapezoids(grid, duration, np.minimum(ta, duration / 2))
+    q = q0[grid.row] + share[:, None] * (q1 - q0)[grid.row]
+    grid.hand_out(group, out, q, share)
+    return out
+
+
+def _trapezoids(grid: "Grid", duration: np.ndarray, ta: np.ndarray) -> np.ndarray:
+    """``timing.profile`` of each move's samples (its ramp ``ta`` already at most half its time)."""
+    d, ta = duration[grid.row], ta[grid.row]
+    v = 1.0 / (d - ta)
+    t = np.clip(grid.t, 0.0, d)
+    s = np.where(t < ta, 0.5 * v / ta * t ** 2, v * (t - ta / 2))
+    tail = d - t
+    return np.where(t > d - ta, 1.0 - 0.5 * v / ta * tail ** 2, s)
+
+
+def tcp_paths(poses: np.ndarray) -> list:
+    """``timing.tcp_path`` of joint moves' TCP poses (M, probes, 4, 4) at once."""
+    steps = np.linalg.norm(np.diff(poses[:, :, :3, 3], axis=1), axis=2)
+    gone = np.zeros(poses.shape[:2])
+    np.cumsum(steps, axis=1, out=gone[:, 1:])
+    length = steps.sum(axis=1)
+    return [timing.TcpPath(p, g, float(n), timing.turn_between(p[0, :3, :3], p[-1, :3, :3]))
+            for p, g, n in zip(poses, gone, length)]
+
+
 def bucket_size(n: int) -> int:
     """The padded length of a row of ``n`` probes: 16 at least, at most an eighth more than n."""
     if n <= 16:

@@ -10,10 +10,9 @@ WaitTime between, an error, the task's last move)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
-
-from .paths import turn_between
 
 EPS = 1e-9
 
@@ -57,12 +56,17 @@ def straight(t, q, s, q0, length: float, turn: float) -> Segment:
     return Segment(t, q, s, q0, length, turn, np.array([0.0, 1.0]), np.array([0.0, length]))
 
 
-def jointed(t, q, s, q0, tcp: np.ndarray) -> Segment:
-    """A joint move, its TCP's path measured at evenly shared probes (``tcp``: their poses)."""
-    steps = np.linalg.norm(np.diff(tcp[:, :3, 3], axis=0), axis=1)
-    gone = np.concatenate([[0.0], np.cumsum(steps)])
-    turn = turn_between(tcp[0, :3, :3], tcp[-1, :3, :3])
-    return Segment(t, q, s, q0, float(gone[-1]), turn, np.linspace(0.0, 1.0, len(tcp)), gone)
+def jointed(t, q, s, q0, tcp) -> Segment:
+    """A joint move, its TCP's path measured at evenly shared probes (``tcp``: a ``timing.TcpPath``)."""
+    return Segment(t, q, s, q0, float(tcp.gone[-1]), tcp.turn, _shares(len(tcp.gone)), tcp.gone)
+
+
+@lru_cache(maxsize=8)
+def _shares(n: int) -> np.ndarray:
+    """``np.linspace(0, 1, n)``, made once (read only)."""
+    out = np.linspace(0.0, 1.0, n)
+    out.flags.writeable = False
+    return out
 
 
 def overlap(prev: Segment, nxt: Segment, zone) -> float:

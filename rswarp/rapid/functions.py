@@ -263,7 +263,15 @@ def _unevaluated(key: str):
     if w is not None and w.kind == "function" and key in words.STATE_VALUES:
         value = words.STATE_VALUES[key]
         return lambda interp, a: value
-    return _live
+    if w is not None and w.handling == "live":
+        return _live
+    why = ("a function of RAPID's that rswarp does not compute offline:" if w is not None else
+           "a function neither the task nor RAPID defines (an option's, or a module's not in the task):")
+
+    def unknown(interp, a: Arguments):
+        text = interp.inputs.take(a.name)
+        return Live(a.name, None, interp.path, a.line, why) if text is None else interp.given_text(text, a.name, a.line)
+    return unknown
 
 
 def _crossprod(interp, a: Arguments) -> Rec:
@@ -321,7 +329,7 @@ FUNCTIONS = {
     "testdi": lambda i, a: _signal_value(i, a) == 1.0, "validio": _N(True),
     "clkread": _clkread, "ctime": lambda i, a: time.strftime("%H:%M:%S"),
     "cdate": lambda i, a: time.strftime("%Y-%m-%d"),
-    "gettime": lambda i, a: 0.0, "robos": _N(True), "opmode": _N(0.0), "runmode": _N(0.0),
+    "gettime": lambda i, a: 0.0, "robos": _N(True), "opmode": _N(1.0), "runmode": _N(1.0),  # OP_AUTO, RUN_CONT_CYCLE
     "ismechunitactive": _N(True), "issyncmoveon": lambda i, a: bool(i.state.get("sync")),
     "isstopmoveact": _N(False), "taskrunrob": _N(True),
     "taskrunmec": _N(True), "gettaskname": _N("T_ROB1"), "robname": _N("ROB_1"), "getmecunitname": _N("ROB_1"),
@@ -331,9 +339,12 @@ FUNCTIONS = {
     "crossprod": _crossprod, "type": _type, "maxrobspeed": lambda i, a: rd.TOP_TCP_SPEED,
     "orobt": lambda i, a: a.value(0, "robtarget"), "mirpos": lambda i, a: poses.mir_pos(
         a.value(0, "robtarget"), a.value(1, "wobjdata"), a.has("MirY")),
-    "defdframe": lambda i, a: _defdframe(i, a), "rawbyteslen": _live,
+    "defdframe": lambda i, a: _defdframe(i, a),
     **strings.FUNCTIONS, **byname.FUNCTIONS, **calibration.FUNCTIONS,
 }
+FUNCTIONS.update({f"{k}dnum": FUNCTIONS[k] for k in ("asin", "acos", "atan", "atan2", "sin", "cos", "tan", "bitand",
+                                                      "bitcheck", "bitlsh", "bitneg", "bitor", "bitrsh", "bitxor",
+                                                      "ginput", "goutput")})
 LIVE = {w: _live for w in ("readnum", "readstr", "readbin", "readmotor", "readstrbin", "readanybin", "readvar",
                            "uinumentry", "uidnumentry", "uialphaentry", "uinumtune", "uidnumtune", "uilistview",
                            "uimessagebox", "socketpeek", "isfile", "filesize", "fssize", "readdir")}

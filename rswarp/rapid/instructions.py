@@ -218,6 +218,19 @@ def _call_by_var(interp, a: Arguments, s, frame) -> None:
     interp.call_named(f"{a.value(0, 'string')}{int(a.number(1))}", (), frame, s.line)
 
 
+def _bit(on: bool):
+    """BitSet, BitClear: one bit (1 to 8, or 1 to 52 of a dnum) of a byte set or cleared."""
+    def run(interp, a: Arguments, s, frame) -> None:
+        a.need(2)
+        target, k = a.reference(0), a.number(1)
+        value = target.get()
+        if not isinstance(value, float) or value != int(value) or k != int(k) or not 1 <= k <= 52:
+            fail(interp.path, s.line, f"{s.name} takes a whole number and a bit of 1 to 52")
+        bit = 1 << (int(k) - 1)
+        target.set(float(int(value) | bit if on else int(value) & ~bit))
+    return run
+
+
 def _stop(interp, a: Arguments, s, frame) -> None:
     interp.warn(s.line, f"{s.name}: the controller stops here until the operator starts it again; the run goes on")
 
@@ -249,7 +262,7 @@ _HANDLERS = {
     "clkstart": _clock("start"), "clkstop": _clock("stop"), "clkreset": _clock("reset"),
     "exitcycle": _exit_cycle, "callbyvar": _call_by_var, "stop": _stop, "break": _stop, "bookerrno": _book_error,
     "syncmoveon": _sync(True), "syncmoveoff": _sync(False), "syncmoveundo": _sync(False),
-    "waitsynctask": _sync(None), **byname.INSTRUCTIONS,
+    "waitsynctask": _sync(None), "bitset": _bit(True), "bitclear": _bit(False), **byname.INSTRUCTIONS,
 }
 SIGNAL_SETTERS = {"setdo", "setao", "setgo", "set", "reset", "invertdo", "pulsedo"}
 

@@ -17,14 +17,15 @@ from ..errors import Diagnostic
 class Live:
     """An unknown value: what read it (``source``), into which data (``into``), where."""
 
-    __slots__ = ("source", "into", "file", "line")
+    __slots__ = ("source", "into", "file", "line", "why")
 
-    def __init__(self, source: str, into: str | None, file: str, line: int):
+    def __init__(self, source: str, into: str | None, file: str, line: int, why: str | None = None):
         self.source, self.into, self.file, self.line = source, into, file, line
+        self.why = why  # what the value is, where it is no live read (a function no one defines)
 
     def named(self, into: str) -> "Live":
         """The same read, stored into ``into`` (a function's value assigned to data)."""
-        return self if self.into else Live(self.source, into, self.file, self.line)
+        return self if self.into else Live(self.source, into, self.file, self.line, self.why)
 
     def __repr__(self):
         return f"<live {self.source} into {self.into}>"
@@ -51,10 +52,12 @@ class NeedsInput(Exception):
     def message(self) -> str:
         live = self.live
         into = f" into {live.into}" if live.into else ""
-        where = f" (read at line {live.line})" if (live.file, live.line) != (self.file, self.line) else ""
+        verb = "called" if live.why else "read"
+        where = f" ({verb} at line {live.line})" if (live.file, live.line) != (self.file, self.line) else ""
         if live.file != self.file and live.file:
-            where = f" (read at {live.file}:{live.line})"
-        return f"needs live input: {live.source}{into}{where}; --input {self.name}=VALUE gives it"
+            where = f" ({verb} at {live.file}:{live.line})"
+        what = f"the value of {live.why}" if live.why else "live input:"
+        return f"needs {what} {live.source}{into}{where}; --input {self.name}=VALUE gives it"
 
     def diagnostic(self) -> Diagnostic:
         return Diagnostic(self.file, self.line, self.message())
@@ -62,7 +65,7 @@ class NeedsInput(Exception):
     def record(self) -> dict:
         live = self.live
         return {"name": self.name, "source": live.source, "file": self.file, "line": self.line,
-                "read_file": live.file, "read_line": live.line}
+                "read_file": live.file, "read_line": live.line, "kind": "value" if live.why else "live read"}
 
 
 def needs(value, line: int = 0):

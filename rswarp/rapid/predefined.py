@@ -52,7 +52,7 @@ def predefined(types: Types) -> dict[str, tuple[str, str, object]]:
     out["diskram"] = ("string", "const", "RAMDISK:")
     out["high"] = ("dionum", "const", 1.0)
     out["low"] = ("dionum", "const", 0.0)
-    for type_, names in CONSTANTS.items():
+    for type_, names in CONSTANTS:
         for k, name in enumerate(names.split()):
             if name != "-":
                 out[name.lower()] = (type_, "const", float(k + _FIRST.get(type_, 0)))
@@ -64,26 +64,28 @@ def predefined(types: Types) -> dict[str, tuple[str, str, object]]:
 
 # The reference manual's predefined constants, by type, in the order of their values (from 0, or
 # from _FIRST's; '-' skips a value): what a program compares an answer with.
-CONSTANTS = {
-    "btnres": "resUnkwn resOK resAbort resRetry resIgnore resCancel resYes resNo",
-    "buttondata": "btnNone btnOK btnAbrtRtryIgn btnOKCancel btnRetryCancel btnYesNo btnYesNoCancel",
-    "icondata": "iconNone iconInfo iconWarning iconError iconQuestion",
-    "socketstatus": "- SOCKET_CREATED SOCKET_CONNECTED SOCKET_BOUND SOCKET_LISTENING SOCKET_CLOSED",
-    "opnum": "OP_UNDEF OP_AUTO OP_MAN_PROG OP_MAN_TEST",
-    "symnum": "RUN_UNDEF RUN_CONT_CYCLE RUN_INSTR_FWD RUN_INSTR_BWD RUN_SIM RUN_STEP_MOVE",
-    "errtype": "TYPE_ALL TYPE_STATE TYPE_WARN TYPE_ERR",
-    "event_type": "EVENT_NONE EVENT_POWERON EVENT_START EVENT_STOP EVENT_QSTOP EVENT_RESTART EVENT_RESET EVENT_STEP",
-    "exec_level": "LEVEL_NORMAL LEVEL_TRAP LEVEL_SERVICE",
-    "handler_type": "HANDLER_NONE HANDLER_BWD HANDLER_ERR HANDLER_UNDO",
-    "iounit_state": "- IOUNIT_RUNNING IOUNIT_RUNERROR IOUNIT_DISABLE IOUNIT_OTHERERR",
-    "signalorigin": "SIGORIG_NONE SIGORIG_CFG SIGORIG_ALIAS",
-    "aiotrigg": "- AIO_ABOVE_HIGH AIO_BELOW_HIGH AIO_ABOVE_LOW AIO_BELOW_LOW AIO_BETWEEN AIO_OUTSIDE AIO_ALWAYS",
-    "errdomain": "COMMON_ERR OP_STATE SYSTEM_ERR HARDWARE_ERR PROGRAM_ERR MOTION_ERR OPERATOR_ERR IO_COM_ERR "
-                 "USER_DEF_ERR OPTION_PROD_ERR - PROCESS_ERR CFG_ERR",
-    "busstate": "BUSSTATE_HALTED BUSSTATE_RUN BUSSTATE_ERROR BUSSTATE_STARTUP BUSSTATE_INIT",
-    "triggmode": "- TRIGG_MODE1 TRIGG_MODE2 TRIGG_MODE3",
-    "tunetype": "TUNE_DF TUNE_KP TUNE_KV TUNE_TI TUNE_FRIC_LEV TUNE_FRIC_RAMP TUNE_DG TUNE_DH TUNE_DI TUNE_DK TUNE_DL",
-}
+CONSTANTS = (
+    ("btnres", "resUnkwn resOK resAbort resRetry resIgnore resCancel resYes resNo"),
+    ("buttondata", "btnNone btnOK btnAbrtRtryIgn btnOKCancel btnRetryCancel btnYesNo btnYesNoCancel"),
+    ("icondata", "iconNone iconInfo iconWarning iconError iconQuestion"),
+    ("socketstatus", "- SOCKET_CREATED SOCKET_CONNECTED SOCKET_BOUND SOCKET_LISTENING SOCKET_CLOSED"),
+    ("symnum", "OP_UNDEF OP_AUTO OP_MAN_PROG OP_MAN_TEST"),
+    ("symnum", "RUN_UNDEF RUN_CONT_CYCLE RUN_INSTR_FWD RUN_INSTR_BWD RUN_SIM RUN_STEP_MOVE"),
+    ("opnum", "- LT LTEQ EQ NOTEQ GTEQ GT"),
+    ("opcalc", "- OpAdd OpSub OpMult OpDiv OpMod"),
+    ("errtype", "TYPE_ALL TYPE_STATE TYPE_WARN TYPE_ERR"),
+    ("event_type", "EVENT_NONE EVENT_POWERON EVENT_START EVENT_STOP EVENT_QSTOP EVENT_RESTART EVENT_RESET EVENT_STEP"),
+    ("exec_level", "LEVEL_NORMAL LEVEL_TRAP LEVEL_SERVICE"),
+    ("handler_type", "HANDLER_NONE HANDLER_BWD HANDLER_ERR HANDLER_UNDO"),
+    ("iounit_state", "- IOUNIT_RUNNING IOUNIT_RUNERROR IOUNIT_DISABLE IOUNIT_OTHERERR"),
+    ("signalorigin", "SIGORIG_NONE SIGORIG_CFG SIGORIG_ALIAS"),
+    ("aiotrigg", "- AIO_ABOVE_HIGH AIO_BELOW_HIGH AIO_ABOVE_LOW AIO_BELOW_LOW AIO_BETWEEN AIO_OUTSIDE AIO_ALWAYS"),
+    ("errdomain", "COMMON_ERR OP_STATE SYSTEM_ERR HARDWARE_ERR PROGRAM_ERR MOTION_ERR OPERATOR_ERR IO_COM_ERR "
+                  "USER_DEF_ERR OPTION_PROD_ERR - PROCESS_ERR CFG_ERR"),
+    ("busstate", "BUSSTATE_HALTED BUSSTATE_RUN BUSSTATE_ERROR BUSSTATE_STARTUP BUSSTATE_INIT"),
+    ("triggmode", "- TRIGG_MODE1 TRIGG_MODE2 TRIGG_MODE3"),
+    ("tunetype", "TUNE_DF TUNE_KP TUNE_KV TUNE_TI TUNE_FRIC_LEV TUNE_FRIC_RAMP TUNE_DG TUNE_DH TUNE_DI TUNE_DK TUNE_DL"),
+)
 _FIRST = {"buttondata": -1}
 STOP_POINTS = ("inpos20", "inpos50", "inpos100", "stoptime0_5", "stoptime1_0", "stoptime1_5", "fllwtime0_5",
                "fllwtime1_0", "fllwtime1_5")

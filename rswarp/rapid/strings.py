@@ -102,5 +102,41 @@ def hextodec(interp, a: Arguments) -> str:
         fail(interp.path, a.line, f"HexToDec: '{text}' is not a hexadecimal number")
 
 
-FUNCTIONS = {"strtoval": strtoval, "strmatch": strmatch, "strmap": strmap, "bytetostr": bytetostr,
+_RELATIONS = {1: lambda a, b: a < b, 2: lambda a, b: a <= b, 3: lambda a, b: a == b, 4: lambda a, b: a != b,
+              5: lambda a, b: a >= b, 6: lambda a, b: a > b}  # LT LTEQ EQ NOTEQ GTEQ GT
+_OPERATIONS = {1: lambda a, b: a + b, 2: lambda a, b: a - b, 3: lambda a, b: a * b, 4: lambda a, b: a // b,
+               5: lambda a, b: a % b}  # OpAdd OpSub OpMult OpDiv OpMod
+
+
+def _digits(interp, a: Arguments, k: int) -> int:
+    text = a.value(k, "string")
+    if not text.isdigit() or len(text) > 80:
+        fail(interp.path, a.line, f"{a.name}: '{text}' is not a string of digits")
+    return int(text)
+
+
+def strdigcmp(interp, a: Arguments) -> bool:
+    """StrDigCmp(Str1, Relation, Str2): whole numbers written as digits compared (LT ... GT)."""
+    a.need(3)
+    rel = _RELATIONS.get(int(a.number(1)))
+    if rel is None:
+        fail(interp.path, a.line, "StrDigCmp takes LT, LTEQ, EQ, NOTEQ, GTEQ or GT")
+    return rel(_digits(interp, a, 0), _digits(interp, a, 2))
+
+
+def strdigcalc(interp, a: Arguments) -> str:
+    """StrDigCalc(Str1, Operation, Str2): arithmetic on whole numbers written as digits."""
+    a.need(3)
+    op, x, y = _OPERATIONS.get(int(a.number(1))), _digits(interp, a, 0), _digits(interp, a, 2)
+    if op is None:
+        fail(interp.path, a.line, "StrDigCalc takes OpAdd, OpSub, OpMult, OpDiv or OpMod")
+    if y == 0 and op in (_OPERATIONS[4], _OPERATIONS[5]):
+        fail(interp.path, a.line, "StrDigCalc: division by zero")
+    value = op(x, y)
+    if value < 0:
+        fail(interp.path, a.line, "StrDigCalc: the result is negative")
+    return str(value)
+
+
+FUNCTIONS = {"strdigcmp": strdigcmp, "strdigcalc": strdigcalc, "strtoval": strtoval, "strmatch": strmatch, "strmap": strmap, "bytetostr": bytetostr,
              "strtobyte": strtobyte, "dectohex": dectohex, "hextodec": hextodec}

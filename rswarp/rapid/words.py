@@ -63,9 +63,11 @@ _HANDLING = {
         DefAccFrame DefDFrame DefFrame Dim DInput Distance DIV DnumToNum DnumToStr DotProd DOutput EulerZYX Exp
         GetMecUnitName GetNextSym GetTaskName GetTime GInput GOutput HexToDec IsMechUnitActive IsPers IsStopMoveAct
         IsSyncMoveOn IsVar MaxRobSpeed MirPos MOD ModExist NOrient NOT NumToDnum NumToStr Offs OpMode OR OrientZYX
-        ORobT PoseInv PoseMult PoseVect Pow PowDnum Present RawBytesLen RelTool RobName RobOS Round RoundDnum
+        ORobT PoseInv PoseMult PoseVect Pow PowDnum Present RelTool RobName RobOS Round RoundDnum
         RunMode Sin Sqrt SqrtDnum StrFind StrLen StrMap StrMatch StrMemb StrOrder StrPart StrToByte StrToVal Tan
-        TaskRunMec TaskRunRob TestAndSet TestDI Trunc TruncDnum Type ValidIO ValToStr VectMagn XOR""",
+        TaskRunMec TaskRunRob TestAndSet TestDI Trunc TruncDnum Type ValidIO ValToStr VectMagn XOR ACosDnum ASinDnum
+        ATanDnum ATan2Dnum BitAndDnum BitCheckDnum BitLShDnum BitNegDnum BitOrDnum BitRShDnum BitXOrDnum CosDnum
+        SinDnum TanDnum GInputDnum GOutputDnum StrDigCalc StrDigCmp BitClear BitSet""",
     "no-op": """ActEventBuffer ActUnit AliasCamera AliasIO AliasIOReset CamFlush CamLoadJob CamReqImage
         CamSetExposure CamSetParameter CamSetProgramMode CamSetRunMode CamStartLoadJob CancelLoad CapAPTrSetup
         CapCondSetDO CapEquiDist CapLATrSetup CapNoProcess CapRefresh CapWeaveSync CheckProgRef CirPathMode
@@ -86,7 +88,7 @@ _HANDLING = {
         StartMove StartMoveRetry StopMove StopMoveReset StorePath SupSyncSensorOff SupSyncSensorOn TPErase TPShow
         TPWrite TestSignDefine TestSignReset TextTabInstall TriggCheckIO TriggDataCopy TriggDataReset TriggEquip
         TriggIO TriggInt TriggRampAO TriggSpeed TriggStopProc TryInt TuneReset TuneServo UIMsgWrite UIMsgWriteAbort
-        UIShow UnLoad UnpackRawBytes WZBoxDef WZCylDef WZDOSet WZDisable WZEnable WZFree WZHomeJointDef
+        UIShow UnLoad WZBoxDef WZCylDef WZDOSet WZDisable WZEnable WZFree WZHomeJointDef
         WZLimJointDef WZLimSup WZSphDef WaitLoad WaitRob WaitSensor WaitTestAndSet WaitWObj WarmStart WorldAccLim
         Write WriteAnyBin WriteBin WriteBlock WriteCfgData WriteRawBytes WriteStrBin WriteVar WriteVarArr""",
     "live": """CamGetParameter CamGetResult FricIdEvaluate GetJointData IOBusState ReadAnyBin ReadBlock ReadCfgData
@@ -99,17 +101,15 @@ _HANDLING = {
         RMQGetSlotName SafetyControllerGetChecksum SafetyControllerGetOpModePinCode SafetyControllerGetSWVersion
         SafetyControllerGetUserChecksum SocketGetStatus SocketPeek STCalcForce STCalcTorque STIsCalib STIsClosed
         STIsIndGun STIsOpen TaskIsActive TaskIsExecuting TestSignRead TextGet TextTabGet UIAlphaEntry UIDnumEntry
-        UIDnumTune UIListView UIMessageBox UINumEntry UINumTune""",
-    "unmodelled": """BitClear BitSet CONNECT ContactL CorrClear CorrCon CorrDiscon CorrWrite EGMActJoint EGMActMove
-        EGMActPose EGMMoveC EGMMoveL EGMRunJoint EGMRunPose EOffsOff EOffsOn EOffsSet ErrRaise FitCircle IndAMove
-        IndCMove IndDMove IndReset IndRMove LoadId ManLoadIdProc MatrixSolve MatrixSolveQR MatrixSVD
-        MotionProcessModeSet MoveExtJ MToolRotCalib MToolTCPCalib PathRecMoveBwd PathRecMoveFwd PDispOff PDispOn
-        PDispSet RaiseToUser SearchExtJ SpeedLimAxis SpeedLimCheckPoint SpeedRefresh StepBwdPath SToolRotCalib
-        SToolTCPCalib SyncMoveResume SyncMoveSuspend SyncToSensor SystemStopAction TriggJIOs TriggLIOs ACosDnum
-        ASinDnum ATanDnum ATan2Dnum BitAndDnum BitCheckDnum BitLShDnum BitNegDnum BitOrDnum BitRShDnum BitXOrDnum
-        CalcRotAxFrameZ CorrRead CosDnum ExecHandler GetAxisDistance GetAxisMoveTime GInputDnum GOutputDnum IndInpos
-        IndSpeed PathRecValidBwd PathRecValidFwd RemainingRetries SinDnum StrDigCalc StrDigCmp TanDnum
-        TriggDataValid""",
+        UIDnumTune UIListView UIMessageBox UINumEntry UINumTune UnpackRawBytes RawBytesLen""",
+    "unmodelled": """CONNECT ContactL CorrClear CorrCon CorrDiscon CorrWrite EGMActJoint EGMActMove EGMActPose
+        EGMMoveC EGMMoveL EGMRunJoint EGMRunPose EOffsOff EOffsOn EOffsSet ErrRaise FitCircle IndAMove IndCMove
+        IndDMove IndReset IndRMove LoadId ManLoadIdProc MatrixSolve MatrixSolveQR MatrixSVD MotionProcessModeSet
+        MoveExtJ MToolRotCalib MToolTCPCalib PathRecMoveBwd PathRecMoveFwd PDispOff PDispOn PDispSet RaiseToUser
+        SearchExtJ SpeedLimAxis SpeedLimCheckPoint SpeedRefresh StepBwdPath SToolRotCalib SToolTCPCalib
+        SyncMoveResume SyncMoveSuspend SyncToSensor SystemStopAction TriggJIOs TriggLIOs CalcRotAxFrameZ CorrRead
+        ExecHandler GetAxisDistance GetAxisMoveTime IndInpos IndSpeed PathRecValidBwd PathRecValidFwd
+        RemainingRetries TriggDataValid""",
     "state": """EventType ExecLevel GetModalPayLoadMode IsBrakeCheckActive IsLeadThrough IsStopStateEvent IsSysId
         MotionPlannerNo NonMotionMode PathLevel PFRestart PPMovedInManMode ProgMemFree TasksInSync TextTabFreeToUse
         UIClientExist""",
