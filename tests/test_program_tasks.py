@@ -143,19 +143,20 @@ def test_a_main_loop_runs_its_passes_and_gives_the_cycle_time():
     assert "cycle: " in out.text and "one pass of the main loop at MainModule.mod:10" in out.text
 
 
-def test_a_track_target_is_an_error_naming_the_axis_unless_ignored(tmp_path, capsys):
+def test_a_track_target_is_ignored_as_the_controller_ignores_it_or_refused_when_asked(tmp_path, capsys):
     path = tmp_path / "track.mod"
     path.write_text("MODULE Track\n  CONST robtarget pOnTrack:=[[900,0,900],[0,0,1,0],[0,0,0,0],"
                     "[1500,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n    MoveJ pOnTrack, v500, fine, tool0;\n"
                     "  ENDPROC\nENDMODULE\n")
-    with pytest.raises(RsxmlError) as exc:
-        plan(path)
-    assert exc.value.line == 4 and "puts the external axis eax_a at 1500" in exc.value.message
-    assert main(["program", str(IRB2600), str(path)]) == 1
-    assert f"{path}:4: MoveJ: 'pOnTrack' puts the external axis eax_a at 1500" in capsys.readouterr().err
     warned = []
-    p = program_plan(str(IRB2600), [str(path)], external_axes="ignore", warn=warned.append)[1]
-    assert every_move_on_its_target(p) == 1 and any("ignored (--external-axes ignore)" in w for w in warned)
+    p = program_plan(str(IRB2600), [str(path)], warn=warned.append)[1]  # the controller ignores an axis it lacks
+    assert every_move_on_its_target(p) == 1
+    assert sum("1 target give eax_a (1500)" in w for w in warned) == 1 and "eax_a 1500: ignored" in p.targets[0].ignored
+    with pytest.raises(RsxmlError) as exc:
+        program_plan(str(IRB2600), [str(path)], external_axes="error")
+    assert exc.value.line == 4 and "puts the external axis eax_a at 1500" in exc.value.message
+    assert main(["program", str(IRB2600), str(path), "--external-axes", "error"]) == 1
+    assert f"{path}:4: MoveJ: 'pOnTrack' puts the external axis eax_a at 1500" in capsys.readouterr().err
 
 
 def test_a_robtarget_a_coordinated_work_object_moves_is_an_error(tmp_path):

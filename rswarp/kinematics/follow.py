@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..kernels.ik import OK
 from .ik import ArmConstants
 
 JUMP = 0.5  # rad: an axis moving more between two probes has left its branch
@@ -19,7 +20,7 @@ def follow(kin, sol, q0: np.ndarray):
     path passes the wrist singularity; axes 4 and 6 keep their turns."""
     if not isinstance(kin._ik_form(), ArmConstants) or sol.numerical:
         return (*_follow_each(kin, sol, q0), None)
-    lower, upper = kin.mech.bounds()
+    lower, upper = bounds(kin)
     count = sol.q.shape[0]
     out = np.empty((count, len(q0)))
     k, prev, branch = 0, q0, None
@@ -38,11 +39,18 @@ def follow(kin, sol, q0: np.ndarray):
     return out, None, "", (int(quarter[0]), int(quarter[1]), int(quarter[2]), int(sol.conf[-1, branch, 3]))
 
 
+def bounds(kin) -> tuple[np.ndarray, np.ndarray]:
+    """The robot's joint limits, made once per ``Kinematics``."""
+    made = kin.__dict__.get("_follow_bounds")
+    if made is None:
+        made = kin.__dict__["_follow_bounds"] = kin.mech.bounds()
+    return made
+
+
 def _aligned(cand: np.ndarray, prev: np.ndarray) -> np.ndarray:
     """Candidates with axes 4 and 6 turned whole turns to lie nearest ``prev``."""
     cand = cand.copy()
-    for c in (3, 5):
-        cand[..., c] += 2 * np.pi * np.round((prev[c] - cand[..., c]) / (2 * np.pi))
+    cand[..., _TURNS] += TWO_PI * np.round((prev[_TURNS] - cand[..., _TURNS]) / TWO_PI)
     return cand
 
 
@@ -50,8 +58,8 @@ def _pick(sol, k: int, prev: np.ndarray, branch, lower, upper):
     """(branch, its aligned joints) at probe ``k`` nearest ``prev``: among all at the start, else
     the branch and its wrist twin."""
     options = np.arange(sol.q.shape[1]) if branch is None else np.array([branch, branch ^ 1])
-    cand = _aligned(sol.q[k, options], prev)
-    fine = sol.ok[k, options] & np.all((cand >= lower) & (cand <= upper), axis=1)
+    cand = _aligned(sol.q[k] if branch is None else sol.q[k, options], prev)
+    fine = (sol.status[k, options] == OK) & np.all((cand >= lower) & (cand <= upper), axis=1)
     if not fine.any():
         return None
     dist = np.where(fine, np.max(np.abs(cand - prev), axis=1), np.inf)
@@ -59,22 +67,34 @@ def _pick(sol, k: int, prev: np.ndarray, branch, lower, upper):
     return int(options[best]), cand[best]
 
 
-_TURNING = np.array([False, False, False, True, False, True])
+_TURNS = np.array([3, 5])  # axes 4 and 6, which turn without end
+TWO_PI = 2 * np.pi
 
 
 def _segment(sol, k: int, b: int, start: np.ndarray, lower, upper) -> np.ndarray:
     """Branch ``b`` from probe ``k`` on, turns unwrapped from ``start``, up to (not including) the
     first probe where it is not a solution, leaves the limits, or jumps."""
     seg = sol.q[k:, b].copy()
-    turning = seg[:, _TURNING]
-    turning[1:] -= 2 * np.pi * np.cumsum(np.round(np.diff(turning, axis=0) / (2 * np.pi)), axis=0)
-    seg[:, _TURNING] = turning + (start[_TURNING] - turning[0])
-    bad = ~sol.ok[k:, b]
+    turning = seg[:, _TURNS]
+    turning[1:] -= TWO_PI * np.cumsum(np.round((turning[1:] - turning[:-1]) / TWO_PI), axis=0)
+    seg[:, _TURNS] = turning + (start[_TURNS] - turning[0])
+    ok = sol.status[k:, b] == OK
+    step = np.abs(seg[1:] - seg[:-1]).max(axis=1)
+    if len(seg) > 1 and _clear(seg, ok, step, lower, upper):
+        return seg  # the common case, in a few whole-array checks
+    bad = ~ok
     bad |= ((seg < lower) | (seg > upper) | ~np.isfinite(seg)).any(axis=1)
-    bad[1:] |= np.abs(np.diff(seg, axis=0)).max(axis=1) > JUMP
+    bad[1:] |= step > JUMP
     stop = np.flatnonzero(bad)
     end = int(stop[0]) if len(stop) and stop[0] > 0 else (1 if len(stop) else len(seg))
     return seg[:end]
+
+
+def _clear(seg: np.ndarray, ok: np.ndarray, step: np.ndarray, lower, upper) -> bool:
+    """Whether a branch is a solution, finite, within the limits and without a jump at every probe."""
+    lo, hi = seg.min(axis=0), seg.max(axis=0)  # NaN where any is
+    return bool(ok.all() and step.max() <= JUMP and np.isfinite(lo).all() and np.isfinite(hi).all()
+                and (lo >= lower).all() and (hi <= upper).all())
 
 
 def _follow_each(kin, sol, q0: np.ndarray):

@@ -156,19 +156,30 @@ def poses_along(u: np.ndarray, q0: np.ndarray, q1: np.ndarray, half: np.ndarray,
     end (``q0``, ``q1``, ``p0``, ``p1``, rows of (N, 4) and (N, 3), ``half`` its half turn): the
     TCP on its line, the orientation slerped, as ``path``'s ``at`` computes each."""
     out = np.zeros((len(u), 4, 4))
-    out[:, :3, :3] = rotations(slerps(q0, q1, u, half))
+    _rotations_into(slerps(q0, q1, u, half), out)
     out[:, :3, 3] = p0 + u[:, None] * (p1 - p0)
     out[:, 3, 3] = 1.0
     return out
 
 
+def _rotations_into(q: np.ndarray, out: np.ndarray) -> None:
+    """``rotations`` of quaternions (N, 4) written into ``out[:, :3, :3]``."""
+    w, x, y, z = q.T
+    xx, yy, zz, xy, xz, yz, wx, wy, wz = x * x, y * y, z * z, x * y, x * z, y * z, w * x, w * y, w * z
+    for (r, c), v in zip(((0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (2, 0), (2, 1), (2, 2)),
+                         (1 - 2 * (yy + zz), 2 * (xy - wz), 2 * (xz + wy), 2 * (xy + wz), 1 - 2 * (xx + zz),
+                          2 * (yz - wx), 2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy))):
+        out[:, r, c] = v
+
+
 def slerps(q0: np.ndarray, q1: np.ndarray, u: np.ndarray, half: np.ndarray) -> np.ndarray:
     """``slerp`` row by row: quaternion rows ``q0``, ``q1`` (N, 4), shares ``u`` and half angles ``half`` (N,)."""
-    out = np.empty_like(q0)
     near = half < 1e-9
-    k = np.flatnonzero(near)
-    out[k] = q0[k] + u[k, None] * (q1[k] - q0[k])
-    k = np.flatnonzero(~near)
-    h, s = half[k], np.sin(half[k])
-    out[k] = (np.sin((1 - u[k]) * h) / s)[:, None] * q0[k] + (np.sin(u[k] * h) / s)[:, None] * q1[k]
-    return out / np.linalg.norm(out, axis=1, keepdims=True)
+    s = np.sin(half)
+    with np.errstate(divide="ignore", invalid="ignore"):  # rows near no turn are taken linearly
+        out = (np.sin((1 - u) * half) / s)[:, None] * q0 + (np.sin(u * half) / s)[:, None] * q1
+    if near.any():
+        k = np.flatnonzero(near)
+        out[k] = q0[k] + u[k, None] * (q1[k] - q0[k])
+    w, x, y, z = out.T
+    return out / np.sqrt(w * w + x * x + y * y + z * z)[:, None]  # ``np.linalg.norm``'s sum, in its order

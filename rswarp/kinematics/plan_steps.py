@@ -55,7 +55,7 @@ class Step:
     turn: float = 0.0
     findings: list = field(default_factory=list)
     end_conf: tuple | None = None
-    timed: object = None  # (t, q, share) the batch timed it at, or the TooLong it met
+    timed: object = None  # (t, q, share, ramps) the batch timed it at, or the TooLong it met
 
     def timing(self, compute):
         """(t, q, share): the batch's, else ``compute()``'s; the batch's TooLong raised here."""
@@ -63,7 +63,12 @@ class Step:
             return compute()
         if isinstance(self.timed, Exception):
             raise self.timed
-        return self.timed
+        return self.timed[:3]
+
+    @property
+    def ramps(self) -> tuple | None:
+        """(speeding up, slowing down) in seconds where the batch timed the step, else None."""
+        return self.timed[3] if isinstance(self.timed, tuple) else None
 
 
 def prepare(planner, motions) -> list[Prepared]:
@@ -149,6 +154,11 @@ def _paths(planner, motions, out: list[Prepared]) -> None:
             before = p.end
     for fr, ks in _by_frames(motions, out, ("linear",)).values():
         _lines(fr, [motions[k] for k in ks], [out[k] for k in ks])
+    _solve_paths(planner, out)
+
+
+def _solve_paths(planner, out: list[Prepared]) -> None:
+    """Every path's probes solved in one launch, each path once however many moves share it."""
     owners, seen = [], {}
     for p in out:
         if p.path is not None and id(p.path) not in seen:
@@ -158,12 +168,11 @@ def _paths(planner, motions, out: list[Prepared]) -> None:
             p.followed = seen[id(p.path)]
     if owners:
         sol = planner.kin.ik64(np.concatenate([p.path[3] for p in owners]))
-        at, solved = 0, {}
-        for p in owners:
-            n = len(p.path[0])
+        counts = np.array([len(p.path[0]) for p in owners])
+        solved = {}
+        for p, at, n in zip(owners, np.cumsum(counts) - counts, counts):
             solved[id(p.path)] = IKSolutions(sol.q[at:at + n], sol.conf[at:at + n], sol.status[at:at + n],
                                              sol.numerical)
-            at += n
         for p in out:
             if p.path is not None:
                 p.probe_sol = solved[id(p.path)]

@@ -6,14 +6,15 @@ Linear and circular moves are padded to a common number of probes per bucket (at
 more than their own): a padded probe repeats the last one and is kept out of the speed curve's
 passes. Samples of all moves are laid end to end; each lookup ``np.interp`` and
 ``np.searchsorted`` would make is found from an estimate set right by exact comparisons. Each
-result is ``(t, q, share)`` as the one-move function returns it, or the ``TooLong`` it raises;
+result is ``(t, q, share)`` as the one-move function returns it (and the ramps a zone's blend
+reads), or the ``TooLong`` it raises;
 moves with ``\\T`` (the time given) are left to the one-move functions."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from . import timing
+from . import timing, zones
 
 
 def path_moves(steps, limits, rate: float) -> dict:
@@ -188,7 +189,9 @@ class Grid:
         return np.clip(k, 1, top - 1)
 
     def hand_out(self, steps: list, out: dict, q: np.ndarray, share: np.ndarray) -> None:
-        """Each move's (t, q, share) of the rows laid end to end, or its TooLong."""
+        """Each move's (t, q, share, (ramp_in, ramp_out)) of the rows laid end to end (the ramps
+        a zone's blend reads, ``zones.ramps``), or its TooLong."""
+        ramp_in, ramp_out = zones.ramps(self.t, share, self.first, self.count)
         for r, s in enumerate(steps):
             if self.long[r]:
                 try:
@@ -197,26 +200,36 @@ class Grid:
                     out[id(s)] = exc
                 continue
             lo, hi = self.first[r], self.first[r] + self.count[r]
-            out[id(s)] = (self.t[lo:hi], q[lo:hi], share[lo:hi])
+            out[id(s)] = (self.t[lo:hi], q[lo:hi], share[lo:hi], (float(ramp_in[r]), float(ramp_out[r])))
 
 
 def speed_curves(u: np.ndarray, q: np.ndarray, n: np.ndarray, nominal: np.ndarray, speeds: np.ndarray,
                  accel: np.ndarray, axis_accel: np.ndarray) -> np.ndarray:
     """``timing.speed_curve`` of each row: probes ``u`` (M, N) and joints ``q`` (M, N, dof), the
     first ``n`` of each row its own (the rest repeat its last); per row ``nominal``, ``accel``
-    (M,), ``speeds`` and ``axis_accel`` (M, dof). Padded probes have speed 0."""
+    (M,), ``speeds`` and ``axis_accel`` (M, dof). Padded probes have speed 0. An axis at a time:
+    the least over the axes is the same whatever their order."""
     rows, last = np.arange(len(u)), n - 1
     pad = np.arange(u.shape[1])[None, :] > last[:, None]
-    dq = np.empty_like(q)
-    with np.errstate(divide="ignore", invalid="ignore"):  # the padding's zero steps
-        dq[:, 1:-1] = (q[:, 2:] - q[:, :-2]) / (u[:, 2:] - u[:, :-2])[:, :, None]
-    dq[:, 0] = (q[:, 1] - q[:, 0]) / (u[:, 1] - u[:, 0])[:, None]
-    dq[rows, last] = (q[rows, last] - q[rows, last - 1]) / (u[rows, last] - u[rows, last - 1])[:, None]
-    dq[pad] = 0.0
-    slope = np.maximum(np.abs(dq, out=dq), 1e-300, out=dq)
-    with np.errstate(divide="ignore"):
-        joint = np.min(speeds[:, None, :] / slope, axis=2)
-        a = np.minimum(accel[:, None], np.min(axis_accel[:, None, :] / slope, axis=2))
+    span = np.empty_like(u)  # the du of each probe's difference: central, one-sided at the ends
+    span[:, 1:-1] = u[:, 2:] - u[:, :-2]
+    span[:, 0], span[:, -1] = u[:, 1] - u[:, 0], 1.0  # (the last column is set apart)
+    joint, a = np.full(u.shape, np.inf), np.full(u.shape, np.inf)
+    for c in range(q.shape[2]):
+        col = np.ascontiguousarray(q[:, :, c])
+        dq = np.empty_like(col)
+        dq[:, 1:-1] = col[:, 2:] - col[:, :-2]
+        dq[:, 0] = col[:, 1] - col[:, 0]
+        dq[rows, last] = col[rows, last] - col[rows, last - 1]
+        with np.errstate(divide="ignore", invalid="ignore"):  # the padding's zero steps
+            dq /= span
+            dq[rows, last] = (col[rows, last] - col[rows, last - 1]) / (u[rows, last] - u[rows, last - 1])
+        dq[pad] = 0.0
+        slope = np.maximum(np.abs(dq, out=dq), 1e-300, out=dq)
+        with np.errstate(divide="ignore"):
+            np.minimum(joint, speeds[:, c, None] / slope, out=joint)
+            np.minimum(a, axis_accel[:, c, None] / slope, out=a)
+    np.minimum(accel[:, None], a, out=a)
     w = np.minimum(nominal[:, None], joint) ** 2
     w[:, 0] = 0.0
     w[rows, last] = 0.0

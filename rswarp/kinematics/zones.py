@@ -31,6 +31,7 @@ class Segment:
     turn: float
     probe_s: np.ndarray
     probe_len: np.ndarray
+    ramps: tuple | None = None  # (ramp_in, ramp_out) where a batch found them (``ramps``)
 
     @property
     def duration(self) -> float:
@@ -42,23 +43,28 @@ class Segment:
 
     def ramp_out(self) -> float:
         """How long it slows down at its end: its last stretch of falling speed."""
+        if self.ramps is not None:
+            return self.ramps[1]
         return _monotone_tail(self.t, self.s)
 
     def ramp_in(self) -> float:
         """How long it speeds up at its start."""
+        if self.ramps is not None:
+            return self.ramps[0]
         t = np.concatenate([[0.0], self.t])
         s = np.concatenate([[0.0], self.s])
         return _monotone_tail(self.duration - t[::-1], 1.0 - s[::-1])  # its start, read backwards
 
 
-def straight(t, q, s, q0, length: float, turn: float) -> Segment:
-    """A move whose TCP goes its path in proportion to its share (a line, a circle)."""
-    return Segment(t, q, s, q0, length, turn, np.array([0.0, 1.0]), np.array([0.0, length]))
+def straight(t, q, s, q0, length: float, turn: float, ramps: tuple | None = None) -> Segment:
+    """A move whose TCP goes its path in proportion to its share (a line, a circle); ``ramps``:
+    its (ramp_in, ramp_out) where already known."""
+    return Segment(t, q, s, q0, length, turn, _shares(2), np.array([0.0, length]), ramps)
 
 
-def jointed(t, q, s, q0, tcp) -> Segment:
+def jointed(t, q, s, q0, tcp, ramps: tuple | None = None) -> Segment:
     """A joint move, its TCP's path measured at evenly shared probes (``tcp``: a ``timing.TcpPath``)."""
-    return Segment(t, q, s, q0, float(tcp.gone[-1]), tcp.turn, _shares(len(tcp.gone)), tcp.gone)
+    return Segment(t, q, s, q0, float(tcp.gone[-1]), tcp.turn, _shares(len(tcp.gone)), tcp.gone, ramps)
 
 
 @lru_cache(maxsize=8)
@@ -105,8 +111,9 @@ def blend(prev: Segment, nxt: Segment, tau: float) -> tuple[int, np.ndarray]:
     overlap) for an overlap of ``tau`` seconds; ``nxt`` then starts ``tau`` before ``prev`` ends."""
     start = prev.duration - tau
     kept = int(np.searchsorted(prev.t, start, side="right"))
-    t_prev = np.concatenate([[0.0], prev.t])
-    q_prev = np.vstack([prev.q0[None], prev.q])
+    # prev's samples from the last at or before ``start`` (its start, q0, at time 0): all ``at`` needs
+    t_prev = np.concatenate([[0.0], prev.t]) if kept == 0 else prev.t[kept - 1:]
+    q_prev = np.vstack([prev.q0[None], prev.q]) if kept == 0 else prev.q[kept - 1:]
     shared = int(np.searchsorted(nxt.t, tau, side="right"))  # nxt's samples at or before tau
     at = np.minimum(start + nxt.t[:shared], t_prev[-1])
     k = np.clip(np.searchsorted(t_prev, at, side="right"), 1, len(t_prev) - 1)  # at lies in [t[k-1], t[k]]
@@ -126,3 +133,45 @@ def _monotone_tail(t: np.ndarray, s: np.ndarray) -> float:
     first = int(rising[-1]) + 1 if len(rising) else 0  # speed falls (or holds) from sample first on
     held = np.nonzero(v[first:] >= v[first] * (1 - 1e-3))[0]
     return float(t[-1] - t[first + int(held[-1])])
+
+
+def ramps(t: np.ndarray, s: np.ndarray, first: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(ramp_in, ramp_out) of moves whose samples (times ``t`` from their start, shares ``s``) lie
+    end to end, move m's ``count[m]`` of them from ``first[m]``: ``Segment.ramp_in`` and
+    ``ramp_out`` of each, the same arithmetic."""
+    out = _tails(t, s, first, count)
+    # each move read backwards from its end, with its start (0, 0) last: what ``ramp_in`` reads
+    row = np.repeat(np.arange(len(count)), count + 1)
+    back_first = first + np.arange(len(count))
+    i = np.arange(len(row)) - back_first[row]  # 0 .. count within the move
+    src = first[row] + count[row] - 1 - i  # sample read at i (its start where i == count)
+    start = i == count[row]
+    duration = np.where(count > 0, t[np.maximum(first + count - 1, 0)], 0.0)
+    t_back = duration[row] - np.where(start, 0.0, t[np.minimum(src, len(t) - 1)])
+    s_back = 1.0 - np.where(start, 0.0, s[np.minimum(src, len(s) - 1)])
+    return _tails(t_back, s_back, back_first, count + 1), out
+
+
+def _tails(t: np.ndarray, s: np.ndarray, first: np.ndarray, count: np.ndarray) -> np.ndarray:
+    """``_monotone_tail`` of each move laid end to end in ``t`` and ``s``."""
+    out = np.zeros(len(count))
+    short = count < 3
+    for m in np.flatnonzero(short & (count > 0)):
+        out[m] = t[first[m] + count[m] - 1] - t[first[m]]
+    rows = np.flatnonzero(~short)
+    if not len(rows):
+        return out
+    f, n = first[rows], count[rows]
+    row = np.repeat(np.arange(len(rows)), n - 1)  # speeds between neighbouring samples
+    starts = np.cumsum(n - 1) - (n - 1)
+    local = np.arange(len(row)) - starts[row]
+    pair = local + f[row]
+    v = (s[pair + 1] - s[pair]) / np.maximum(t[pair + 1] - t[pair], 1e-12)
+    rising = np.zeros(len(v), bool)  # v[j + 1] rises above v[j], at j + 1
+    rising[1:] = v[1:] > v[:-1] * (1 + 1e-9) + 1e-12
+    rising[starts] = False
+    top = np.maximum.reduceat(np.where(rising, local, 0), starts)  # the last rise (0: none)
+    held = (local >= top[row]) & (v >= v[starts + top][row] * (1 - 1e-3))
+    last = np.maximum.reduceat(np.where(held, local, -1), starts)
+    out[rows] = t[f + n - 1] - t[f + last]
+    return out

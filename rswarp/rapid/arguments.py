@@ -106,11 +106,13 @@ class Arguments:
                 cache[key] = found
         return found
 
-    def tool_wobj(self, tool_rec: Rec | None = None) -> tuple:
-        """(tool, wobj) as SI records: the given ones, else the active ones (the last move's)."""
+    def tool_wobj(self, tool_rec: Rec | None = None, active: bool = True) -> tuple:
+        """(tool, wobj) as SI records: the given ones, else the active ones (the last move's: CRobT),
+        or wobj0 where ``active`` is False (CalcJointT, CalcRobT, as the manual says)."""
         tool_rec = tool_rec or self.option("Tool", "tooldata") or self.interp.state["tool"] or \
             self.frame.module.get("tool0").get()
-        wobj_rec = self.option("WObj", "wobjdata") or self.interp.state["wobj"] or self.frame.module.get("wobj0").get()
+        wobj_rec = self.option("WObj", "wobjdata") or (self.interp.state["wobj"] if active else None) or \
+            self.frame.module.get("wobj0").get()
         return tool_rec, wobj_rec, self.si(rd.tool, tool_rec, "the tool"), self.si(rd.work_object, wobj_rec, "the wobj")
 
 

@@ -252,7 +252,11 @@ class Evaluator:
         fail(self.path, node.line, f"{node.text}: a placeholder RobotStudio left for an expression not yet written")
 
     def _aggregate(self, node: n.Aggregate, frame):
-        return [self.ev(e, frame) for e in node.items]
+        items = [self.ev(e, frame) for e in node.items]
+        for v in items:  # an aggregate with a part a live read gave is as unknown
+            if v.__class__ is Live:
+                return v
+        return items
 
 
 def _numeric(v) -> bool:

@@ -222,7 +222,7 @@ def _cjointt(interp, a: Arguments) -> Rec:
 def _calcjointt(interp, a: Arguments) -> Rec:
     a.need(2)
     target = a.si(rd.robtarget, a.value(0, "robtarget"), "CalcJointT's target")
-    _, _, tool, wobj = a.tool_wobj(a.value(1, "tooldata"))
+    _, _, tool, wobj = a.tool_wobj(a.value(1, "tooldata"), active=False)
     joints, why = _robot(interp, a, lambda: interp.robot.solve(target, tool, wobj))
     if joints is None:
         rapid_error(interp.path, a.line, f"CalcJointT: {why}", "ERR_ROBLIMIT")
@@ -232,7 +232,7 @@ def _calcjointt(interp, a: Arguments) -> Rec:
 def _calcrobt(interp, a: Arguments) -> Rec:
     a.need(2)
     joints = _si_joints(interp, a.value(0, "jointtarget"), a)
-    _, _, tool, wobj = a.tool_wobj(a.value(1, "tooldata"))
+    _, _, tool, wobj = a.tool_wobj(a.value(1, "tooldata"), active=False)
     pose, conf = _robot(interp, a, lambda: interp.robot.pose(joints, tool, wobj))
     return _robtarget(interp, pose, conf)
 

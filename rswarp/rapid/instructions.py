@@ -187,6 +187,8 @@ def _data(op: str):
         a.need(1 if op in ("incr", "decr", "clear") else 2)
         target = a.reference(0)
         value = target.get()
+        if value.__class__ is Live:  # unknown, and stays so
+            return
         if not isinstance(value, float):
             fail(interp.path, s.line, f"{s.name} takes a num variable")
         step = {"incr": 1.0, "decr": -1.0, "clear": -value}.get(op)

@@ -120,8 +120,9 @@ def pose_vect(a: Rec, p: Rec) -> Rec:
 
 
 def def_frame(p1: Vec, p2: Vec, p3: Vec, origin: int = 1) -> Rec | None:
-    """DefFrame: x from p1 towards p2, y towards p3 in their plane; origin at p1 (1), or at p3's
-    foot on the x axis (2). None where the points are on one line."""
+    """DefFrame: x from p1 towards p2, y towards p3 in their plane; origin at p1 (\\Origin 1, the
+    default), at p2 (2), or on the line through p1 and p2 where p3 is on the y axis (3). None
+    where the points are on one line."""
     x = _unit(_sub(p2, p1))
     v = _sub(p3, p1)
     z = _cross(x, v) if x else None
@@ -129,7 +130,8 @@ def def_frame(p1: Vec, p2: Vec, p3: Vec, origin: int = 1) -> Rec | None:
         return None
     z = _unit(z)
     y = _cross(z, x)
-    o = p1 if origin != 2 else tuple(a + b * sum(c * d for c, d in zip(v, x)) for a, b in zip(p1, x))
+    o = p2 if origin == 2 else tuple(a + b * sum(c * d for c, d in zip(v, x)) for a, b in zip(p1, x)) \
+        if origin == 3 else p1
     return pose(o, matrix_quat((x, y, z)))
 
 

@@ -84,7 +84,8 @@ CONSTANTS = (
                   "USER_DEF_ERR OPTION_PROD_ERR - PROCESS_ERR CFG_ERR"),
     ("busstate", "BUSSTATE_HALTED BUSSTATE_RUN BUSSTATE_ERROR BUSSTATE_STARTUP BUSSTATE_INIT"),
     ("triggmode", "- TRIGG_MODE1 TRIGG_MODE2 TRIGG_MODE3"),
-    ("tunetype", "TUNE_DF TUNE_KP TUNE_KV TUNE_TI TUNE_FRIC_LEV TUNE_FRIC_RAMP TUNE_DG TUNE_DH TUNE_DI TUNE_DK TUNE_DL"),
+    ("tunetype", "TUNE_DF TUNE_KP TUNE_KV TUNE_TI TUNE_FRIC_LEV TUNE_FRIC_RAMP TUNE_DG TUNE_DH TUNE_DI TUNE_DK "
+                 "TUNE_DL"),
 )
 _FIRST = {"buttondata": -1}
 STOP_POINTS = ("inpos20", "inpos50", "inpos100", "stoptime0_5", "stoptime1_0", "stoptime1_5", "fllwtime0_5",

@@ -62,6 +62,8 @@ class Part:
     def get(self):
         value = self.base.get()
         for step in self.path:
+            if not isinstance(value, (Arr, Rec)):  # a part of an unknown value (a live read's) is as unknown
+                return value
             value = value.items[step] if isinstance(value, Arr) else value.vals[step]
         return value
 
@@ -70,8 +72,13 @@ class Part:
 
 
 def replace(root, path: tuple, value):
-    """``root`` with the part at ``path`` replaced: records rebuilt, arrays written in place."""
+    """``root`` with the part at ``path`` replaced: records rebuilt, arrays written in place; an
+    unknown value (a live read's) stays unknown, and a part made unknown makes the whole so."""
     if not path:
+        return value
+    if not isinstance(root, (Arr, Rec)):
+        return root
+    if not isinstance(value, (Arr, Rec, float, bool, str, int, tuple, list)) and value.__class__.__name__ == "Live":
         return value
     head, rest = path[0], path[1:]
     if isinstance(root, Arr):

@@ -138,5 +138,6 @@ def strdigcalc(interp, a: Arguments) -> str:
     return str(value)
 
 
-FUNCTIONS = {"strdigcmp": strdigcmp, "strdigcalc": strdigcalc, "strtoval": strtoval, "strmatch": strmatch, "strmap": strmap, "bytetostr": bytetostr,
+FUNCTIONS = {"strdigcmp": strdigcmp, "strdigcalc": strdigcalc,
+             "strtoval": strtoval, "strmatch": strmatch, "strmap": strmap, "bytetostr": bytetostr,
              "strtobyte": strtobyte, "dectohex": dectohex, "hextodec": hextodec}

@@ -298,6 +298,8 @@ def describe(value) -> str:
         return f"the signal '{value.name}'"
     if isinstance(value, Opaque):
         return f"a {value.type}"
+    if value.__class__.__name__ == "Live":
+        return "an unknown value (what a live read gives)"
     return "no value"
 
 
