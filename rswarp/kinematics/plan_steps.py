@@ -12,6 +12,8 @@ launches and the arithmetic in a few large arrays, not one per move:
 
 from __future__ import annotations
 
+import gc
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -69,6 +71,18 @@ class Step:
     def ramps(self) -> tuple | None:
         """(speeding up, slowing down) in seconds where the batch timed the step, else None."""
         return self.timed[3] if isinstance(self.timed, tuple) else None
+
+
+@contextmanager
+def no_gc():
+    """Python's cycle collector held off while a batch is planned (and as it was after)."""
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
 
 
 def prepare(planner, motions) -> list[Prepared]:

@@ -151,9 +151,10 @@ class Planner:
         """Plan the motions not planned yet (``plan_steps``: in batches, then in order)."""
         new = list(motions[self.done:])
         self.done = len(motions)
-        prepared = plan_steps.prepare(self, new)
-        steps = [plan_steps.resolve(self, m, p) for m, p in zip(new, prepared)]
-        plan_steps.time_all(self, steps)
+        with plan_steps.no_gc():  # many small objects, no cycles: the collector's passes are all cost
+            prepared = plan_steps.prepare(self, new)
+            steps = [plan_steps.resolve(self, m, p) for m, p in zip(new, prepared)]
+            plan_steps.time_all(self, steps)
 
     def finish(self, run: Run) -> Plan:
         self.extend(run.motions)

@@ -99,4 +99,17 @@ def _argument(interp, p: n.Param, a: n.Arg, frame, line: int):
                                                                                  "signalai", "signalao"):
             fail(interp.path, line, f"unknown name '{expr.name}'")
         value = interp.coerce(value, p.type, line, f"the argument '{p.name}'")
-    return Cell(value, p.type, "in", interp.path, line, p.name)
+    file, at = _origin(expr, frame)
+    return Cell(value, p.type, "in", file, at, p.name)
+
+
+def _origin(expr, frame) -> tuple[str, int]:
+    """Where the data an IN argument is (or is built from: ``Offs(p, ...)``'s p) is declared, so a
+    target passed down a call is still traced to its declaration; ("", 0) for none."""
+    while isinstance(expr, n.Call):
+        expr = next((g.expr for g in expr.args if not g.optional), None)
+    if not isinstance(expr, n.Name) or frame is None:
+        return "", 0
+    cell = frame.cells.get(expr.key) or frame.module.get(expr.key)
+    cell = getattr(cell, "cell", cell)
+    return (cell.file, cell.line) if cell is not None and getattr(cell, "file", "") else ("", 0)

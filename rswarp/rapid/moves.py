@@ -100,8 +100,8 @@ def _declared(node, frame) -> str:
         node = next((g.expr for g in node.args if not g.optional), None)
     cell = frame.cells.get(node.key) or frame.module.get(node.key) if isinstance(node, n.Name) else None
     cell = getattr(cell, "cell", cell)
-    named = getattr(cell, "file", "") and cell.kind != "in" and cell.type in ("robtarget", "jointtarget")
-    return f"{cell.file}:{cell.line}" if named else ""  # an IN parameter's is its call's: not said
+    named = getattr(cell, "file", "") and cell.type in ("robtarget", "jointtarget")
+    return f"{cell.file}:{cell.line}" if named else ""  # an IN parameter's is its argument's declaration
 
 
 WELDING = {"arcl", "arcc", "arclend", "arccend"}  # the arc burns: the TCP goes at the welddata's weld_speed
