@@ -38,6 +38,19 @@ def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
         names = {k: s.node.name for k, s in {**task.globals, **own}.items() if isinstance(s.node, n.Data)}
         for r in module.routines:
             _Routine(module.file, r, data | predefined, names, routines, signals).check()
+        _module_data(module, data | predefined, names, routines, signals)
+
+
+def _module_data(module: n.Module, known: set[str], names: dict, routines: dict, signals: set[str]) -> None:
+    """The values a module's data are declared with, checked as a routine's statements are."""
+    inits = [d for d in module.data if d.init is not None or d.dims]
+    if not inits:
+        return
+    holder = n.Routine(module.line, "proc", f"the data of {module.name}", "", None, (), n.Body(()), False)
+    walk = _Routine(module.file, holder, known, names, routines, signals)
+    for d in inits:
+        for e in (*(d.dims or ()), d.init):
+            walk.expr(e, d.line)
 
 
 class _Routine:
