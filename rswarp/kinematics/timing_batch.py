@@ -118,7 +118,8 @@ def _padded(flat: np.ndarray, n: np.ndarray, size: int) -> np.ndarray:
     """Rows of ``n`` values each (laid end to end in ``flat``) in a (rows, size, ...) array, each
     padded with its last value."""
     ends = np.cumsum(n)
-    out = np.repeat(flat[ends - 1][:, None], size, axis=1)
+    out = np.empty((len(n), size) + flat.shape[1:])
+    out[:] = flat[ends - 1][:, None]
     row = np.repeat(np.arange(len(n)), n)
     out[row, np.arange(len(flat)) - (ends - n)[row]] = flat
     return out

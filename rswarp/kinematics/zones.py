@@ -116,7 +116,8 @@ def blend(prev: Segment, nxt: Segment, tau: float) -> tuple[int, np.ndarray]:
     q_prev = np.vstack([prev.q0[None], prev.q]) if kept == 0 else prev.q[kept - 1:]
     shared = int(np.searchsorted(nxt.t, tau, side="right"))  # nxt's samples at or before tau
     at = np.minimum(start + nxt.t[:shared], t_prev[-1])
-    k = np.clip(np.searchsorted(t_prev, at, side="right"), 1, len(t_prev) - 1)  # at lies in [t[k-1], t[k]]
+    # at lies in [t[k-1], t[k]]; at >= start >= t_prev[0], so k >= 1 already (np.clip's lower bound)
+    k = np.minimum(np.searchsorted(t_prev, at, side="right"), len(t_prev) - 1)
     w = ((at - t_prev[k - 1]) / np.maximum(t_prev[k] - t_prev[k - 1], 1e-300))[:, None]
     q = nxt.q.copy()
     q[:shared] += q_prev[k - 1] * (1.0 - w) + q_prev[k] * w - prev.q[-1]

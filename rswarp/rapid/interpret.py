@@ -27,10 +27,10 @@ from .expressions import Evaluator
 from .flow import ExitCycle, ExitTask, Goto, Returned
 from .functions import call_function
 from .instructions import clock_read, run_instruction
-from .live import Inputs, Live, LiveValue, NeedsInput, parse_input
+from .live import Inputs, Live, LiveValue, NeedsInput, function_input, input_value
 from .motion import Cycle, Motion, NoRobot, Run
-from .predefined import error_number, predefined
-from .scope import PENDING, Cell, Frame, replace
+from .predefined import predefined
+from .scope import PENDING, Cell, Frame, ModuleScope, replace
 from .task import Task
 from .values import Arr, Mismatch
 
@@ -156,7 +156,7 @@ class Interpreter(Evaluator):
             scope = dict(base)
             scope.update(global_cells)
             scope.update(own)
-            self.scopes[m.name.lower()] = _Scope(scope, m, self.task)
+            self.scopes[m.name.lower()] = ModuleScope(scope, m, self.task)
         for m in self.task.modules:
             for d in m.data:
                 self._initialize(cells[id(d)])
@@ -267,25 +267,10 @@ class Interpreter(Evaluator):
 
     def live_input(self, live: Live, name: str, type_: str, line: int):
         """What ``--input`` gives ``name`` for a live read stored there, else the read, unknown."""
-        text = self.inputs.take(name)
-        if text is None:
-            return live.named(name)
-        base = self.types.base(type_)
-        try:
-            value = parse_input(text, base)
-            return self.types.coerce(value, type_, f"--input {name}")
-        except (ValueError, Mismatch) as exc:
-            fail(self.path, line, f"--input {name}={text}: {name} is a {base}, and the value is not one ({exc})")
+        return input_value(self, live, name, type_, line)
 
     def given_text(self, text: str, name: str, line: int):
-        """An ``--input`` for a live function's value: a number, TRUE or FALSE, an aggregate, else
-        the text as a string."""
-        for base in ("num", "bool"):
-            try:
-                return parse_input(text, base)
-            except ValueError:
-                pass
-        return parse_input(text, "string")
+        return function_input(text)
 
     def target(self, node: n.Name, frame: Frame):
         """(cell, path, type) of an assignment's target or a reference argument."""
@@ -503,32 +488,6 @@ class Interpreter(Evaluator):
         self.motions.append(motion)
         if motion.kind != "wait":
             self.moves += 1
-
-
-class _Scope(dict):
-    """A module's names: data (its own, then the task's global, then predefined) and routines."""
-
-    def __init__(self, data: dict, module: n.Module, task: Task):
-        super().__init__(data)
-        self.module = module
-        own = task.locals.get(module.name.lower(), {})
-        self._routines = {k: s.node for k, s in task.globals.items() if isinstance(s.node, n.Routine)}
-        self._routines.update({k: s.node for k, s in own.items() if isinstance(s.node, n.Routine)})
-
-    def get(self, key, default=None):
-        found = dict.get(self, key)
-        if found is None:
-            number = error_number(key)
-            if number is not None:
-                found = self[key] = Cell(number, "errnum", "const", "", 0, key)
-        return found if found is not None else default
-
-    def routine(self, key: str):
-        return self._routines.get(key)
-
-    def routines(self) -> dict:
-        """The routines this module sees, by lower-case name."""
-        return self._routines
 
 
 @contextlib.contextmanager

@@ -133,3 +133,30 @@ def _lists(v):
     if isinstance(v, (int, float)) and not isinstance(v, bool):
         return float(v)
     return v
+
+
+def input_value(interp, live: Live, name: str, type_: str, line: int):
+    """What ``--input`` gives ``name`` (of ``type_``) for a live read stored there, else the read,
+    unknown; a value not of the type is an error at the read's line."""
+    from .errors import fail
+    from .values import Mismatch
+
+    text = interp.inputs.take(name)
+    if text is None:
+        return live.named(name)
+    base = interp.types.base(type_)
+    try:
+        return interp.types.coerce(parse_input(text, base), type_, f"--input {name}")
+    except (ValueError, Mismatch) as exc:
+        fail(interp.path, line, f"--input {name}={text}: {name} is a {base}, and the value is not one ({exc})")
+
+
+def function_input(text: str):
+    """An ``--input`` for a live function's value: a number, TRUE or FALSE, an aggregate, else the
+    text as a string."""
+    for base in ("num", "bool"):
+        try:
+            return parse_input(text, base)
+        except ValueError:
+            pass
+    return parse_input(text, "string")

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .predefined import error_number
 from .values import Arr, Rec
 
 PENDING = object()  # a module's data not yet initialized (declared later, or in a later module)
@@ -107,3 +108,29 @@ class Frame:
             out.append(f"{frame.caller.routine.name} ({frame.caller.routine.file}:{frame.line})")
             frame = frame.caller
         return tuple(reversed(out))
+
+
+class ModuleScope(dict):
+    """A module's names: data (its own, then the task's global, then predefined) and routines."""
+
+    def __init__(self, data: dict, module, task):
+        super().__init__(data)
+        self.module = module
+        own = task.locals.get(module.name.lower(), {})
+        self._routines = {k: s.node for k, s in task.globals.items() if s.node.__class__.__name__ == "Routine"}
+        self._routines.update({k: s.node for k, s in own.items() if s.node.__class__.__name__ == "Routine"})
+
+    def get(self, key, default=None):
+        found = dict.get(self, key)
+        if found is None:
+            number = error_number(key)
+            if number is not None:
+                found = self[key] = Cell(number, "errnum", "const", "", 0, key)
+        return found if found is not None else default
+
+    def routine(self, key: str):
+        return self._routines.get(key)
+
+    def routines(self) -> dict:
+        """The routines this module sees, by lower-case name."""
+        return self._routines
