@@ -126,7 +126,9 @@ def main() -> None:
     results = old.get("benchmarks", {})
     for name in names:
         results[name] = run(name, args.quick) | {"date": datetime.date.today().isoformat()}
-    doc = {"machine": machine(), "date": datetime.date.today().isoformat(), "versions": versions(),
+    now = versions()  # with --only, a peer not installed now keeps the version the kept entries ran with
+    kept = {k: v for k, v in old.get("versions", {}).items() if now.get(k) is None and v is not None}
+    doc = {"machine": machine(), "date": datetime.date.today().isoformat(), "versions": now | kept,
            "quick": args.quick, "benchmarks": results}
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(doc, indent=1) + "\n")

@@ -5,7 +5,6 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
-
 DATA = Path(__file__).parent / "data"
 
 # Property tests are seeded: the same examples on every run, so the suite never goes red at random

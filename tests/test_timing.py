@@ -1,7 +1,9 @@
 """Robot data and the timing model (issue "Robot data and outputs users trust"): axis speeds from
 the bundled robot-data file, from a URDF and a joint_limits.yaml in ROS-Industrial's and MoveIt's
 layouts; a 170 deg swing of axis 1 timed by its datasheet speed; zones blended (a square of
-MoveL in z50 against fine, its corners passed within the zone); ABB's zonedata table."""
+MoveL in z50 against fine, its corners passed within the zone, a zone larger than half its move
+cut to half); ABB's zonedata table; a path shorter than its turn timed by v_ori, and one cut at
+its second probe in a fraction of a second; moves timed together as each alone."""
 
 from __future__ import annotations
 
@@ -163,7 +165,7 @@ def test_a_path_cut_at_its_second_probe_speeds_up_and_slows_down_between_them():
     _, p = program_plan(str(IRB2600), [str(RAPID / "reorient_cut.mod")])
     mv = p.moves[1]
     assert 0.0 < mv.end - mv.start < 0.2
-    assert [f.kind for f in mv.findings] == ["path"] and "J5" in mv.findings[0].text
+    assert [f.kind for f in mv.findings] == ["path"] and "limit" in mv.findings[0].text
 
 
 def test_a_zone_larger_than_half_its_move_is_cut_to_half(tmp_path):
@@ -184,3 +186,17 @@ def test_a_zone_larger_than_half_its_move_is_cut_to_half(tmp_path):
     switch = kin.fk64(p.q[p.moves[1].rows[1] - 1][None])[:, link] @ m  # where the next move takes over
     corner = np.array([1.0, 0.05, 0.7])
     assert 0.045 < np.linalg.norm(switch[0, :3, 3] - corner) <= 0.0501
+
+
+@pytest.mark.parametrize("task", ["zone_square.mod", "time_arg.mod", "real/palletizer.mod", "real/welding.mod"])
+def test_moves_timed_together_are_timed_as_each_alone(task, monkeypatch):
+    """The batch (``timing_batch``, ``zone_batch``) times, samples and blends every move to the bit
+    as the one-move functions do (``timing.path_move``, ``joint_move``, ``zones.overlap``, ``blend``),
+    which time a move past the batch's samples."""
+    from rswarp.kinematics import timing_batch
+
+    together = program_plan(str(IRB2600), [str(RAPID / task)], strict=False)[1]
+    monkeypatch.setattr(timing_batch, "BATCH_SAMPLES", 0)
+    alone = program_plan(str(IRB2600), [str(RAPID / task)], strict=False)[1]
+    assert np.array_equal(together.times, alone.times) and np.array_equal(together.q, alone.q)
+    assert [(mv.start, mv.end, mv.rows) for mv in together.moves] == [(mv.start, mv.end, mv.rows) for mv in alone.moves]

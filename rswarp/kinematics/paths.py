@@ -1,6 +1,8 @@
 """The paths a linear or circular RAPID move takes between two poses: the TCP on its line or on
 the circle through three points, the orientation slerped, in NumPy (a quaternion at a time costs
-less than SciPy's rotation objects, which a move would build thousands of)."""
+less than SciPy's rotation objects, which a move would build thousands of). ``lines`` and
+``poses_along`` do for many straight moves at once what ``path`` does for one, in the same
+arithmetic, so their probes are the same to the bit."""
 
 from __future__ import annotations
 
@@ -112,7 +114,8 @@ def quaternions(m: np.ndarray) -> np.ndarray:
     second = ~first & (a >= e) & (a >= i)
     third = ~first & ~second & (e >= i)
     q = np.empty((len(m), 4))
-    for rows, root, parts in ((first, lambda k: tr[k] + 1.0, _q_trace), (second, lambda k: 1.0 + a[k] - e[k] - i[k], _q_x),
+    for rows, root, parts in ((first, lambda k: tr[k] + 1.0, _q_trace),
+                              (second, lambda k: 1.0 + a[k] - e[k] - i[k], _q_x),
                               (third, lambda k: 1.0 + e[k] - a[k] - i[k], _q_y),
                               (~(first | second | third), lambda k: 1.0 + i[k] - a[k] - e[k], _q_z)):
         k = np.flatnonzero(rows)

@@ -19,8 +19,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..findings import FAIL, at_time
+from ..kernels.ik import OK
 from . import targets as tg
-from . import timing, timing_batch
+from . import timing, timing_batch, zone_batch
 from .follow import follow
 from .ik import IKSolutions
 from .paths import lines, path, poses_along
@@ -35,6 +36,7 @@ class Prepared:
     error: str | None = None
     sol: IKSolutions | None = None  # every solution of the target (turns included)
     row: int = 0
+    within: dict | None = None  # row -> its solutions within reach and limits (made once, shared by the batch)
     end: np.ndarray | None = None  # the flange's pose at the target
     start: np.ndarray | None = None  # the flange pose a path's probes assume it starts from
     path: tuple | None = None  # (u, length, turn, flanges) of a linear or circular move
@@ -57,7 +59,7 @@ class Step:
     turn: float = 0.0
     findings: list = field(default_factory=list)
     end_conf: tuple | None = None
-    timed: object = None  # (t, q, share, ramps) the batch timed it at, or the TooLong it met
+    timed: object = None  # (t, q, share, zones.Ahead) the batch timed it at, or the TooLong it met
 
     def timing(self, compute):
         """(t, q, share): the batch's, else ``compute()``'s; the batch's TooLong raised here."""
@@ -68,8 +70,8 @@ class Step:
         return self.timed[:3]
 
     @property
-    def ramps(self) -> tuple | None:
-        """(speeding up, slowing down) in seconds where the batch timed the step, else None."""
+    def ahead(self):
+        """What the batch found of the step's ramps and blend (``zones.Ahead``), or None."""
         return self.timed[3] if isinstance(self.timed, tuple) else None
 
 
@@ -144,9 +146,10 @@ def _targets(planner, motions, out: list[Prepared]) -> None:
         poses = np.array(poses)
         sol = planner.kin.solutions64(poses)
         tg.off_the_axis(planner.kin, poses, sol, float(planner.q[0]), checked)
+        within: dict = {}
         for p in out:
             if p.frames is not None:
-                p.sol = sol
+                p.sol, p.within = sol, within
     if joints:
         for k, flange in zip(absolute, planner.flanges(np.array(joints))):
             out[k].end = flange
@@ -252,8 +255,7 @@ def resolve(planner, m, p: Prepared) -> Step:
     if m.kind == "absolute":
         q1, why = tg.joint_values(planner.mech, m.targets[0], m.names[0])
     else:
-        q1, why = tg.pick(p.sol, p.row, m.targets[-1].conf, planner.q, m.conf, m.names[-1], planner.form,
-                          planner.bounds)
+        q1, why = _pick(planner, m, p)
     if why is not None:
         return Step(m, "skip", why)
     planner.remember(m, q1)
@@ -262,6 +264,21 @@ def resolve(planner, m, p: Prepared) -> Step:
         planner.q, planner.flange_now = q1, p.end
         return step
     return _follow(planner, m, p)
+
+
+def _pick(planner, m, p: Prepared) -> tuple:
+    """``targets.pick`` of the move's target. Where its confdata is not checked that is the
+    solution nearest where the robot is of those within reach and limits (the first of equals):
+    found among those alone, listed once per pose."""
+    cands = None
+    if not (m.conf and not p.sol.numerical):  # unchecked
+        cands = p.within.get(p.row)
+        if cands is None:
+            cands = p.within[p.row] = p.sol.q[p.row][p.sol.status[p.row] == OK]
+    if cands is None or not len(cands):  # checked, or none to take: as ``targets.pick`` says it
+        return tg.pick(p.sol, p.row, m.targets[-1].conf, planner.q, m.conf, m.names[-1], planner.form,
+                       planner.bounds)
+    return cands[int(np.argmin(np.sum((cands - planner.q) ** 2, axis=1)))].copy(), None
 
 
 def _follow(planner, m, p: Prepared) -> Step:
@@ -307,8 +324,10 @@ def time_all(planner, steps: list[Step]) -> None:
         flanges = flanges.reshape(len(joint), timing.JOINT_PROBES, 4, 4)  # at each's ``timing.joint_probes``
         poses = np.array([planner.world(s.motion, f) for s, f in zip(joint, flanges)])
         tcp = {id(s): path for s, path in zip(joint, timing_batch.tcp_paths(poses))}
-    timed = timing_batch.path_moves(steps, planner.limits, planner.rate)
-    timed.update(timing_batch.joint_moves(steps, tcp, planner.limits, planner.rate))
+    budget = [timing_batch.BATCH_SAMPLES]
+    timed = timing_batch.path_moves(steps, planner.limits, planner.rate, budget)
+    timed.update(timing_batch.joint_moves(steps, tcp, planner.limits, planner.rate, budget))
+    zone_batch.blends(steps, timed, tcp)
     for s in steps:
         s.timed = timed.get(id(s))
         planner.time_step(s, tcp.get(id(s)))

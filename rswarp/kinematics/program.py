@@ -177,14 +177,14 @@ class Planner:
                 return self._append(m, t, np.repeat(s.q0[None], len(t), axis=0), [])
             if s.kind == "joint":
                 t, seg, share = s.timing(lambda: timing.joint_move(s.q0, s.q1, m, self.limits, self.rate, tcp))
-                piece = zones.jointed(t, seg, share, s.q0, tcp, s.ramps) if tcp is not None and len(t) else None
+                piece = zones.jointed(t, seg, share, s.q0, tcp, s.ahead) if tcp is not None and len(t) else None
                 return self._append(m, t, seg, [], piece)
             if len(s.u) < 2:
                 return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
             t, seg, share = s.timing(lambda: timing.path_move(s.u, s.q, s.length, s.turn, m, self.limits, self.rate))
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
-        piece = zones.straight(t, seg, share, s.q0, s.length, s.turn, s.ramps) if len(t) else None
+        piece = zones.straight(t, seg, share, s.q0, s.length, s.turn, s.ahead) if len(t) else None
         self._append(m, t, seg, s.findings + self._end_findings(m, t, seg, s.end_conf), piece)
 
     def flanges(self, q: np.ndarray) -> np.ndarray:

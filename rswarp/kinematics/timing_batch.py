@@ -7,8 +7,9 @@ more than their own): a padded probe repeats the last one and is kept out of the
 passes. Samples of all moves are laid end to end; each lookup ``np.interp`` and
 ``np.searchsorted`` would make is found from an estimate set right by exact comparisons. Each
 result is ``(t, q, share)`` as the one-move function returns it (and the ramps a zone's blend
-reads), or the ``TooLong`` it raises;
-moves with ``\\T`` (the time given) are left to the one-move functions."""
+reads), or the ``TooLong`` it raises; moves with ``\\T`` (the time given) are left to the
+one-move functions, and so are moves past ``BATCH_SAMPLES`` samples in all (memory stays bounded
+where a trajectory would be refused as too long)."""
 
 from __future__ import annotations
 
@@ -16,23 +17,26 @@ import numpy as np
 
 from . import timing, zones
 
+BATCH_SAMPLES = 5_000_000  # samples timed at once (a trajectory's most): moves past them are timed one by one
 
-def path_moves(steps, limits, rate: float) -> dict:
+
+def path_moves(steps, limits, rate: float, budget: list | None = None) -> dict:
     """{id(step): (t, q, share) or TooLong} of the linear and circular steps timed by their
-    speed data."""
+    speed data; ``budget``: [samples left to time at once] (moves past it are left out)."""
+    budget = [BATCH_SAMPLES] if budget is None else budget
     buckets: dict = {}
     for s in steps:
         if s.kind == "path" and len(s.u) >= 2 and s.motion.duration is None:
             buckets.setdefault(bucket_size(max(len(s.u), 3)), []).append(s)  # two probes get a third
     out: dict = {}
     for size, group in buckets.items():
-        _path_bucket(group, size, limits, rate, out)
+        _path_bucket(group, size, limits, rate, out, budget)
     return out
 
 
-def joint_moves(steps, tcp: dict, limits, rate: float) -> dict:
+def joint_moves(steps, tcp: dict, limits, rate: float, budget: list | None = None) -> dict:
     """{id(step): (t, q, share) or TooLong} of the joint steps with a TCP path in ``tcp`` (those
-    timed by their speed data), ``timing.joint_move`` of each."""
+    timed by their speed data), ``timing.joint_move`` of each; ``budget`` as ``path_moves``'."""
     group = [s for s in steps if s.kind == "joint" and id(s) in tcp]
     out: dict = {}
     if not group:
@@ -53,7 +57,7 @@ def joint_moves(steps, tcp: dict, limits, rate: float) -> dict:
     triangle = top * ta >= 1.0
     ta = np.where(triangle, np.sqrt(1.0 / accel), ta)
     duration = np.where(triangle, 2.0 * ta, 1.0 / top + ta)
-    grid = Grid(duration, rate)
+    grid = Grid(duration, rate, [BATCH_SAMPLES] if budget is None else budget)
     share = _trapezoids(grid, duration, np.minimum(ta, duration / 2))
     q = q0[grid.row] + share[:, None] * (q1 - q0)[grid.row]
     grid.hand_out(group, out, q, share)
@@ -88,7 +92,7 @@ def bucket_size(n: int) -> int:
     return -(-n // grain) * grain
 
 
-def _path_bucket(group: list, size: int, limits, rate: float, out: dict) -> None:
+def _path_bucket(group: list, size: int, limits, rate: float, out: dict, budget: list) -> None:
     """Steps of at most ``size`` probes each, timed in (moves, size) arrays."""
     split = [timing.split_single(s.u, s.q) for s in group]
     n = np.array([len(u) for u, _ in split])
@@ -105,7 +109,7 @@ def _path_bucket(group: list, size: int, limits, rate: float, out: dict) -> None
     axis_accel = limits.acceleration[None, :] * accel_set[:, None]
     v = speed_curves(u_all, q_all, n, nominal, speeds, accel, axis_accel)
     at_probe = path_times(u_all, v)
-    grid = Grid(at_probe[np.arange(len(group)), n - 1], rate)
+    grid = Grid(at_probe[np.arange(len(group)), n - 1], rate, budget)
     along = grid.interp(at_probe, u_all, n)
     k = grid.row_index(u_all, n, along)  # along lies in [u[k-1], u[k]]
     lo, hi = u_all[grid.row, k - 1], u_all[grid.row, k]
@@ -128,13 +132,17 @@ def _padded(flat: np.ndarray, n: np.ndarray, size: int) -> np.ndarray:
 class Grid:
     """The sample times of moves of ``durations`` at ``rate`` (``timing.samples`` of each), laid
     end to end: ``t``, the move of each (``row``), where each move's start (``first``); moves too
-    long for a trajectory keep their ``TooLong``."""
+    long for a trajectory keep their ``TooLong``; those past ``budget`` ([samples left]) have none
+    (``deferred``: timed one by one, if the trajectory gets that far)."""
 
-    def __init__(self, durations: np.ndarray, rate: float):
+    def __init__(self, durations: np.ndarray, rate: float, budget: list):
         self.durations, self.rate = durations, rate
         self.long = ~(durations * rate <= timing.MAX_SAMPLES)
         with np.errstate(invalid="ignore", over="ignore"):
             count = np.where(self.long, 0, np.maximum(np.ceil(durations * rate), 1)).astype(int)
+        self.deferred = np.cumsum(count) > budget[0]
+        count[self.deferred] = 0
+        budget[0] -= int(count.sum())
         self.count, self.step = count, durations / np.maximum(count, 1)
         self.row = np.repeat(np.arange(len(count)), count)
         ends = np.cumsum(count)
@@ -161,7 +169,7 @@ class Grid:
         """Per sample, the last probe of its move at or before it (probe times ``at``, rows sorted)."""
         prow = np.repeat(np.arange(len(n)), n)
         pk = np.arange(len(prow)) - (np.cumsum(n) - n)[prow]
-        keep = ~self.long[prow]
+        keep = self.count[prow] > 0
         prow, a = prow[keep], at[prow[keep], pk[keep]]
         # the first sample at or after each probe: an estimate, set right by comparing
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -194,6 +202,8 @@ class Grid:
         a zone's blend reads, ``zones.ramps``), or its TooLong."""
         ramp_in, ramp_out = zones.ramps(self.t, share, self.first, self.count)
         for r, s in enumerate(steps):
+            if self.deferred[r]:
+                continue
             if self.long[r]:
                 try:
                     timing.samples(float(self.durations[r]), self.rate)

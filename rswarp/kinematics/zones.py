@@ -18,6 +18,26 @@ EPS = 1e-9
 
 
 @dataclass(frozen=True)
+class Ahead:
+    """What a batch found of a move before the planner appends it (``zone_batch``): how long it
+    speeds up and slows down, and, where it follows a move in a zone, that move's sample times
+    (the array itself: the blend holds only after that very move), the zone, their overlap (s),
+    the samples of that move kept and this one's joints blended (None where they do not overlap)."""
+
+    ramp_in: float
+    ramp_out: float
+    t_prev: np.ndarray | None = None
+    zone: object = None
+    tau: float = 0.0
+    kept: int | None = None
+    blended: np.ndarray | None = None
+
+    def after(self, prev: Segment, zone) -> bool:
+        """Whether this is the blend after ``prev`` ending in ``zone``."""
+        return self.t_prev is not None and self.t_prev is prev.t and self.zone is zone
+
+
+@dataclass(frozen=True)
 class Segment:
     """A timed move as the blend sees it: its samples (times from its start, joints, share of
     the way), where it starts, and its TCP path: length (m) and turn (rad), the length gone at
@@ -31,7 +51,7 @@ class Segment:
     turn: float
     probe_s: np.ndarray
     probe_len: np.ndarray
-    ramps: tuple | None = None  # (ramp_in, ramp_out) where a batch found them (``ramps``)
+    ahead: Ahead | None = None  # what a batch found of it before it was appended
 
     @property
     def duration(self) -> float:
@@ -43,32 +63,32 @@ class Segment:
 
     def ramp_out(self) -> float:
         """How long it slows down at its end: its last stretch of falling speed."""
-        if self.ramps is not None:
-            return self.ramps[1]
+        if self.ahead is not None:
+            return self.ahead.ramp_out
         return _monotone_tail(self.t, self.s)
 
     def ramp_in(self) -> float:
         """How long it speeds up at its start."""
-        if self.ramps is not None:
-            return self.ramps[0]
+        if self.ahead is not None:
+            return self.ahead.ramp_in
         t = np.concatenate([[0.0], self.t])
         s = np.concatenate([[0.0], self.s])
         return _monotone_tail(self.duration - t[::-1], 1.0 - s[::-1])  # its start, read backwards
 
 
-def straight(t, q, s, q0, length: float, turn: float, ramps: tuple | None = None) -> Segment:
-    """A move whose TCP goes its path in proportion to its share (a line, a circle); ``ramps``:
-    its (ramp_in, ramp_out) where already known."""
-    return Segment(t, q, s, q0, length, turn, _shares(2), np.array([0.0, length]), ramps)
+def straight(t, q, s, q0, length: float, turn: float, ahead: Ahead | None = None) -> Segment:
+    """A move whose TCP goes its path in proportion to its share (a line, a circle); ``ahead``:
+    what a batch found of it, where one did."""
+    return Segment(t, q, s, q0, length, turn, shares(2), np.array([0.0, length]), ahead)
 
 
-def jointed(t, q, s, q0, tcp, ramps: tuple | None = None) -> Segment:
+def jointed(t, q, s, q0, tcp, ahead: Ahead | None = None) -> Segment:
     """A joint move, its TCP's path measured at evenly shared probes (``tcp``: a ``timing.TcpPath``)."""
-    return Segment(t, q, s, q0, float(tcp.gone[-1]), tcp.turn, _shares(len(tcp.gone)), tcp.gone, ramps)
+    return Segment(t, q, s, q0, float(tcp.gone[-1]), tcp.turn, shares(len(tcp.gone)), tcp.gone, ahead)
 
 
 @lru_cache(maxsize=8)
-def _shares(n: int) -> np.ndarray:
+def shares(n: int) -> np.ndarray:
     """``np.linspace(0, 1, n)``, made once (read only)."""
     out = np.linspace(0.0, 1.0, n)
     out.flags.writeable = False
@@ -79,6 +99,8 @@ def overlap(prev: Segment, nxt: Segment, zone) -> float:
     """How long ``nxt`` runs while ``prev`` is still on its way (s): 0 for a stop point."""
     if zone is None or zone.fine or len(prev.t) == 0 or len(nxt.t) == 0:
         return 0.0
+    if nxt.ahead is not None and nxt.ahead.after(prev, zone):
+        return nxt.ahead.tau
     z = min(zone.pzone_tcp, prev.length / 2, nxt.length / 2)
     zo = min(zone.zone_ori, prev.turn / 2, nxt.turn / 2)
     # prev is inside the zone from the share where both its way and its turn left are within it
@@ -109,6 +131,9 @@ def _share_at(seg: Segment, gone: float) -> float:
 def blend(prev: Segment, nxt: Segment, tau: float) -> tuple[int, np.ndarray]:
     """(samples of ``prev`` kept, ``nxt``'s joints with the rest of ``prev`` added where they
     overlap) for an overlap of ``tau`` seconds; ``nxt`` then starts ``tau`` before ``prev`` ends."""
+    found = nxt.ahead
+    if found is not None and found.blended is not None and found.t_prev is prev.t and found.tau == tau:
+        return found.kept, found.blended
     start = prev.duration - tau
     kept = int(np.searchsorted(prev.t, start, side="right"))
     # prev's samples from the last at or before ``start`` (its start, q0, at time 0): all ``at`` needs
@@ -140,6 +165,8 @@ def ramps(t: np.ndarray, s: np.ndarray, first: np.ndarray, count: np.ndarray) ->
     """(ramp_in, ramp_out) of moves whose samples (times ``t`` from their start, shares ``s``) lie
     end to end, move m's ``count[m]`` of them from ``first[m]``: ``Segment.ramp_in`` and
     ``ramp_out`` of each, the same arithmetic."""
+    if not len(t):
+        return np.zeros(len(count)), np.zeros(len(count))
     out = _tails(t, s, first, count)
     # each move read backwards from its end, with its start (0, 0) last: what ``ramp_in`` reads
     row = np.repeat(np.arange(len(count)), count + 1)
