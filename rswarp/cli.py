@@ -11,6 +11,7 @@ import inspect
 import os
 import signal
 import sys
+import time
 import traceback
 
 from .errors import InputError, RsxmlError, one_line
@@ -45,6 +46,7 @@ def _parents() -> dict[str, argparse.ArgumentParser]:
     return made
 
 
+SIMULATED = "s simulated"  # a cable run's progress: its simulated seconds, every environment at once
 # command -> (library entry as "module:function", progress unit, help, parents)
 COMMANDS = {
     "check": ("info:run_check", None, "validate RSXML, LibraryCompiler and LibraryResource files", ("json",)),
@@ -58,11 +60,11 @@ COMMANDS = {
     "export": ("exports:run_export", None, "write OpenUSD (.usda/.usdc/.usdz) or URDF (.urdf)", ("json",)),
     "build": ("library:run_build", "asset", "build the assets of a LibraryCompiler XML: USD with metadata and a "
                                             "preview", ("json", "device")),
-    "cable": ("cables:run_cables", "environment", "cable (dress-pack) dynamics in many environments, each robot on "
+    "cable": ("cables:run_cables", SIMULATED, "cable (dress-pack) dynamics in many environments, each robot on "
                                                   "its own trajectory: slack, bend radius, tension, clamp loads, "
                                                   "twist and torque, contact and wear",
               ("json", "device", "ray", "seed", "out")),
-    "dresspack": ("dresspack:run_dresspack", "design", "a design sweep of a dress-pack hose over a RAPID "
+    "dresspack": ("dresspack:run_dresspack", SIMULATED, "a design sweep of a dress-pack hose over a RAPID "
                                                             "program: its length and clamps varied, every design "
                                                             "run at once, the shortest that passes written out",
                   ("json", "device", "ray", "seed", "out")),
@@ -105,7 +107,7 @@ def _call(args) -> int:
     if "say" in names:
         kwargs["say"] = (lambda line: None) if quiet else (lambda line: print(line, flush=True))
     if "progress" in names and not quiet:
-        kwargs["progress"] = _Progress(args.command, args.unit)
+        kwargs["progress"] = _Progress(args.command, args.unit, _progress_detail(args))
     with _video_progress(args.command, "video" in names and not quiet):
         out = fn(**kwargs)
     if quiet:
@@ -124,23 +126,55 @@ def _stderr(line: str) -> None:
 
 
 class _Progress:
-    """A progress bar on stderr (tqdm), fed ``(done, total)`` by the library."""
+    """One progress bar on stderr (tqdm) for one long loop, fed ``(done, total)`` by the library in
+    the unit the bar shows, so that its percentage is its count. Where stderr is not a terminal (a
+    log, a pipe) there is no bar: one line when the loop ends says what it did and in how long
+    (``cable: 256 environments, 10 s simulated in 12.3 s``)."""
 
-    def __init__(self, label: str, unit: str):
-        self.label, self.unit, self.bar = label, unit, None
+    def __init__(self, label: str, unit: str, detail: str = ""):
+        self.label, self.unit, self.detail = label, unit, detail
+        self.bar, self.done, self.total, self.start = None, 0.0, None, 0.0
 
     def __call__(self, done: float, total: float) -> None:
         if self.bar is None:
             from tqdm import tqdm
 
-            scaled = self.unit == "sample"  # counts in the millions: tqdm's 1.00M
-            whole = "{l_bar}{bar}| {n:.0f}/{total:.0f} {unit}s [{elapsed}<{remaining}]"  # done may be fractional
-            self.bar = tqdm(total=total, desc=self.label, unit=self.unit, unit_scale=scaled, file=sys.stderr,
-                            mininterval=0.5, bar_format=None if scaled else whole if total == int(total) else
-                            "{l_bar}{bar}| {percentage:.0f}% [{elapsed}<{remaining}]")
-        self.bar.update(done - self.bar.n)
+            self.start, self.total = time.perf_counter(), total
+            self.bar = tqdm(total=total, desc=self.label, unit=self.unit, unit_scale=self.unit == "sample",
+                            file=sys.stderr, mininterval=0.5, disable=None, bar_format=self._format(total))
+        elif self.done >= self.total:  # ended: said once
+            return
+        self.bar.update(done - self.done)
+        self.done = done
         if done >= total:
             self.bar.close()
+            if self.bar.disable:
+                print(self.ended(total, time.perf_counter() - self.start), file=sys.stderr, flush=True)
+
+    def _format(self, total: float) -> str | None:
+        """The bar's count in its unit: seconds to a tenth, samples scaled (1.00M), others whole."""
+        if self.unit == "sample":
+            return None
+        if self.unit == SIMULATED:
+            return "{l_bar}{bar}| {n:.1f}/{total:.1f} " + SIMULATED + " [{elapsed}<{remaining}]"
+        return "{l_bar}{bar}| {n:.0f}/{total:.0f} {unit}s [{elapsed}<{remaining}]"
+
+    def ended(self, total: float, seconds: float) -> str:
+        """The line that stands for the bar where stderr is not a terminal."""
+        what = f"{round(total, 2):g} {SIMULATED}" if self.unit == SIMULATED else f"{total:.0f} {self.unit}s"
+        return f"{self.label}: {self.detail + ', ' if self.detail else ''}{what} in {seconds:.1f} s"
+
+
+def _progress_detail(args) -> str:
+    """What a bar's closing line says beside its count: a cable run's environments, a sweep's designs."""
+    if args.command == "cable":
+        from .report.cables import default_envs
+
+        envs = default_envs(args.envs, args.program)
+        return f"{envs} environment{'s' * (envs != 1)}"
+    if args.command == "dresspack":
+        return f"{args.designs} designs"
+    return ""
 
 
 def _video_progress(command: str, shown: bool):

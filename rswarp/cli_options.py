@@ -188,6 +188,11 @@ def dresspack(p: argparse.ArgumentParser) -> None:
     p.add_argument("--min-margin", type=argument("min-margin"), default=0.0, metavar="PCT",
                    help="the least margin to every rating the chosen design must keep, in %% (default 0: the "
                         "shortest hose that passes at all)")
+    p.add_argument("--video", metavar="FILE", help="also render the chosen design's run (best.rsxml's, or "
+                                                   "closest.rsxml's) as a .gif or .mp4: the robot, and the hose "
+                                                   "coloured by --video-color")
+    p.add_argument("--video-color", choices=["bend", "wear"], default="bend",
+                   help="colour the hose by its bend radius against the allowed one (default) or by its wear")
     _hose(p)
 
 

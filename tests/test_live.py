@@ -185,3 +185,34 @@ def test_live_values_anywhere_are_run_or_said_at_a_line_never_a_crash(tmp_path):
             run(path)
         except RsxmlError as exc:
             assert exc.line and exc.file == str(path)
+
+
+def test_text_past_its_bounds_is_refused_at_its_line_before_it_is_parsed(tmp_path):
+    """A 10 MB unterminated string once took 20 GB and minutes: a line past 256 KiB is refused."""
+    path = module(tmp_path, "MODULE M\n  VAR string s := \"" + "a" * 300_000 + "\n  PROC main()\n  ENDPROC\nENDMODULE\n")
+    with pytest.raises(RsxmlError, match="a line of 300019 characters: rswarp reads lines of at most 262144") as exc:
+        run(path)
+    assert exc.value.line == 2
+    many = module(tmp_path, "MODULE M\n  VAR num a{1000001};\n  PROC main()\n  ENDPROC\nENDMODULE\n", "a.mod")
+    with pytest.raises(RsxmlError, match="1 to 1000000 elements"):
+        run(many)
+
+
+def test_a_program_file_names_modules_in_its_folder_only(tmp_path):
+    (tmp_path / "sub").mkdir()
+    module(tmp_path / "sub", "MODULE A\n  PROC main()\n  ENDPROC\nENDMODULE\n", "a.mod")
+    (tmp_path / "outside.mod").write_text("MODULE O\nENDMODULE\n")
+    folder = tmp_path / "cell"
+    folder.mkdir()
+    (folder / "sub").mkdir()
+    module(folder / "sub", "MODULE A\n  PROC main()\n  ENDPROC\nENDMODULE\n", "a.mod")
+    for name, ok in (("sub/a.mod", True), ("sub\\a.mod", True), ("../outside.mod", False), ("/etc/passwd", False),
+                     ("sub/../../outside.mod", False)):
+        pgf = folder / "p.pgf"
+        pgf.write_text(f'<?xml version="1.0"?>\n<Program>\n  <Module>{name}</Module>\n</Program>\n')
+        if ok:
+            run(pgf)
+        else:
+            with pytest.raises(RsxmlError, match="outside its folder") as exc:
+                run(pgf)
+            assert exc.value.line == 3

@@ -191,7 +191,7 @@ def speed(value: Rec, what: str) -> Speed:
 
 
 def zone(value: Rec, what: str) -> Zone:
-    sizes = _numbers(value.vals[1:], what, MAX_MM)
+    sizes = _numbers(value.vals[1:], what, 1e30)  # the controller cuts a zone to half its move, never refuses it
     if min(sizes) < 0:
         raise Mismatch(f"{what} has a negative zone size")
     return Zone(bool(value.vals[0]), sizes[0] / 1000.0, sizes[1] / 1000.0, math.radians(sizes[3]))

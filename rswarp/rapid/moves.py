@@ -79,8 +79,8 @@ def run_move(interp, spec: MoveSpec, a: Arguments, s: n.ProcCall, frame) -> None
                                                                       "the zonedata")
     if a.has("Z") and not zone.fine:
         z = a.option("Z", "num")
-        if not 0 <= z <= rd.MAX_MM:
-            fail(interp.path, s.line, f"{s.name}: \\Z must be 0 to {rd.MAX_MM:g} mm, not {z:g}")
+        if not 0 <= z < 1e30:
+            fail(interp.path, s.line, f"{s.name}: \\Z must be 0 mm or more, not {z:g}")
         zone = rd.Zone(False, z / 1000.0, max(zone.pzone_ori, z / 1000.0), zone.zone_ori)
     tool_rec = a.value(spec.tool, "tooldata")
     wobj_rec = a.option("WObj", "wobjdata") or frame.module.get("wobj0").get()

@@ -23,6 +23,9 @@ from .syntax import explained
 
 SUFFIXES = (".mod", ".modx", ".prg", ".sys")
 MAX_NESTING = 64  # brackets and signs in a row: records nest a few deep; more is not a program
+# Characters of one line: a generated aggregate of a few thousand targets fits; more is no program,
+# and lark's lexer would hold many copies of it (a 10 MB unterminated string took 20 GB).
+MAX_LINE = 256 * 1024
 _HEADER = re.compile(r"\A\s*%%%.*?%%%", re.S)
 _BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"), (codecs.BOM_UTF8, "utf-8-sig"),
          (codecs.BOM_UTF16_LE, "utf-16"), (codecs.BOM_UTF16_BE, "utf-16"))
@@ -90,6 +93,21 @@ def blank_header(text: str) -> str:
     return _HEADER.sub(lambda m: "\n" * m.group(0).count("\n"), text, count=1)
 
 
+def check_lines(text: str, path: str) -> None:
+    """A ``file:line`` error at the first line longer than ``MAX_LINE`` characters (an unterminated
+    string or comment runs to its line's end, so this bounds them too)."""
+    if len(text) <= MAX_LINE:
+        return
+    ends = np.flatnonzero(np.frombuffer(text.encode("utf-32-le"), np.uint32) == 10)
+    bounds = np.concatenate([[-1], ends, [len(text)]])
+    lengths = np.diff(bounds) - 1
+    long = np.flatnonzero(lengths > MAX_LINE)
+    if len(long):
+        k = int(long[0])
+        fail(path, k + 1, f"a line of {int(lengths[k])} characters: rswarp reads lines of at most {MAX_LINE} (an "
+                          "unterminated string or comment?)")
+
+
 def check_nesting(text: str, path: str) -> None:
     """A ``file:line`` error where brackets, or signs in a row, nest deeper than ``MAX_NESTING``
     (the evaluation recurses that deep); strings and comments do not count, however they are
@@ -132,6 +150,7 @@ def parse_text(text: str, path: str) -> list[nodes.Module]:
     from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
     text = blank_header(text.replace("\r\n", "\n").replace("\r", "\n"))
+    check_lines(text, path)
     check_nesting(text, path)
     parser = _shared()
     builder = parser.options.transformer

@@ -122,14 +122,21 @@ def _program_file(path: Path) -> list[Path]:
     from ..rsxml.parse import local, parse_xml
 
     root = parse_xml(path)
-    names = [(el.text or "").strip() for el in root.iter() if isinstance(el.tag, str) and local(el) == "Module"]
-    if not names:
+    named = [((el.text or "").strip(), el.sourceline or 0) for el in root.iter()
+             if isinstance(el.tag, str) and local(el) == "Module"]
+    if not named:
         fail(str(path), 0, "the program file names no <Module>")
+    folder = path.parent.resolve()
     out = []
-    for name in names:
-        f = path.parent / name.replace("\\", "/")
+    for name, line in named:
+        relative = Path(name.replace("\\", "/"))
+        f = (path.parent / relative)
+        inside = not relative.is_absolute() and not relative.drive and folder in (f.resolve(), *f.resolve().parents)
+        if not inside:  # refused before it is read: a program file names its own modules
+            fail(str(path), line, f"the program file names '{name}', outside its folder: a .pgf names modules in "
+                                  "its folder and below it")
         if not f.is_file():
-            fail(str(path), 0, f"the program file names '{name}', which is not beside it")
+            fail(str(path), line, f"the program file names '{name}', which is not beside it")
         out.append(f)
     return out
 

@@ -7,9 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sim.cable_results import CableResult, worst_wear
+from ..sim.cable_results import CableResult
 from ..sim.cable_solver import FATIGUE_EXPONENT
 from ..sim.rainflow import miner_passes
+from .cable_contact import run_worst
 
 
 def cable_lines(c: CableResult, weight: float, joints: tuple[tuple[str, bool], ...] = (), verdict: list[str] = (),
@@ -38,7 +39,7 @@ def cable_lines(c: CableResult, weight: float, joints: tuple[tuple[str, bool], .
 def _answers(c: CableResult, done: np.ndarray) -> list[str]:
     n = f"{len(done)}" + (f" (of {c.envs}; the others stopped)" if len(done) < c.envs else "")
     return [_bend_line(c, done, n), _tension_line(c, done), *_clamp_lines(c, done),
-            _twist_line(c, done), *_contact_lines(c, done), _wear_line(c, done)]
+            _twist_line(c, done), *_contact_lines(c, done), *contact_lines(c, done)]
 
 
 def _bend_line(c: CableResult, done: np.ndarray, n: str) -> str:
@@ -118,12 +119,33 @@ def _contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
         if c.clearance[e, j] < -2 * c.radius - c.length / 4:  # deeper than any contact push leaves it
             text += " (carried inside by the robot: the trajectory goes through it)"
         out.append(text)
-    e = int(done[np.argmax(c.peak_normal[done])])
-    if c.peak_normal[e] > 0:
-        out.append(f"  contact force: up to {c.peak_normal[e]:.3g} N on a segment (environment {e}, t = "
-                   f"{c.peak_normal_time[e]:.2f} s, {c.peak_normal_at[e]:.3f} m along); sliding up to "
-                   f"{c.max_sliding_speed[done].max():.3g} m/s")
     return out or ["  clearance: nothing within reach of the cable"]
+
+
+def contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
+    """The three contact figures (``cable_contact``), each the run's worst, its environment and time."""
+    worst = run_worst(c, done)
+    peak, rub, wear = worst["peak_force"], worst["worst_rub"], worst["worst_wear"]
+    if peak is None and rub is None:
+        return ["  contact: none"]
+    out = []
+    if peak is not None:
+        out.append(f"  peak contact force: {peak['force_N']:.3g} N, the run's worst (environment "
+                   f"{peak['environment']}, t = {peak['time_s']:.2f} s, {peak['at_m']:.3f} m along); sliding up to "
+                   f"{c.max_sliding_speed[done].max():.3g} m/s")
+    if rub is not None:
+        slid = rub["segment"] is not None
+        what = (f"{rub['force_N']:.3g} N on {rub['on']}, the run's worst (environment {rub['environment']}, first "
+                f"touch t = {rub['time_s']:.2f} s, {rub['at_m']:.3f} m along): {rub['wear_J']:.3g} J of wear on it "
+                f"along the whole hose, {rub['contact_time_s']:.2f} s in contact there") if slid else \
+            f"touches {rub['on']} without sliding (environment {rub['environment']}, t = {rub['time_s']:.2f} s)"
+        out.append(f"  worst rub: {what}")
+    out.append("  worst wear: nothing slid while pressed" if wear is None else
+               f"  worst wear: {wear['wear_J']:.3g} J (normal force x sliding) at one place, {wear['at_m']:.3f} m "
+               f"along, mostly on {wear['on']}, the run's worst (environment {wear['environment']}"
+               + (f", first touch t = {wear['time_s']:.2f} s" if wear["time_s"] is not None else "")
+               + f"): {wear['contact_time_s']:.2f} s in contact")
+    return out
 
 
 def pinched(c: CableResult, weight: float) -> np.ndarray:
@@ -150,16 +172,6 @@ def _joints(q: np.ndarray, joints) -> str:
         return "its start"
     return ", ".join(f"{name} {np.degrees(v):.0f} deg" if rot else f"{name} {v * 1000:.0f} mm"
                      for v, (name, rot) in zip(q, joints))
-
-
-def _wear_line(c: CableResult, done: np.ndarray) -> str:
-    worst = worst_wear(c, done)
-    if worst is None:
-        return "  wear: nothing slid while pressed"
-    e, s, j = worst
-    return (f"  wear: worst segment {c.segments[s]:.3f} m along (environment {e}) rubs on {c.links[j]}: "
-            f"{c.segment_wear[e, s]:.3g} J of normal force x sliding, {c.wear_contact_time[e, s]:.2f} s in contact, "
-            f"up to {c.wear_peak_normal[e, s]:.3g} N")
 
 
 def _envs(idx: np.ndarray) -> str:

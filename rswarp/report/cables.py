@@ -18,10 +18,11 @@ from ..options import checked
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
-from ..sim.cable_results import CableResult, worst_wear
+from ..sim.cable_results import CableResult
 from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS, CableOptions, contact_meshes
 from ..sim.cables import CableRun, run_frames, simulate_cables
 from ..sim.engine import cluster_for
+from .cable_contact import contact, run_worst, shown_slots
 from .cable_lines import cable_lines, pinched
 from .cable_plots import cable_plots
 from .dresspack_options import SweepOptions, cable_options, ratings_of
@@ -49,7 +50,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
     unit."""
-    envs = envs if envs is not None else 1 if program is not None else 16
+    envs = default_envs(envs, program)
     mech, report = load_mechanism(path)
     _say_no_slack(report, warn)
     hose = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
@@ -87,6 +88,11 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     return Output(doc, text)
 
 
+def default_envs(envs: int | None, program) -> int:
+    """``--envs`` as given, else 1 over a ``--program`` (its environments would be alike), else 16."""
+    return envs if envs is not None else 1 if program is not None else 16
+
+
 def _say_no_slack(report, warn: Warn) -> None:
     """A hose with no slack: the run's answers depend on it, so the run says so, as check does."""
     for d in report.diagnostics:
@@ -121,7 +127,7 @@ def _reported(run: CableRun, mech, out: str, usd: bool, trajectories, plan, rati
     over a program, each finding's line, the fatigue a pass and the payload it carries."""
     load = task_payload(plan) if plan is not None else None
     found = run_findings(run, trajectories, plan.moves if plan is not None else None, ratings)
-    doc = write_cables(run, mech, out, usd=usd, more={
+    doc = write_cables(run, mech, out, usd=usd, ratings=ratings, more={
         "payload": None if load is None else {"mass": load.mass, "cog": load.cog, "source": load.source},
         **verdict_data(run, found)})
     passes = max(len(plan.cycles), 1) if plan is not None else 1
@@ -181,11 +187,13 @@ def check_cable_folder(out: str | Path) -> None:
     check_replaceable(Path(out))
 
 
-def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = False, more: dict | None = None) -> dict:
+def write_cables(run: CableRun, mech: Mechanism, out: str | Path, usd: bool = False, more: dict | None = None,
+                 ratings: Ratings = Ratings()) -> dict:
     """Write the run's files into ``out`` as one set (an interrupted run leaves the old set). The
-    report (with ``more`` in it) as a dict, its files under ``files``."""
+    report (with ``more`` in it) as a dict, its files under ``files``; the plots draw the
+    ``ratings``' limits."""
     out = Path(out)
-    plots = cable_plots(run)
+    plots = cable_plots(run, ratings)
     names = {"report": "report.json"} | {Path(f).stem + "_plot": f for f in plots} | (
         {"playback": "playback.usdc"} if usd else {})
     doc = cable_report(run) | json_safe(more or {}) | {"files": {k: str(out / v) for k, v in names.items()}}
@@ -213,35 +221,37 @@ def cable_report(run: CableRun) -> dict:
 def _cable_dict(c: CableResult, weight: float, run: CableRun) -> dict:
     return {"name": c.name, "length_m": c.length, "radius_m": c.radius, "allowed_bend_radius_m": c.allowed_bend_radius,
             "axial_stiffness_N": c.axial_stiffness, "bending_stiffness_Nm2": c.bending_stiffness,
-            "torsion_stiffness_Nm2": c.torsion_stiffness, "slots": list(c.links), "attachments": list(c.attachments),
-            "segments_at_m": c.segments, "weight_N": weight, "summary": _summary(c, weight),
+            "torsion_stiffness_Nm2": c.torsion_stiffness, "slots": [c.links[j] for j in _slots(c, run)],
+            "attachments": list(c.attachments),
+            "segments_at_m": c.segments, "weight_N": weight, "summary": _summary(c, weight, run),
             "environments": [_env_dict(c, e, run) for e in range(c.envs)]}
 
 
-def _summary(c: CableResult, weight: float) -> dict:
-    """The answers over the environments that ran to the end (None where none did)."""
+def _slots(c: CableResult, run: CableRun) -> list[int]:
+    """The slots the report names: no floor's in a run with none (``--no-floor``)."""
+    return shown_slots(c, run.options.floor is not None)
+
+
+def _summary(c: CableResult, weight: float, run: CableRun) -> dict:
+    """The answers over the environments that ran to the end (None where none did); ``contact``:
+    the run's worst of each contact figure (``cable_contact``), with its environment."""
     ok = c.status == "ok"
     done = np.nonzero(ok)[0]
     most = (lambda a: float(np.max(a[done])) if len(done) else None)  # noqa: E731
-    worst = worst_wear(c, done)
     return {"stopped": int((~ok).sum()), "finished": int(ok.sum()), "too_tight": int(c.too_tight[ok].sum()),
             "straight_between_clamps": int((c.stretch[ok] >= TAUT).sum()), "touching": int(c.touching[ok].sum()),
             "least_bend_radius_m": _least(c.min_bend_radius[ok]), "peak_tension_N": most(c.peak_tension),
             "greatest_twist_rad": most(c.max_twist), "greatest_torque_Nm": most(c.max_torque),
-            "greatest_normal_force_N": most(c.peak_normal), "pinched": int(pinched(c, weight)[ok].sum()),
+            "contact": run_worst(c, done), "pinched": int(pinched(c, weight)[ok].sum()),
             "greatest_pinch_N": most(c.pinch),
             "clamp_force_N": [most(c.clamp_force[:, a]) for a in range(len(c.attachments))],
-            "clamp_moment_Nm": [most(c.clamp_moment[:, a]) for a in range(len(c.attachments))],
-            "worst_wear": None if worst is None else {
-                "environment": worst[0], "segment": worst[1], "at_m": c.segments[worst[1]], "on": c.links[worst[2]],
-                "archard_J": c.segment_wear[worst[0], worst[1]],
-                "contact_time_s": c.wear_contact_time[worst[0], worst[1]],
-                "peak_normal_force_N": c.wear_peak_normal[worst[0], worst[1]]}}
+            "clamp_moment_Nm": [most(c.clamp_moment[:, a]) for a in range(len(c.attachments))]}
 
 
 def _env_dict(c: CableResult, e: int, run: CableRun) -> dict:
     links = {}
-    for j, name in enumerate(c.links):
+    for j in _slots(c, run):
+        name = c.links[j]
         if np.isfinite(c.clearance[e, j]):
             links[name] = {"min_clearance_m": c.clearance[e, j], "time_s": c.clearance_time[e, j],
                            "at_m": c.clearance_at[e, j], "contact_time_s": c.contact_time[e, j],
@@ -260,12 +270,11 @@ def _env_dict(c: CableResult, e: int, run: CableRun) -> dict:
             "min_bend_at_m": c.min_bend_at[e], "bend_ok": bool(not c.too_tight[e]),
             "max_twist_rad": c.max_twist[e], "max_twist_rate_rad_per_m": c.max_twist_rate[e],
             "max_torque_Nm": c.max_torque[e], "max_torque_time_s": c.max_torque_time[e],
-            "max_torque_at_m": c.max_torque_at[e], "peak_normal_force_N": c.peak_normal[e],
-            "peak_normal_force_time_s": c.peak_normal_time[e], "peak_normal_force_at_m": c.peak_normal_at[e],
+            "max_torque_at_m": c.max_torque_at[e], "contact": contact(c, e),
             "max_sliding_speed_m_s": c.max_sliding_speed[e], "pinch": _pinch_dict(c, e, run), "clamps": clamps,
-            "wear": {"contact_time_s": c.wear_contact_time[e], "peak_normal_force_N": c.wear_peak_normal[e],
+            "wear": {"contact_time_s": c.wear_contact_time[e], "peak_force_N": c.wear_peak_normal[e],
                      "archard_J": c.segment_wear[e], "bend_cycles": c.bend_cycles[e],
-                     "archard_by_slot_J": {name: c.wear[e, :, j] for j, name in enumerate(c.links)
+                     "archard_by_slot_J": {c.links[j]: c.wear[e, :, j] for j in _slots(c, run)
                                            if np.any(c.wear[e, :, j] > 0)}},
             "clearance": links, "final_points": np.round(c.final_points[e], 6).tolist()}
 

@@ -31,7 +31,7 @@ from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
 from ..sim.cables import SWING_AFTER, design_runs, simulate_cables
 from ..sim.designs import DesignSet, Variable, design, inside_links, parse_vary, sample
 from ..sim.engine import cluster_for
-from .cables import check_cable_folder, run_findings
+from .cables import check_cable_folder, check_video_options, run_findings
 from .dresspack_options import SweepOptions, cable_options, ratings_of, repeat_command
 from .figures import figure_png
 from .output import Output, Warn, ignore, json_bytes, json_safe
@@ -73,11 +73,13 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
                   max_clamp_load: float | None = None, density: float = DENSITY, poisson: float = POISSON,
                   friction: float = FRICTION, frame_rate: float = FRAME_RATE, substeps: int = SUBSTEPS,
                   min_margin: float = 0.0, progress: Callable[[float, float], None] | None = None,
-                  warn: Warn = ignore, inputs: list[str] | None = None) -> Output:
+                  warn: Warn = ignore, inputs: list[str] | None = None, video: str | None = None,
+                  video_color: str = "bend", video_size: int = 512) -> Output:
     """``rswarp dresspack``: ``designs`` designs of ``cable`` (``vary``: specs, or one TOML file of
     them) over the RAPID task ``programs``, ranked, written into ``out``: the chosen design is the
     shortest hose that passes with ``min_margin`` % to every rating; the other options as
-    ``rswarp cable --program`` takes them (the robot file's length unit)."""
+    ``rswarp cable --program`` takes them (the robot file's length unit); ``video``: the chosen
+    design's run rendered there, as ``rswarp cable --video`` renders one."""
     opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
                         static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
                         poisson, friction, frame_rate, substeps, inputs)
@@ -94,6 +96,7 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     _check_inside(mech, k, [m for d, m in enumerate(mechs) if d not in short])
     ratings = ratings_of(mech, opts)
     check_cable_folder(out)
+    check_video_options(video, None, video_color, 1, out)
     options = cable_options(mech, opts, device)
     from .program import input_values, program_plan, signal_values
 
@@ -106,8 +109,8 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
                           cluster=cluster_for(ray, device), designs=chosen)
     seconds = time.perf_counter() - start
     kept = [i for i in range(len(drawn)) if i not in short]
-    rows = [_row(kept[i], chosen.values[i], r, k, trajectories, plan.moves, ratings)
-            for i, r in enumerate(design_runs(run))]
+    runs = design_runs(run)
+    rows = [_row(kept[i], chosen.values[i], r, k, trajectories, plan.moves, ratings) for i, r in enumerate(runs)]
     rows = sorted(rows + [_short_row(i, drawn.values[i], why) for i, why in short.items()], key=lambda r: r.index)
     chosen = drawn
     keep = min_margin / 100.0
@@ -115,7 +118,18 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     command = repeat_command(out, programs, opts, best.verdict == "PASS")
     doc = _doc(mech, chosen, rows, best, seconds, command, ratings) | {"min_margin": keep}
     _write(out, mech, chosen, rows, best, doc)
-    return Output(doc, _text(mech, chosen, rows, best, seconds, plan, command, keep))
+    text = _text(mech, chosen, rows, best, seconds, plan, command, keep)
+    if video is not None and best.result is None:  # not run (too short to lay out): nothing to show
+        text += f"\nvideo: none (design {best.index + 1} was not run)"
+    elif video is not None:
+        from .videos import cable_video
+
+        picked = design(mech, chosen.cable, chosen.variables, chosen.values[best.index])
+        doc["video"] = cable_video(picked, runs[kept.index(best.index)], trajectories, video, 0, video_color,
+                                   video_size, plan.moves, label=f"design {best.index + 1}") | {
+            "design": best.index + 1}
+        text += f"\nvideo: {video} (design {best.index + 1}, {doc['video']['frames']} frames)"
+    return Output(doc, text)
 
 
 def _cable_index(mech, name: str | None) -> int:

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..findings import FAIL, WARN, Finding
 from ..sim.cable_results import CableResult
+from .cable_contact import rubs
 
 STATIC_DIAMETERS = 5.0  # a hose's static (permanent-damage) bend radius: 5 diameters, as hose makers rate it
 MAX_STRAIN = 0.005  # axial strain of a hose that hangs rather than pulls
@@ -129,22 +130,21 @@ def _pinch(c: CableResult, e: int, at: When, weight: float) -> list[Finding]:
 
 
 def _rubs(c: CableResult, e: int, at: When, r: Ratings) -> list[Finding]:
-    """Per slot it touched: the segment that wore most on it, its time in contact, its peak
-    normal force and its Archard wear (normal force x sliding distance)."""
+    """Per slot it touched (``cable_contact.rubs``): of its segments that slid on it, the one
+    pressed hardest (the rub's force, where along, its time in contact), the Archard wear on it
+    (normal force x sliding distance); at the time the hose first touched it."""
     out = []
-    for j, name in enumerate(c.links):
-        if not np.isfinite(c.contact_time[e, j]) or name == "cables":
-            continue
-        wear = c.wear[e, :, j]
-        s = int(np.argmax(wear)) if wear.max() > 0 else None
-        force = float(c.wear_peak_normal[e, s]) if s is not None else 0.0
+    for rub in rubs(c, e):
+        name, force = rub["on"], rub["force_N"]
+        slid = rub["segment"] is not None
         over = r.max_contact_force is not None and force > r.max_contact_force
-        text = f"rubs on {name}: " + (f"{force:.3g} N at most, {c.wear_contact_time[e, s]:.2f} s in contact, "
-                                      f"{wear[s]:.3g} J of wear" if s is not None else "touches without sliding")
-        out.append(_make(c, e, at, "rub", FAIL if over else WARN, text, c.contact_time[e, j],
-                         c.segments[s] if s is not None else c.contact_at[e, j], links=(name,), value=force,
+        text = f"rubs on {name}: " + (f"{force:.3g} N, {rub['wear_J']:.3g} J of wear on it, "
+                                      f"{rub['contact_time_s']:.2f} s in contact" if slid else
+                                      "touches without sliding")
+        out.append(_make(c, e, at, "rub", FAIL if over else WARN, text, rub["time_s"],
+                         np.nan if rub["at_m"] is None else rub["at_m"], links=(name,), value=force,
                          limit=r.max_contact_force, unit="N",
-                         advice=f"keep it off {name}: a clamp or a guide" if s is not None else None))
+                         advice=f"keep it off {name}: a clamp or a guide" if slid else None))
     return out
 
 

@@ -4,7 +4,9 @@ links in collision in red; at most ``VIDEO_FPS`` frames a second of the run's ti
 says its time and, for a RAPID program, the file, line and instruction of the move under way.
 
 ``FRAME_PROGRESS`` holds the progress callback a video's frames report to when the caller passes
-none: the command line sets it to a bar on stderr (not under --json)."""
+none: the command line sets it to a bar on stderr (not under --json). ``FRAME_RATE`` holds the
+frames a second of the run's time a video shows (``VIDEO_FPS``; the demo sets fewer, with
+``frame_rate``)."""
 
 from __future__ import annotations
 
@@ -26,6 +28,18 @@ VIDEO_FPS = 30.0
 VIDEO_SIZE = 512
 COLOURINGS = ("bend", "wear")
 FRAME_PROGRESS: ContextVar[Callable[[int, int], None] | None] = ContextVar("rswarp_frame_progress", default=None)
+FRAME_RATE: ContextVar[float] = ContextVar("rswarp_video_frame_rate", default=VIDEO_FPS)
+
+
+@contextlib.contextmanager
+def frame_rate(fps: float):
+    """Within the block, videos show ``fps`` frames a second of the run's time (at most the run's
+    own frame rate)."""
+    token = FRAME_RATE.set(float(fps))
+    try:
+        yield
+    finally:
+        FRAME_RATE.reset(token)
 
 
 @contextlib.contextmanager
@@ -92,11 +106,13 @@ def worst_environment(run, colouring: str) -> int:
 
 def cable_video(mech, run, trajectories, path: str, env: int | None = None, colouring: str = "bend",
                 size: int = VIDEO_SIZE, moves: Sequence | None = None,
-                progress: Callable[[int, int], None] | None = None) -> dict:
+                progress: Callable[[int, int], None] | None = None, label: str | None = None) -> dict:
     """Environment ``env`` (default: the worst) of a cable run again, its shapes kept, rendered on
     the run's floor (none: under the robot). ``moves``: the RAPID plan's moves the trajectory
     came from (``plan.moves``), for each frame's program line; ``progress(done, total)`` counts
-    frames (default ``FRAME_PROGRESS``'s)."""
+    frames (default ``FRAME_PROGRESS``'s); ``label``: the legend's name for what is shown (default
+    "environment K"). ``mech`` is the robot and hose the run simulated (a design's, for a sweep's
+    design)."""
     from ..sim.cables import simulate_cables
 
     if colouring not in COLOURINGS:
@@ -107,7 +123,7 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
         raise InputError(f"--video-env must be 0 to {envs - 1}")
     options = dataclasses.replace(run.options, record=0)
     again = simulate_cables(mech, [trajectories[run.assignment[env]]], 1, float(run.times[-1]), options)
-    step = max(1, int(round(options.frame_rate / VIDEO_FPS)))
+    step = max(1, int(round(options.frame_rate / FRAME_RATE.get())))
     stride = again.cables[0].stride  # the hose's shapes are kept every stride-th frame, the joints every frame
     keep = max(1, step // stride)
     tubes, legend = [], []
@@ -126,7 +142,7 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
     rows = rows[:n]
     poses = Kinematics(mech).fk64(again.q[rows])
     tubes = [Tube(t.points[:n], t.colours[:n], t.radius) for t in tubes]
-    frames = render_frames(mech, poses, tubes, size, legend=[(GREY, f"environment {env}"), *legend],
+    frames = render_frames(mech, poses, tubes, size, legend=[(GREY, label or f"environment {env}"), *legend],
                            captions=captions(again.times[rows], moves), floor=options.floor, length=_unit(mech),
                            tool=options.tool,
                            progress=progress if progress is not None else FRAME_PROGRESS.get())
@@ -135,11 +151,12 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
 
 def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, floor: float | None = None,
                   tool=None, progress: Callable[[int, int], None] | None = None) -> dict:
-    """A program's motion at ``VIDEO_FPS``, the links of a colliding pair red while they touch,
+    """A program's motion at ``FRAME_RATE`` (``VIDEO_FPS``), the links of a colliding pair red while they touch,
     each frame with its time and the move under way (file:line and instruction), on a floor grid
     at ``floor`` (m; None: under the robot). ``progress(done, total)`` counts frames (default
     ``FRAME_PROGRESS``'s)."""
-    times = np.arange(0.0, float(plan.times[-1]) + 1e-9, 1.0 / VIDEO_FPS)
+    fps = FRAME_RATE.get()
+    times = np.arange(0.0, float(plan.times[-1]) + 1e-9, 1.0 / fps)
     rows = np.clip(np.searchsorted(plan.times, times), 0, len(plan.times) - 1)
     poses = Kinematics(mech).fk64(plan.q[rows])
     marked = []
@@ -150,7 +167,7 @@ def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, f
                            legend=[(GREY, f"{Path(plan.run.files[0]).stem}.{plan.run.routine}"), (RED, "in collision")],
                            captions=captions(times, plan.moves), floor=floor, length=_unit(mech), tool=tool,
                            progress=progress if progress is not None else FRAME_PROGRESS.get())
-    return _saved(path, frames, VIDEO_FPS)
+    return _saved(path, frames, fps)
 
 
 def _unit(mech) -> tuple[float, str]:

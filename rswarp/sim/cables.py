@@ -71,7 +71,9 @@ def simulate_cables(mech: Mechanism, trajectories: list[Trajectory], envs: int, 
     """Every cable of ``mech`` in ``envs`` environments, environment e following
     ``trajectories[assign(...)[e]]`` for ``seconds`` (default: the longest trajectory). ``cluster``
     (a ``rswarp.Cluster`` or a Ray address) runs the environments as tasks on Ray. ``progress``
-    counts environments. With ``designs``, environment e runs design e (``envs`` is their number)."""
+    counts the run's simulated seconds (each environment's share: all of them step together
+    here, a Ray task adds its environments' share when it ends). With ``designs``, environment e
+    runs design e (``envs`` is their number)."""
     if not mech.cables:
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if not trajectories:
@@ -178,6 +180,10 @@ class CableJob(Job):
     def task_items(self, cluster) -> int:
         return cluster.task_envs
 
+    def size(self, span: range) -> float:
+        """Progress in simulated seconds: the environments ``span``'s share of the run's."""
+        return len(span) / self.envs * self.frames / self.options.frame_rate
+
     def for_task(self, span: range) -> "CableJob":
         used = sorted({self.who[e - self.first] for e in span})
         renumber = {k: n for n, k in enumerate(used)}
@@ -221,7 +227,7 @@ class CableJob(Job):
             run.step(qs, t0 + 1 / self.options.frame_rate)
             if record >= 0:  # the played-back environment's joints (playback thins them like its cables)
                 recorded_q.append(qs[record, -1])
-            tick(len(span) / self.frames)
+            tick(self.size(span) / self.frames)
         values = None if whole else tuple(x.values for x in run.extremes)
         tally.add(CablePiece(span.start, run.results(), values, np.asarray(recorded_q)))
 
