@@ -147,8 +147,9 @@ class _Progress:
         self.bar.update(done - self.done)
         self.done = done
         if done >= total:
+            hidden = self.bar.disable  # (closing sets it)
             self.bar.close()
-            if self.bar.disable:
+            if hidden:
                 print(self.ended(total, time.perf_counter() - self.start), file=sys.stderr, flush=True)
 
     def _format(self, total: float) -> str | None:

@@ -19,3 +19,19 @@ os.environ["RSWARP_CACHE_DIR"] = tempfile.mkdtemp(prefix="rswarp-test-cache-")
 @pytest.fixture
 def data() -> Path:
     return DATA
+
+
+@pytest.fixture(scope="session")
+def demo_run(tmp_path_factory):
+    """``rswarp demo`` run once for the whole session (it takes a minute or more): its folder, its
+    exit code and what it printed. Tests that read the demo share this run."""
+    import contextlib
+    import io
+
+    from rswarp.cli import main
+
+    folder = tmp_path_factory.mktemp("demo")
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        code = main(["demo", "--out", str(folder)])
+    return folder, code, printed.getvalue()

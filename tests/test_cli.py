@@ -90,9 +90,9 @@ def test_info_on_bad_file_is_one_line_per_problem(capsys):
     assert err == [f"{bad}:10: point1 and point2 coincide: the joint has no axis"]
 
 
-def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
-    assert main(["demo", "--out", str(tmp_path)]) == 0
-    out = capsys.readouterr().out
+def test_demo_runs_on_the_bundled_examples(capsys, demo_run):
+    tmp_path, code, out = demo_run  # the session's one run of the demo (conftest.py)
+    assert code == 0
     for path in examples.ALL:
         assert f"== rswarp check {path.name}" in out
     assert "Cable Hose" in out and "link_6.stl" in out
@@ -105,7 +105,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, tmp_path):
                                                                  "IRB2600_12_165__01-cell.csv",
                                                                  "IRB2600_12_165__01-service.gif", "dresspack-program",
                                                                  "dresspack-program.gif", "dresspack-random",
-                                                                 "dresspack-sweep"] + [
+                                                                 "dresspack-random.gif", "dresspack-sweep"] + [
         f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01", "IRB9460_110_240__01")
         for e in ("urdf", "srdf", "usdc")])
     assert "matrix disables 6 adjacent, 1 default, 0 always" in out

@@ -54,7 +54,8 @@ def test_work_range_labels_carry_the_measured_figure(monkeypatch, tmp_path, path
 
 
 def test_cable_plot_names_the_allowed_bend_radius(monkeypatch):
-    """The bend-radius plot's dashed line says the allowed radius it stands for, in mm to 0.1."""
+    """The bend-radius plot's lines say the radii they stand for, in mm to 0.1: the allowed
+    (dynamic) one dashed, the static (kink) one dotted."""
     from types import SimpleNamespace
 
     from matplotlib.axes import Axes
@@ -70,7 +71,7 @@ def test_cable_plot_names_the_allowed_bend_radius(monkeypatch):
 
     monkeypatch.setattr(Axes, "axhline", seen)
     series = SimpleNamespace(median=np.ones(3), low=np.ones(3), high=np.ones(3))
-    cable = SimpleNamespace(name="hose", bend=series, allowed_bend_radius=0.12345)
+    cable = SimpleNamespace(name="hose", bend=series, allowed_bend_radius=0.12345, radius=0.006)
     run = SimpleNamespace(times=np.arange(3.0), cables=[cable], envs=1)
     assert cable_plots._over_time(run, "bend", "Least bend radius", "mm", 1000.0)[:4] == b"\x89PNG"
-    assert labels == ["hose allowed: 123.5 mm"]
+    assert labels == ["hose allowed (dynamic): 123.5 mm", "hose static (kink): 60.0 mm"]  # five diameters

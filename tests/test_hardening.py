@@ -6,11 +6,15 @@ messages that blame what is at fault."""
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
+import pty
 import signal
+import struct
 import subprocess
 import sys
+import termios
 import time
 
 import numpy as np
@@ -83,15 +87,23 @@ def test_a_video_in_the_runs_folder_is_rswarps_on_a_rerun_and_written_whole(tmp_
         ["v.gif"]
 
 
-def _until_progress(p: subprocess.Popen) -> bytes:
-    """Read p's stderr until a progress bar shows (or it ends), and return what was read."""
+def _until_progress(fd: int) -> bytes:
+    """Read a run's stderr (``fd``, a terminal's: bars are drawn only there) until a progress bar
+    shows (or it ends), and return what was read."""
     err = b""
     while b"%|" not in err:
-        chunk = os.read(p.stderr.fileno(), 4096)
+        chunk = _read(fd)
         if not chunk:
             break
         err += chunk
     return err
+
+
+def _read(fd: int) -> bytes:
+    try:
+        return os.read(fd, 4096)
+    except OSError:  # the terminal's other end closed: the run ended
+        return b""
 
 
 @pytest.mark.parametrize("command", [
@@ -103,12 +115,16 @@ def test_ctrl_c_and_sigterm_end_a_run_as_130_and_143_with_no_partial_file(tmp_pa
     # shell reports as 128 + the signal, as it does 130 and 143.
     for sig, codes in ((signal.SIGINT, (130, -signal.SIGINT)), (signal.SIGTERM, (143, -signal.SIGTERM))):
         args = [a.format(tmp=tmp_path) for a in command]
-        p = subprocess.Popen([sys.executable, "-m", "rswarp.cli", *args], stdout=subprocess.DEVNULL,
-                             stderr=subprocess.PIPE)
-        err = _until_progress(p)  # the run is under way: its first progress bar is drawn
+        terminal, stderr = pty.openpty()
+        fcntl.ioctl(stderr, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 100, 0, 0))  # a terminal 100 wide
+        p = subprocess.Popen([sys.executable, "-m", "rswarp.cli", *args], stdout=subprocess.DEVNULL, stderr=stderr)
+        os.close(stderr)
+        err = _until_progress(terminal)  # the run is under way: its first progress bar is drawn
         p.send_signal(sig)
-        _, rest = p.communicate(timeout=120)
-        err += rest
+        p.wait(timeout=120)
+        while chunk := _read(terminal):
+            err += chunk
+        os.close(terminal)
         assert p.returncode in (*codes, 0), err.decode()[-500:]  # 0: it finished before the signal came
         assert b"Traceback" not in err and b"Segmentation" not in err
         assert not [f for f in tmp_path.rglob("*") if f.name.endswith(".tmp") or ".tmp." in f.name]

@@ -176,3 +176,32 @@ def test_a_video_shows_a_progress_bar_on_stderr_but_never_under_json(tmp_path, c
     assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--video", str(tmp_path / "b.gif"), "--json"]) == 0
     out = capsys.readouterr()
     assert seen[-1][0] is None and "video" not in out.err and out.out.lstrip().startswith("{")
+
+
+def test_the_design_sweep_renders_its_chosen_design(tmp_path, monkeypatch):
+    """``rswarp dresspack --video``: the chosen design's run, its legend naming the design; the
+    command line takes the option (it was "unrecognized arguments")."""
+    from rswarp.cli import build_parser
+    from rswarp.report import videos
+    from rswarp.report.dresspack import run_dresspack
+
+    from conftest import DATA
+
+    rigs = DATA / "verdicts"
+    args = build_parser().parse_args(["dresspack", str(rigs / "taut.rsxml"), "--program", str(rigs / "pull_hold.mod"),
+                                      "--vary", "length=1.15:1.25", "--out", "o", "--video", "best.gif"])
+    assert args.video == "best.gif" and args.video_color == "bend"
+    legends, render = [], videos.render_frames
+    monkeypatch.setattr(videos, "render_frames", lambda *a, **k: legends.append(k["legend"]) or render(*a, **k))
+    with videos.frame_rate(5.0):
+        done = run_dresspack(str(rigs / "taut.rsxml"), [str(rigs / "pull_hold.mod")], str(tmp_path / "sweep"),
+                             ["length=1.15:1.25"], designs=2, min_bend_radius=150.0, video=str(tmp_path / "best.gif"),
+                             video_size=64)
+    best = done.doc["best"]["design"]
+    assert done.doc["video"]["design"] == best and done.doc["video"]["path"] == str(tmp_path / "best.gif")
+    assert f"video: {tmp_path / 'best.gif'} (design {best}, " in done.text
+    assert legends[-1][0][1] == f"design {best}"
+    import imageio.v3 as iio
+
+    frames = iio.imread(tmp_path / "best.gif", index=None)
+    assert len(frames) == done.doc["video"]["frames"] > 1 and frames.shape[1:3] == (64, 64)

@@ -157,18 +157,105 @@ def conf_matches(q: np.ndarray, conf: np.ndarray, want, axes=(), wrist: int | No
     return same.all(axis=-1)
 
 
-def pick(sol: IKSolutions, conf, axes=(), wrist: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+WRIST_SINGULAR = 1e-5  # rad: |q5| below this, axes 4 and 6 are in line (a quaternion's 6 decimals reach 2e-6)
+INSIDE = 1e-6  # rad: how far inside its quadrant a shared-out q4 or q6 is put (float32 keeps it there)
+
+
+def share_out(q: np.ndarray, conf: np.ndarray, want, arm, bounds=None, q4=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(q (..., S, dof), fits (..., S)): solutions ``q`` (configurations ``conf`` (..., S, 4)) at or
+    near the wrist singularity with q4 and q6 shared out so that cf4 and cf6 are ``want``'s
+    ((4,) or (..., 4)). q4 + d and q6 - d (q6 + d where axes 4 and 6 point opposite ways) turn
+    the flange by |d| |sin q5| at most: d is kept within QUADRANT_SLACK / |sin q5| of that (a
+    target's rounding, amplified), and is free where |q5| < WRIST_SINGULAR, q5 then put at 0
+    (axes 4 and 6 in line, only q4 + q6 counts). q4 is kept as near ``q4`` (where the robot is)
+    as the quadrants let it, inside them where it can be, else within the slack of their edges
+    that ``conf_matches`` gives. ``fits``: cf1 and cfx are ``want``'s as well (cfx's last bit,
+    q5's sign, either at the singularity), the result within ``bounds`` ((lower, upper))."""
+    fits = np.zeros(q.shape[:-1], bool)
+    if not isinstance(arm, ArmConstants) or not q.size:
+        return q, fits
+    along = float(np.dot(arm.w4, arm.w6))
+    if abs(abs(along) - 1.0) > 1e-9:
+        return q, fits
+    sign = 1.0 if along > 0 else -1.0
+    want = np.asarray(want, np.int64)[..., None, :]
+    have = np.asarray(conf, np.int64)
+    quarter = 0.5 * np.pi
+    q5 = q[..., 4]
+    singular = np.abs(q5) < WRIST_SINGULAR
+    s5 = np.abs(np.sin(q5))
+    with np.errstate(divide="ignore"):
+        reach = np.where(singular, np.inf, QUADRANT_SLACK / s5)  # how far d may go
+        amplified = QUADRANT_SLACK * np.minimum(1.0 / s5, WRIST_AMPLIFIED)  # as ``conf_matches`` has it
+
+    def window(slack):  # d's range: q4 and q6 within their quadrants, ``slack`` outside them
+        a4, b4 = want[..., 1] * quarter - slack, (want[..., 1] + 1) * quarter + slack
+        a6, b6 = want[..., 2] * quarter - slack, (want[..., 2] + 1) * quarter + slack
+        lo = np.maximum(a4 - q[..., 3], q[..., 5] - b6 if sign > 0 else a6 - q[..., 5])
+        hi = np.minimum(b4 - q[..., 3], q[..., 5] - a6 if sign > 0 else b6 - q[..., 5])
+        return np.maximum(lo, -reach), np.minimum(hi, reach)
+
+    lo, hi = window(-INSIDE)
+    inside = lo <= hi
+    lo_edge, hi_edge = window(amplified)
+    lo, hi = np.where(inside, lo, lo_edge), np.where(inside, hi, hi_edge)
+    d = np.clip(np.asarray(q4, float)[..., None] - q[..., 3], lo, hi)
+    out = q.copy()
+    out[..., 3] += d
+    out[..., 5] -= sign * d
+    out[..., 4] = np.where(singular, 0.0, q5)
+    a1, b1 = want[..., 0] * quarter - QUADRANT_SLACK, (want[..., 0] + 1) * quarter + QUADRANT_SLACK
+    fits = (lo <= hi) & (a1 <= q[..., 0]) & (q[..., 0] <= b1) & ((have[..., 3] | 1) == (want[..., 3] | 1))
+    fits &= singular | (have[..., 3] == want[..., 3])
+    if bounds is not None:
+        fits &= np.all((out >= bounds[0]) & (out <= bounds[1]), axis=-1)
+    return out, fits
+
+
+def with_conf(q: np.ndarray, conf: np.ndarray, ok: np.ndarray, want, arm, bounds=None,
+              q4=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(q (N, S, dof), has (N, S)): which of N poses' solutions ``q`` (configurations ``conf``
+    (N, S, 4), ``ok`` (N, S) those within reach and limits) have the configuration ``want`` ((4,)
+    or (N, 4)), as ``conf_matches`` says or once q4 and q6 are shared out (``share_out``, q4
+    nearest ``q4``, a number or (N,)). At the wrist singularity the shared-out one is taken (the
+    closed form's split of q4 and q6 is rounding); near it, only where no solution has ``want``
+    as it is."""
+    want = np.broadcast_to(np.asarray(want, np.int64), (q.shape[0], CONF))
+    has = ok & conf_matches(q, conf, want, quadrant_axes(arm), wrist_axis(arm))
+    if not isinstance(arm, ArmConstants):
+        return q, has
+    # only a solution near the singularity is shared out further than conf_matches' slack
+    rows = np.flatnonzero(np.any(ok & (np.abs(np.sin(q[..., 4])) < 1.0 / WRIST_AMPLIFIED), axis=1))
+    if not len(rows):
+        return q, has
+    qr, hr = q[rows], has[rows]
+    shared, fits = share_out(qr, conf[rows], want[rows], arm, bounds,
+                             np.broadcast_to(np.asarray(q4, float), q.shape[:1])[rows])
+    fits &= ok[rows]
+    use = fits & ((np.abs(qr[..., 4]) < WRIST_SINGULAR) | ~hr.any(axis=1, keepdims=True))
+    q, has = q.copy(), has.copy()
+    q[rows] = np.where(use[..., None], shared, qr)
+    has[rows] = hr | use
+    return q, has
+
+
+def pick(sol: IKSolutions, conf, axes=(), wrist: int | None = None, arm=None,
+         bounds=None) -> tuple[np.ndarray, np.ndarray]:
     """(q (N, dof), found (N,)): for each pose, the solution with configuration ``conf`` ((4,) or
-    (N, 4)); NaN and False where none has it. ``axes``: ``quadrant_axes`` of the solver."""
+    (N, 4)); NaN and False where none has it. ``axes``: ``quadrant_axes`` of the solver. With the
+    arm's constants (``arm``) and joint limits (``bounds``), a pose at or near the wrist
+    singularity has q4 and q6 shared out to fit ``conf`` (``with_conf``), q4 as near 0 as they
+    let it."""
     want = np.broadcast_to(np.asarray(conf, np.int32), (sol.q.shape[0], CONF))
-    match = sol.ok & conf_matches(sol.q, sol.conf, want, axes, wrist)
+    if isinstance(arm, ArmConstants):
+        q, match = with_conf(sol.q, sol.conf, sol.ok, want, arm, bounds)
+    else:
+        q, match = sol.q, sol.ok & conf_matches(sol.q, sol.conf, want, axes, wrist)
     found = match.any(axis=1)
     first = np.argmax(match, axis=1)
-    q = sol.q[np.arange(len(first)), first].copy()
+    q = q[np.arange(len(first)), first].copy()
     q[~found] = np.nan
     return q, found
-
-
 
 
 def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype, kernel=None) -> IKSolutions:

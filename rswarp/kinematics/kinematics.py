@@ -257,7 +257,7 @@ class Kinematics:
         sol = self._solve(form, poses, dtype)
         if conf is None:
             return sol
-        return ik.pick(self._turned(sol), conf, ik.quadrant_axes(form), ik.wrist_axis(form))
+        return ik.pick(self._turned(sol), conf, ik.quadrant_axes(form), ik.wrist_axis(form), form, self.mech.bounds())
 
     def _poses(self, poses, dtype) -> np.ndarray:
         """Flange poses checked as rigid transforms: on the host, or by the arm's kernel."""

@@ -125,7 +125,12 @@ def _path_shortfall(planner, step, f):
     u, _, _, flanges = made
     k = int(np.argmin(np.abs(u - f.value)))
     last = step.q[-1] if step.q is not None and len(step.q) else step.q0
-    s = sf.shortfalls(planner.kin, flanges[k:k + 1], True, last[None])[0]
+    rest = flanges[k:]  # the worst of the rest of the path, not the edge where it stopped (a circle point far out)
+    found = [x for x in sf.shortfalls(planner.kin, rest, True, np.repeat(last[None], len(rest), axis=0))
+             if x is not None]
+    reach = [x for x in found if x.kind != sf.LIMIT]
+    # beyond the reach: its worst; past a limit: where it stops (the branch beyond is no path the robot takes)
+    s = max(reach, key=lambda x: x.excess) if reach else found[0] if found else None
     if s is None:
         return f
     text = f.text
@@ -133,5 +138,16 @@ def _path_shortfall(planner, step, f):
         text = text.replace("out of reach", "reachable only outside the joint limits")
     else:
         text = text.replace("a joint limit", "out of reach")
-    return replace(f, text=f"{text}: {s.words()}", value=s.value, limit=s.limit, unit=s.unit, joint=s.joint,
+    words = f"{text}: {s.words(up_to=len(reach) > 1)}{_via(m)}"
+    return replace(f, text=words, value=s.value, limit=s.limit, unit=s.unit, joint=s.joint,
                    advice=s.advice())
+
+
+def _via(m) -> str:
+    """For a circle, the point it passes through, which draws the circle out of reach."""
+    if m.kind != "circular" or len(m.names) < 2:
+        return ""
+    where = getattr(m, "declared", ())
+    file, _, line = where[0].rpartition(":") if where and where[0] else ("", "", "")
+    at = f" (declared at {Path(file).name}:{line})" if file else ""
+    return f"; the circle passes through '{m.names[0]}'{at}"

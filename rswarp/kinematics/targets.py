@@ -10,7 +10,7 @@ import numpy as np
 
 from ..kernels.ik import NO_LIMITS, OK, SHOULDER
 from ..rapid import data as rd
-from .ik import QUADRANT_SLACK, WRIST_AMPLIFIED, ArmConstants, conf_matches, quadrant_axes, wrist_axis
+from .ik import INSIDE, QUADRANT_SLACK, ArmConstants, conf_matches, quadrant_axes, with_conf, wrist_axis
 from .shortfall import arm_reach
 
 EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
@@ -73,27 +73,31 @@ def outside(mech, q: np.ndarray, name: str) -> str | None:
 
 def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=None, bounds=None) -> tuple:
     """The solution of pose ``k`` the controller moves to: with ``checked`` the one with ``conf``
-    (nearest ``q_now`` if several), else the one nearest ``q_now``; or why there is none. At the
-    wrist singularity (q5 = 0, axes 4 and 6 in line) only q4 + q6 counts: they are shared out to
-    fit ``conf``'s quadrants where they can."""
+    (nearest ``q_now`` if several), else the one nearest ``q_now``; or why there is none. At or
+    near the wrist singularity (q5 = 0, axes 4 and 6 in line) only q4 + q6 counts: they are
+    shared out to fit ``conf``'s quadrants where they can, q4 as near where the robot is as they
+    let it (``ik.with_conf``)."""
     ok = sol.status[k] == OK
     if not ok.any():
         return None, unreachable(sol, k, name)
-    cands = sol.q[k]
+    cands = sol.q[k][ok]
     if checked and not sol.numerical:
-        match = ok & conf_matches(cands, sol.conf[k], conf, quadrant_axes(arm), wrist_axis(arm))
-        if not match.any():
-            fitted = wrist_fit(arm, cands[ok], sol.conf[k][ok], conf, bounds, q_now)
-            if fitted is not None:
-                return fitted, None
-            return None, f"'{name}' has no solution with confdata {list(conf)}; {nearest_confs(sol.conf[k][ok], conf)}"
-        ok = match
-    dist = np.where(ok, np.sum((cands - q_now) ** 2, axis=1), np.inf)
-    return cands[int(np.argmin(dist))].copy(), None
+        q, has = with_conf(cands[None], sol.conf[k][ok][None], np.ones((1, len(cands)), bool), conf, arm, bounds,
+                           q_now[3])
+        if not has.any():
+            return None, f"'{name}' has no solution with confdata {plain(conf)}; {nearest_confs(sol.conf[k][ok], conf)}"
+        cands = q[0][has[0]]
+    return cands[int(np.argmin(np.sum((cands - q_now) ** 2, axis=1)))].copy(), None
+
+
+def plain(values) -> list:
+    """Numbers as a message shows them (Python's ints and floats, never NumPy's reprs)."""
+    return np.asarray(values).ravel().tolist()
 
 
 def nearest_confs(confs: np.ndarray, conf, shown: int = 4) -> str:
     """The configurations a pose's solutions have, those nearest ``conf`` first, a few of them."""
+    conf = [int(v) for v in conf]
     have = sorted({tuple(int(v) for v in c) for c in confs},
                   key=lambda c: (sum(abs(a - b) for a, b in zip(c, conf)), c))
     text = ", ".join(str(list(c)) for c in have[:shown])
@@ -101,45 +105,42 @@ def nearest_confs(confs: np.ndarray, conf, shown: int = 4) -> str:
     return f"the nearest it has: {text}{more}"
 
 
-WRIST_SINGULAR = 1e-5  # rad: |q5| below this, axes 4 and 6 are in line (a quaternion's 6 decimals reach 2e-6)
-
-
-def wrist_fit(arm, cands: np.ndarray, confs: np.ndarray, conf, bounds=None, q_now=None) -> np.ndarray | None:
-    """A wrist-singular solution (|q5| < WRIST_SINGULAR) with q4 and q6 shared out so cf4 and cf6
-    are ``conf``'s: q4 + d and q6 - d (q6 + d where the axes point opposite ways) leave the flange
-    where it is while axes 4 and 6 are in line. q4 stays as near where the robot is (``q_now``)
-    as the quadrants let it: the split is rounding, the robot's own q4 is not."""
-    if not isinstance(arm, ArmConstants):
-        return None
-    along = float(np.dot(arm.w4, arm.w6))
-    if abs(abs(along) - 1.0) > 1e-9:
-        return None
-    sign = 1.0 if along > 0 else -1.0
-    quarter = 0.5 * np.pi
-    # a joint this near a quadrant's edge is in either; axes 4 and 6 at the wrist singularity take a
-    # target's rounding amplified, as ``conf_matches`` has them (near the shoulder's too, q1's error)
-    slack, wide = QUADRANT_SLACK, QUADRANT_SLACK * WRIST_AMPLIFIED
-    a4, b4 = conf[1] * quarter - wide, (conf[1] + 1) * quarter + wide
-    a6, b6 = conf[2] * quarter - wide, (conf[2] + 1) * quarter + wide
-    a1, b1 = conf[0] * quarter - slack, (conf[0] + 1) * quarter + slack
-    for q, c in zip(cands, confs):
-        if abs(q[4]) >= WRIST_SINGULAR or not a1 <= q[0] <= b1 or (int(c[3]) | 1) != (int(conf[3]) | 1):
-            continue
-        lo = max(a4 - q[3], q[5] - b6 if sign > 0 else a6 - q[5])
-        hi = min(b4 - q[3], q[5] - a6 if sign > 0 else b6 - q[5])
-        if lo < hi - 1e-9:
-            d = 0.5 * (lo + hi) if q_now is None else float(np.clip(q_now[3] - q[3], lo + 1e-9, hi - 1e-9))
-            out = q.copy()
-            out[3], out[4], out[5] = q[3] + d, 0.0, q[5] - sign * d
-            if bounds is None or (np.all(out >= bounds[0]) and np.all(out <= bounds[1])):
-                return out
-    return None
-
-
 SHOULDER_STEP = 1e-6  # m: how far a wrist centre on axis 1 is moved off it to solve it
-
-
 SHOULDER_SLACK = 1e-5  # m: a wrist centre this near axis 1 is on it (a robtarget's rounding, not a side)
+NEAR_AXIS = SHOULDER_SLACK / QUADRANT_SLACK  # m (1 m): nearer axis 1 than this, moving the wrist centre
+# SHOULDER_SLACK turns q1 by more than its quadrant's slack, and a robtarget's rounding turns it more
+GRID = np.radians(0.5)  # rad: the steps of q1 tried across what is left to it
+BEARINGS = 36  # q1s tried where axis 4 passes axis 6 (the wrist in line): one per 5 degrees of q4
+
+
+def _side_and_quadrant(conf) -> tuple[float, float, float]:
+    """(pi where cfx puts the wrist centre behind axis 1 else 0, cf1's quadrant's ends) (rad)."""
+    quarter = 0.5 * np.pi
+    return (np.pi if int(conf[3]) & 4 else 0.0), int(conf[0]) * quarter, (int(conf[0]) + 1) * quarter
+
+
+class _Axis1:
+    """Axis 1 and the arm's direction across it, and where a pose's wrist centre is."""
+
+    def __init__(self, arm: ArmConstants):
+        self.w, self.h, self.cf, self.p1 = (np.asarray(v, float) for v in (arm.w1, arm.h0, arm.cf, arm.p1))
+        self.across = np.cross(self.w, self.h)
+
+    def centre(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(wrist centres, their radial vectors from axis 1, their distances from it)."""
+        c = poses[:, :3, :3] @ self.cf + poses[:, :3, 3]
+        rel = c - self.p1
+        radial = rel - (rel @ self.w)[:, None] * self.w
+        return c, radial, np.linalg.norm(radial, axis=1)
+
+    def towards(self, angle) -> np.ndarray:
+        """(n, 3): the arm's direction across axis 1 where q1 = ``angle`` ((n,))."""
+        angle = np.atleast_1d(angle)[:, None]
+        return self.h * np.cos(angle) + self.across * np.sin(angle) + self.w * (self.w @ self.h) * (1 - np.cos(angle))
+
+    def azimuth(self, v: np.ndarray) -> np.ndarray:
+        """The angle about axis 1 of directions ``v`` (..., 3) from the arm's at q1 = 0."""
+        return np.arctan2(v @ self.across, v @ self.h)
 
 
 def off_the_axis(kin, poses: np.ndarray, sol, q1: float, confs=None) -> None:
@@ -147,29 +148,257 @@ def off_the_axis(kin, poses: np.ndarray, sol, q1: float, confs=None) -> None:
     the centre put ``SHOULDER_STEP`` from the axis where the arm points at ``q1``: any q1 reaches
     such a pose, and which side of the axis rounding left the centre on is no choice of the
     programmer's. With ``confs`` ((N, 4), rows None where unchecked) q1 is kept within the
-    target's cf1 quadrant and the side is its cfx's. The solutions, in ``sol`` (in place), miss
+    target's cf1 quadrant and the side is its cfx's; where no solution there has the target's
+    confdata (the wrist takes what q1 leaves to it: at the wrist's singularity, a q1 off the
+    target's turns axes 4 and 6 a quarter turn), q1 is sought across that quadrant, nearest
+    ``q1``. A wrist centre nearer axis 1 than ``NEAR_AXIS``, where a robtarget's rounding turns
+    q1 by more than its slack, is turned about the axis as well, as far as SHOULDER_SLACK lets
+    it, where no solution has the target's confdata. The solutions, in ``sol`` (in place), miss
     the pose by SHOULDER_SLACK at most."""
     arm = kin._ik_form()
     if not isinstance(arm, ArmConstants):
         return
-    w, h, cf = (np.asarray(v, float) for v in (arm.w1, arm.h0, arm.cf))
-    rel = poses[:, :3, :3] @ cf + poses[:, :3, 3] - np.asarray(arm.p1)
-    radial = rel - (rel @ w)[:, None] * w
+    axis = _Axis1(arm)
+    _, radial, r = axis.centre(poses)
     on_axis = ~(sol.status == OK).any(axis=1) & (sol.status == SHOULDER).any(axis=1)
-    rows = np.flatnonzero(on_axis | (np.linalg.norm(radial, axis=1) < SHOULDER_SLACK))
-    if not len(rows):
+    on_axis |= r < SHOULDER_SLACK
+    rows = np.flatnonzero(on_axis)
+    if len(rows):
+        moved = poses[rows].copy()
+        for i, row in enumerate(rows):
+            angle, conf = q1, None if confs is None else confs[row]
+            if conf is not None:
+                behind, lo, hi = _side_and_quadrant(conf)
+                angle = float(np.clip(q1, lo, hi)) + behind  # an edge is in either
+            moved[i, :3, 3] += SHOULDER_STEP * axis.towards(angle)[0] - radial[row]
+        again = kin.solutions64(moved)
+        sol.q[rows], sol.conf[rows], sol.status[rows] = again.q, again.conf, again.status
+    if confs is None:
         return
-    moved = poses[rows].copy()
-    for i, row in enumerate(rows):
-        angle, conf = q1, None if confs is None else confs[row]
-        if conf is not None:
-            quarter = 0.5 * np.pi
-            angle = float(np.clip(q1, conf[0] * quarter, (conf[0] + 1) * quarter))  # an edge is in either
-            angle += np.pi if int(conf[3]) & 4 else 0.0
-        towards = h * np.cos(angle) + np.cross(w, h) * np.sin(angle) + w * np.dot(w, h) * (1 - np.cos(angle))
-        moved[i, :3, 3] += SHOULDER_STEP * towards - radial[row]
-    again = kin.solutions64(moved)
-    sol.q[rows], sol.conf[rows], sol.status[rows] = again.q, again.conf, again.status
+    checked = [row for row, conf in enumerate(confs) if conf is not None]
+    if not checked:
+        return
+    bounds = kin.mech.bounds()
+    want = np.array([[int(v) for v in confs[row]] for row in checked])
+    _, has = with_conf(sol.q[checked], sol.conf[checked], sol.status[checked] == OK, want, arm, bounds)
+    for row in np.asarray(checked)[~has.any(axis=1)]:
+        found, tried = None, None
+        if on_axis[row] or r[row] < NEAR_AXIS:
+            found, tried = _seek(kin, arm, axis, poses[row], confs[row], q1 if on_axis[row] else None, bounds)
+        if found is not None:
+            sol.q[row], sol.conf[row], sol.status[row] = found.q[0], found.conf[0], found.status[0]
+            continue
+        ok = sol.status[row] == OK
+        q, c = sol.q[row][ok], sol.conf[row][ok]
+        if tried is not None:  # and those of the q1s sought
+            more = tried.status == OK
+            q, c = np.concatenate([q, tried.q[more]]), np.concatenate([c, tried.conf[more]])
+        nearby = _nearby(kin, arm, axis, poses[row], confs[row], q, c, bounds)
+        if nearby is not None:  # into a slot that holds no solution (the first where all do)
+            slot = int(np.argmax(sol.status[row] != OK))
+            sol.q[row, slot], sol.conf[row, slot], sol.status[row, slot] = *nearby, OK
+
+
+def _seek(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q1: float | None, bounds):
+    """The solutions (an ``IKSolutions`` of one pose) of ``pose`` with its wrist centre turned
+    about axis 1 to where the arm at q1 has ``conf``, q1 within cf1's quadrant, on cfx's side of
+    the axis: on the axis (``q1`` given) anywhere in it, nearest ``q1``; near it, as far as
+    SHOULDER_SLACK lets the centre go, nearest where it is; None where no q1 gives ``conf``. And the
+    solutions of every q1 tried (None where none was)."""
+    behind, lo, hi = _side_and_quadrant(conf)
+    centre, radial, r = axis.centre(pose[None])
+    foot, r = centre[0] - radial[0], float(r[0])
+    if q1 is not None:
+        rho, prefer = SHOULDER_STEP, float(np.clip(q1, lo, hi))
+    else:
+        rho = r
+        here = float(axis.azimuth(radial[0])) - behind  # q1 of the arm on cfx's side as the pose is
+        here += 2 * np.pi * np.round((0.5 * (lo + hi) - here) / (2 * np.pi))
+        reach = 2 * np.arcsin(min(1.0, SHOULDER_SLACK / (2 * r)))
+        lo, hi = max(lo, here - reach), min(hi, here + reach)
+        if lo > hi:
+            return None, None
+        prefer = float(np.clip(here, lo, hi))
+
+    def solve(angles: np.ndarray):
+        moved = np.repeat(pose[None], len(angles), axis=0)
+        moved[:, :3, 3] += foot + rho * axis.towards(angles + behind) - centre[0]
+        sol = kin.solutions64(moved)
+        ok = sol.status == OK
+        _, has = with_conf(sol.q, sol.conf, ok, conf, arm, bounds)
+        return sol, has.any(axis=1)
+
+    steps = max(2, int(np.ceil((hi - lo) / GRID)) + 1)
+    angles = np.unique(np.concatenate([[prefer, lo, hi], np.linspace(lo, hi, steps)]))
+    sol, fits = solve(angles)
+    extra = _in_line(kin, arm, axis, sol, angles, conf, lo, hi)  # where the wrist is in line
+    if len(extra):
+        more, more_fits = solve(extra)
+        angles, fits = np.concatenate([angles, extra]), np.concatenate([fits, more_fits])
+        sol = _stack(sol, more)
+    if not fits.any():
+        return None, sol
+    best = int(np.argmin(np.where(fits, np.abs(angles - prefer), np.inf)))
+    if angles[best] != prefer:  # nearer: between the best and the nearest that does not fit, towards ``prefer``
+        between = (angles - prefer) * (angles[best] - prefer) >= 0
+        between &= (np.abs(angles - prefer) < abs(angles[best] - prefer)) & ~fits
+        if between.any():
+            near = angles[between][int(np.argmax(np.abs(angles[between] - prefer)))]
+            finer = np.linspace(near, angles[best], 18)[1:-1]
+            fine, fine_fits = solve(finer)
+            if fine_fits.any():
+                k = int(np.argmin(np.where(fine_fits, np.abs(finer - prefer), np.inf)))
+                return _row(fine, k), None
+    return _row(sol, best), None
+
+
+def _in_line(kin, arm, axis: _Axis1, sol, angles: np.ndarray, conf, lo: float, hi: float) -> np.ndarray:
+    """q1s within [lo, hi] where axis 4 passes axis 6: the wrist in line (q5 = 0) where they meet,
+    q4 swinging half a turn as axis 4 passes (one q1 per ``BEARINGS``-th of it). Read off the
+    solutions ``sol`` of the arm's branch on ``conf``'s side (cfx's first two bits) at q1s
+    ``angles``: q1 turns axis 4 about axis 1, axis 6 stays where the pose puts it."""
+    ok = (sol.status == OK) & ((sol.conf[..., 3].astype(np.int64) & 6) == (int(conf[3]) & 6))
+    n, s = np.nonzero(ok)
+    if not len(n):
+        return np.zeros(0)
+    first = np.unique(n, return_index=True)[1]  # one solution per q1 tried: they share axis 4
+    n, s = n[first], s[first]
+    q = sol.q[n, s]
+    links = kin._arm_links
+    zero = kin.fk64(np.zeros((1, q.shape[1])))[0]
+    frames = kin.fk64(q)
+    sign = 1.0 if np.dot(arm.w4, arm.w6) > 0 else -1.0
+    u = frames[:, links[3], :3, :3] @ (zero[links[3], :3, :3].T @ np.asarray(arm.w4))
+    a6 = sign * frames[:, links[5], :3, :3] @ (zero[links[5], :3, :3].T @ np.asarray(arm.w6))
+    sin_a = np.linalg.norm(np.cross(u, axis.w), axis=1)
+    keep = sin_a > 1e-6  # axis 4 along axis 1: q1 turns the wrist about itself, q4 + q6 takes it
+    if not keep.any():
+        return np.zeros(0)
+    turn = axis.azimuth(a6) - axis.azimuth(u)
+    turn = (turn + np.pi) % (2 * np.pi) - np.pi
+    meet = angles[n] + turn
+    gap = np.abs(np.arccos(np.clip(u @ axis.w, -1, 1)) - np.arccos(np.clip(a6 @ axis.w, -1, 1)))
+    bearing = np.linspace(0.0, np.pi, BEARINGS + 1)[1:-1]
+    offsets = (gap / sin_a)[:, None] / np.tan(bearing)[None]
+    out = np.concatenate([meet[keep], (meet[:, None] + offsets)[keep].ravel()])
+    mid = 0.5 * (lo + hi)
+    out += 2 * np.pi * np.round((mid - out) / (2 * np.pi))
+    out = np.unique(np.round(out[(out >= lo) & (out <= hi)], 12))
+    return out[np.abs(out[:, None] - angles[None]).min(axis=1) > 1e-12] if len(out) else out
+
+
+STARTS = 4  # damped least-squares starts at most (the solutions nearest the target's quadrants)
+CLOSE = 0.05  # m and rad: a start farther than this from the pose once in the quadrants is not tried
+STEPS = 60  # damped least-squares steps at most
+SPREAD = 8  # starts across q4's quadrant where the wrist is near its singularity
+OFF_ZERO = 1e-4  # rad: q5 of those starts
+
+
+def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs: np.ndarray, bounds) -> tuple | None:
+    """(joint values, their configuration) with ``conf`` that meet ``pose`` within SHOULDER_SLACK (m) and QUADRANT_SLACK
+    (rad), or None: where a target's rounding is amplified past these slacks near a singularity
+    (the arm stretched, the wrist in line, the wrist centre over axis 1 at once), no exact
+    solution of the rounded pose has the target's own confdata, though the configuration it came
+    from meets the pose within the rounding. Sought by damped least squares from the solutions
+    ``q`` (configurations ``confs``) of the arm's branch on ``conf``'s side, put within cf1's, cf4's
+    and cf6's quadrants, q5's sign and the elbow's side and kept there."""
+    from .ik_numeric import _error, _flange64
+
+    quarter = 0.5 * np.pi
+    mine = (confs[:, 3].astype(np.int64) & 6) == (int(conf[3]) & 6)
+    if not mine.any():
+        return None
+    lower, upper = (np.array(b, float) for b in bounds)
+    lo = np.repeat(lower[None], mine.sum(), axis=0)
+    hi = np.repeat(upper[None], mine.sum(), axis=0)
+    for column, joint in ((0, 0), (1, 3), (2, 5)):
+        lo[:, joint] = np.maximum(lo[:, joint], int(conf[column]) * quarter + INSIDE)
+        hi[:, joint] = np.minimum(hi[:, joint], (int(conf[column]) + 1) * quarter - INSIDE)
+    if int(conf[3]) & 1:
+        hi[:, 4] = np.minimum(hi[:, 4], 0.0)
+    else:
+        lo[:, 4] = np.maximum(lo[:, 4], 0.0)
+    start = q[mine].copy()
+    straight = _straight(arm)  # the elbow's side: between two of these, half a turn apart
+    k = np.floor((start[:, 2] - straight) / np.pi)
+    lo[:, 2] = np.maximum(lo[:, 2], straight + k * np.pi + INSIDE)
+    hi[:, 2] = np.minimum(hi[:, 2], straight + (k + 1) * np.pi - INSIDE)
+    sign = 1.0 if np.dot(arm.w4, arm.w6) > 0 else -1.0
+    # q4 and q6 into their quadrants, shared out as at the singularity where they can be
+    low = np.maximum(lo[:, 3] - start[:, 3], start[:, 5] - hi[:, 5] if sign > 0 else lo[:, 5] - start[:, 5])
+    high = np.minimum(hi[:, 3] - start[:, 3], start[:, 5] - lo[:, 5] if sign > 0 else hi[:, 5] - start[:, 5])
+    d = np.where(low <= high, np.clip(0.0, low, high), np.clip(start[:, 3], lo[:, 3], hi[:, 3]) - start[:, 3])
+    start[:, 3] += d
+    start[:, 5] -= sign * d
+    live = np.all(lo <= hi, axis=1)
+    if not live.any():
+        return None
+    start, lo, hi = np.clip(start[live], lo[live], hi[live]), lo[live], hi[live]
+    target = np.repeat(pose[None], len(start), axis=0)
+    err = _error(target, _flange64(kin, start))
+    near = np.argsort(np.abs(err).max(axis=1))[:STARTS]
+    near = near[np.abs(err[near]).max(axis=1) < CLOSE]
+    if not len(near):
+        return None
+    q, lo, hi = start[near], lo[near], hi[near]
+    # near the wrist's singularity q4 + q6 is all a start says: q4 spread across its quadrant, q5
+    # off zero on cfx's side (at q5 = 0 no step turns the flange across axes 4 and 5)
+    spread = np.abs(q[:, 4]) < CLOSE
+    if spread.any():
+        base, blo, bhi = q[spread], lo[spread], hi[spread]
+        more = np.repeat(base[:, None], SPREAD, axis=1)
+        more[..., 3] = blo[:, None, 3] + (bhi - blo)[:, None, 3] * np.linspace(0.0, 1.0, SPREAD + 2)[None, 1:-1]
+        more[..., 5] -= sign * (more[..., 3] - base[:, None, 3])
+        more[..., 4] = np.where(int(conf[3]) & 1, -1.0, 1.0) * np.maximum(np.abs(base[:, None, 4]), OFF_ZERO)
+        q = np.concatenate([q, np.clip(more, blo[:, None], bhi[:, None]).reshape(-1, q.shape[1])])
+        lo = np.concatenate([lo, np.repeat(blo, SPREAD, axis=0)])
+        hi = np.concatenate([hi, np.repeat(bhi, SPREAD, axis=0)])
+    target = np.repeat(pose[None], len(q), axis=0)
+    err = _error(target, _flange64(kin, q))
+    damping = np.full(len(q), 1e-6)
+    dof = q.shape[1]
+    for _ in range(STEPS):
+        cost = np.sum(err ** 2, axis=1)
+        base = _flange64(kin, q)
+        steps = q[:, None, :] + 1e-7 * np.eye(dof)[None]
+        moved = _flange64(kin, steps.reshape(-1, dof)).reshape(len(q), dof, 4, 4)
+        jac = np.stack([(_error(target, base) - _error(target, moved[:, j])) / 1e-7 for j in range(dof)], axis=2)
+        jt = np.swapaxes(jac, 1, 2)
+        step = np.linalg.solve(jt @ jac + damping[:, None, None] * np.eye(dof), jt @ err[:, :, None])[:, :, 0]
+        tried = np.clip(q + step, lo, hi)
+        new = _error(target, _flange64(kin, tried))
+        better = np.sum(new ** 2, axis=1) < cost
+        q[better], err[better] = tried[better], new[better]
+        damping = np.where(better, np.maximum(damping * 0.1, 1e-10), damping * 10.0)
+        if np.all(np.abs(err).max(axis=1) < 1e-12) or np.all(damping > 1e6):
+            break
+    good = (np.abs(err[:, :3]).max(axis=1) <= SHOULDER_SLACK) & (np.abs(err[:, 3:]).max(axis=1) <= QUADRANT_SLACK)
+    if not good.any():
+        return None
+    best = q[good][int(np.argmin(np.sum(err[good] ** 2, axis=1)))]
+    have = kin.confdata(best[None])
+    if axis.centre(_flange64(kin, best[None]))[2][0] < SHOULDER_SLACK:  # on axis 1: either side of it
+        have[0, 3] = (have[0, 3] & 3) | (int(conf[3]) & 4)
+    if not conf_matches(best[None], have, conf, quadrant_axes(arm), wrist_axis(arm))[0]:
+        return None
+    return best, have[0]
+
+
+def _straight(arm) -> float:
+    """q3 where the arm is stretched: the wrist centre on the line through axes 2 and 3, beyond 3."""
+    w3 = arm.s3 * np.asarray(arm.w2)
+    a, b = np.asarray(arm.c0) - np.asarray(arm.p3), np.asarray(arm.p3) - np.asarray(arm.p2)
+    a, b = a - (a @ w3) * w3, b - (b @ w3) * w3
+    return float(np.arctan2(w3 @ np.cross(a, b), a @ b))
+
+
+def _stack(a, b):
+    return type(a)(np.concatenate([a.q, b.q]), np.concatenate([a.conf, b.conf]), np.concatenate([a.status, b.status]),
+                   a.numerical)
+
+
+def _row(sol, k: int):
+    return type(sol)(sol.q[k:k + 1], sol.conf[k:k + 1], sol.status[k:k + 1], sol.numerical)
 
 
 def unreachable(sol, k: int, name: str) -> str:

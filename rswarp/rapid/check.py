@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import difflib
 
+from ..errors import Diagnostic, RsxmlError
 from . import nodes as n
 from . import words
 from .binding import ArgumentError, match_arguments
-from .errors import fail
+from .errors import nearest
 from .instructions import KNOWN
 from .moves import MOVES
 from .predefined import error_number
@@ -29,6 +30,7 @@ def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
     """Every routine of ``task`` checked as the controller checks it at load (``predefined``: the
     controller's own data by lower-case name; ``signals``: those ``--io`` names)."""
     signals = set(signals) | set(task.signals) | signal_uses(task)
+    problems: list[Diagnostic] = []
     for module in task.modules:
         own = task.locals.get(module.name.lower(), {})
         data = {k for k, s in task.globals.items() if isinstance(s.node, n.Data)}
@@ -37,17 +39,21 @@ def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
         routines.update({k: s.node for k, s in own.items() if isinstance(s.node, n.Routine)})
         names = {k: s.node.name for k, s in {**task.globals, **own}.items() if isinstance(s.node, n.Data)}
         for r in module.routines:
-            _Routine(module.file, r, data | predefined, names, routines, signals).check()
-        _module_data(module, data | predefined, names, routines, signals)
+            _Routine(module.file, r, data | predefined, names, routines, signals, problems).check()
+        _module_data(module, data | predefined, names, routines, signals, problems)
+    if problems:  # every one at once, as the controller lists them when it loads the task
+        order = {f: k for k, f in enumerate(task.files)}
+        raise RsxmlError(sorted(problems, key=lambda d: (order.get(d.file, 0), d.line)))
 
 
-def _module_data(module: n.Module, known: set[str], names: dict, routines: dict, signals: set[str]) -> None:
+def _module_data(module: n.Module, known: set[str], names: dict, routines: dict, signals: set[str],
+                 problems: list) -> None:
     """The values a module's data are declared with, checked as a routine's statements are."""
     inits = [d for d in module.data if d.init is not None or d.dims]
     if not inits:
         return
     holder = n.Routine(module.line, "proc", f"the data of {module.name}", "", None, (), n.Body(()), False)
-    walk = _Routine(module.file, holder, known, names, routines, signals)
+    walk = _Routine(module.file, holder, known, names, routines, signals, problems)
     for d in inits:
         for e in (*(d.dims or ()), d.init):
             walk.expr(e, d.line)
@@ -57,13 +63,20 @@ class _Routine:
     """One routine's walk: its parameters, data and FOR variables, then the module's names."""
 
     def __init__(self, file: str, routine: n.Routine, known: set[str], names: dict, routines: dict,
-                 signals: set[str] = frozenset()):
+                 signals: set[str] = frozenset(), problems: list | None = None):
         self.file, self.routine, self.known, self.routines = file, routine, known, routines
         self.signals = signals
+        self.problems = problems if problems is not None else []
         self.own = {p.key: p.name for p in routine.params}
         self.own.update({d.name.lower(): d.name for d in routine.body.statements if d.__class__ is n.Data})
         self.names = {**names, **self.own}  # what a misspelt name may be meant for
         self.labels: set[str] = set()
+
+    def problem(self, line: int, message: str) -> None:
+        """A problem the controller would refuse the task for; said once a place, all of them at once."""
+        d = Diagnostic(self.file, line, message)
+        if len(self.problems) < 1000 and d not in self.problems:
+            self.problems.append(d)
 
     def check(self) -> None:
         bodies = [self.routine.body] + ([self.routine.error] if self.routine.error is not None else [])
@@ -95,7 +108,7 @@ class _Routine:
             for e in (s.start, s.stop, s.step):
                 self.expr(e, s.line)
         elif kind is n.Goto and s.label.lower() not in self.labels:
-            fail(self.file, s.line, f"GOTO {s.label}: no such label in '{self.routine.name}'")
+            self.problem(s.line, f"GOTO {s.label}: no such label in '{self.routine.name}'")
         elif kind is n.Data:
             for e in (*(s.dims or ()), s.init):
                 self.expr(e, s.line)
@@ -109,12 +122,12 @@ class _Routine:
         routine = self.routines.get(s.key)
         if routine is not None:
             if routine.kind != "proc":
-                fail(self.file, s.line, f"'{s.name}' is a {routine.kind.upper()}, not a procedure")
+                self.problem(s.line, f"'{s.name}' is a {routine.kind.upper()}, not a procedure")
             self.arguments(routine, s.args, s.line)
         elif s.key not in KNOWN and words.word(s.key) is None:
             near = difflib.get_close_matches(s.key, list(KNOWN) + list(self.routines), n=1, cutoff=0.8)
             if near:
-                fail(self.file, s.line, f"unknown procedure '{s.name}' (did you mean {self._written(near[0])}?)")
+                self.problem(s.line, f"unknown procedure '{s.name}' (did you mean {self._written(near[0])}?)")
             return  # an option's instruction: only the option knows what its arguments name
         spec = MOVES.get(s.key) if routine is None else None
         count = sum(1 for a in s.args if not a.optional and a.name is None)
@@ -135,10 +148,10 @@ class _Routine:
         try:
             match_arguments(routine, args, lambda name: False)
         except ArgumentError as exc:
-            fail(self.file, line, str(exc))
+            self.problem(line, str(exc))
         for a in args:
             if a.condition is not None and a.condition.lower() not in self.own:
-                fail(self.file, line, f"\\{a.name}?{a.condition}: '{a.condition}' is not a parameter of "
+                self.problem(line, f"\\{a.name}?{a.condition}: '{a.condition}' is not a parameter of "
                                       f"'{self.routine.name}'")
 
     def expr(self, e, line: int, role: str | None = None, declared: bool = False) -> None:
@@ -158,7 +171,7 @@ class _Routine:
         routine = self.routines.get(e.key)
         if routine is not None:
             if routine.kind != "func":
-                fail(self.file, e.line, f"'{e.name}' is a {routine.kind.upper()}, not a function")
+                self.problem(e.line, f"'{e.name}' is a {routine.kind.upper()}, not a function")
             self.arguments(routine, e.args, e.line)
         elif words.word(e.key) is None and e.key not in _FUNCTIONS:
             return  # an option's function: only the option knows what its arguments name
@@ -178,9 +191,9 @@ class _Routine:
             return
         if not (declared or role) and key in self.signals:
             return
-        near = difflib.get_close_matches(key, list(self.names), n=1, cutoff=0.85)
-        hint = f" (did you mean '{self.names[near[0]]}'?)" if near else _lives(role)
-        fail(self.file, e.line or line, f"'{e.name}' is declared nowhere in the task{hint}")
+        near = nearest(key, self.names)
+        hint = f" (did you mean '{self.names[near]}'?)" if near else _lives(role)
+        self.problem(e.line or line, f"'{e.name}' is declared nowhere in the task{hint}")
 
 
 def _role(spec, index: int, count: int) -> str | None:

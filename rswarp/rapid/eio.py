@@ -30,13 +30,14 @@ class Signal:
 
 def find_eio(folder: Path) -> Path | None:
     """The backup's ``SYSPAR/EIO.cfg`` for a folder given as a task: the backup itself, its RAPID
-    folder or a task folder in it."""
+    folder, a task folder in it, or the folder that holds the one backup."""
     for root in (folder, folder.parent, folder.parent.parent):
         for name in ("SYSPAR", "syspar"):
             cfg = root / name / "EIO.cfg"
             if cfg.is_file():
                 return cfg
-    return None
+    below = [c for c in folder.glob("*/SYSPAR/EIO.cfg") if c.is_file()]  # the folder that holds the backup
+    return below[0] if len(below) == 1 else None
 
 
 def read_eio(path: Path) -> dict[str, Signal]:

@@ -6,11 +6,10 @@ configuration, 0 unless ``--io`` sets it (a warning says so, once)."""
 
 from __future__ import annotations
 
-import difflib
 import math
 
 from . import nodes as n
-from .errors import fail, rapid_error
+from .errors import fail, nearest, rapid_error
 from .live import Live, LiveValue
 from .scope import PENDING, Cell
 from .values import SIGNALS, Arr, Mismatch, Rec, describe, field_index, whole
@@ -52,10 +51,9 @@ class Evaluator:
         task declares (``nDelay`` for ``nDelays``): a typo, not an I/O signal."""
         if key in self.signals:
             return
-        near = difflib.get_close_matches(key, [k for k, c in frame.module.items() if c.file] + list(frame.cells),
-                                         n=1, cutoff=0.85)
+        near = nearest(key, [k for k, c in frame.module.items() if c.file] + list(frame.cells))
         if near:
-            cell = frame.cells.get(near[0]) or frame.module.get(near[0])
+            cell = frame.cells.get(near) or frame.module.get(near)
             fail(self.path, line, f"unknown name '{name}' (did you mean '{cell.name}'?)")
 
     def signal_of(self, node, frame) -> Cell:

@@ -13,7 +13,6 @@ that runs ``MAX_STATEMENTS`` statements, or calls deeper than ``MAX_DEPTH``, sto
 from __future__ import annotations
 
 import contextlib
-import difflib
 import sys
 
 from ..errors import Diagnostic, Diagnostics
@@ -22,7 +21,7 @@ from . import handlers
 from . import nodes as n
 from .binding import bind
 from .check import check_task
-from .errors import RapidError, fail
+from .errors import RapidError, fail, nearest
 from .expressions import Evaluator
 from .flow import ExitCycle, ExitTask, Goto, Returned
 from .functions import call_function
@@ -110,13 +109,14 @@ class Interpreter(Evaluator):
                     break
                 self.pass_index += 1
         for name in sorted(k for k in self.given_names if k.lower() not in self.used_signals):
-            near = difflib.get_close_matches(name.lower(), sorted(self.used_signals), n=1, cutoff=0.8)
-            hint = f" (did you mean {self.signals[near[0]].name}?)" if near else ""
+            near = nearest(name.lower(), sorted(self.used_signals))
+            hint = f" (did you mean {self.signals[near].name}?)" if near else ""
             self.warnings.append(Diagnostic("rswarp", 0, f"--io {name}: the task uses no signal of that name{hint}",
                                             "warning"))
         for name in self.inputs.unused():
+            near = nearest(name, sorted(self.inputs.asked))
             said = "values were left unread" if name.lower() in self.inputs.asked else \
-                "the task reads no live input into that name"
+                "the task reads no live input into that name" + (f" (did you mean {near}?)" if near else "")
             self.warnings.append(Diagnostic("rswarp", 0, f"--input {name}: {said}", "warning"))
         if self.main_loop is not None:
             node, file, passes = self.main_loop
@@ -369,8 +369,10 @@ class Interpreter(Evaluator):
         if self.main_loop is None or self.main_loop[0] is node:
             self.main_loop = (node, self.path, starts)
             if len(starts) >= self.cycles and (not self.inputs.pending() or len(starts) >= MAX_CYCLES):
-                self.warn(node.line, f"the main loop never ends: ran {self.cycles} pass"
-                                     f"{'es' if self.cycles > 1 else ''} (--cycles)")
+                ran = len(starts)
+                why = "(--cycles)" if ran == self.cycles else f"(--cycles {self.cycles}, and on while --input values " \
+                                                             "were left)"
+                self.warn(node.line, f"the main loop never ends: ran {ran} pass{'es' if ran > 1 else ''} {why}")
                 return True
             self.pass_index = len(starts)
             return False

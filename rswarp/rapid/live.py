@@ -109,7 +109,10 @@ def parse_input(text: str, base: str):
     a number; bool: TRUE or FALSE; a record: its aggregate, ``[100, 200, 300]``); ValueError if
     it is not one."""
     if base == "string":
-        return text[1:-1] if len(text) >= 2 and text[0] == text[-1] == '"' else text
+        value = text[1:-1] if len(text) >= 2 and text[0] == text[-1] == '"' else text
+        if len(value) > 80:
+            raise ValueError(f"a string of {len(value)} characters: RAPID strings hold at most 80")
+        return value
     if base == "bool":
         word = text.strip().upper()
         if word not in ("TRUE", "FALSE"):
@@ -121,7 +124,10 @@ def parse_input(text: str, base: str):
             return _lists(json.loads(_WORD.sub(lambda m: m.group(1).lower(), stripped)))
         except json.JSONDecodeError as exc:
             raise ValueError(f"an aggregate such as [100, 200, 300], not '{text}'") from exc
-    value = float(stripped)
+    try:
+        value = float(stripped)
+    except ValueError:
+        raise ValueError(f"a number, not '{text}'") from None
     if not math.isfinite(value):
         raise ValueError(f"a finite number, not '{text}'")
     return value
@@ -148,7 +154,7 @@ def input_value(interp, live: Live, name: str, type_: str, line: int):
     try:
         return interp.types.coerce(parse_input(text, base), type_, f"--input {name}")
     except (ValueError, Mismatch) as exc:
-        fail(interp.path, line, f"--input {name}={text}: {name} is a {base}, and the value is not one ({exc})")
+        fail(interp.path, line, f"--input {name}={text}: {name} is a {base}, and the value is not one: {exc}")
 
 
 def function_input(text: str):

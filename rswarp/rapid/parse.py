@@ -150,8 +150,8 @@ def parse_text(text: str, path: str) -> list[nodes.Module]:
     from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
     text = blank_header(text.replace("\r\n", "\n").replace("\r", "\n"))
+    check_nesting(text, path)  # a string too long is said as such first
     check_lines(text, path)
-    check_nesting(text, path)
     parser = _shared()
     builder = parser.options.transformer
     builder.path = path

@@ -52,6 +52,8 @@ def explained(text: str, line: int, token, expected) -> tuple[int, str]:
     """(line, message) of an unexpected ``token`` met at ``line``, said where it was likely made."""
     if text.lstrip().startswith("<"):
         return 1, "an XML file, not a RAPID module (a .pgf program file names its modules)"
+    if not re.sub(r"!.*", "", text).strip():
+        return 1, "no MODULE in the file (empty, or only comments): a RAPID module file holds MODULE ... ENDMODULE"
     block = unclosed(text)
     if block is not None and (token is None or block[0] <= line):
         return block
@@ -60,5 +62,6 @@ def explained(text: str, line: int, token, expected) -> tuple[int, str]:
         end = before.count("\n") + 1
         if end < line:
             return end, f"RAPID syntax: ';' missing at the end of the line (line {line} goes on with {str(token)!r})"
-    got = "the end of the file" if token is None else repr(str(token)[:40])
-    return line, f"RAPID syntax: unexpected {got}"
+    if token is None:
+        return line, "RAPID syntax: the file ends before its statement or block does"
+    return line, f"RAPID syntax: unexpected {str(token)[:40]!r}"

@@ -41,7 +41,7 @@ def rubs(c: CableResult, e: int) -> list[dict]:
             continue
         slid = c.wear[e, :, j] > 0
         s = int(np.argmax(np.where(slid, c.wear_peak_normal[e], -1.0))) if slid.any() else None
-        out.append({"on": name, "segment": s, "force_N": float(force[j]), "time_s": float(c.contact_time[e, j]),
+        out.append({"on": name, "segment": s, "force_N": float(force[j]), "first_touch_s": float(c.contact_time[e, j]),
                     "at_m": float(c.segments[s]) if s is not None else _f(c.contact_at[e, j]),
                     "wear_J": float(c.wear[e, :, j].sum()),
                     "contact_time_s": float(c.wear_contact_time[e, s]) if s is not None else 0.0})
@@ -79,7 +79,7 @@ def wear_at(c: CableResult, e: int, s: int) -> dict:
     j = int(np.argmax(c.wear[e, s]))
     return {"on": c.links[j], "segment": s, "wear_J": float(c.segment_wear[e, s]),
             "at_m": float(c.segments[s]), "contact_time_s": float(c.wear_contact_time[e, s]),
-            "time_s": _f(c.contact_time[e, j])}
+            "first_touch_s": _f(c.contact_time[e, j])}
 
 
 def contact(c: CableResult, e: int) -> dict:

@@ -136,14 +136,14 @@ def contact_lines(c: CableResult, done: np.ndarray) -> list[str]:
     if rub is not None:
         slid = rub["segment"] is not None
         what = (f"{rub['force_N']:.3g} N on {rub['on']}, the run's worst (environment {rub['environment']}, first "
-                f"touch t = {rub['time_s']:.2f} s, {rub['at_m']:.3f} m along): {rub['wear_J']:.3g} J of wear on it "
-                f"along the whole hose, {rub['contact_time_s']:.2f} s in contact there") if slid else \
-            f"touches {rub['on']} without sliding (environment {rub['environment']}, t = {rub['time_s']:.2f} s)"
+                f"touch t = {rub['first_touch_s']:.2f} s, {rub['at_m']:.3f} m along): {rub['wear_J']:.3g} J of wear "
+                f"on it along the whole hose, {rub['contact_time_s']:.2f} s in contact there") if slid else \
+            f"touches {rub['on']} without sliding (environment {rub['environment']}, t = {rub['first_touch_s']:.2f} s)"
         out.append(f"  worst rub: {what}")
     out.append("  worst wear: nothing slid while pressed" if wear is None else
                f"  worst wear: {wear['wear_J']:.3g} J (normal force x sliding) at one place, {wear['at_m']:.3f} m "
                f"along, mostly on {wear['on']}, the run's worst (environment {wear['environment']}"
-               + (f", first touch t = {wear['time_s']:.2f} s" if wear["time_s"] is not None else "")
+               + (f", first touch t = {wear['first_touch_s']:.2f} s" if wear["first_touch_s"] is not None else "")
                + f"): {wear['contact_time_s']:.2f} s in contact")
     return out
 

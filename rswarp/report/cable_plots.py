@@ -99,9 +99,9 @@ def _wear_map(run: CableRun) -> bytes:
                         label=f"{c.name}: worst wear {w['wear_J']:.3g} J on {w['on']} (environment "
                               f"{w['environment']}, {w['at_m']:.3f} m along)")
             if rub is not None and rub["segment"] is not None:
-                ax.plot([rub["at_m"]], [rub["wear_J"]], marker="x", ms=9, color=colour, ls="none",
-                        label=f"{c.name}: worst rub {rub['force_N']:.3g} N on {rub['on']} (environment "
-                              f"{rub['environment']}, {rub['at_m']:.3f} m along)")
+                ax.axvline(rub["at_m"], color=colour, ls="-.", lw=1.0,
+                              label=f"{c.name}: worst rub {rub['force_N']:.3g} N on {rub['on']} (environment "
+                                 f"{rub['environment']}, {rub['at_m']:.3f} m along)")
             twin.plot(c.segments, c.wear_contact_time[done].max(axis=0), ls=":", color=colour, alpha=0.7)
             ax.plot([], [], ls=":", color=colour, alpha=0.7, label=f"{c.name}: time in contact, greatest (right axis)")
 

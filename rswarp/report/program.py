@@ -110,6 +110,9 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
                            cycles, external_axes, warn, strict=False, limits=limits, inputs=given)
     if p.errors:
+        if csv is not None or video is not None:
+            warn(f"{'--csv' if csv is not None else '--video'}: nothing written, the task has targets the robot "
+                 "cannot take (below)")
         doc = _document(mech, p, None, [], None, csv=None)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
     tally, tools, tested = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),

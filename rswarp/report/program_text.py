@@ -56,7 +56,8 @@ def _head(doc: dict, files: list[str]) -> str:
         what = f"one pass of the main loop at {where}"
         if len(passes) > 1:
             what = f"the last of {len(passes)} passes of the main loop at {where}: {_seconds(passes)} s"
-        head += f"\ncycle: {doc['cycle_s']:.2f} s, {what} (--cycles {len(passes)})"
+        cut = " (the whole passes before the stop)" if doc.get("stopped") else ""
+        head += f"\ncycle: {doc['cycle_s']:.2f} s, {what}{cut}"
     elif len(passes) > 1:
         head += (f"\ncycle: {doc['cycle_s']:.2f} s, the last of {len(passes)} runs of {doc['routine']}: "
                  f"{_seconds(passes)} s")

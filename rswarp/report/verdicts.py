@@ -141,7 +141,7 @@ def _rubs(c: CableResult, e: int, at: When, r: Ratings) -> list[Finding]:
         text = f"rubs on {name}: " + (f"{force:.3g} N, {rub['wear_J']:.3g} J of wear on it, "
                                       f"{rub['contact_time_s']:.2f} s in contact" if slid else
                                       "touches without sliding")
-        out.append(_make(c, e, at, "rub", FAIL if over else WARN, text, rub["time_s"],
+        out.append(_make(c, e, at, "rub", FAIL if over else WARN, text, rub["first_touch_s"],
                          np.nan if rub["at_m"] is None else rub["at_m"], links=(name,), value=force,
                          limit=r.max_contact_force, unit="N",
                          advice=f"keep it off {name}: a clamp or a guide" if slid else None))

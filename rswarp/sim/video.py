@@ -169,7 +169,8 @@ def render_frames(mech, poses: np.ndarray, tubes: list[Tube], size: int = 512, m
         probe = np.concatenate([probe, np.column_stack([probe[:, :2], np.full(len(probe), floor_z)])])  # its shadow
         from ..rsxml.units import length_text
 
-        legend = [*legend, (GRID, f"floor at z = {length_text(floor_z, *length)}, "
+        where = "floor at" if floor is not None else "no floor: grid at the lowest point,"
+        legend = [*legend, (GRID, f"{where} z = {length_text(floor_z, *length)}, "
                                   f"{length_text(step, *length)} squares")]
     band = Band.of(size, legend, captions)
     width, height = size, size - band.height
