@@ -74,6 +74,9 @@ class Finding:
             if isinstance(v, tuple):
                 v = [_plain(x) for x in v]
             out[f.name] = _plain(v)
+        if out.get("declared"):  # ``file:line`` of the target's declaration, or of its last assignment ("set ...")
+            out["declared_by"] = "assignment" if out["declared"].startswith("set ") else "declaration"
+            out["declared"] = out["declared"].removeprefix("set ")
         return out
 
 

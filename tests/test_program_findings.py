@@ -72,7 +72,9 @@ def test_out_of_reach_says_by_how_much_and_where_the_target_is_declared():
                             f"reach: the wrist centre is up to {1000 * worst:.0f} mm beyond the arm's reach from axis 2")
     assert error.endswith(f"; pPlace is declared at PalletData.mod:{pplace} (12 times, {1000 * least:.0f} to "
                           f"{1000 * worst:.0f} mm)")
-    assert any(e.endswith(f"pDrop is declared at Pallet.mod:{pdrop} (12 times, 11 to 113 mm)") for e in out.errors)
+    set_at = declared_line(PALLET / "Pallet.mod", "pDrop := Offs")  # a variable assigned at run time: that line
+    assert pdrop < set_at and any(e.endswith(f"pDrop is set at Pallet.mod:{set_at} (12 times, 11 to 113 mm)")
+                                  for e in out.errors)
 
 
 def test_a_finding_met_on_every_pass_is_listed_once_with_a_count():

@@ -212,14 +212,14 @@ def share_out(q: np.ndarray, conf: np.ndarray, want, arm, bounds=None, q4=0.0) -
     return out, fits
 
 
-def with_conf(q: np.ndarray, conf: np.ndarray, ok: np.ndarray, want, arm, bounds=None,
-              q4=0.0) -> tuple[np.ndarray, np.ndarray]:
+def with_conf(q: np.ndarray, conf: np.ndarray, ok: np.ndarray, want, arm, bounds=None, q4=0.0,
+              rounded: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """(q (N, S, dof), has (N, S)): which of N poses' solutions ``q`` (configurations ``conf``
     (N, S, 4), ``ok`` (N, S) those within reach and limits) have the configuration ``want`` ((4,)
     or (N, 4)), as ``conf_matches`` says or once q4 and q6 are shared out (``share_out``, q4
-    nearest ``q4``, a number or (N,)). At the wrist singularity the shared-out one is taken (the
-    closed form's split of q4 and q6 is rounding); near it, only where no solution has ``want``
-    as it is."""
+    nearest ``q4``, a number or (N,)), where no solution has ``want`` as it is. With ``rounded``
+    (a robtarget's pose, rounded to its digits) the shared-out one is taken at the wrist
+    singularity in any case: the closed form's split of q4 and q6 is the rounding's there."""
     want = np.broadcast_to(np.asarray(want, np.int64), (q.shape[0], CONF))
     has = ok & conf_matches(q, conf, want, quadrant_axes(arm), wrist_axis(arm))
     if not isinstance(arm, ArmConstants):
@@ -232,7 +232,7 @@ def with_conf(q: np.ndarray, conf: np.ndarray, ok: np.ndarray, want, arm, bounds
     shared, fits = share_out(qr, conf[rows], want[rows], arm, bounds,
                              np.broadcast_to(np.asarray(q4, float), q.shape[:1])[rows])
     fits &= ok[rows]
-    use = fits & ((np.abs(qr[..., 4]) < WRIST_SINGULAR) | ~hr.any(axis=1, keepdims=True))
+    use = fits & (((np.abs(qr[..., 4]) < WRIST_SINGULAR) & rounded) | ~hr.any(axis=1, keepdims=True))
     q, has = q.copy(), has.copy()
     q[rows] = np.where(use[..., None], shared, qr)
     has[rows] = hr | use
@@ -244,8 +244,8 @@ def pick(sol: IKSolutions, conf, axes=(), wrist: int | None = None, arm=None,
     """(q (N, dof), found (N,)): for each pose, the solution with configuration ``conf`` ((4,) or
     (N, 4)); NaN and False where none has it. ``axes``: ``quadrant_axes`` of the solver. With the
     arm's constants (``arm``) and joint limits (``bounds``), a pose at or near the wrist
-    singularity has q4 and q6 shared out to fit ``conf`` (``with_conf``), q4 as near 0 as they
-    let it."""
+    singularity that no solution has ``conf`` for as it is has q4 and q6 shared out to fit it
+    (``with_conf``), q4 as near 0 as they let it."""
     want = np.broadcast_to(np.asarray(conf, np.int32), (sol.q.shape[0], CONF))
     if isinstance(arm, ArmConstants):
         q, match = with_conf(sol.q, sol.conf, sol.ok, want, arm, bounds)

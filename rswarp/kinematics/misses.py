@@ -28,9 +28,10 @@ def declared_words(name: str, where: str | None) -> str:
     """``; pPlace is declared at PalletData.mod:6`` (the data ``Offs(pPlace, ...)`` is built from)."""
     if not where:
         return ""
-    file, _, line = where.rpartition(":")
+    verb = "set" if where.startswith("set ") else "declared"
+    file, _, line = where.removeprefix("set ").rpartition(":")
     base = _BASE.match(name)
-    return f"; {base.group(1) if base else 'its data'} is declared at {Path(file).name}:{line}"
+    return f"; {base.group(1) if base else 'its data'} is {verb} at {Path(file).name}:{line}"
 
 
 def _flange(planner, m) -> np.ndarray | None:
@@ -148,6 +149,6 @@ def _via(m) -> str:
     if m.kind != "circular" or len(m.names) < 2:
         return ""
     where = getattr(m, "declared", ())
-    file, _, line = where[0].rpartition(":") if where and where[0] else ("", "", "")
+    file, _, line = where[0].removeprefix("set ").rpartition(":") if where and where[0] else ("", "", "")
     at = f" (declared at {Path(file).name}:{line})" if file else ""
     return f"; the circle passes through '{m.names[0]}'{at}"

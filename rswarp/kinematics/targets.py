@@ -83,7 +83,7 @@ def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=Non
     cands = sol.q[k][ok]
     if checked and not sol.numerical:
         q, has = with_conf(cands[None], sol.conf[k][ok][None], np.ones((1, len(cands)), bool), conf, arm, bounds,
-                           q_now[3])
+                           q_now[3], rounded=True)
         if not has.any():
             return None, f"'{name}' has no solution with confdata {plain(conf)}; {nearest_confs(sol.conf[k][ok], conf)}"
         cands = q[0][has[0]]

@@ -261,6 +261,8 @@ class Interpreter(Evaluator):
             holder.set(value)
             return
         value = self.coerce(value, type_, s.line, f"'{n.written(s.target)}'")
+        if holder.type in ("robtarget", "jointtarget") and holder.kind == "var":
+            holder.cell.set_at = (self.path, s.line)  # a target a findings names where it was last set
         if isinstance(value, Arr):
             value = value.copy()
         holder.set(replace(holder.get(), path, value) if path else value)

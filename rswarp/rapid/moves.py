@@ -101,6 +101,8 @@ def _declared(node, frame) -> str:
     cell = frame.cells.get(node.key) or frame.module.get(node.key) if isinstance(node, n.Name) else None
     cell = getattr(cell, "cell", cell)
     named = getattr(cell, "file", "") and cell.type in ("robtarget", "jointtarget")
+    if named and getattr(cell, "set_at", None):  # a variable assigned at run time: where it was set
+        return f"set {cell.set_at[0]}:{cell.set_at[1]}"
     return f"{cell.file}:{cell.line}" if named else ""  # an IN parameter's is its argument's declaration
 
 

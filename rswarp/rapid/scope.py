@@ -17,13 +17,14 @@ class Cell:
     """One data object. ``kind`` is const, var, pers, in (a parameter passed by value), loop (a
     FOR variable) or absent (an optional parameter not given)."""
 
-    __slots__ = ("value", "type", "kind", "file", "line", "name", "stamp")
+    __slots__ = ("value", "type", "kind", "file", "line", "name", "stamp", "set_at")
     clock = 0  # bumped by every write; a cell's stamp is the clock of its last write
 
     def __init__(self, value, type_: str, kind: str, file: str = "", line: int = 0, name: str = ""):
         self.value, self.type, self.kind = value, type_, kind
         self.file, self.line, self.name = file, line, name
         self.stamp = 0
+        self.set_at: tuple[str, int] | None = None  # where a target variable was last assigned (file, line)
 
     def get(self):
         return self.value

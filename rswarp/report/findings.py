@@ -109,7 +109,9 @@ def grouped(found: list[tuple[dict, dict]]) -> list[dict]:
         records = [f for f, _ in members]
         worst = max(records, key=_past)
         times = [f["t_s"] for f in records]
-        text = worst["text"] + declared_words(members[0][1]["target"].split(", ")[-1], worst.get("declared"))
+        where = worst.get("declared")
+        where = f"set {where}" if where and worst.get("declared_by") == "assignment" else where
+        text = worst["text"] + declared_words(members[0][1]["target"].split(", ")[-1], where)
         if len(records) > 1:
             text += f" ({_times(records, [m['cycle'] for _, m in members])})"
         out.append(dict(worst, text=text, count=len(records), times_s=times))

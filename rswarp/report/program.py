@@ -182,7 +182,7 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
     out = {"file": m.file, "line": m.line, "routine": m.routine, "chain": list(m.chain), "instruction": m.instruction,
            "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
            "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2], "target_m": end[3],
-           "declared": (m.declared[-1] or None) if m.declared else None,
+           "declared": (m.declared[-1].removeprefix("set ") or None) if m.declared else None,
            "findings": [f.record() for f in move_findings(mech, p, move, tally, names, floor, tools)]}
     if move.error:
         out["error"] = move.error
