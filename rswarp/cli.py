@@ -92,6 +92,7 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=text, parents=[parents[s] for s in shared])
         getattr(cli_options, name)(p)
         p.set_defaults(entry=entry, unit=unit)
+    parser.commands = sub.choices  # each command's parser, for its own usage errors
     return parser
 
 
@@ -207,7 +208,9 @@ def _joined_values(argv: list[str]) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     try:
-        args = parser.parse_args(_joined_values(sys.argv[1:] if argv is None else argv))
+        args, extra = parser.parse_known_args(_joined_values(sys.argv[1:] if argv is None else argv))
+        if extra:  # said by the command's parser, so that it points at the command's --help
+            parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     except SystemExit as exc:  # a usage error is the user's (exit 1), --help is exit 0
         return 1 if exc.code else 0
     try:

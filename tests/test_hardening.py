@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 import rswarp
@@ -330,6 +330,7 @@ def _reached(kin, q: np.ndarray, q_now: np.ndarray) -> None:
     """The robtarget of ``q``, with ``q``'s own confdata, is reached as the program reaches it: to
     within the target's rounding, with that confdata."""
     from rswarp.kinematics import targets as tg
+    from rswarp.kinematics.ik import conf_matches, quadrant_axes, wrist_axis
 
     pose, conf = _robtarget(kin, q)[None], kin.confdata(q[None])[0]
     sol = kin.solutions64(pose)
@@ -340,6 +341,12 @@ def _reached(kin, q: np.ndarray, q_now: np.ndarray) -> None:
     reached = kin.fk64(got[None])[0, link] @ m
     assert np.abs(reached[:3, 3] - pose[0, :3, 3]).max() < 2e-5
     assert np.abs(reached[:3, :3] - pose[0, :3, :3]).max() < 1e-4
+    form = kin._ik_form()
+    have = kin.confdata(got[None])
+    wrist, _ = kin.wrist_flange64(got[None])
+    if np.hypot(wrist[0, 0], wrist[0, 1]) < 1e-5:  # on axis 1 the centre's side is rounding's
+        have[0, 3] = (have[0, 3] & 3) | (conf[3] & 4)
+    assert conf_matches(got[None], have, conf, quadrant_axes(form), wrist_axis(form))[0], (have, conf)
 
 
 @pytest.fixture(scope="module")
@@ -349,34 +356,72 @@ def irb2600_kinematics():
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(q1=st.floats(-170, 170), q2=st.floats(-60, 90), q3=st.floats(-60, 60), q4=st.floats(-300, 300),
-       q6=st.floats(-300, 300))  # q3 clear of -83.5 deg, where the arm is straight (the elbow's singularity)
+       q6=st.floats(-300, 300))  # q3 clear of -81.8 deg, where the arm is stretched (the elbow's singularity)
+@example(q1=10.0, q2=20.0, q3=10.0, q4=100.0, q6=-100.0)  # Kinematics.ik(conf=) held q4 at 0: not found
 def test_a_wrist_singular_robtarget_is_reached_with_its_own_confdata(irb2600_kinematics, q1, q2, q3, q4, q6):
     """q5 = 0: axes 4 and 6 in line, only q4 + q6 counts. Rounded to a robtarget's digits, q5 is
     1e-6 rad off zero and the closed form's split of q4 and q6 is noise; the target's confdata
-    picks the split, and q4 stays where the robot is where the quadrants let it."""
+    picks the split, and q4 stays where the robot is where the quadrants let it. The wrist centre
+    anywhere, near axis 1 too (there rounding turns q1 by 0.5 um over its distance from the
+    axis). ``Kinematics.ik`` and ``ik64`` with the confdata find it too (the pose as it is)."""
+    kin = irb2600_kinematics
     q = np.radians([q1, q2, q3, q4, 0.0, q6])
-    wrist, _ = irb2600_kinematics.wrist_flange64(q[None])
-    # near the shoulder's singularity too, a target's rounding moves q1 by 0.5 um over the wrist
-    # centre's distance from axis 1, more than the slacks: both at once is not claimed
-    assume(np.hypot(wrist[0, 0], wrist[0, 1]) > 0.05)
-    _reached(irb2600_kinematics, q, np.zeros(6))
+    _reached(kin, q, np.zeros(6))
+    wrist, _ = kin.wrist_flange64(q[None])
+    if np.hypot(wrist[0, 0], wrist[0, 1]) > 0.01:  # ik(conf=) does not seek q1 over axis 1 (the program does)
+        from rswarp.kinematics.ik import conf_matches, quadrant_axes, wrist_axis
+
+        link, m = kin.flange_frame()
+        exact, conf, form = kin.fk64(q[None])[:, link] @ m, kin.confdata(q[None]), kin._ik_form()
+        for solve, pose, tol in ((kin.ik64, exact, 1e-9), (kin.ik, kin.flange(q[None]), 1e-4)):
+            got, found = solve(pose, conf=conf)
+            assert found.all(), (solve.__name__, conf)
+            got = got.astype(np.float64)
+            assert np.abs(kin.fk64(got)[:, link] @ m - exact).max() < tol
+            assert conf_matches(got, kin.confdata(got), conf[0], quadrant_axes(form), wrist_axis(form)).all()
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(q2=st.floats(-60, 60), q4=st.floats(-170, 170), q5=st.floats(-100, 100), q6=st.floats(-170, 170))
-def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confdata(irb2600_kinematics, q2, q4,
-                                                                                     q5, q6):
-    """The wrist centre on axis 1 (any q1 reaches it): rounding leaves it a micrometre in front of
-    or behind the axis, which the target's cfx must not be read against."""
+@given(q1=st.floats(-170, 170), q2=st.floats(-60, 60), q4=st.floats(-170, 170),
+       q5=st.one_of(st.just(0.0), st.floats(-100, 100)), q6=st.floats(-170, 170),
+       off=st.one_of(st.just(0.0), st.floats(-0.05, 0.05)))
+@example(q1=0.0, q2=0.0, q4=0.0, q5=0.03125, q6=1.0, off=0.0)  # cf4 -1 for 0: the wrist near in line
+def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confdata(irb2600_kinematics, q1, q2, q4,
+                                                                                     q5, q6, off):
+    """The wrist centre on axis 1 (any q1 reaches it), or ``off`` (m) in front of or behind it:
+    rounding leaves it a micrometre in front of or behind the axis, which the target's cfx must
+    not be read against, and turns q1 by 0.5 um over its distance from the axis. The wrist in
+    line or not (q5 = 0 as well: there q1 is the wrist's, q4 and q6 swinging a quarter turn as
+    it turns), q1 anywhere, the robot at zero."""
     from scipy.optimize import brentq
+
+    from rswarp.kinematics.targets import _straight
 
     kin = irb2600_kinematics
 
     def ahead(q3: float) -> float:  # how far the wrist centre is in front of axis 1 at q1 = 0
         wrist, _ = kin.wrist_flange64(np.radians([[0.0, q2, q3, q4, q5, q6]]))
-        return float(wrist[0, 0])
+        return float(wrist[0, 0]) - off
 
-    q3 = brentq(ahead, -179.0, 0.0) if ahead(-179.0) * ahead(0.0) < 0 else None
+    q3 = brentq(ahead, -179.0, 0.0, xtol=1e-12) if ahead(-179.0) * ahead(0.0) < 0 else None
     assume(q3 is not None and q3 > -175)
-    q = np.radians([0.0, q2, q3, q4, q5, q6])
+    # clear of the arm stretched (the elbow's singularity), where rounding can put the pose out of reach
+    assume(abs(q3 - np.degrees(_straight(kin._ik_form()))) > 1.0)
+    q = np.radians([q1, q2, q3, q4, q5, q6])
     _reached(kin, q, np.zeros(6))
+
+
+def test_the_no_solution_message_prints_plain_numbers(irb2600_kinematics):
+    """A target refused its confdata says the confdata and the ones it has as plain numbers, not
+    NumPy's reprs ("[np.int32(0), ...]"), whatever the confdata was given as."""
+    from rswarp.kinematics import targets as tg
+
+    kin = irb2600_kinematics
+    q = np.radians([20.0, 10.0, 5.0, 35.0, 40.0, 25.0])
+    pose = _robtarget(kin, q)[None]
+    for conf in (np.array([2, 0, 0, 0], np.int32), [np.int64(2), np.int8(0), np.int32(0), np.int16(0)], (2, 0, 0, 0)):
+        sol = kin.solutions64(pose)
+        tg.off_the_axis(kin, pose, sol, 0.0, [conf])
+        got, why = tg.pick(sol, 0, conf, np.zeros(6), True, "p", kin._ik_form(), kin.mech.bounds())
+        assert got is None and why.startswith("'p' has no solution with confdata [2, 0, 0, 0]; the nearest it has: ")
+        assert "np." not in why and "array(" not in why and "int32" not in why, why

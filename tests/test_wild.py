@@ -326,3 +326,13 @@ def test_names_with_iso_8859_1_letters_are_names(path, target, end):
     assert code == 0 and not doc["errors"]
     last = moves(doc)[-1]
     assert last["target"] == target and near(last, end)
+
+
+def test_a_hose_run_over_a_program_that_stopped_says_over_what_it_ran(tmp_path):
+    """The cables run over the moves before a live input; the report and the text say so."""
+    from rswarp.examples import IRB2600_DRESSPACK
+    from rswarp.report.cables import run_cables
+
+    out = run_cables(str(IRB2600_DRESSPACK), str(tmp_path / "hose"), program=[str(SOCKET.parent)], frame_rate=30.0)
+    assert out.doc["program_stopped"].endswith(SOCKET_STOP) and out.doc["needs_input"]["name"] == "receive_string"
+    assert "program stopped: " in out.text and "not the whole program" in out.text

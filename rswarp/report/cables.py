@@ -127,11 +127,16 @@ def _reported(run: CableRun, mech, out: str, usd: bool, trajectories, plan, rati
     over a program, each finding's line, the fatigue a pass and the payload it carries."""
     load = task_payload(plan) if plan is not None else None
     found = run_findings(run, trajectories, plan.moves if plan is not None else None, ratings)
+    stopped = plan.run.stopped if plan is not None else None
     doc = write_cables(run, mech, out, usd=usd, ratings=ratings, more={
         "payload": None if load is None else {"mass": load.mass, "cog": load.cog, "source": load.source},
-        **verdict_data(run, found)})
+        "program_stopped": None if stopped is None else str(stopped),
+        "needs_input": None if stopped is None else plan.run.needs_input, **verdict_data(run, found)})
     passes = max(len(plan.cycles), 1) if plan is not None else 1
     text = cables_text(run, doc["files"], found, passes, rated)
+    if stopped is not None:  # the verdict is of the moves before the stop, and says so
+        text += (f"\nprogram stopped: {stopped}; the hoses were run over the {plan.times[-1]:.2f} s of moves before "
+                 "it, not the whole program")
     if load is not None:  # the joints are the plan's: a load changes no hose figure, and is said so
         text += (f"\npayload: {load.mass:g} kg ({load.source}); the robot follows its planned joints, which no "
                  "load changes here")

@@ -22,7 +22,7 @@ from ..errors import InputError
 from ..files import atomic_write, read_regular
 from ..kinematics.trajectory import Trajectory
 from ..outputs import atomic_folder
-from ..rsxml.cable_spans import cable_spans
+from ..rsxml.cable_spans import LENGTH_TOLERANCE, MAX_CABLE_SEGMENTS, cable_spans
 from ..rsxml.documents import load_mechanism
 from ..rsxml.robot_data import data_file
 from ..rsxml.write import to_rsxml
@@ -31,7 +31,8 @@ from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
 from ..sim.cables import SWING_AFTER, design_runs, simulate_cables
 from ..sim.designs import DesignSet, Variable, design, inside_links, parse_vary, sample
 from ..sim.engine import cluster_for
-from .cables import check_cable_folder, check_video_options, run_findings
+from .cable_lines import fatigue_line
+from .cables import check_cable_folder, check_video_options, rated_fatigue, run_findings
 from .dresspack_options import SweepOptions, cable_options, ratings_of, repeat_command
 from .figures import figure_png
 from .output import Output, Warn, ignore, json_bytes, json_safe
@@ -70,7 +71,8 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
                   tool: str | None = None, min_bend_radius: float | None = None,
                   static_bend_radius: float | None = None, max_strain: float = MAX_STRAIN,
                   max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
-                  max_clamp_load: float | None = None, density: float = DENSITY, poisson: float = POISSON,
+                  max_clamp_load: float | None = None, rated_cycles: str | None = None,
+                  density: float = DENSITY, poisson: float = POISSON,
                   friction: float = FRICTION, frame_rate: float = FRAME_RATE, substeps: int = SUBSTEPS,
                   min_margin: float = 0.0, progress: Callable[[float, float], None] | None = None,
                   warn: Warn = ignore, inputs: list[str] | None = None, video: str | None = None,
@@ -82,8 +84,9 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     design's run rendered there, as ``rswarp cable --video`` renders one."""
     opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
                         static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
-                        poisson, friction, frame_rate, substeps, inputs)
+                        poisson, friction, frame_rate, substeps, inputs, rated_cycles)
     mech, _ = load_mechanism(path)
+    rated = rated_fatigue(rated_cycles, mech)
     k = _cable_index(mech, cable)
     variables = parse_vary(_specs(vary), mech.cables[k])
     drawn = DesignSet(k, variables, sample(variables, designs, seed))
@@ -118,7 +121,7 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     command = repeat_command(out, programs, opts, best.verdict == "PASS")
     doc = _doc(mech, chosen, rows, best, seconds, command, ratings) | {"min_margin": keep}
     _write(out, mech, chosen, rows, best, doc)
-    text = _text(mech, chosen, rows, best, seconds, plan, command, keep)
+    text = _text(mech, chosen, rows, best, seconds, plan, command, keep, rated)
     if video is not None and best.result is None:  # not run (too short to lay out): nothing to show
         text += f"\nvideo: none (design {best.index + 1} was not run)"
     elif video is not None:
@@ -157,31 +160,72 @@ def _specs(vary: list[str]) -> list[str]:
         import tomllib
     except ModuleNotFoundError:  # Python 3.10
         import tomli as tomllib
+    path = vary[0]
     try:
-        table = tomllib.loads(read_regular(vary[0]).decode("utf-8"))
+        table = tomllib.loads(read_regular(path).decode("utf-8"))
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the TOML file of variables: {exc.strerror or exc}") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{vary[0]}: not a TOML file of variables ({exc})") from None
+        raise InputError(f"{path}: not a TOML file of variables ({exc})") from None
     table = table.get("vary", table)
+    if not isinstance(table, dict):
+        raise InputError(f"{path}: 'vary' must be a table of NAME = \"MIN:MAX\" or NAME = [MIN, MAX] ([vary], or "
+                         f"at the file's top), not a {_toml_kind(table)}")
     specs = []
     for name, value in table.items():
-        if isinstance(value, list) and len(value) == 2:
+        if isinstance(value, list) and len(value) == 2 and not any(isinstance(v, (list, dict)) for v in value):
             value = f"{value[0]}:{value[1]}"
         if not isinstance(value, str):
-            raise InputError(f"{vary[0]}: '{name}' must be \"MIN:MAX\" or [MIN, MAX]")
+            raise InputError(f"{path}: '{name}' must be \"MIN:MAX\" or [MIN, MAX], not a {_toml_kind(value)}")
         specs.append(f"{name}={value}")
+    if not specs:
+        raise InputError(f"{path}: no variables; give NAME = \"MIN:MAX\" lines, under [vary] or at the top")
     return specs
+
+
+def _toml_kind(value) -> str:
+    """What a TOML value is, in TOML's words."""
+    kinds = ((bool, "boolean"), (int, "integer"), (float, "float"), (str, "string"), (list, "array"),
+             (dict, "table"))
+    return next((word for kind, word in kinds if isinstance(value, kind)), "date or time")
 
 
 def _too_short(mechs, cable: int) -> dict[int, str]:
     """The designs whose hose is shorter than the path through their control points at rest: they
-    cannot be laid out, so they are rows that fail, not environments."""
-    out = {}
+    cannot be laid out, so they are rows that fail, not environments. A design that fails for
+    another reason (a hose too long for ``MAX_CABLE_SEGMENTS`` segments of ``maxSegmentLength``,
+    two control points shifted onto one place) is the sweep's error, said before any work."""
+    out, refused = {}, []
     for d, m in enumerate(mechs):
         try:
             cable_spans(m.cables[cable], m.length_factor)
         except ValueError as exc:
-            out[d] = str(exc).split(": ", 1)[-1]
+            if _short(m.cables[cable]):
+                out[d] = str(exc).split(": ", 1)[-1]
+            else:
+                refused.append((d, m, str(exc)))
+    if refused:
+        d, m, why = refused[0]
+        c = m.cables[cable]
+        more = f" (and {len(refused) - 1} more)" if len(refused) > 1 else ""
+        chords = np.linalg.norm(np.diff([p.position for p in c.control_points], axis=0), axis=1)
+        if len(chords) and (chords > 0).all():  # neither short nor two points at one place: too many segments
+            fits = (MAX_CABLE_SEGMENTS - len(chords)) * c.max_segment_length
+            wanted = math.ceil(c.desired_length / c.max_segment_length)
+            raise InputError(f"--vary: design {d + 1}'s hose of {c.desired_length:g} m{more} would be about "
+                             f"{wanted:.3g} segments of at most {c.max_segment_length / m.length_factor:g} "
+                             f"(maxSegmentLength), and a cable takes at most {MAX_CABLE_SEGMENTS}: keep the length "
+                             f"range under about {fits:.4g} m, or raise maxSegmentLength")
+        raise InputError(f"--vary: design {d + 1}{more}: {why}; narrow the shift ranges")
     return out
+
+
+def _short(c) -> bool:
+    """Whether cable ``c`` (SI) is shorter than the path through its control points."""
+    chords = np.linalg.norm(np.diff([p.position for p in c.control_points], axis=0), axis=1)
+    path = float(chords.sum())
+    return len(chords) > 0 and (chords > 0).all() and c.desired_length is not None and \
+        c.desired_length < path * (1 - LENGTH_TOLERANCE)
 
 
 def _check_inside(mech, cable: int, mechs) -> None:
@@ -250,7 +294,7 @@ def _contrast(rows: list[DesignRow], best: DesignRow) -> DesignRow | None:
 
 
 def _text(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, seconds: float, plan,
-          command: str, keep: float) -> str:
+          command: str, keep: float, rated: tuple[float, float] | None = None) -> str:
     passing = sum(r.verdict == "PASS" for r in rows)
     short = sum(r.result is None for r in rows)
     stopped = sum(r.stopped for r in rows)
@@ -268,6 +312,8 @@ def _text(mech, chosen: DesignSet, rows: list[DesignRow], best: DesignRow, secon
         lines.append(f"  its least margin is {best.least:.1%}: a design this near a rating passes or fails by the "
                      "model's own error; --min-margin PCT chooses the shortest that keeps more")
     lines += verdict_lines(best.result, list(best.findings))
+    if rated is not None and best.result is not None and not best.stopped:  # --rated-cycles: the passes it lasts
+        lines.append(fatigue_line(best.result, np.array([0]), max(len(plan.cycles), 1), rated))
     lines.append(f"  {command}")
     other = _contrast(rows, best)
     if other is not None and passing:

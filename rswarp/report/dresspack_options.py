@@ -40,6 +40,7 @@ class SweepOptions:
     frame_rate: float = FRAME_RATE
     substeps: int = SUBSTEPS
     inputs: list | None = None  # --input NAME=VALUE: what the task's live reads give
+    rated_cycles: str | None = None  # --rated-cycles N@R: the hose's bending life
 
 
 def cable_options(mech, o: SweepOptions, device: str, cable_model: str = "rod", record: int = -1) -> CableOptions:
@@ -61,7 +62,8 @@ _FLAGS = {"routine": "--routine", "cycles": "--cycles", "external_axes": "--exte
           "tool": "--tool", "min_bend_radius": "--min-bend-radius", "static_bend_radius": "--static-bend-radius",
           "max_strain": "--max-strain", "max_torsion": "--max-torsion", "max_contact_force": "--max-contact-force",
           "max_clamp_load": "--max-clamp-load", "density": "--density", "poisson": "--poisson",
-          "friction": "--friction", "frame_rate": "--frame-rate", "substeps": "--substeps"}
+          "friction": "--friction", "frame_rate": "--frame-rate", "substeps": "--substeps",
+          "rated_cycles": "--rated-cycles"}
 
 
 def repeat_command(out: str, programs: list[str], o: SweepOptions, passed: bool) -> str:

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..rsxml.model import Cable, Mechanism
+from ..rsxml.units import MAX_LENGTH
 from ..transforms import euler_zyx_matrix
 
 TILTS = ("pitch", "yaw")
@@ -51,7 +52,7 @@ def parse_vary(specs: list[str], cable: Cable) -> tuple[Variable, ...]:
     """``length=MIN:MAX`` (m), ``LINK.PROPERTY=MIN:MAX`` or ``N.PROPERTY=MIN:MAX`` (control point N,
     counted from 1; a shift in m, a tilt in degrees) as variables; an InputError, one line, for
     anything else."""
-    out = []
+    out, seen = [], {}
     for spec in specs:
         m = _SPEC.match(spec)
         usage = f"--vary '{spec}': give length=MIN:MAX (m) or POINT.{{{','.join(PROPERTIES)}}}=MIN:MAX, POINT a " \
@@ -64,7 +65,10 @@ def parse_vary(specs: list[str], cable: Cable) -> tuple[Variable, ...]:
         if name == "length":
             if low <= 0:
                 raise InputError(f"--vary '{spec}': a length above 0, please")
-            out.append(Variable(name, "length", low, high))
+            if high > MAX_LENGTH:
+                raise InputError(f"--vary '{spec}': a hose of at most {MAX_LENGTH:g} m, please (1 km, the bound of "
+                                 "every length rswarp reads)")
+            out.append(_once(Variable(name, "length", low, high), spec, seen))
             continue
         point_name, _, what = name.rpartition(".")
         if what not in PROPERTIES or not point_name:
@@ -74,10 +78,19 @@ def parse_vary(specs: list[str], cable: Cable) -> tuple[Variable, ...]:
         if max(abs(low), abs(high)) > bound:
             raise InputError(f"--vary '{spec}': within ±{bound:g} {'deg' if bound == MAX_TILT else 'm'}, please")
         scale = math.pi / 180.0 if what in TILTS else 1.0
-        out.append(Variable(name, what, low * scale, high * scale, point))
-    if len({v.name for v in out}) < len(out):
-        raise InputError("--vary names one variable twice")
+        out.append(_once(Variable(name, what, low * scale, high * scale, point), spec, seen))
     return tuple(out)
+
+
+def _once(v: Variable, spec: str, seen: dict) -> Variable:
+    """``v``, unless an earlier spec (in ``seen``: what it varies -> its spec) varies the same
+    number, under this name or another (``Link6.z`` and ``3.z`` are one control point's z)."""
+    key = (v.what, v.point)
+    if key in seen:
+        what = "the hose's length" if v.what == "length" else f"control point {v.point + 1}'s {v.what}"
+        raise InputError(f"--vary '{spec}': '{seen[key]}' already varies {what}; give each variable once")
+    seen[key] = spec
+    return v
 
 
 def _number(text: str, spec: str) -> float:

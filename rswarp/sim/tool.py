@@ -16,7 +16,7 @@ from ..errors import InputError, model_error
 from ..geometry.meshes import file_mesh, link_mesh
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
-from ..rsxml.units import MAX_LENGTH
+from ..rsxml.units import MAX_ANGLE, MAX_LENGTH
 from ..transforms import euler_zyx_matrix
 from .bodies import Body
 
@@ -69,6 +69,9 @@ def _mount(mech: Mechanism, spec: str) -> tuple[str, np.ndarray]:
         raise InputError(usage) from None
     if not path or len(values) != 6:
         raise InputError(usage)
+    if max(abs(v) for v in values[3:]) > np.degrees(MAX_ANGLE):
+        raise InputError(f"--tool '{spec}': angles within {np.degrees(MAX_ANGLE):.6g} deg ({MAX_ANGLE:g} rad, the "
+                         "bound of every angle rswarp reads), please")
     mount = np.eye(4)
     mount[:3, :3] = euler_zyx_matrix(*np.radians(values[3:]))
     mount[:3, 3] = [mech.si_length(v) for v in values[:3]]
