@@ -5,6 +5,7 @@ Layers, imports pointing down only: ``rsxml`` (the format) -> ``geometry`` (mesh
 read) -> ``cli``. Device code lives in ``rswarp.kernels``.
 """
 
+from . import files as files  # first: in the rswarp command a Ctrl-C while it loads waits for main
 from .errors import Diagnostic, InputError, MeshError, MeshNotFoundError, RsxmlError
 from .rsxml.documents import Report, RsxmlWarning, check, load, load_library
 from .rsxml.graph import LinkGraph

@@ -15,7 +15,7 @@ import time
 import traceback
 
 from .errors import InputError, RsxmlError, one_line
-from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit, note_interrupts
+from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit, interrupted, note_interrupts
 from .options import argument
 
 RAY_HELP = ("run the batch as tasks on Ray: a local Ray instance on this machine, or the cluster at ADDRESS "
@@ -217,10 +217,14 @@ def main(argv: list[str] | None = None) -> int:
         with note_interrupts(), file_size_limit(int(args.max_file_size * 2**20)):
             return _call(args)
     except RsxmlError as exc:
+        if interrupted():  # a Ctrl-C a library swallowed, or made an error of its own
+            return 130
         for d in exc.diagnostics:
             print(str(d), file=sys.stderr)
         return 1
     except InputError as exc:
+        if interrupted():
+            return 130
         print(f"rswarp: {one_line(str(exc))}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
@@ -230,6 +234,8 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:
         return 0
     except Exception as exc:  # a bug, not bad input: exit 2, with its traceback under --debug
+        if interrupted():
+            return 130
         if args.debug or os.environ.get("RSWARP_DEBUG"):
             traceback.print_exc()
         hint = "" if args.debug or os.environ.get("RSWARP_DEBUG") else " (rerun with --debug for the traceback)"

@@ -13,8 +13,11 @@ import gc
 import os
 import signal
 import stat
+import sys
+import sysconfig
 import tempfile
 import threading
+import time
 from pathlib import Path
 from typing import Iterator
 
@@ -151,25 +154,129 @@ _terminated = threading.Event()  # SIGTERM arrived during a write; set by the ha
 _interrupted = threading.Event()  # Ctrl-C arrived: set by ``note_interrupts``' handler
 
 
+_held = threading.Event()  # Ctrl-C arrived while the rswarp command started (``hold_start_interrupts``)
+_retrying = threading.Event()  # a Ctrl-C waits for the main thread to be back in rswarp's own code
+_retry: list = []  # the thread that delivers it again meanwhile, while one runs
+_nudged = False  # the SIGINT now arriving is the retry thread's, not the user's
+RETRY_S = 0.02  # s between deliveries of a Ctrl-C that waits
+_OWN = os.path.dirname(os.path.abspath(__file__)) + os.sep
+_STDLIB = tuple({os.path.join(sysconfig.get_paths()[k], "") for k in ("stdlib", "platstdlib")})
+_SITE = tuple({os.path.join(sysconfig.get_paths()[k], "") for k in ("purelib", "platlib")})
+_SAFE = (f"{os.sep}ray{os.sep}",)  # libraries built to be interrupted while the main thread waits in them
+
+
+def _safe_to_raise(frame) -> bool:
+    """Whether a KeyboardInterrupt may be raised in ``frame``: not inside an import (a native
+    module's initialization aborts the process on it, or turns it into an ImportError; a library's
+    catch-all around its optional imports swallows it), not in a finalizer (where it is printed as
+    "Exception ignored"), and where the innermost code outside the standard library is rswarp's
+    own, not a library's (Cython code that cannot pass it on prints and drops it, native code
+    called back crashes): there a Ctrl-C waits until the library returns."""
+    inner = None
+    while frame is not None:
+        code = frame.f_code
+        if code.co_filename.startswith("<frozen importlib") or code.co_name == "__del__":
+            return False
+        name = code.co_filename
+        if inner is None and not (name.startswith("<") or (name.startswith(_STDLIB) and not name.startswith(_SITE))):
+            inner = name
+        frame = frame.f_back
+    return inner is None or inner.startswith(_OWN) or any(lib in inner for lib in _SAFE)
+
+
 def _interrupt(signum, frame) -> None:
+    """Ctrl-C within ``note_interrupts``: noted, and raised as KeyboardInterrupt where that is
+    safe (``_safe_to_raise``); elsewhere delivered again every ``RETRY_S`` until it is."""
+    global _nudged
+    nudge, _nudged = _nudged, False
     _interrupted.set()
+    if nudge and not _retrying.is_set():  # a retry's last delivery, after the interrupt was raised
+        return
+    if not _safe_to_raise(frame):
+        _retry_later()
+        return
+    _retrying.clear()
     raise KeyboardInterrupt
+
+
+def _retry_later() -> None:
+    """Deliver SIGINT to the main thread again every ``RETRY_S`` until ``_retrying`` is cleared."""
+    _retrying.set()
+    if _retry and _retry[0].is_alive():
+        return
+    main = threading.main_thread().ident
+
+    def deliver() -> None:
+        global _nudged
+        while True:
+            time.sleep(RETRY_S)
+            if not _retrying.is_set():
+                return
+            _nudged = True
+            signal.pthread_kill(main, signal.SIGINT)
+
+    _retry[:] = [threading.Thread(target=deliver, name="rswarp-ctrl-c", daemon=True)]
+    _retry[0].start()
+
+
+def _stop_retrying() -> None:
+    """No more deliveries; the last one, if any is on its way, lands in ``_interrupt`` and is dropped."""
+    _retrying.clear()
+    if _retry:
+        _retry.pop().join()
+        if _nudged:
+            time.sleep(RETRY_S)  # a signal in flight is handled meanwhile
+
+
+def _hold(signum, frame) -> None:
+    _held.set()
+
+
+def hold_start_interrupts() -> None:
+    """In the ``rswarp`` command (its console script, or ``python -m rswarp.cli``), from the first
+    import of the package until its ``main`` takes over (``note_interrupts``): Ctrl-C is noted,
+    never raised, so that it cannot land in a native library's loading (an abort, exit 134) or
+    among imports as a traceback; ``main`` then ends with 130 before any work. Imported as a
+    library, nothing changes."""
+    argv = getattr(sys, "argv", None) or [""]
+    orig = list(getattr(sys, "orig_argv", ()))
+    command = os.path.splitext(os.path.basename(argv[0]))[0] in ("rswarp", "rswarp-script") or \
+        any(a == "-m" and b == "rswarp.cli" for a, b in zip(orig, orig[1:]))
+    if command and threading.current_thread() is threading.main_thread() and \
+            signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _hold)
+
+
+hold_start_interrupts()  # imported first by the package: the command's start is held from here
+
+
+def interrupted() -> bool:
+    """Whether Ctrl-C arrived in the last ``note_interrupts`` block (a library may have swallowed it,
+    or turned it into an error of its own)."""
+    return _interrupted.is_set()
 
 
 @contextlib.contextmanager
 def note_interrupts() -> Iterator[None]:
-    """For the block, Ctrl-C raises KeyboardInterrupt as usual and is also noted, so that one
-    swallowed on its way (a library's catch-all around its optional imports: trimesh's around
-    scipy) still stops the next ``commit``: no output is put in place after a Ctrl-C."""
+    """For the block, Ctrl-C raises KeyboardInterrupt and is also noted, so that one swallowed on
+    its way (a library's catch-all around its optional imports: trimesh's around scipy) still
+    stops the next ``commit``: no output is put in place after a Ctrl-C. It is raised only where
+    that is safe (``_safe_to_raise``), at once where rswarp's own code runs; one that came while
+    the command started (``hold_start_interrupts``) is raised as the block begins."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     _interrupted.clear()
     previous = signal.signal(signal.SIGINT, _interrupt)
     try:
+        if _held.is_set():
+            _held.clear()
+            _interrupted.set()
+            raise KeyboardInterrupt
         yield
         stop_if_terminated()
     finally:
+        _stop_retrying()
         signal.signal(signal.SIGINT, previous)
 
 

@@ -358,6 +358,7 @@ def irb2600_kinematics():
 @given(q1=st.floats(-170, 170), q2=st.floats(-60, 90), q3=st.floats(-60, 60), q4=st.floats(-300, 300),
        q6=st.floats(-300, 300))  # q3 clear of -81.8 deg, where the arm is stretched (the elbow's singularity)
 @example(q1=10.0, q2=20.0, q3=10.0, q4=100.0, q6=-100.0)  # Kinematics.ik(conf=) held q4 at 0: not found
+@example(q1=0.0, q2=0.0, q3=0.0, q4=89.99999999999999, q6=-2.5065280177407123e-93)  # q4 + q6 at its range's edge
 def test_a_wrist_singular_robtarget_is_reached_with_its_own_confdata(irb2600_kinematics, q1, q2, q3, q4, q6):
     """q5 = 0: axes 4 and 6 in line, only q4 + q6 counts. Rounded to a robtarget's digits, q5 is
     1e-6 rad off zero and the closed form's split of q4 and q6 is noise; the target's confdata
@@ -386,6 +387,7 @@ def test_a_wrist_singular_robtarget_is_reached_with_its_own_confdata(irb2600_kin
        q5=st.one_of(st.just(0.0), st.floats(-100, 100)), q6=st.floats(-170, 170),
        off=st.one_of(st.just(0.0), st.floats(-0.05, 0.05)))
 @example(q1=0.0, q2=0.0, q4=0.0, q5=0.03125, q6=1.0, off=0.0)  # cf4 -1 for 0: the wrist near in line
+@example(q1=0.0, q2=-6.56640625, q4=0.0, q5=0.0, q6=0.0, off=0.0)  # the arm 1.6 deg from stretched as well
 def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confdata(irb2600_kinematics, q1, q2, q4,
                                                                                      q5, q6, off):
     """The wrist centre on axis 1 (any q1 reaches it), or ``off`` (m) in front of or behind it:

@@ -336,3 +336,14 @@ def test_a_hose_run_over_a_program_that_stopped_says_over_what_it_ran(tmp_path):
     out = run_cables(str(IRB2600_DRESSPACK), str(tmp_path / "hose"), program=[str(SOCKET.parent)], frame_rate=30.0)
     assert out.doc["program_stopped"].endswith(SOCKET_STOP) and out.doc["needs_input"]["name"] == "receive_string"
     assert "program stopped: " in out.text and "not the whole program" in out.text
+
+
+def test_confj_off_takes_the_solution_reached_soonest_not_a_flip_over_the_top():
+    """On the dress-pack robot (J4 within ±90°) the pick's nearest solution by squared travel was a
+    flip over the top (J1 +77°, J3 -172°: 2.66 s); the one reached soonest turns J6 instead (1.1 s)."""
+    from rswarp.examples import IRB2600_DRESSPACK
+
+    out = run_program(str(IRB2600_DRESSPACK), [str(WILD / "confj_off.mod")])
+    pick = [m for m in out.doc["moves"] if m["line"] == 11][0]
+    assert abs(np.degrees(pick["joints"][0]) + 26) < 2 and abs(np.degrees(pick["joints"][2])) < 45
+    assert pick["end_s"] - pick["start_s"] < 1.3

@@ -165,12 +165,13 @@ def share_out(q: np.ndarray, conf: np.ndarray, want, arm, bounds=None, q4=0.0) -
     """(q (..., S, dof), fits (..., S)): solutions ``q`` (configurations ``conf`` (..., S, 4)) at or
     near the wrist singularity with q4 and q6 shared out so that cf4 and cf6 are ``want``'s
     ((4,) or (..., 4)). q4 + d and q6 - d (q6 + d where axes 4 and 6 point opposite ways) turn
-    the flange by |d| |sin q5| at most: d is kept within QUADRANT_SLACK / |sin q5| of that (a
-    target's rounding, amplified), and is free where |q5| < WRIST_SINGULAR, q5 then put at 0
-    (axes 4 and 6 in line, only q4 + q6 counts). q4 is kept as near ``q4`` (where the robot is)
-    as the quadrants let it, inside them where it can be, else within the slack of their edges
-    that ``conf_matches`` gives. ``fits``: cf1 and cfx are ``want``'s as well (cfx's last bit,
-    q5's sign, either at the singularity), the result within ``bounds`` ((lower, upper))."""
+    the flange by |d| |sin q5| at most: |d| is kept within QUADRANT_SLACK / |sin q5| (the flange
+    turned by a target's rounding at most), and is free where |q5| < WRIST_SINGULAR, q5 then put
+    at 0 (axes 4 and 6 in line, only q4 + q6 counts). q4 is kept as near ``q4`` (where the robot
+    is) as the quadrants let it, inside them where it can be, else as little past their edges as
+    it can be (within the slack ``conf_matches`` gives them). ``fits``: cf1 and cfx are
+    ``want``'s as well (cfx's last bit, q5's sign, either at the singularity), the result within
+    ``bounds`` ((lower, upper))."""
     fits = np.zeros(q.shape[:-1], bool)
     if not isinstance(arm, ArmConstants) or not q.size:
         return q, fits
@@ -198,8 +199,10 @@ def share_out(q: np.ndarray, conf: np.ndarray, want, arm, bounds=None, q4=0.0) -
     lo, hi = window(-INSIDE)
     inside = lo <= hi
     lo_edge, hi_edge = window(amplified)
+    # inside both quadrants where it can, q4 nearest ``q4``; else across both edges alike
+    d = np.where(inside, np.clip(np.asarray(q4, float)[..., None] - q[..., 3], lo, hi),
+                 np.clip(0.5 * (lo + hi), lo_edge, hi_edge))
     lo, hi = np.where(inside, lo, lo_edge), np.where(inside, hi, hi_edge)
-    d = np.clip(np.asarray(q4, float)[..., None] - q[..., 3], lo, hi)
     out = q.copy()
     out[..., 3] += d
     out[..., 5] -= sign * d

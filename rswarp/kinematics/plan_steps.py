@@ -268,7 +268,7 @@ def resolve(planner, m, p: Prepared) -> Step:
 
 def _pick(planner, m, p: Prepared) -> tuple:
     """``targets.pick`` of the move's target. Where its confdata is not checked that is the
-    solution nearest where the robot is of those within reach and limits (the first of equals):
+    solution the robot reaches soonest of those within reach and limits (``targets.nearest``):
     found among those alone, listed once per pose."""
     cands = None
     if not (m.conf and not p.sol.numerical):  # unchecked
@@ -277,8 +277,8 @@ def _pick(planner, m, p: Prepared) -> tuple:
             cands = p.within[p.row] = p.sol.q[p.row][p.sol.status[p.row] == OK]
     if cands is None or not len(cands):  # checked, or none to take: as ``targets.pick`` says it
         return tg.pick(p.sol, p.row, m.targets[-1].conf, planner.q, m.conf, m.names[-1], planner.form,
-                       planner.bounds)
-    return cands[int(np.argmin(np.sum((cands - planner.q) ** 2, axis=1)))].copy(), None
+                       planner.bounds, planner.limits.velocity)
+    return cands[tg.nearest(cands, planner.q, planner.limits.velocity)].copy(), None
 
 
 def _follow(planner, m, p: Prepared) -> Step:

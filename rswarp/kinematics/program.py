@@ -137,7 +137,8 @@ class Planner:
         pose = fr.flange(target.pose.matrix()[None])
         sol = self.kin.solutions64(pose)
         tg.off_the_axis(self.kin, pose, sol, float(self.q[0]), [target.conf])
-        q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget", self.form, self.bounds)
+        q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget", self.form, self.bounds,
+                         self.limits.velocity)
         return (None, misses.figured(self, pose[0], why)) if q is None else (tuple(float(v) for v in q), None)
 
     def _frames_or_raise(self, tool, wobj) -> Frames:

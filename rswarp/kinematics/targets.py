@@ -71,7 +71,8 @@ def outside(mech, q: np.ndarray, name: str) -> str | None:
     return None
 
 
-def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=None, bounds=None) -> tuple:
+def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=None, bounds=None,
+         speeds=None) -> tuple:
     """The solution of pose ``k`` the controller moves to: with ``checked`` the one with ``conf``
     (nearest ``q_now`` if several), else the one nearest ``q_now``; or why there is none. At or
     near the wrist singularity (q5 = 0, axes 4 and 6 in line) only q4 + q6 counts: they are
@@ -87,7 +88,20 @@ def pick(sol, k: int, conf, q_now: np.ndarray, checked: bool, name: str, arm=Non
         if not has.any():
             return None, f"'{name}' has no solution with confdata {plain(conf)}; {nearest_confs(sol.conf[k][ok], conf)}"
         cands = q[0][has[0]]
-    return cands[int(np.argmin(np.sum((cands - q_now) ** 2, axis=1)))].copy(), None
+    return cands[nearest(cands, q_now, speeds)].copy(), None
+
+
+def nearest(cands: np.ndarray, q_now: np.ndarray, speeds=None) -> int:
+    """The solution the robot reaches soonest from ``q_now``: the least of each axis's travel over
+    its top speed (the axes move synchronized, so the slowest decides), then the least squared
+    travel; by squared travel alone without speeds. A flip over the top that moves every axis a
+    little is not 'nearer' than one axis turning a long way fast."""
+    travel = np.abs(cands - q_now)
+    if speeds is None or len(cands) < 2:
+        return int(np.argmin(np.sum(travel ** 2, axis=1)))
+    time = np.max(travel / np.asarray(speeds, float), axis=1)
+    best = np.flatnonzero(time <= time.min() * (1 + 1e-9) + 1e-12)
+    return int(best[np.argmin(np.sum(travel[best] ** 2, axis=1))])
 
 
 def plain(values) -> list:
@@ -261,8 +275,7 @@ def _in_line(kin, arm, axis: _Axis1, sol, angles: np.ndarray, conf, lo: float, h
     n, s = np.nonzero(ok)
     if not len(n):
         return np.zeros(0)
-    first = np.unique(n, return_index=True)[1]  # one solution per q1 tried: they share axis 4
-    n, s = n[first], s[first]
+    n, s = n[:1], s[:1]  # one solution will do: q1 turns the arm's branch about axis 1 as a whole
     q = sol.q[n, s]
     links = kin._arm_links
     zero = kin.fk64(np.zeros((1, q.shape[1])))[0]
@@ -283,8 +296,7 @@ def _in_line(kin, arm, axis: _Axis1, sol, angles: np.ndarray, conf, lo: float, h
     out = np.concatenate([meet[keep], (meet[:, None] + offsets)[keep].ravel()])
     mid = 0.5 * (lo + hi)
     out += 2 * np.pi * np.round((mid - out) / (2 * np.pi))
-    out = np.unique(np.round(out[(out >= lo) & (out <= hi)], 12))
-    return out[np.abs(out[:, None] - angles[None]).min(axis=1) > 1e-12] if len(out) else out
+    return np.unique(out[(out >= lo) & (out <= hi)])
 
 
 STARTS = 4  # damped least-squares starts at most (the solutions nearest the target's quadrants)
@@ -292,16 +304,18 @@ CLOSE = 0.05  # m and rad: a start farther than this from the pose once in the q
 STEPS = 60  # damped least-squares steps at most
 SPREAD = 8  # starts across q4's quadrant where the wrist is near its singularity
 OFF_ZERO = 1e-4  # rad: q5 of those starts
+EDGE = 0.5 * QUADRANT_SLACK  # rad: how far past its quadrant's edge (q5: past 0) a joint is let go
 
 
 def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs: np.ndarray, bounds) -> tuple | None:
-    """(joint values, their configuration) with ``conf`` that meet ``pose`` within SHOULDER_SLACK (m) and QUADRANT_SLACK
-    (rad), or None: where a target's rounding is amplified past these slacks near a singularity
-    (the arm stretched, the wrist in line, the wrist centre over axis 1 at once), no exact
-    solution of the rounded pose has the target's own confdata, though the configuration it came
-    from meets the pose within the rounding. Sought by damped least squares from the solutions
-    ``q`` (configurations ``confs``) of the arm's branch on ``conf``'s side, put within cf1's, cf4's
-    and cf6's quadrants, q5's sign and the elbow's side and kept there."""
+    """(joint values, their configuration) with ``conf`` that meet ``pose`` within SHOULDER_SLACK
+    (m) and QUADRANT_SLACK (rad), or None. Near a singularity (the arm stretched with the wrist
+    in line, a q1 at its quadrant's edge over axis 1 as well) a target's rounding is amplified past
+    the slacks, and no exact solution of the rounded pose may have the target's own confdata,
+    though the configuration it came from meets the pose within the rounding. Sought by damped
+    least squares from the solutions ``q`` (configurations ``confs``) of the arm's branch on
+    ``conf``'s side, nearest the target's quadrants once put in them, kept within them (EDGE past
+    their edges at most), within q5's sign and on the elbow's side."""
     from .ik_numeric import _error, _flange64
 
     quarter = 0.5 * np.pi
@@ -312,12 +326,12 @@ def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs
     lo = np.repeat(lower[None], mine.sum(), axis=0)
     hi = np.repeat(upper[None], mine.sum(), axis=0)
     for column, joint in ((0, 0), (1, 3), (2, 5)):
-        lo[:, joint] = np.maximum(lo[:, joint], int(conf[column]) * quarter + INSIDE)
-        hi[:, joint] = np.minimum(hi[:, joint], (int(conf[column]) + 1) * quarter - INSIDE)
+        lo[:, joint] = np.maximum(lo[:, joint], int(conf[column]) * quarter - EDGE)
+        hi[:, joint] = np.minimum(hi[:, joint], (int(conf[column]) + 1) * quarter + EDGE)
     if int(conf[3]) & 1:
-        hi[:, 4] = np.minimum(hi[:, 4], 0.0)
+        hi[:, 4] = np.minimum(hi[:, 4], EDGE)
     else:
-        lo[:, 4] = np.maximum(lo[:, 4], 0.0)
+        lo[:, 4] = np.maximum(lo[:, 4], -EDGE)
     start = q[mine].copy()
     straight = _straight(arm)  # the elbow's side: between two of these, half a turn apart
     k = np.floor((start[:, 2] - straight) / np.pi)
@@ -363,6 +377,9 @@ def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs
         steps = q[:, None, :] + 1e-7 * np.eye(dof)[None]
         moved = _flange64(kin, steps.reshape(-1, dof)).reshape(len(q), dof, 4, 4)
         jac = np.stack([(_error(target, base) - _error(target, moved[:, j])) / 1e-7 for j in range(dof)], axis=2)
+        down = np.einsum("nij,ni->nj", jac, err)  # the way down: a joint at its bound pushed past it is held
+        held = ((q <= lo + 1e-12) & (down < 0)) | ((q >= hi - 1e-12) & (down > 0))
+        jac = jac * ~held[:, None, :]
         jt = np.swapaxes(jac, 1, 2)
         step = np.linalg.solve(jt @ jac + damping[:, None, None] * np.eye(dof), jt @ err[:, :, None])[:, :, 0]
         tried = np.clip(q + step, lo, hi)
