@@ -152,8 +152,6 @@ class Terminated(BaseException):
 
 _terminated = threading.Event()  # SIGTERM arrived during a write; set by the handler
 _interrupted = threading.Event()  # Ctrl-C arrived: set by ``note_interrupts``' handler
-
-
 _held = threading.Event()  # Ctrl-C arrived while the rswarp command started (``hold_start_interrupts``)
 _retrying = threading.Event()  # a Ctrl-C waits for the main thread to be back in rswarp's own code
 _retry: list = []  # the thread that delivers it again meanwhile, while one runs
@@ -213,7 +211,12 @@ def _retry_later() -> None:
             if not _retrying.is_set():
                 return
             _nudged = True
-            signal.pthread_kill(main, signal.SIGINT)
+            if hasattr(signal, "pthread_kill"):  # to the main thread: a wait it is in is cut short
+                signal.pthread_kill(main, signal.SIGINT)
+            else:
+                import _thread
+
+                _thread.interrupt_main()
 
     _retry[:] = [threading.Thread(target=deliver, name="rswarp-ctrl-c", daemon=True)]
     _retry[0].start()

@@ -31,10 +31,23 @@ def hose():
     ("length=0:1", "a length above 0"),
     ("length=a:1", "'a' is not a number"),
     ("length", "give length=MIN:MAX"),
+    ("length=1:2000", r"a hose of at most 1000 m, please \(1 km"),  # the bound of every length, not the floor
+    ("length=1e9:2e9", "a hose of at most 1000 m"),
 ])
 def test_a_vary_given_wrong_is_one_clear_line(spec, message):
     with pytest.raises(InputError, match=message):
         parse_vary([spec], hose()[1])
+
+
+@pytest.mark.parametrize("specs, message", [
+    (["Link6.z=0:0.01", "3.z=0:0.02"], "'Link6.z=0:0.01' already varies control point 3's z"),
+    (["1.pitch=0:5", "Link3.pitch=-5:0"], "already varies control point 1's pitch"),
+    (["length=1:1.1", " length = 1.1:1.2"], "already varies the hose's length"),
+])
+def test_one_number_varied_twice_under_any_names_is_refused(specs, message):
+    with pytest.raises(InputError, match=message):
+        parse_vary(specs, hose()[1])
+    assert len(parse_vary(["Link6.z=0:0.01", "3.x=0:0.01", "Link3.z=0:0.01"], hose()[1])) == 3
 
 
 def test_designs_fill_their_box_the_same_way_each_time():

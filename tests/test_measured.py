@@ -30,7 +30,10 @@ def _figures(row: str) -> list[str]:
 
 
 def test_the_results_file_is_a_whole_run_with_its_machine():
-    doc = json.loads(RESULTS.read_text())
+    def refuse(name):  # strict JSON: run_all.py writes a non-finite figure as null
+        raise AssertionError(f"{name} in {RESULTS.name}")
+
+    doc = json.loads(RESULTS.read_text(), parse_constant=refuse)
     assert not doc["quick"] and doc["machine"]["cores"] and doc["versions"]["rswarp"]
     for name, entry in doc["benchmarks"].items():
         assert entry["returncode"] == 0 and entry["output"].strip(), name

@@ -36,6 +36,8 @@ def robot():
     ("{g}@1,2,3", "give PATH or PATH@x,y,z,rx,ry,rz"),
     ("{g}@1,2,3,4,5,x", "give PATH or PATH@x,y,z,rx,ry,rz"),
     ("{g}@5000,0,0,0,0,0", "within"),
+    ("{g}@0,0,0,1e7,0,0", r"angles within 5\.72958e\+06 deg \(100000 rad"),  # past the bound of every angle
+    ("{g}@0,0,0,0,0,-1e7", "angles within"),
     ("{d}/tool/missing.stl", "missing.stl: cannot read it"),
 ])
 def test_a_tool_given_wrong_is_a_one_line_error(spec, message):

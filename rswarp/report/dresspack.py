@@ -170,13 +170,13 @@ def _specs(vary: list[str]) -> list[str]:
     table = table.get("vary", table)
     if not isinstance(table, dict):
         raise InputError(f"{path}: 'vary' must be a table of NAME = \"MIN:MAX\" or NAME = [MIN, MAX] ([vary], or "
-                         f"at the file's top), not a {_toml_kind(table)}")
+                         f"at the file's top), not {_toml_kind(table)}")
     specs = []
     for name, value in table.items():
         if isinstance(value, list) and len(value) == 2 and not any(isinstance(v, (list, dict)) for v in value):
             value = f"{value[0]}:{value[1]}"
         if not isinstance(value, str):
-            raise InputError(f"{path}: '{name}' must be \"MIN:MAX\" or [MIN, MAX], not a {_toml_kind(value)}")
+            raise InputError(f"{path}: '{name}' must be \"MIN:MAX\" or [MIN, MAX], not {_toml_kind(value)}")
         specs.append(f"{name}={value}")
     if not specs:
         raise InputError(f"{path}: no variables; give NAME = \"MIN:MAX\" lines, under [vary] or at the top")
@@ -185,9 +185,9 @@ def _specs(vary: list[str]) -> list[str]:
 
 def _toml_kind(value) -> str:
     """What a TOML value is, in TOML's words."""
-    kinds = ((bool, "boolean"), (int, "integer"), (float, "float"), (str, "string"), (list, "array"),
-             (dict, "table"))
-    return next((word for kind, word in kinds if isinstance(value, kind)), "date or time")
+    kinds = ((bool, "a boolean"), (int, "an integer"), (float, "a float"), (str, "a string"), (list, "an array"),
+             (dict, "a table"))
+    return next((word for kind, word in kinds if isinstance(value, kind)), "a date or time")
 
 
 def _too_short(mechs, cable: int) -> dict[int, str]:
