@@ -347,3 +347,18 @@ def test_confj_off_takes_the_solution_reached_soonest_not_a_flip_over_the_top():
     pick = [m for m in out.doc["moves"] if m["line"] == 11][0]
     assert abs(np.degrees(pick["joints"][0]) + 26) < 2 and abs(np.degrees(pick["joints"][2])) < 45
     assert pick["end_s"] - pick["start_s"] < 1.3
+
+
+def test_a_hose_run_over_a_task_that_stops_before_its_first_move_says_what_it_needs(tmp_path):
+    from rswarp.examples import IRB2600_DRESSPACK
+    from rswarp.report.cables import run_cables
+
+    path = tmp_path / "s0.mod"
+    path.write_text("MODULE S\n  VAR socketdev sock;\n  VAR string s;\n  VAR num x;\n  VAR bool ok;\n  PROC main()\n"
+                    "    SocketReceive sock \\Str:=s;\n    ok := StrToVal(s, x);\n"
+                    "    MoveJ [[x,0,600],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v1000, fine, tool0;\n"
+                    "  ENDPROC\nENDMODULE\n")
+    with pytest.raises(RsxmlError, match=r"needs live input: SocketReceive into s .* --input s=VALUE gives it \(the "
+                                         r"task stops before its first move") as exc:
+        run_cables(str(IRB2600_DRESSPACK), str(tmp_path / "hose"), program=[str(path)])
+    assert exc.value.line == 9 and not (tmp_path / "hose").exists()

@@ -164,8 +164,9 @@ def parse_text(text: str, path: str) -> list[nodes.Module]:
                               _as_written(exc.token, builder), exc.expected))
     except UnexpectedCharacters as exc:
         line, message = explained(text, exc.line, None, ())
-        fail(path, line, message if line < exc.line or message.startswith("an XML") else
-             f"RAPID syntax: unexpected character {exc.char!r}")
+        what = "a string that does not end on its line (a \" is missing)" if exc.char == '"' else \
+            f"unexpected character {exc.char!r}"
+        fail(path, line, message if line < exc.line or message.startswith("an XML") else f"RAPID syntax: {what}")
     except (UnexpectedEOF, UnexpectedInput) as exc:
         fail(path, getattr(exc, "line", 0) or 0, "RAPID syntax: the module ends early")
     for module in modules:

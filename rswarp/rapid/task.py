@@ -10,7 +10,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import Diagnostic, InputError, RsxmlError
 from ..files import no_cyclic_gc
 from . import nodes
 from .errors import fail, warning
@@ -127,17 +127,19 @@ def _program_file(path: Path) -> list[Path]:
     if not named:
         fail(str(path), 0, "the program file names no <Module>")
     folder = path.parent.resolve()
-    out = []
+    out, problems = [], []
     for name, line in named:
         relative = Path(name.replace("\\", "/"))
         f = (path.parent / relative)
         inside = not relative.is_absolute() and not relative.drive and folder in (f.resolve(), *f.resolve().parents)
         if not inside:  # refused before it is read: a program file names its own modules
-            fail(str(path), line, f"the program file names '{name}', outside its folder: a .pgf names modules in "
-                                  "its folder and below it")
-        if not f.is_file():
-            fail(str(path), line, f"the program file names '{name}', which is not beside it")
+            problems.append(Diagnostic(str(path), line, f"the program file names '{name}', outside its folder: a .pgf "
+                                                        "names modules in its folder and below it"))
+        elif not f.is_file():
+            problems.append(Diagnostic(str(path), line, f"the program file names '{name}', which is not beside it"))
         out.append(f)
+    if problems:  # every one at once
+        raise RsxmlError(problems)
     return out
 
 

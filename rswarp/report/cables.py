@@ -67,10 +67,11 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
     if program is not None:
-        from .program import input_values, program_plan, signal_values
+        from .program import input_values, moved_before_stop, program_plan, signal_values
 
         _, plan = program_plan(path, program, routine, io=signal_values(io), cycles=cycles,
                                 external_axes=external_axes, warn=warn, limits=limits, inputs=input_values(inputs))
+        moved_before_stop(plan)
     else:
         plan = None
     trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, seed, warn)
@@ -155,7 +156,7 @@ def rated_fatigue(spec: str | None, mech) -> tuple[float, float] | None:
         cycles = radius = float("nan")
     if not at or not 1 <= cycles < 1e15 or not 0 < radius < 1e3:
         raise InputError(f"--rated-cycles '{spec}': give N@R, the cycles a hose lasts bent to radius R (the file's "
-                         "length unit), e.g. 1e7@300")
+                         "length unit), e.g. 1e7@" + f"{0.3 / mech.length_factor:g}" + " for 300 mm")
     return cycles, radius
 
 

@@ -101,11 +101,12 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     check_cable_folder(out)
     check_video_options(video, None, video_color, 1, out)
     options = cable_options(mech, opts, device)
-    from .program import input_values, program_plan, signal_values
+    from .program import input_values, moved_before_stop, program_plan, signal_values
 
     _, plan = program_plan(path, programs, opts.routine, io=signal_values(opts.io), cycles=opts.cycles,
                            external_axes=opts.external_axes, warn=warn, limits=opts.limits,
                            inputs=input_values(inputs))
+    moved_before_stop(plan)
     trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
     start = time.perf_counter()
     run = simulate_cables(mech, trajectories, len(chosen), None, options, progress=progress,

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, RsxmlError
+from ..errors import Diagnostic, InputError, RsxmlError
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..kinematics.program import Plan, Planner
@@ -82,6 +82,15 @@ def program_plan(path: str, programs, routine: str = "main", device: str = "cpu"
     if strict and plan.errors:
         raise RsxmlError(list(plan.errors))
     return mech, plan
+
+
+def moved_before_stop(plan) -> None:
+    """An InputError where a task stopped for a live input before it made any move: a hose run
+    or a design sweep over it would run over nothing; the stop line says what to give."""
+    stopped = plan.run.stopped
+    if stopped is not None and not float(plan.times[-1]) > 0:
+        raise RsxmlError(Diagnostic(stopped.file, stopped.line, f"{stopped.message} (the task stops before its first "
+                                                                "move: nothing to run the hoses over)"))
 
 
 def run_program(path: str, programs: list[str], routine: str = "main", csv: str | None = None,
