@@ -25,7 +25,7 @@ def _seeds(lower: np.ndarray, upper: np.ndarray, dof: int) -> np.ndarray:
     return np.vstack([np.clip(np.zeros(dof), lo, hi), draws])
 
 
-def _error(target: np.ndarray, pose: np.ndarray) -> np.ndarray:
+def pose_error(target: np.ndarray, pose: np.ndarray) -> np.ndarray:
     """(M, 6): the position error and the rotation vector from pose to target (world)."""
     from scipy.spatial.transform import Rotation
 
@@ -36,29 +36,33 @@ def _error(target: np.ndarray, pose: np.ndarray) -> np.ndarray:
 def _refine(kin, targets: np.ndarray, q: np.ndarray, lower, upper) -> tuple[np.ndarray, np.ndarray]:
     """Damped least-squares steps of every (target, start) row: (q, residual norm)."""
     dof = q.shape[1]
-    err = _error(targets, _flange64(kin, q))
+    err = pose_error(targets, flange64(kin, q))
     for _ in range(STEPS):
         res = np.linalg.norm(err, axis=1)
         live = res > TOLERANCE
         if not live.any():
             break
         ql, el, tl = q[live], err[live], targets[live]
-        base = _flange64(kin, ql)
-        jac = np.empty((len(ql), 6, dof))
-        for j in range(dof):
-            step = ql.copy()
-            step[:, j] += H
-            jac[:, :, j] = (_error(tl, base) - _error(tl, _flange64(kin, step))) / H
+        jac = jacobian(kin, tl, ql, H)
         jt = np.swapaxes(jac, 1, 2)
         lhs = jt @ jac + DAMPING * np.eye(dof)
         dq = np.linalg.solve(lhs, (jt @ el[:, :, None]))[:, :, 0]
         ql = np.clip(ql + dq, lower, upper)
         q[live] = ql
-        err[live] = _error(tl, _flange64(kin, ql))
+        err[live] = pose_error(tl, flange64(kin, ql))
     return q, np.linalg.norm(err, axis=1)
 
 
-def _flange64(kin, q: np.ndarray) -> np.ndarray:
+def jacobian(kin, targets: np.ndarray, q: np.ndarray, h: float) -> np.ndarray:
+    """(M, 6, dof): how each row's pose error to its target falls as each joint moves by ``h``
+    (forward differences, every row's steps in one launch)."""
+    dof = q.shape[1]
+    base = pose_error(targets, flange64(kin, q))
+    moved = flange64(kin, (q[:, None, :] + h * np.eye(dof)[None]).reshape(-1, dof)).reshape(len(q), dof, 4, 4)
+    return np.stack([(base - pose_error(targets, moved[:, j])) / h for j in range(dof)], axis=2)
+
+
+def flange64(kin, q: np.ndarray) -> np.ndarray:
     link, m = kin.flange_frame()
     return kin.fk64(q)[:, link] @ m
 

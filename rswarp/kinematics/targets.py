@@ -11,6 +11,7 @@ import numpy as np
 from ..kernels.ik import NO_LIMITS, OK, SHOULDER
 from ..rapid import data as rd
 from .ik import INSIDE, QUADRANT_SLACK, ArmConstants, conf_matches, quadrant_axes, with_conf, wrist_axis
+from .ik_numeric import flange64, jacobian, pose_error
 from .shortfall import arm_reach
 
 EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
@@ -316,15 +317,33 @@ def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs
     least squares from the solutions ``q`` (configurations ``confs``) of the arm's branch on
     ``conf``'s side, nearest the target's quadrants once put in them, kept within them (EDGE past
     their edges at most), within q5's sign and on the elbow's side."""
-    from .ik_numeric import _error, _flange64
-
-    quarter = 0.5 * np.pi
     mine = (confs[:, 3].astype(np.int64) & 6) == (int(conf[3]) & 6)
     if not mine.any():
         return None
+    lo, hi = _box(arm, conf, q[mine], bounds)
+    found = _starts(kin, arm, pose, conf, q[mine].copy(), lo, hi)
+    if found is None:
+        return None
+    q, err = _descend(kin, pose, *found)
+    good = (np.abs(err[:, :3]).max(axis=1) <= SHOULDER_SLACK) & (np.abs(err[:, 3:]).max(axis=1) <= QUADRANT_SLACK)
+    if not good.any():
+        return None
+    best = q[good][int(np.argmin(np.sum(err[good] ** 2, axis=1)))]
+    have = kin.confdata(best[None])
+    if axis.centre(flange64(kin, best[None]))[2][0] < SHOULDER_SLACK:  # on axis 1: either side of it
+        have[0, 3] = (have[0, 3] & 3) | (int(conf[3]) & 4)
+    if not conf_matches(best[None], have, conf, quadrant_axes(arm), wrist_axis(arm))[0]:
+        return None
+    return best, have[0]
+
+
+def _box(arm, conf, start: np.ndarray, bounds) -> tuple[np.ndarray, np.ndarray]:
+    """Per start, the joints' bounds within ``conf``'s quadrants (EDGE past their edges), q5's
+    sign, and the elbow's side the start is on."""
+    quarter = 0.5 * np.pi
     lower, upper = (np.array(b, float) for b in bounds)
-    lo = np.repeat(lower[None], mine.sum(), axis=0)
-    hi = np.repeat(upper[None], mine.sum(), axis=0)
+    lo = np.repeat(lower[None], len(start), axis=0)
+    hi = np.repeat(upper[None], len(start), axis=0)
     for column, joint in ((0, 0), (1, 3), (2, 5)):
         lo[:, joint] = np.maximum(lo[:, joint], int(conf[column]) * quarter - EDGE)
         hi[:, joint] = np.minimum(hi[:, joint], (int(conf[column]) + 1) * quarter + EDGE)
@@ -332,13 +351,18 @@ def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs
         hi[:, 4] = np.minimum(hi[:, 4], EDGE)
     else:
         lo[:, 4] = np.maximum(lo[:, 4], -EDGE)
-    start = q[mine].copy()
     straight = _straight(arm)  # the elbow's side: between two of these, half a turn apart
     k = np.floor((start[:, 2] - straight) / np.pi)
     lo[:, 2] = np.maximum(lo[:, 2], straight + k * np.pi + INSIDE)
     hi[:, 2] = np.minimum(hi[:, 2], straight + (k + 1) * np.pi - INSIDE)
+    return lo, hi
+
+
+def _starts(kin, arm, pose: np.ndarray, conf, start: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple | None:
+    """(starts, their bounds) for the descent: the solutions put in their quadrants (q4 and q6
+    shared out as at the singularity where they can be), the STARTS nearest the pose within CLOSE,
+    and near the wrist's singularity q4 spread across its quadrant; None where none is near."""
     sign = 1.0 if np.dot(arm.w4, arm.w6) > 0 else -1.0
-    # q4 and q6 into their quadrants, shared out as at the singularity where they can be
     low = np.maximum(lo[:, 3] - start[:, 3], start[:, 5] - hi[:, 5] if sign > 0 else lo[:, 5] - start[:, 5])
     high = np.minimum(hi[:, 3] - start[:, 3], start[:, 5] - lo[:, 5] if sign > 0 else hi[:, 5] - start[:, 5])
     d = np.where(low <= high, np.clip(0.0, low, high), np.clip(start[:, 3], lo[:, 3], hi[:, 3]) - start[:, 3])
@@ -348,8 +372,7 @@ def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs
     if not live.any():
         return None
     start, lo, hi = np.clip(start[live], lo[live], hi[live]), lo[live], hi[live]
-    target = np.repeat(pose[None], len(start), axis=0)
-    err = _error(target, _flange64(kin, start))
+    err = pose_error(np.repeat(pose[None], len(start), axis=0), flange64(kin, start))
     near = np.argsort(np.abs(err).max(axis=1))[:STARTS]
     near = near[np.abs(err[near]).max(axis=1) < CLOSE]
     if not len(near):
@@ -367,38 +390,32 @@ def _nearby(kin, arm, axis: _Axis1, pose: np.ndarray, conf, q: np.ndarray, confs
         q = np.concatenate([q, np.clip(more, blo[:, None], bhi[:, None]).reshape(-1, q.shape[1])])
         lo = np.concatenate([lo, np.repeat(blo, SPREAD, axis=0)])
         hi = np.concatenate([hi, np.repeat(bhi, SPREAD, axis=0)])
+    return q, lo, hi
+
+
+def _descend(kin, pose: np.ndarray, q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple:
+    """(q, pose errors) after damped least-squares steps from each start, kept within its bounds
+    (a joint at its bound that the step would push past is held), the damping adapted per row."""
     target = np.repeat(pose[None], len(q), axis=0)
-    err = _error(target, _flange64(kin, q))
+    err = pose_error(target, flange64(kin, q))
     damping = np.full(len(q), 1e-6)
     dof = q.shape[1]
     for _ in range(STEPS):
         cost = np.sum(err ** 2, axis=1)
-        base = _flange64(kin, q)
-        steps = q[:, None, :] + 1e-7 * np.eye(dof)[None]
-        moved = _flange64(kin, steps.reshape(-1, dof)).reshape(len(q), dof, 4, 4)
-        jac = np.stack([(_error(target, base) - _error(target, moved[:, j])) / 1e-7 for j in range(dof)], axis=2)
+        jac = jacobian(kin, target, q, 1e-7)
         down = np.einsum("nij,ni->nj", jac, err)  # the way down: a joint at its bound pushed past it is held
         held = ((q <= lo + 1e-12) & (down < 0)) | ((q >= hi - 1e-12) & (down > 0))
         jac = jac * ~held[:, None, :]
         jt = np.swapaxes(jac, 1, 2)
         step = np.linalg.solve(jt @ jac + damping[:, None, None] * np.eye(dof), jt @ err[:, :, None])[:, :, 0]
         tried = np.clip(q + step, lo, hi)
-        new = _error(target, _flange64(kin, tried))
+        new = pose_error(target, flange64(kin, tried))
         better = np.sum(new ** 2, axis=1) < cost
         q[better], err[better] = tried[better], new[better]
         damping = np.where(better, np.maximum(damping * 0.1, 1e-10), damping * 10.0)
         if np.all(np.abs(err).max(axis=1) < 1e-12) or np.all(damping > 1e6):
             break
-    good = (np.abs(err[:, :3]).max(axis=1) <= SHOULDER_SLACK) & (np.abs(err[:, 3:]).max(axis=1) <= QUADRANT_SLACK)
-    if not good.any():
-        return None
-    best = q[good][int(np.argmin(np.sum(err[good] ** 2, axis=1)))]
-    have = kin.confdata(best[None])
-    if axis.centre(_flange64(kin, best[None]))[2][0] < SHOULDER_SLACK:  # on axis 1: either side of it
-        have[0, 3] = (have[0, 3] & 3) | (int(conf[3]) & 4)
-    if not conf_matches(best[None], have, conf, quadrant_axes(arm), wrist_axis(arm))[0]:
-        return None
-    return best, have[0]
+    return q, err
 
 
 def _straight(arm) -> float:

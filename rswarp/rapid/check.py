@@ -11,19 +11,16 @@ neither RAPID nor the task defines (an option's) are not checked: only that opti
 
 from __future__ import annotations
 
-import difflib
-
 from ..errors import Diagnostic, RsxmlError
 from . import nodes as n
 from . import words
 from .binding import ArgumentError, match_arguments
 from .errors import nearest
+from .functions import FUNCTIONS
 from .instructions import KNOWN
 from .moves import MOVES
 from .predefined import error_number
 from .task import Task
-
-_FUNCTIONS: set[str] = set()  # filled below: the functions rswarp evaluates
 
 
 def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
@@ -125,9 +122,9 @@ class _Routine:
                 self.problem(s.line, f"'{s.name}' is a {routine.kind.upper()}, not a procedure")
             self.arguments(routine, s.args, s.line)
         elif s.key not in KNOWN and words.word(s.key) is None:
-            near = difflib.get_close_matches(s.key, list(KNOWN) + list(self.routines), n=1, cutoff=0.8)
+            near = nearest(s.key, [*KNOWN, *self.routines])
             if near:
-                self.problem(s.line, f"unknown procedure '{s.name}' (did you mean {self._written(near[0])}?)")
+                self.problem(s.line, f"unknown procedure '{s.name}' (did you mean {self._written(near)}?)")
             return  # an option's instruction: only the option knows what its arguments name
         spec = MOVES.get(s.key) if routine is None else None
         count = sum(1 for a in s.args if not a.optional and a.name is None)
@@ -173,7 +170,7 @@ class _Routine:
             if routine.kind != "func":
                 self.problem(e.line, f"'{e.name}' is a {routine.kind.upper()}, not a function")
             self.arguments(routine, e.args, e.line)
-        elif words.word(e.key) is None and e.key not in _FUNCTIONS:
+        elif words.word(e.key) is None and e.key not in FUNCTIONS:
             return  # an option's function: only the option knows what its arguments name
         places = words.positions(e.key) if routine is None else ()
         index = 0
@@ -337,11 +334,3 @@ def _subexpressions(e) -> list:
         return list(e.items)
     return []
 
-
-def _evaluated() -> set[str]:
-    from .functions import FUNCTIONS
-
-    return set(FUNCTIONS)
-
-
-_FUNCTIONS.update(_evaluated())

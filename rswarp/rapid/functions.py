@@ -14,7 +14,7 @@ from . import byname, calibration, poses, strings, words
 from . import data as rd
 from .arguments import Arguments
 from .errors import fail, rapid_error
-from .live import Live, LiveValue
+from .live import Live, LiveValue, function_input
 from .values import Arr, Rec, describe, whole
 
 
@@ -248,12 +248,13 @@ def _clkread(interp, a: Arguments) -> float:
     return interp.clock_read(a.reference(0))
 
 
-def _live(interp, a: Arguments):
-    """A function whose value only the running cell has (a file, a socket, the operator): what
-    ``--input NAME=VALUE`` gives under its own name, else unknown."""
-    live = Live(a.name, None, interp.path, a.line)
-    text = interp.inputs.take(a.name)
-    return live if text is None else interp.given_text(text, a.name, a.line)
+def _unknown(why: str | None = None):
+    """A function whose value rswarp does not have (a live read's, ``why`` None; or as ``why``
+    says): what ``--input NAME=VALUE`` gives under its own name, else an unknown value."""
+    def run(interp, a: Arguments):
+        text = interp.inputs.take(a.name)
+        return Live(a.name, None, interp.path, a.line, why) if text is None else function_input(text)
+    return run
 
 
 def _unevaluated(key: str):
@@ -264,14 +265,9 @@ def _unevaluated(key: str):
         value = words.STATE_VALUES[key]
         return lambda interp, a: value
     if w is not None and w.handling == "live":
-        return _live
-    why = ("a function of RAPID's that rswarp does not compute offline:" if w is not None else
-           "a function neither the task nor RAPID defines (an option's, or a module's not in the task):")
-
-    def unknown(interp, a: Arguments):
-        text = interp.inputs.take(a.name)
-        return Live(a.name, None, interp.path, a.line, why) if text is None else interp.given_text(text, a.name, a.line)
-    return unknown
+        return _unknown()
+    return _unknown("a function of RAPID's that rswarp does not compute offline:" if w is not None else
+                    "a function neither the task nor RAPID defines (an option's, or a module's not in the task):")
 
 
 def _crossprod(interp, a: Arguments) -> Rec:
@@ -335,7 +331,7 @@ FUNCTIONS = {
     "taskrunmec": _N(True), "gettaskname": _N("T_ROB1"), "robname": _N("ROB_1"), "getmecunitname": _N("ROB_1"),
     "modexist": _N(True), "ispers": _N(False), "isvar": _N(True),
     "argname": lambda i, a: getattr(a.node(0), "name", ""),
-    "socketgetstatus": _N(0.0), "testandset": lambda i, a: _test_and_set(i, a),
+    "testandset": lambda i, a: _test_and_set(i, a),
     "crossprod": _crossprod, "type": _type, "maxrobspeed": lambda i, a: rd.TOP_TCP_SPEED,
     "orobt": lambda i, a: a.value(0, "robtarget"), "mirpos": lambda i, a: poses.mir_pos(
         a.value(0, "robtarget"), a.value(1, "wobjdata"), a.has("MirY")),
@@ -345,10 +341,6 @@ FUNCTIONS = {
 FUNCTIONS.update({f"{k}dnum": FUNCTIONS[k] for k in ("asin", "acos", "atan", "atan2", "sin", "cos", "tan", "bitand",
                                                       "bitcheck", "bitlsh", "bitneg", "bitor", "bitrsh", "bitxor",
                                                       "ginput", "goutput")})
-LIVE = {w: _live for w in ("readnum", "readstr", "readbin", "readmotor", "readstrbin", "readanybin", "readvar",
-                           "uinumentry", "uidnumentry", "uialphaentry", "uinumtune", "uidnumtune", "uilistview",
-                           "uimessagebox", "socketpeek", "isfile", "filesize", "fssize", "readdir")}
-FUNCTIONS.update(LIVE)
 
 
 def _defdframe(interp, a: Arguments) -> Rec:

@@ -26,7 +26,7 @@ from .expressions import Evaluator
 from .flow import ExitCycle, ExitTask, Goto, Returned
 from .functions import call_function
 from .instructions import clock_read, run_instruction
-from .live import Inputs, Live, LiveValue, NeedsInput, function_input, input_value
+from .live import Inputs, Live, LiveValue, NeedsInput, input_value
 from .motion import Cycle, Motion, NoRobot, Run
 from .predefined import predefined
 from .scope import PENDING, Cell, Frame, ModuleScope, replace
@@ -270,9 +270,6 @@ class Interpreter(Evaluator):
     def live_input(self, live: Live, name: str, type_: str, line: int):
         """What ``--input`` gives ``name`` for a live read stored there, else the read, unknown."""
         return input_value(self, live, name, type_, line)
-
-    def given_text(self, text: str, name: str, line: int):
-        return function_input(text)
 
     def target(self, node: n.Name, frame: Frame):
         """(cell, path, type) of an assignment's target or a reference argument."""

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .live import Live
 from .predefined import error_number
 from .values import Arr, Rec
 
@@ -80,7 +81,7 @@ def replace(root, path: tuple, value):
         return value
     if not isinstance(root, (Arr, Rec)):
         return root
-    if not isinstance(value, (Arr, Rec, float, bool, str, int, tuple, list)) and value.__class__.__name__ == "Live":
+    if value.__class__ is Live:
         return value
     head, rest = path[0], path[1:]
     if isinstance(root, Arr):

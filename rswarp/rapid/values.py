@@ -298,7 +298,7 @@ def describe(value) -> str:
         return f"the signal '{value.name}'"
     if isinstance(value, Opaque):
         return f"a {value.type}"
-    if value.__class__.__name__ == "Live":
+    if value.__class__.__name__ == "Live":  # live.py's; imported there, it would import this module back
         return "an unknown value (what a live read gives)"
     return "no value"
 

@@ -87,53 +87,71 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
                         poisson, friction, frame_rate, substeps, inputs, rated_cycles)
     mech, _ = load_mechanism(path)
     rated = rated_fatigue(rated_cycles, mech)
+    drawn, short = _drawn(mech, cable, vary, designs, seed)
+    k = drawn.cable
+    run_set = DesignSet(k, drawn.variables, np.delete(drawn.values, list(short), axis=0))
+    ratings = ratings_of(mech, opts)
+    check_cable_folder(out)
+    check_video_options(video, None, video_color, 1, out)
+    options = cable_options(mech, opts, device)
+    plan = _task_plan(path, programs, opts, warn)
+    trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
+    start = time.perf_counter()
+    run = simulate_cables(mech, trajectories, len(run_set), None, options, progress=progress,
+                          cluster=cluster_for(ray, device), designs=run_set)
+    seconds = time.perf_counter() - start
+    kept = [i for i in range(len(drawn)) if i not in short]
+    runs = design_runs(run)
+    rows = [_row(kept[i], run_set.values[i], r, k, trajectories, plan.moves, ratings) for i, r in enumerate(runs)]
+    rows = sorted(rows + [_short_row(i, drawn.values[i], why) for i, why in short.items()], key=lambda r: r.index)
+    keep = min_margin / 100.0
+    best = _best(rows, keep)
+    command = repeat_command(out, programs, opts, best.verdict == "PASS")
+    doc = _doc(mech, drawn, rows, best, seconds, command, ratings) | {"min_margin": keep}
+    _write(out, mech, drawn, rows, best, doc)
+    text = _text(mech, drawn, rows, best, seconds, plan, command, keep, rated)
+    if video is not None:
+        text += _video(mech, drawn, best, runs[kept.index(best.index)] if best.result is not None else None,
+                       trajectories, plan, doc, video, video_color, video_size)
+    return Output(doc, text)
+
+
+def _drawn(mech, cable: str | None, vary: list[str], designs: int, seed: int) -> tuple:
+    """(every design drawn, {index: why} of those too short to lay out); an InputError where all
+    are, or a design's rest shape crosses a link."""
     k = _cable_index(mech, cable)
     variables = parse_vary(_specs(vary), mech.cables[k])
     drawn = DesignSet(k, variables, sample(variables, designs, seed))
     mechs = drawn.mechanisms(mech)
     short = _too_short(mechs, k)
-    chosen = DesignSet(k, variables, np.delete(drawn.values, list(short), axis=0))
-    if not len(chosen):
+    if len(short) == len(drawn):
         raise InputError(f"--vary: every design's hose is shorter than the path through its control points (design "
                          f"1: {next(iter(short.values()))}); raise the length range")
     _check_inside(mech, k, [m for d, m in enumerate(mechs) if d not in short])
-    ratings = ratings_of(mech, opts)
-    check_cable_folder(out)
-    check_video_options(video, None, video_color, 1, out)
-    options = cable_options(mech, opts, device)
+    return drawn, short
+
+
+def _task_plan(path: str, programs: list[str], opts: SweepOptions, warn: Warn):
+    """The RAPID task's plan the designs run over; an error where it stops before its first move."""
     from .program import input_values, moved_before_stop, program_plan, signal_values
 
     _, plan = program_plan(path, programs, opts.routine, io=signal_values(opts.io), cycles=opts.cycles,
                            external_axes=opts.external_axes, warn=warn, limits=opts.limits,
-                           inputs=input_values(inputs))
+                           inputs=input_values(opts.inputs))
     moved_before_stop(plan)
-    trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
-    start = time.perf_counter()
-    run = simulate_cables(mech, trajectories, len(chosen), None, options, progress=progress,
-                          cluster=cluster_for(ray, device), designs=chosen)
-    seconds = time.perf_counter() - start
-    kept = [i for i in range(len(drawn)) if i not in short]
-    runs = design_runs(run)
-    rows = [_row(kept[i], chosen.values[i], r, k, trajectories, plan.moves, ratings) for i, r in enumerate(runs)]
-    rows = sorted(rows + [_short_row(i, drawn.values[i], why) for i, why in short.items()], key=lambda r: r.index)
-    chosen = drawn
-    keep = min_margin / 100.0
-    best = _best(rows, keep)
-    command = repeat_command(out, programs, opts, best.verdict == "PASS")
-    doc = _doc(mech, chosen, rows, best, seconds, command, ratings) | {"min_margin": keep}
-    _write(out, mech, chosen, rows, best, doc)
-    text = _text(mech, chosen, rows, best, seconds, plan, command, keep, rated)
-    if video is not None and best.result is None:  # not run (too short to lay out): nothing to show
-        text += f"\nvideo: none (design {best.index + 1} was not run)"
-    elif video is not None:
-        from .videos import cable_video
+    return plan
 
-        picked = design(mech, chosen.cable, chosen.variables, chosen.values[best.index])
-        doc["video"] = cable_video(picked, runs[kept.index(best.index)], trajectories, video, 0, video_color,
-                                   video_size, plan.moves, label=f"design {best.index + 1}") | {
-            "design": best.index + 1}
-        text += f"\nvideo: {video} (design {best.index + 1}, {doc['video']['frames']} frames)"
-    return Output(doc, text)
+
+def _video(mech, drawn, best, run, trajectories, plan, doc: dict, video: str, color: str, size: int) -> str:
+    """The chosen design's run rendered into ``video`` (``doc['video']``), and its line of text."""
+    if run is None:  # not run (too short to lay out): nothing to show
+        return f"\nvideo: none (design {best.index + 1} was not run)"
+    from .videos import cable_video
+
+    picked = design(mech, drawn.cable, drawn.variables, drawn.values[best.index])
+    doc["video"] = cable_video(picked, run, trajectories, video, 0, color, size, plan.moves,
+                               label=f"design {best.index + 1}") | {"design": best.index + 1}
+    return f"\nvideo: {video} (design {best.index + 1}, {doc['video']['frames']} frames)"
 
 
 def _cable_index(mech, name: str | None) -> int:
