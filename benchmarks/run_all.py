@@ -43,6 +43,7 @@ RUNS = {
     "bench_loops": ([], ["--n", "10000"]),
     "bench_check": ([], ["--sizes", "10000,100000"]),
     "bench_program": ([], ["--quick"]),
+    "bench_cycle": ([], []),
     "bench_preview": ([], ["--repeats", "1"]),
     "bench_video": ([], ["--seconds", "2"]),
     "bench_cable": ([], ["--quick"]),

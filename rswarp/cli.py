@@ -76,6 +76,18 @@ COMMANDS = {
 }
 
 
+# Commands that run a RAPID task and take --payload, a load carried on top of the tools' for the
+# whole run (cable and dresspack join once their run functions take ``payload``).
+PAYLOAD_COMMANDS = ("program",)
+
+
+def _payload(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--payload", metavar="KG[@x,y,z] | MODULE:NAME",
+                   help="a load carried on top of the tool's for the whole run, lowering the accelerations "
+                        "(docs/payload-timing.md): a mass with its centre of gravity in the flange's frame (in the "
+                        "file's length unit), or a RAPID tooldata's or loaddata's load (default: none)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from . import cli_options
 
@@ -91,6 +103,8 @@ def build_parser() -> argparse.ArgumentParser:
     for name, (entry, unit, text, shared) in COMMANDS.items():
         p = sub.add_parser(name, help=text, parents=[parents[s] for s in shared])
         getattr(cli_options, name)(p)
+        if name in PAYLOAD_COMMANDS:
+            _payload(p)
         p.set_defaults(entry=entry, unit=unit)
     parser.commands = sub.choices  # each command's parser, for its own usage errors
     return parser

@@ -9,7 +9,7 @@ import pytest
 
 import rswarp
 from rswarp import examples
-from rswarp.kinematics.trajectory import assign, random_trajectory, read_trajectory
+from rswarp.kinematics.trajectory import joint_speed_limits, assign, random_trajectory, read_trajectory
 
 from conftest import DATA
 
@@ -49,10 +49,11 @@ def test_random_trajectories_are_smooth_within_limits_and_speeds(irb1300):
     lower, upper = irb1300.bounds()
     assert t.duration == 20.0 and (q >= lower - 1e-12).all() and (q <= upper + 1e-12).all()
     speed = np.abs(np.diff(q, axis=0)) / np.diff(times)[:, None]
-    assert speed.max() <= np.radians(90) * 1.001  # the default joint speed limit
-    assert speed.max() > np.radians(30)  # and it moves
-    accel = np.abs(np.diff(speed, axis=0)).max() / np.diff(times).max()
-    assert accel < 50  # rad/s^2: no jumps in speed
+    top = joint_speed_limits(irb1300)  # the IRB 1300's robot data
+    assert (speed.max(axis=0) <= top * 1.001).all() and not np.allclose(top, np.radians(90))
+    assert (speed.max(axis=0) > top / 4).all()  # and it moves
+    accel = np.abs(np.diff(speed, axis=0)).max(axis=0) / np.diff(times).max()
+    assert (accel < 20 * top).all()  # no jumps in speed
     np.testing.assert_array_equal(random_trajectory(irb1300, 20.0, seed=3).at(times), q)  # reproducible
     assert not np.allclose(random_trajectory(irb1300, 20.0, seed=4).at(times), q)
 

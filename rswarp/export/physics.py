@@ -209,9 +209,12 @@ def _bodies(mech: Mechanism, parts: dict, options: PhysicsOptions, warnings: lis
         unit[link] = (mass, com, inertia)
     density = options.density
     volume = sum(u[0] for u in unit.values() if u is not None and u[0] > 0)
-    if options.mass is not None:
-        if not volume > 0:
+    if options.mass is not None and not volume > 0:
+        if options.mass_source in ("", "--mass"):
             raise InputError("--mass needs link meshes with volume; this model has none")
+        warnings.append(f"{options.mass_source}: the robot's {options.mass:g} kg not authored: no link mesh with "
+                        "volume to give it to")
+    elif options.mass is not None:
         density = options.mass / volume
     bodies = {}
     for link, u in unit.items():

@@ -59,6 +59,8 @@ class Step:
     turn: float = 0.0
     findings: list = field(default_factory=list)
     end_conf: tuple | None = None
+    head: float = 0.0  # a path's share speeding up out of the zone before it (0: it starts at a stop)
+    tail: float = 1.0  # the share from which it slows into the zone at its end (1: it ends at a stop)
     timed: object = None  # (t, q, share, zones.Ahead) the batch timed it at, or the TooLong it met
 
     def timing(self, compute):
@@ -314,8 +316,8 @@ def _follow(planner, m, p: Prepared) -> Step:
 
 def time_all(planner, steps: list[Step]) -> None:
     """Every step timed and sampled, in order: the joint moves' TCP paths posed in one batch,
-    the linear and circular moves timed together."""
-    joint = [s for s in steps if s.kind == "joint" and s.motion.duration is None and np.any(s.q1 != s.q0)]
+    the linear and circular moves timed together, then the joint moves."""
+    joint = [s for s in steps if s.kind == "joint" and np.any(s.q1 != s.q0)]
     tcp = {}
     if joint:
         q0, q1 = np.array([s.q0 for s in joint]), np.array([s.q1 for s in joint])
@@ -324,10 +326,35 @@ def time_all(planner, steps: list[Step]) -> None:
         flanges = flanges.reshape(len(joint), timing.JOINT_PROBES, 4, 4)  # at each's ``timing.joint_probes``
         poses = np.array([planner.world(s.motion, f) for s, f in zip(joint, flanges)])
         tcp = {id(s): path for s, path in zip(joint, timing_batch.tcp_paths(poses))}
+    _zone_ramps(steps, tcp)
     budget = [timing_batch.BATCH_SAMPLES]
-    timed = timing_batch.path_moves(steps, planner.limits, planner.rate, budget)
-    timed.update(timing_batch.joint_moves(steps, tcp, planner.limits, planner.rate, budget))
+    timed = timing_batch.path_moves(steps, planner.limits, planner.rate, budget, planner.load_factor)
+    timed.update(timing_batch.joint_moves(steps, tcp, planner.limits, planner.rate, budget, planner.load_factor))
     zone_batch.blends(steps, timed, tcp)
     for s in steps:
         s.timed = timed.get(id(s))
         planner.time_step(s, tcp.get(id(s)))
+
+
+def _zone_ramps(steps: list[Step], tcp: dict) -> None:
+    """Where a path move ends in a zone the next move blends into at once, the zone's share of its
+    way (cut to half of either move, as ``zones.overlap`` cuts it) is where it slows down from, and
+    the next path move speeds up over the same length, so the blend starts where the zone does."""
+    def length(s: Step) -> float:
+        if s.kind == "path":
+            return s.length if len(s.u) >= 2 else 0.0
+        found = tcp.get(id(s))
+        return found.length if s.kind == "joint" and found is not None else 0.0
+
+    for prev, nxt in zip(steps, steps[1:]):
+        zone = prev.motion.zone
+        if zone is None or zone.fine or prev.kind not in ("path", "joint") or nxt.kind not in ("path", "joint"):
+            continue
+        a, b = length(prev), length(nxt)
+        z = min(zone.pzone_tcp, a / 2, b / 2)
+        if z <= 0:
+            continue
+        if prev.kind == "path":
+            prev.tail = 1.0 - z / a
+        if nxt.kind == "path":
+            nxt.head = z / b

@@ -16,7 +16,7 @@ from ..rapid import data as rd
 from ..rapid.errors import fail
 from ..rapid.motion import Motion, Run
 from ..rsxml.robot_data import AxisLimits, axis_limits
-from . import misses, plan_steps, timing, zones
+from . import misses, plan_steps, timing, timing_batch, zones
 from . import targets as tg
 from .ik import ArmConstants
 from .shortfall import Shortfall
@@ -90,8 +90,10 @@ class Plan:
 class Planner:
     """Plans motions as the task makes them; what the interpreter asks of the robot."""
 
-    def __init__(self, kin, rate: float = timing.RATE, external_axes: str = "auto", limits: AxisLimits | None = None):
+    def __init__(self, kin, rate: float = timing.RATE, external_axes: str = "auto", limits: AxisLimits | None = None,
+                 load_scale=None):
         self.kin, self.mech, self.rate = kin, kin.mech, rate
+        self.load_scale = load_scale  # (tool's load, GripLoad's) -> per-axis acceleration factors, or None
         self.ignore_external = external_axes == "ignore"
         self.strict_external = external_axes == "error"
         self.ignored: dict = {}  # external axis -> [targets, lowest, highest, file, line]: values ignored
@@ -177,12 +179,13 @@ class Planner:
                 t = np.array([m.seconds]) if m.seconds > 0 else np.zeros(0)
                 return self._append(m, t, np.repeat(s.q0[None], len(t), axis=0), [])
             if s.kind == "joint":
-                t, seg, share = s.timing(lambda: timing.joint_move(s.q0, s.q1, m, self.limits, self.rate, tcp))
+                t, seg, share = s.timing(lambda: timing_batch.joint_move(s, tcp, self.limits, self.rate,
+                                                                          self.load_factor))
                 piece = zones.jointed(t, seg, share, s.q0, tcp, s.ahead) if tcp is not None and len(t) else None
                 return self._append(m, t, seg, [], piece)
             if len(s.u) < 2:
                 return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
-            t, seg, share = s.timing(lambda: timing.path_move(s.u, s.q, s.length, s.turn, m, self.limits, self.rate))
+            t, seg, share = s.timing(lambda: timing_batch.path_move(s, self.limits, self.rate, self.load_factor))
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
         piece = zones.straight(t, seg, share, s.q0, s.length, s.turn, s.ahead) if len(t) else None
@@ -238,6 +241,13 @@ class Planner:
                                               "the value: so does rswarp (--external-axes error refuses them)",
                                   "warning"))
         return out
+
+    def load_factor(self, m: Motion):
+        """The per-axis acceleration factors of the load the move carries (None: the arm's own)."""
+        if self.load_scale is None or m.kind == "wait":
+            return None
+        tool = m.tool.load if m.tool is not None and m.tool.robhold else None
+        return self.load_scale(tool, getattr(m, "load", None))
 
     def note(self, m: Motion, message: str) -> None:
         self.notes.append(Diagnostic(m.file, m.line, message, "warning"))

@@ -1,15 +1,18 @@
-"""How long a move takes and where the robot is meanwhile: rswarp's timing model (ABB's planner
-is not public; docs/program.md states the model).
+"""How long a move takes and where the robot is meanwhile (ABB's planner is not public; the
+field's time-optimal planners stand in for it, docs/program.md states the model).
 
-- A joint move (MoveJ, MoveAbsJ) interpolates in joint space, all axes synchronized, on a
-  trapezoid that reaches its top speed in ``ACCEL_TIME`` (longer under AccSet): the highest that
-  keeps every axis within its speed, the TCP within v_tcp and its turn within v_ori.
+- A joint move (MoveJ, MoveAbsJ) goes rest to rest as Ruckig times it: each axis's least time
+  under its speed, acceleration and jerk (``scurve``), the slowest axis's time for all, every axis
+  finishing with it; on the straight line in joint space where the axes can share the slowest
+  one's profile (phase-synchronized), each on its own profile of that time where they cannot. The
+  TCP's path at v_tcp and its turn at v_ori cap each axis's speed.
 - A linear or circular move keeps the TCP on its line or circle, the orientation slerped: the
-  path is probed every ``PROBE_STEP`` and solved there, the speed along it is the least of v_tcp,
-  v_ori and, probe by probe, what keeps every axis within its speed; it speeds up and slows down
-  at a constant rate, so only the stretch that needs it (near a singularity, say) is slow.
-- Every move starts and ends at rest; VelSet scales the speeds, ``\\V`` sets the TCP's, ``\\T``
-  the move's time."""
+  path is probed every ``PROBE_STEP`` and solved there, and timed as TOPP-RA times a path
+  (``topp``): as fast as every axis's speed and acceleration allow, the TCP within v_tcp and its
+  turn within v_ori, so only the stretch that needs it (near a singularity, say) is slow.
+- Every move starts and ends at rest; VelSet scales the speeds, AccSet the accelerations (and its
+  ramp the jerks), ``\\V`` sets the TCP's speed, ``\\T`` the move's time (the profile slowed
+  evenly to it, where the axes allow it)."""
 
 from __future__ import annotations
 
@@ -17,10 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import scurve
 from .paths import turn_between
 
 RATE = 250.0  # samples per second of the trajectory
-ACCEL_TIME = 0.25  # s: a move reaches its top speed in this time (AccSet 100 %)
 PROBE_STEP = 0.002  # m of the TCP's path between probes of a linear or circular move
 PROBE_TURN = 0.02  # rad of its turn between probes
 MIN_PROBES = 16  # so a short move speeds up and slows down between its probes
@@ -28,24 +31,7 @@ MAX_PROBES = 4000
 STILL = 1e-7  # m and rad: a linear move this short is the robot staying where it is
 JOINT_PROBES = 64  # probes of a joint move's TCP path, to measure its length and turn
 MAX_SAMPLES = 2_000_000  # samples of one move (over two hours at 250 a second)
-
-
-def profile(duration: float, t: np.ndarray, ta: float) -> np.ndarray:
-    """The trapezoid's path parameter in [0, 1] at times ``t`` of a move of ``duration`` that
-    speeds up over ``ta``."""
-    ta = min(ta, duration / 2)
-    v = 1.0 / (duration - ta)
-    t = np.clip(t, 0.0, duration)
-    s = np.where(t < ta, 0.5 * v / ta * t ** 2, v * (t - ta / 2))
-    tail = duration - t
-    return np.where(t > duration - ta, 1.0 - 0.5 * v / ta * tail ** 2, s)
-
-
-def duration_for(cruise: float, ta: float) -> float:
-    """The duration of a trapezoid whose cruise alone takes ``cruise`` seconds."""
-    if cruise <= 0:
-        return 0.0
-    return cruise + ta if cruise >= ta else 2.0 * np.sqrt(cruise * ta)
+SHARED = 1e-9  # relative slack of the limits an axis meets on the slowest axis's profile
 
 
 class TooLong(ValueError):
@@ -83,72 +69,6 @@ def tcp_path(poses: np.ndarray) -> TcpPath:
     return TcpPath(poses, gone, float(steps.sum()), turn_between(poses[0, :3, :3], poses[-1, :3, :3]))
 
 
-def joint_move(q0: np.ndarray, q1: np.ndarray, motion, limits, rate: float, tcp: TcpPath | None):
-    r"""(times, q, progress) of a synchronized joint move from q0 to q1: one trapezoid in the
-    share of the way, as fast as every axis's speed and acceleration (``limits``) allow, the TCP
-    within v_tcp and its turn within v_ori; ``tcp``: the TCP's path (``TcpPath``) at its
-    ``joint_probes`` (None with ``\T``, which sets the time)."""
-    if not np.any(q1 != q0):
-        return np.zeros(0), np.zeros((0, len(q0))), np.zeros(0)
-    d = np.abs(q1 - q0)
-    moving = d > 0
-    top = float(np.min(limits.velocity[moving] * motion.override / d[moving]))  # share of the way a second
-    accel = float(np.min(limits.acceleration[moving] * motion.accel / d[moving]))  # a second squared
-    axes_top = top
-    if tcp is not None:
-        v_tcp, v_ori = tcp_speeds(motion)
-        top = min(top, v_tcp / tcp.length if tcp.length > 0 else np.inf, v_ori / tcp.turn if tcp.turn > 0 else np.inf)
-    if motion.duration is None:
-        duration, ta = trapezoid(top, accel)
-    else:  # \T: that time, where the axes allow it
-        duration = max(given_time(motion), trapezoid(axes_top, accel)[0])
-        ta = min(ACCEL_TIME / motion.accel, duration / 2)
-    t = samples(duration, rate)
-    s = profile(duration, t, ta)
-    return t, q0 + s[:, None] * (q1 - q0), s
-
-
-def trapezoid(top: float, accel: float) -> tuple[float, float]:
-    """(duration, ramp time) of the quickest rest-to-rest move over the whole way (1) at a
-    speed of at most ``top`` and an acceleration of at most ``accel`` (per second, squared)."""
-    ta = top / accel
-    if top * ta >= 1.0:  # no cruise: a triangle
-        ta = float(np.sqrt(1.0 / accel))
-        return 2.0 * ta, ta
-    return 1.0 / top + ta, ta
-
-
-def path_move(u: np.ndarray, q: np.ndarray, length: float, turn: float, motion, limits, rate: float):
-    """(times, q, progress) of a linear or circular move solved at probes ``u`` (joints ``q``) of
-    a path of ``length`` (m) and ``turn`` (rad): the speed curve's times, sampled at ``rate``."""
-    u, q = split_single(u, q)
-    speeds, axis_accel = limits.velocity * motion.override, limits.acceleration * motion.accel
-    if motion.duration is None:
-        v_tcp, v_ori = tcp_speeds(motion)
-        nominal = min(v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
-        accel = nominal * motion.accel / ACCEL_TIME
-    else:  # \T replaces the speed data: a trapezoid of that time, where the axes and VelSet allow it
-        total = given_time(motion)
-        ta = min(ACCEL_TIME / motion.accel, total / 2)
-        nominal = 1.0 / (total - ta)
-        accel = nominal / ta
-        # the probes round the trapezoid: its time on them, to be taken out
-        free = np.full_like(speeds, np.inf)
-        rounded = path_times(u, speed_curve(u, q, nominal, free, accel, free))[-1]
-        if motion.vmax is not None and length > 0:
-            nominal = min(nominal, motion.vmax / length)
-            accel = nominal / ta
-    v = speed_curve(u, q, nominal, speeds, accel, axis_accel)
-    at_probe = path_times(u, v)
-    if motion.duration is not None:
-        at_probe = at_probe * (total / rounded)
-    t = samples(float(at_probe[-1]), rate)
-    along = np.interp(t, at_probe, u)
-    k = np.clip(np.searchsorted(u, along, side="right"), 1, len(u) - 1)  # along lies in [u[k-1], u[k]]
-    w = ((along - u[k - 1]) / (u[k] - u[k - 1]))[:, None]
-    return t, q[k - 1] * (1.0 - w) + q[k] * w, along
-
-
 def split_single(u: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """A path of two probes (one cut at its second by a limit) with a third between them, the
     joints halfway: the robot starts and stops at rest, so it speeds up to the middle and slows
@@ -177,38 +97,84 @@ def tcp_speeds(motion) -> tuple[float, float]:
     return v_tcp, motion.speed.v_ori * motion.override
 
 
-def speed_curve(u: np.ndarray, q: np.ndarray, nominal: float, speeds: np.ndarray, accel: float,
-                axis_accel: np.ndarray) -> np.ndarray:
-    """The path speed (du/dt) at each probe ``u`` (joints ``q``): at most ``nominal``, at most what
-    keeps each axis within ``speeds``, from rest to rest with at most ``accel`` (du/dt²) and what
-    keeps each axis within ``axis_accel``: the least of the limit curve and its forward and
-    backward accelerations."""
-    dq = np.empty_like(q)  # central differences, one-sided at the ends
-    if len(u) > 1:
-        dq[1:-1] = (q[2:] - q[:-2]) / (u[2:] - u[:-2])[:, None]
-        dq[0] = (q[1] - q[0]) / (u[1] - u[0])
-        dq[-1] = (q[-1] - q[-2]) / (u[-1] - u[-2])
-    else:
-        dq[:] = 0.0
-    slope = np.maximum(np.abs(dq), 1e-300)
-    with np.errstate(divide="ignore"):
-        joint = np.min(speeds / slope, axis=1)
-        a = np.minimum(accel, np.min(axis_accel / slope, axis=1))  # du/dt² each probe allows
-    w = np.minimum(nominal, joint) ** 2
-    w[0] = w[-1] = 0.0
-    # v² grows by at most 2 a du from probe to probe, forward from the start and back from the end
-    step = 2.0 * np.minimum(a[1:], a[:-1]) * np.diff(u)
-    up = np.concatenate([[0.0], np.cumsum(step)])
-    forward = up + np.minimum.accumulate(w - up)
-    backward = -up + np.minimum.accumulate((w + up)[::-1])[::-1]
-    return np.sqrt(np.maximum(np.minimum(forward, backward), 0.0))
+def share_caps(motions, length: np.ndarray, turn: np.ndarray) -> np.ndarray:
+    """Each move's top speed along its way (share of the way a second): the TCP's path at v_tcp and
+    its turn at v_ori; with ``\\T`` (which replaces the speed data) VelSet's top speed alone."""
+    out = np.full(len(motions), np.inf)
+    for k, m in enumerate(motions):
+        if m.duration is None:
+            v_tcp, v_ori = tcp_speeds(m)
+            out[k] = min(v_tcp / length[k] if length[k] > 0 else np.inf, v_ori / turn[k] if turn[k] > 0 else np.inf)
+        elif m.vmax is not None and length[k] > 0:
+            out[k] = m.vmax / length[k]
+    return out
 
 
-def path_times(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """The time at each probe of a path travelled at speeds ``v`` (du/dt, constant acceleration
-    between probes)."""
-    mean = 0.5 * (v[1:] + v[:-1])
-    dt = np.diff(u) / np.maximum(mean, 1e-12)
-    return np.concatenate([[0.0], np.cumsum(dt)])
+def move_limits(motions, limits, factors: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each move's axis speeds, accelerations and jerks (M, dof): the robot's under VelSet's
+    override, AccSet's acceleration and ramp, and the load's ``factors`` (M, dof) where given."""
+    override = np.array([m.override for m in motions])[:, None]
+    accel = np.array([m.accel for m in motions])[:, None]
+    ramp = np.array([m.ramp for m in motions])[:, None]
+    load = 1.0 if factors is None else factors
+    return (limits.velocity[None, :] * override, limits.acceleration[None, :] * accel * load,
+            limits.jerks()[None, :] * ramp * load)
 
 
+@dataclass(frozen=True)
+class JointProfiles:
+    """Joint moves' rest-to-rest profiles (M moves, dof axes): each move's duration, each axis's
+    way (signed), cruise speed, acceleration and jerk, the slowest axis (``lead``) and whether
+    the axes share its profile (``phased``: on the straight line in joint space)."""
+
+    duration: np.ndarray
+    way: np.ndarray
+    cruise: np.ndarray
+    accel: np.ndarray
+    jerk: np.ndarray
+    lead: np.ndarray
+    phased: np.ndarray
+
+
+def joint_profiles(q0: np.ndarray, q1: np.ndarray, motions, limits, caps: np.ndarray,
+                   factors: np.ndarray | None = None) -> JointProfiles:
+    """Ruckig's time-synchronized profiles of joint moves from ``q0`` to ``q1`` (M, dof): the
+    slowest axis's least time (at least a ``\\T``), each axis's speed capped by the move's
+    ``caps`` (share of the way a second)."""
+    v, a, j = move_limits(motions, limits, factors)
+    way = q1 - q0
+    dist = np.abs(way)
+    with np.errstate(invalid="ignore"):
+        v = np.where(dist > 0, np.minimum(v, caps[:, None] * dist), v)
+    least = scurve.min_time(dist, v, a, j)
+    rows, lead = np.arange(len(way)), np.argmax(least, axis=1)
+    given = np.array([given_time(m) if m.duration is not None else 0.0 for m in motions])
+    duration = np.maximum(least[rows, lead], given)
+    d_l, v_l, a_l, j_l = dist[rows, lead], v[rows, lead], a[rows, lead], j[rows, lead]
+    c_l = scurve.cruise_for(d_l, v_l, a_l, j_l, duration)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(d_l[:, None] > 0, dist / d_l[:, None], 0.0)
+    top = 1.0 + SHARED
+    peak = np.minimum(a_l, np.sqrt(c_l * j_l))
+    phased = np.all((r * c_l[:, None] <= v * top) & (r * peak[:, None] <= a * top) & (r * j_l[:, None] <= j * top),
+                    axis=1)
+    own = scurve.cruise_for(dist, v, a, j, duration[:, None])
+    cruise = np.where(phased[:, None], r * c_l[:, None], own)
+    return JointProfiles(duration, way, cruise, np.where(phased[:, None], r * a_l[:, None], a),
+                         np.where(phased[:, None], r * j_l[:, None], j), lead, phased)
+
+
+def joint_positions(p: JointProfiles, row: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(way gone (S, dof), share of the slowest axis's way) at times ``t`` of moves ``row``."""
+    lead = p.lead[row]
+    d_l = np.abs(p.way[row, lead])
+    at = scurve.position(t, d_l, p.cruise[row, lead], p.accel[row, lead], p.jerk[row, lead], p.duration[row])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        share = np.where(d_l > 0, at / d_l, 1.0)
+    gone = share[:, None] * p.way[row]
+    own = ~p.phased[row]
+    if own.any():  # axes each on its own profile of the move's time
+        r, tt = row[own], t[own][:, None]
+        gone[own] = np.sign(p.way[r]) * scurve.position(tt, np.abs(p.way[r]), p.cruise[r], p.accel[r], p.jerk[r],
+                                                        p.duration[r][:, None])
+    return gone, share

@@ -15,63 +15,76 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import timing, zones
+from . import timing, topp, zones
 
 BATCH_SAMPLES = 5_000_000  # samples timed at once (a trajectory's most): moves past them are timed one by one
 
 
-def path_moves(steps, limits, rate: float, budget: list | None = None) -> dict:
-    """{id(step): (t, q, share) or TooLong} of the linear and circular steps timed by their
-    speed data; ``budget``: [samples left to time at once] (moves past it are left out)."""
+def path_moves(steps, limits, rate: float, budget: list | None = None, factor=None) -> dict:
+    """{id(step): (t, q, share, ramps) or TooLong} of the linear and circular steps; ``budget``:
+    [samples left to time at once] (moves past it are left out); ``factor(motion)``: its load's
+    per-axis acceleration factors (or None)."""
     budget = [BATCH_SAMPLES] if budget is None else budget
     buckets: dict = {}
     for s in steps:
-        if s.kind == "path" and len(s.u) >= 2 and s.motion.duration is None:
+        if s.kind == "path" and len(s.u) >= 2:
             buckets.setdefault(bucket_size(max(len(s.u), 3)), []).append(s)  # two probes get a third
     out: dict = {}
     for size, group in buckets.items():
-        _path_bucket(group, size, limits, rate, out, budget)
+        _path_bucket(group, size, limits, rate, out, budget, _factors(group, factor))
     return out
 
 
-def joint_moves(steps, tcp: dict, limits, rate: float, budget: list | None = None) -> dict:
-    """{id(step): (t, q, share) or TooLong} of the joint steps with a TCP path in ``tcp`` (those
-    timed by their speed data), ``timing.joint_move`` of each; ``budget`` as ``path_moves``'."""
-    group = [s for s in steps if s.kind == "joint" and id(s) in tcp]
+def joint_moves(steps, tcp: dict, limits, rate: float, budget: list | None = None, factor=None) -> dict:
+    """{id(step): (t, q, share, ramps) or TooLong} of the joint steps that move, timed by
+    ``timing.joint_profiles``; ``tcp``: their TCP paths (``TcpPath``) where measured; ``budget``
+    and ``factor`` as ``path_moves``'."""
+    group = [s for s in steps if s.kind == "joint" and np.any(s.q1 != s.q0)]
     out: dict = {}
     if not group:
         return out
     q0, q1 = np.array([s.q0 for s in group]), np.array([s.q1 for s in group])
-    motions, paths = [s.motion for s in group], [tcp[id(s)] for s in group]
-    d = np.abs(q1 - q0)
-    moving = d > 0
-    override, accel_set = np.array([m.override for m in motions]), np.array([m.accel for m in motions])
-    v_tcp, v_ori = np.array([timing.tcp_speeds(m) for m in motions]).T
-    length, turn = np.array([p.length for p in paths]), np.array([p.turn for p in paths])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        top = np.where(moving, limits.velocity * override[:, None] / d, np.inf).min(axis=1)
-        accel = np.where(moving, limits.acceleration * accel_set[:, None] / d, np.inf).min(axis=1)
-        top = np.minimum(top, np.minimum(np.where(length > 0, v_tcp / length, np.inf),
-                                         np.where(turn > 0, v_ori / turn, np.inf)))
-    ta = top / accel  # ``timing.trapezoid``
-    triangle = top * ta >= 1.0
-    ta = np.where(triangle, np.sqrt(1.0 / accel), ta)
-    duration = np.where(triangle, 2.0 * ta, 1.0 / top + ta)
-    grid = Grid(duration, rate, [BATCH_SAMPLES] if budget is None else budget)
-    share = _trapezoids(grid, duration, np.minimum(ta, duration / 2))
-    q = q0[grid.row] + share[:, None] * (q1 - q0)[grid.row]
-    grid.hand_out(group, out, q, share)
+    motions, paths = [s.motion for s in group], [tcp.get(id(s)) for s in group]
+    length = np.array([p.length if p is not None else 0.0 for p in paths])
+    turn = np.array([p.turn if p is not None else 0.0 for p in paths])
+    prof = timing.joint_profiles(q0, q1, motions, limits, timing.share_caps(motions, length, turn),
+                                 _factors(group, factor))
+    grid = Grid(prof.duration, rate, [BATCH_SAMPLES] if budget is None else budget)
+    gone, share = timing.joint_positions(prof, grid.row, grid.t)
+    grid.hand_out(group, out, q0[grid.row] + gone, share)
     return out
 
 
-def _trapezoids(grid: "Grid", duration: np.ndarray, ta: np.ndarray) -> np.ndarray:
-    """``timing.profile`` of each move's samples (its ramp ``ta`` already at most half its time)."""
-    d, ta = duration[grid.row], ta[grid.row]
-    v = 1.0 / (d - ta)
-    t = np.clip(grid.t, 0.0, d)
-    s = np.where(t < ta, 0.5 * v / ta * t ** 2, v * (t - ta / 2))
-    tail = d - t
-    return np.where(t > d - ta, 1.0 - 0.5 * v / ta * tail ** 2, s)
+def _factors(group, factor) -> np.ndarray | None:
+    """The steps' load factors (M, dof), or None where no step carries a load."""
+    if factor is None:
+        return None
+    found = [factor(s.motion) for s in group]
+    if all(f is None for f in found):
+        return None
+    dof = len(group[0].q0)
+    return np.array([np.ones(dof) if f is None else f for f in found])
+
+
+def joint_move(step, tcp, limits, rate: float, factor=None):
+    """(t, q, share) of one joint step, as ``joint_moves`` times it in a batch."""
+    if not np.any(step.q1 != step.q0):
+        return np.zeros(0), np.zeros((0, len(step.q0))), np.zeros(0)
+    found = joint_moves([step], {id(step): tcp} if tcp is not None else {}, limits, rate, [timing.MAX_SAMPLES + 1],
+                        factor)[id(step)]
+    return _raised(found)
+
+
+def path_move(step, limits, rate: float, factor=None):
+    """(t, q, share) of one linear or circular step, as ``path_moves`` times it in a batch."""
+    found = path_moves([step], limits, rate, [timing.MAX_SAMPLES + 1], factor)[id(step)]
+    return _raised(found)
+
+
+def _raised(found):
+    if isinstance(found, Exception):
+        raise found
+    return found[:3]
 
 
 def tcp_paths(poses: np.ndarray) -> list:
@@ -92,24 +105,25 @@ def bucket_size(n: int) -> int:
     return -(-n // grain) * grain
 
 
-def _path_bucket(group: list, size: int, limits, rate: float, out: dict, budget: list) -> None:
-    """Steps of at most ``size`` probes each, timed in (moves, size) arrays."""
+def _path_bucket(group: list, size: int, limits, rate: float, out: dict, budget: list, factors) -> None:
+    """Steps of at most ``size`` probes each, timed together (``topp.path_speeds``) and sampled in
+    (moves, size) arrays; a ``\\T`` move's profile slowed evenly to its time."""
     split = [timing.split_single(s.u, s.q) for s in group]
     n = np.array([len(u) for u, _ in split])
-    u_all = _padded(np.concatenate([u for u, _ in split]), n, size)
-    q_all = _padded(np.concatenate([q for _, q in split]), n, size)
+    u_flat, q_flat = np.concatenate([u for u, _ in split]), np.concatenate([q for _, q in split])
     motions = [s.motion for s in group]
-    v_tcp, v_ori = np.array([timing.tcp_speeds(m) for m in motions]).T
     length, turn = np.array([s.length for s in group]), np.array([s.turn for s in group])
-    accel_set, override = np.array([m.accel for m in motions]), np.array([m.override for m in motions])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        nominal = np.minimum(np.where(length > 0, v_tcp / length, np.inf), np.where(turn > 0, v_ori / turn, np.inf))
-    accel = nominal * accel_set / timing.ACCEL_TIME
-    speeds = limits.velocity[None, :] * override[:, None]
-    axis_accel = limits.acceleration[None, :] * accel_set[:, None]
-    v = speed_curves(u_all, q_all, n, nominal, speeds, accel, axis_accel)
-    at_probe = path_times(u_all, v)
-    grid = Grid(at_probe[np.arange(len(group)), n - 1], rate, budget)
+    speeds, accels, _ = timing.move_limits(motions, limits, factors)
+    t = topp.path_times(u_flat, q_flat, n, timing.share_caps(motions, length, turn), speeds, accels,
+                        np.array([s.head for s in group]), np.array([s.tail for s in group]))
+    u_all, q_all, at_probe = _padded(u_flat, n, size), _padded(q_flat, n, size), _padded(t, n, size)
+    rows = np.arange(len(group))
+    given = np.array([timing.given_time(m) if m.duration is not None else 0.0 for m in motions])
+    optimal = at_probe[rows, n - 1]
+    slow = given > optimal
+    if slow.any():
+        at_probe[slow] *= (given[slow] / optimal[slow])[:, None]
+    grid = Grid(at_probe[rows, n - 1], rate, budget)
     along = grid.interp(at_probe, u_all, n)
     k = grid.row_index(u_all, n, along)  # along lies in [u[k-1], u[k]]
     lo, hi = u_all[grid.row, k - 1], u_all[grid.row, k]
@@ -212,53 +226,3 @@ class Grid:
                 continue
             lo, hi = self.first[r], self.first[r] + self.count[r]
             out[id(s)] = (self.t[lo:hi], q[lo:hi], share[lo:hi], (float(ramp_in[r]), float(ramp_out[r])))
-
-
-def speed_curves(u: np.ndarray, q: np.ndarray, n: np.ndarray, nominal: np.ndarray, speeds: np.ndarray,
-                 accel: np.ndarray, axis_accel: np.ndarray) -> np.ndarray:
-    """``timing.speed_curve`` of each row: probes ``u`` (M, N) and joints ``q`` (M, N, dof), the
-    first ``n`` of each row its own (the rest repeat its last); per row ``nominal``, ``accel``
-    (M,), ``speeds`` and ``axis_accel`` (M, dof). Padded probes have speed 0. An axis at a time:
-    the least over the axes is the same whatever their order."""
-    rows, last = np.arange(len(u)), n - 1
-    pad = np.arange(u.shape[1])[None, :] > last[:, None]
-    span = np.empty_like(u)  # the du of each probe's difference: central, one-sided at the ends
-    span[:, 1:-1] = u[:, 2:] - u[:, :-2]
-    span[:, 0], span[:, -1] = u[:, 1] - u[:, 0], 1.0  # (the last column is set apart)
-    joint, a = np.full(u.shape, np.inf), np.full(u.shape, np.inf)
-    for c in range(q.shape[2]):
-        col = np.ascontiguousarray(q[:, :, c])
-        dq = np.empty_like(col)
-        dq[:, 1:-1] = col[:, 2:] - col[:, :-2]
-        dq[:, 0] = col[:, 1] - col[:, 0]
-        dq[rows, last] = col[rows, last] - col[rows, last - 1]
-        with np.errstate(divide="ignore", invalid="ignore"):  # the padding's zero steps
-            dq /= span
-            dq[rows, last] = (col[rows, last] - col[rows, last - 1]) / (u[rows, last] - u[rows, last - 1])
-        dq[pad] = 0.0
-        slope = np.maximum(np.abs(dq, out=dq), 1e-300, out=dq)
-        with np.errstate(divide="ignore"):
-            np.minimum(joint, speeds[:, c, None] / slope, out=joint)
-            np.minimum(a, axis_accel[:, c, None] / slope, out=a)
-    np.minimum(accel[:, None], a, out=a)
-    w = np.minimum(nominal[:, None], joint) ** 2
-    w[:, 0] = 0.0
-    w[rows, last] = 0.0
-    w[pad] = np.inf  # never the least of the backward pass
-    step = 2.0 * np.minimum(a[:, 1:], a[:, :-1]) * np.diff(u, axis=1)
-    up = np.zeros_like(u)
-    np.cumsum(step, axis=1, out=up[:, 1:])
-    forward = up + np.minimum.accumulate(w - up, axis=1)
-    backward = -up + np.minimum.accumulate((w + up)[:, ::-1], axis=1)[:, ::-1]
-    v = np.sqrt(np.maximum(np.minimum(forward, backward), 0.0))
-    v[pad] = 0.0
-    return v
-
-
-def path_times(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``timing.path_times`` of each row (padded probes add no time)."""
-    mean = 0.5 * (v[:, 1:] + v[:, :-1])
-    dt = np.diff(u, axis=1) / np.maximum(mean, 1e-12)
-    out = np.zeros_like(u)
-    np.cumsum(dt, axis=1, out=out[:, 1:])
-    return out

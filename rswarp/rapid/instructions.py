@@ -1,6 +1,6 @@
 """RAPID's built-in instructions: motion (``moves``), waits, the motion settings (ConfJ, ConfL,
-AccSet, VelSet, SingArea), data (Incr, Add, Clear, data by name), signals (SetDO and kin, kept in
-the run's signal table), clocks, ExitCycle and CallByVar. The rest is as the word table
+AccSet, VelSet, SingArea, GripLoad), data (Incr, Add, Clear, data by name), signals (SetDO and
+kin, kept in the run's signal table), clocks, ExitCycle and CallByVar. The rest is as the word table
 (``words``) says: an instruction that cannot change the motion (TPWrite, file and socket I/O,
 interrupts) runs as nothing, silently; a live read (SocketReceive, TPReadNum, ...) stores what
 ``--input`` gives, else an unknown value; one that could change the motion and is not modelled
@@ -9,13 +9,16 @@ neither RAPID nor the task defines (an option's, a module's not in the task)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from . import byname, words
+from . import data as rd
 from . import nodes as n
 from .arguments import Arguments
 from .errors import fail
 from .flow import ExitCycle
 from .live import Live
-from .moves import MOVES, run_move, wait
+from .moves import MOVES, NO_LOAD_KG, HeldLoad, run_move, wait
 from .nodes import written
 from .scope import Cell
 
@@ -157,6 +160,17 @@ def _velset(interp, a: Arguments, s, frame) -> None:
     interp.state["override"], interp.state["vmax"] = override / 100.0, vmax / 1000.0
 
 
+def _gripload(interp, a: Arguments, s, frame) -> None:
+    """GripLoad: the payload the robot holds from here on, which lowers its accelerations (kept in
+    the state each move reads); ``load0`` (or any load of at most its mass) disconnects it."""
+    a.need(1)
+    name = written(a.node(0))
+    load = a.si(rd.load, a.value(0, "loaddata"), f"the loaddata '{name}'")
+    source = f"GripLoad {name} at {Path(interp.path).name}:{s.line}"
+    held = HeldLoad(load.mass, load.cog, load.inertia, load.aom, source) if load.mass > NO_LOAD_KG else None
+    interp.state["grip_load"] = held
+
+
 def _data(op: str):
     def run(interp, a: Arguments, s, frame) -> None:
         a.need(1 if op in ("incr", "decr", "clear") else 2)
@@ -234,7 +248,7 @@ def _sync(on: bool | None):
 _HANDLERS = {
     "waittime": _waittime, "waitdi": _wait_signal, "waitdo": _wait_signal, "waitai": _wait_signal,
     "waitao": _wait_signal, "waitgi": _wait_signal, "waitgo": _wait_signal, "waituntil": _wait_until,
-    "confj": _conf("conf_j"), "confl": _conf("conf_l"), "accset": _accset, "velset": _velset,
+    "confj": _conf("conf_j"), "confl": _conf("conf_l"), "accset": _accset, "velset": _velset, "gripload": _gripload,
     "incr": _data("incr"), "decr": _data("decr"), "add": _data("add"), "clear": _data("clear"),
     "clkstart": _clock("start"), "clkstop": _clock("stop"), "clkreset": _clock("reset"),
     "exitcycle": _exit_cycle, "callbyvar": _call_by_var, "stop": _stop, "break": _stop, "bookerrno": _book_error,

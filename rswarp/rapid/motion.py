@@ -20,7 +20,9 @@ class Motion:
     ...), circular (MoveC, ...; ``targets`` the circle point, then the end), absolute (MoveAbsJ)
     or wait (``seconds`` at rest). ``conf``: whether the configuration is checked (ConfJ/ConfL).
     ``accel`` and ``ramp`` (AccSet), ``override`` and ``vmax`` (VelSet, m/s) scale the timing;
-    ``duration`` is a move's ``\\T``. ``cycle`` counts the passes of the task's main loop."""
+    ``duration`` is a move's ``\\T``. ``cycle`` counts the passes of the task's main loop. ``load``:
+    the payload GripLoad connected (in the flange's frame, tool0), which lowers the accelerations;
+    the tool's own load is ``tool.load``."""
 
     kind: str
     instruction: str
@@ -43,6 +45,7 @@ class Motion:
     seconds: float = 0.0
     cycle: int = 0
     declared: tuple[str, ...] = ()  # per target, "file:line" of the data it is or is built from ("" inline)
+    load: rd.Load | None = None  # GripLoad's payload in the flange's frame (a moves.HeldLoad: its source); None: none
 
 
 class Robot(Protocol):

@@ -2,13 +2,14 @@
 tool among its arguments (MoveJ, MoveL, MoveC, MoveAbsJ, their DO, AO, GO and Sync forms, TriggJ,
 TriggL, TriggC, ArcL and ArcC with their Start and End forms, SearchL, SearchJ, SearchC, SpotL,
 SpotJ, CapL, PaintL), with ``\\V``, ``\\T``, ``\\Z``, ``\\Inpos`` and ``\\WObj``, and the
-settings in force (ConfJ, ConfL, AccSet, VelSet). A process move runs its motion; its process
-(the arc, the gun, the search's signal) is not modelled."""
+settings in force (ConfJ, ConfL, AccSet, VelSet, GripLoad's payload). A process move runs its
+motion; its process (the arc, the gun, the search's signal) is not modelled."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 from . import data as rd
 from . import nodes as n
@@ -17,6 +18,15 @@ from .errors import fail
 from .motion import Motion
 
 MAX_WAIT = 86_400.0  # s: a WaitTime longer than a day is no program's
+NO_LOAD_KG = 0.001  # load0's (and tool0's tload's) mass: a load of at most this is none (GripLoad load0 disconnects)
+
+
+@dataclass(frozen=True)
+class HeldLoad(rd.Load):
+    """A payload GripLoad connected: its loaddata (SI), and where (``GripLoad piece1 at
+    file:line``), which a report names it by."""
+
+    source: str = ""
 
 
 @dataclass(frozen=True)
@@ -90,8 +100,37 @@ def run_move(interp, spec: MoveSpec, a: Arguments, s: n.ProcCall, frame) -> None
     conf = state["conf_j"] if spec.kind == "joint" else state["conf_l"] if spec.kind != "absolute" else True
     interp.emit(Motion(spec.kind, s.name, interp.path, s.line, frame.routine.name, frame.chain(), tuple(targets),
                        tuple(names), speed, zone, tool, wobj, conf, state["accel"], state["ramp"], state["override"],
-                       state["vmax"], duration, 0.0, interp.pass_index, tuple(declared)))
+                       state["vmax"], duration, 0.0, interp.pass_index, tuple(declared),
+                       held_in_flange(state.get("grip_load"), tool, wobj)))
     _after(interp, s, a, spec, frame)
+
+
+@lru_cache(maxsize=1024)
+def held_in_flange(load: HeldLoad | None, tool: rd.Tool, wobj: rd.WorkObject) -> HeldLoad | None:
+    """GripLoad's payload moved from the frame RAPID gives it in into the flange's (tool0), where
+    a tool's own load is: the tool's frame when the robot holds the tool, else the frame of the
+    work object the robot holds (a stationary tool: the robot moves the part past it)."""
+    if load is None:
+        return None
+    frame = tool.tframe if tool.robhold else rd.Pose(*_object_frame(wobj)) if wobj.robhold else rd.IDENTITY
+    m = frame.matrix()
+    cog = tuple(float(v) for v in m[:3, :3] @ load.cog + m[:3, 3])
+    return HeldLoad(load.mass, cog, load.inertia, _quat_product(frame.quat, load.aom), load.source)
+
+
+def _object_frame(wobj: rd.WorkObject) -> tuple:
+    """The pose (translation, quaternion) of a work object's object frame in its user frame's parent."""
+    u, o = wobj.uframe, wobj.oframe
+    trans = u.matrix()[:3, :3] @ o.trans + u.trans
+    return tuple(float(v) for v in trans), _quat_product(u.quat, o.quat)
+
+
+def _quat_product(a, b) -> tuple[float, float, float, float]:
+    """The rotation ``b`` then ``a`` (w, x, y, z): the axes ``b`` gives in the frame ``a`` turns to."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
 
 
 def _declared(node, frame) -> str:

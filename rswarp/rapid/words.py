@@ -53,8 +53,8 @@ class Word:
 # Instructions and functions by handling; data types are "no-op" unless in _MODELLED_TYPES.
 _HANDLING = {
     "modelled": """AccSet Add BookErrNo Break CallByVar CapC CapL Clear ClkReset ClkStart ClkStop Comment ConfJ
-        ConfL Decr EXIT ExitCycle FOR GetDataVal GetSysData GOTO IF SetDataSearch Incr InvertDO Label MoveAbsJ MoveC
-        MoveCAO MoveCDO MoveCGO MoveCSync MoveJ MoveJAO MoveJDO MoveJGO MoveJSync MoveL MoveLAO MoveLDO MoveLGO
+        ConfL Decr EXIT ExitCycle FOR GetDataVal GetSysData GOTO GripLoad IF SetDataSearch Incr InvertDO Label MoveAbsJ
+        MoveC MoveCAO MoveCDO MoveCGO MoveCSync MoveJ MoveJAO MoveJDO MoveJGO MoveJSync MoveL MoveLAO MoveLDO MoveLGO
         MoveLSync ProcCall PulseDO RAISE Reset RETRY RETURN SearchC SearchL Set SetAllDataVal SetAO SetDataVal SetDO
         SetGO SetSysData Stop SyncMoveOff SyncMoveOn SyncMoveUndo TEST TriggC TriggJ TriggL TRYNEXT VelSet WaitAI
         WaitAO WaitDI WaitDO WaitGI WaitGO WaitSyncTask WaitTime WaitUntil WHILE Abs AbsDnum ACos AInput AND AOutput
@@ -73,7 +73,7 @@ _HANDLING = {
         CapCondSetDO CapEquiDist CapLATrSetup CapNoProcess CapRefresh CapWeaveSync CheckProgRef CirPathMode
         ClearIOBuff ClearPath ClearRawBytes Close CloseDir CopyFile CopyRawBytes DeactEventBuffer DeactUnit
         DropSensor DropWObj EGMGetId EGMReset EGMSetupAI EGMSetupAO EGMSetupGI EGMSetupLTAPP EGMSetupUC EGMStop
-        EraseModule ErrLog ErrWrite FricIdInit FricIdSetFricLevels GetTrapData GripLoad HollowWristReset ICap
+        EraseModule ErrLog ErrWrite FricIdInit FricIdSetFricLevels GetTrapData HollowWristReset ICap
         IDelete IDisable IEnable IError IOBusStart IODisable IOEnable IPathPos IPers IRMQMessage ISignalAI ISignalAO
         ISignalDI ISignalDO ISignalGI ISignalGO ISleep ITimer IVarValue IWatch InitSuperv Load MakeDir MechUnitLoad
         MotionSup Open OpenDir PackDNHeader PackRawBytes PathAccLim PathRecStart PathRecStop PathResol

@@ -1,24 +1,35 @@
 """The payload on the flange (``--payload``): a mass with its centre of gravity, or a RAPID
-tooldata's or loaddata's load read from a module as the controller loads it; and the heaviest
-load a planned task moves with."""
+tooldata's or loaddata's load read from a module as the controller loads it; the heaviest load a
+planned task moves with; and how much a load lowers each axis's acceleration and jerk.
+
+The timing rule (docs/payload-timing.md): the robot data's accelerations and jerks hold for the
+arm with no load. A load lowers axis i's by J_arm,i / (J_arm,i + J_load,i), both moments of
+inertia about axis i at the home pose (masses for a prismatic axis), as ``export.physics`` computes
+them for the exports: the arm's with its armature, the load's its mass at its centre of gravity
+plus its own inertia. Loads carried together add up (inertias about one axis add: the parallel-axis
+theorem of their rigid union)."""
 
 from __future__ import annotations
 
+import weakref
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from ..export.physics import PhysicsOptions, robot_physics
 from ..rapid import data as rd
 from ..rapid.loaded import declared
+from ..rapid.moves import NO_LOAD_KG
 from ..rapid.parse import SUFFIXES
 from ..rapid.task import load_task
 from ..rapid.values import Mismatch
 from ..rsxml.parse import number
-from ..rsxml.robot_data import Payload
+from ..rsxml.robot_data import Payload, robot_data
 from ..rsxml.units import MAX_LENGTH
 
 MAX_PAYLOAD = 1e4  # kg: beyond any robot's
+NO_MASSES = "no link masses (no meshes beside the robot file): the load does not change the timing"
 
 
 def read_payload(spec: str | None, mech) -> Payload | None:
@@ -79,3 +90,154 @@ def task_payload(plan) -> Payload | None:
         return None
     return Payload(load.mass, load.cog, load.inertia, load.aom, f"the tooldata's load of the move at "
                    f"{Path(file).name}:{line}")
+
+
+class LoadFactors:
+    """What loads do to one robot's timing: ``factors(*loads)`` (each an ``rd.Load`` or
+    ``Payload`` in the flange's frame, or None) is each active axis's acceleration and jerk factor
+    with all of them carried at once. The arm's inertias are computed at the first load that
+    weighs anything (meshes read: a task with no load pays nothing), each load's once per value."""
+
+    def __init__(self, mech):
+        self.mech = mech
+        self.dof = len(mech.graph.active)
+        self._arm: np.ndarray | None | bool = False  # False: not computed yet; None: no link masses
+        self._loads: dict = {}
+        self._factors: dict = {}
+
+    @property
+    def arm(self) -> np.ndarray | None:
+        """The arm's own inertia about each active axis at home, armature included (kg m², kg);
+        None where its links have no mass."""
+        if self._arm is False:
+            self._arm = _arm_inertias(self.mech)
+        return self._arm
+
+    @property
+    def warning(self) -> str | None:
+        """One line where the loads cannot count (the links weigh nothing), else None."""
+        return f"{self.mech.path or self.mech.name}: {NO_MASSES}" if self.arm is None else None
+
+    def load_inertias(self, load) -> np.ndarray:
+        """The load's inertia about each active axis at home (kg m², kg): its mass at its centre
+        of gravity on the flange plus its own inertia (principal moments about its axes of moment)."""
+        key = _key(load)
+        if key not in self._loads:
+            payload = Payload(load.mass, tuple(load.cog), tuple(load.inertia), tuple(load.aom))
+            physics = robot_physics(self.mech, PhysicsOptions(payload=payload, armature=0.0, drive_hz=None),
+                                    geometry=False)  # no link masses, no armature: the load's alone
+            self._loads[key] = _per_axis(self.mech, physics)
+        return self._loads[key]
+
+    def __call__(self, *loads) -> np.ndarray:
+        carried = tuple(sorted({_key(x): x for x in loads if _weighs(x)}.items()))
+        found = self._factors.get(tuple(k for k, _ in carried))
+        if found is not None:
+            return found
+        out = np.ones(self.dof)
+        if carried and self.arm is not None:
+            extra = sum(self.load_inertias(x) for _, x in carried)
+            out = np.where(self.arm > 0, self.arm / np.maximum(self.arm + extra, 1e-300), 1.0)
+        out.setflags(write=False)
+        self._factors[tuple(k for k, _ in carried)] = out
+        return out
+
+
+_BUILT: dict[int, tuple] = {}  # id(mech) -> (a weak reference to it, its LoadFactors)
+
+
+def load_factors(mech) -> LoadFactors:
+    """The robot's ``LoadFactors``, made once per mechanism object (its caches kept with it)."""
+    held = _BUILT.get(id(mech))
+    if held is not None and held[0]() is mech:
+        return held[1]
+    key = id(mech)
+    factors = LoadFactors(mech)
+    _BUILT[key] = (weakref.ref(mech, lambda _, k=key, built=_BUILT: built.pop(k, None)), factors)
+    return factors
+
+
+def load_scale(mech, payload: Payload | None = None):
+    """What the Planner scales a move's accelerations and jerks by: ``scale(tool_load,
+    grip_load)`` -> (dof,), the tool's load (``motion.tool.load`` where the robot holds the tool,
+    else None) and GripLoad's (``motion.load``) carried with ``payload`` (``--payload``) on top."""
+    factors = load_factors(mech)
+
+    def scale(tool_load, grip_load) -> np.ndarray:
+        return factors(tool_load, grip_load, payload)
+
+    return scale
+
+
+def _arm_inertias(mech) -> np.ndarray | None:
+    """Each active axis's inertia of the arm alone (``JointPhysics.inertia``), the links weighing
+    the robot data's mass where it gives one; None where no link has a mesh with volume."""
+    data = robot_data(mech)
+    mass = data.mass if data is not None else None
+    try:
+        physics = robot_physics(mech, PhysicsOptions(mass=mass, drive_hz=None))
+    except InputError:  # a mass to share and no mesh volume to share it over: no masses
+        if mass is None:
+            raise
+        return None
+    return _per_axis(mech, physics) if physics.total_mass > 0 else None
+
+
+def _per_axis(mech, physics) -> np.ndarray:
+    """The joints' inertias in the order of the active axes; 0 for one physics has not (outside the
+    tree: its factor stays 1)."""
+    return np.array([physics.joints[j.name].inertia if j.name in physics.joints else 0.0
+                     for j in mech.graph.active], float)
+
+
+def _weighs(load) -> bool:
+    return load is not None and load.mass > NO_LOAD_KG
+
+
+def _key(load) -> tuple:
+    """A load's value (mass, cog, inertia, aom), whatever else it carries (its source)."""
+    return (float(load.mass), tuple(map(float, load.cog)), tuple(map(float, load.inertia)),
+            tuple(map(float, load.aom)))
+
+
+def move_loads(motion, payload: Payload | None = None) -> list[tuple[object, str]]:
+    """(load, where it comes from) of what a move carries: its tool's load where the robot holds
+    the tool, GripLoad's payload, ``payload``; loads that weigh nothing left out."""
+    tool = motion.tool
+    parts = [(tool.load if tool is not None and tool.robhold else None,
+              f"the tool's tload, from {Path(motion.file).name}:{motion.line}"),
+             (motion.load, getattr(motion.load, "source", "GripLoad")),
+             (payload, payload.source if payload is not None else "")]
+    return [(x, why) for x, why in parts if _weighs(x)]
+
+
+def carried_loads(mech, plan, payload: Payload | None = None) -> list[dict]:
+    """Each distinct load the task's moves carry (the tool's, GripLoad's, ``payload``, together
+    as one body): its mass, centre of gravity in the flange's frame, where it comes from (the
+    first move carrying it), how many moves carry it and the factor each axis's acceleration and
+    jerk get (SI)."""
+    factors = load_factors(mech)
+    out: dict = {}
+    seen: dict = {}  # (tool, GripLoad's load) -> the key of what they carry with the payload
+    for move in plan.moves:
+        m = move.motion
+        if m.kind == "wait":
+            continue
+        held = (m.tool.load if m.tool is not None and m.tool.robhold else None, m.load)
+        if held not in seen:
+            parts = move_loads(m, payload)
+            seen[held] = key = tuple(sorted(_key(x) for x, _ in parts))
+            if parts and key not in out:
+                out[key] = _carried(parts, factors)
+        key = seen[held]
+        if key:
+            out[key]["moves"] += 1
+    return list(out.values())
+
+
+def _carried(parts, factors: LoadFactors) -> dict:
+    """Loads carried together as one body: its mass, centre of gravity, sources and factors."""
+    mass = sum(x.mass for x, _ in parts)
+    cog = sum(x.mass * np.asarray(x.cog, float) for x, _ in parts) / mass
+    return {"mass": float(mass), "cog": [float(v) for v in cog], "source": " + ".join(w for _, w in parts),
+            "moves": 0, "acceleration_factor": [float(v) for v in factors(*(x for x, _ in parts))]}

@@ -27,6 +27,7 @@ from ..sim.program_check import check_program
 from ..sim.tool import load_tool
 from .findings import grouped, move_findings, skipped_finding, tool_findings
 from .output import Output, Warn, ignore, json_safe
+from .payload import carried_loads, load_factors, load_scale, read_payload
 from .program_text import program_text
 
 EXTERNAL_AXES = ("auto", "error", "ignore")
@@ -62,21 +63,26 @@ def input_values(pairs: list[str] | None) -> dict[str, list[str]]:
 
 def program_plan(path: str, programs, routine: str = "main", device: str = "cpu", io: dict | None = None,
                  cycles: int = 1, external_axes: str = "auto", warn: Warn = ignore, strict: bool = True,
-                 limits: str | None = None, inputs: dict | None = None):
+                 limits: str | None = None, inputs: dict | None = None, payload=None):
     """(mechanism, plan) of ``routine`` of the RAPID task in ``programs`` (module files, folders,
     .pgf files) on the robot at ``path``; with ``strict`` an RsxmlError lists every target the
-    robot cannot take."""
+    robot cannot take. ``payload`` (``--payload``'s text, or a ``Payload``) is carried on top of
+    each move's tool and GripLoad loads, which lower the accelerations (docs/payload-timing.md)."""
     if external_axes not in EXTERNAL_AXES:
         raise InputError(f"--external-axes must be one of {', '.join(EXTERNAL_AXES)}")
     if not 1 <= int(cycles) <= MAX_CYCLES:
         raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {cycles}")
     mech, _ = load_mechanism(path)
+    load = read_payload(payload, mech) if isinstance(payload, str) else payload
     task = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
-    planner = Planner(Kinematics(mech, device), external_axes=external_axes, limits=axis_limits(mech, limits))
+    planner = Planner(Kinematics(mech, device), external_axes=external_axes, limits=axis_limits(mech, limits),
+                      load_scale=load_scale(mech, load))
     run = Interpreter(task, planner, io, int(cycles), inputs).run(routine)
     plan = planner.finish(run)
     for w in (*run.warnings, *planner.notes):
         warn(str(w))
+    if carried_loads(mech, plan, load) and load_factors(mech).arm is None:
+        warn(load_factors(mech).warning)
     if run.stopped is not None:
         warn(str(run.stopped))
     if strict and plan.errors:
@@ -98,9 +104,10 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
                 environment: list[str] | None = None, collision_matrix: str | None = None, floor: float = 0.0,
                 video: str | None = None, video_size: int = 512, device: str = "cpu", ray: str | None = None,
                 limits: str | None = None, tool: str | None = None, progress=None, warn: Warn = ignore,
-                inputs: list[str] | None = None) -> Output:
-    """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory.
-    Targets the robot cannot take are all reported (exit 1), with the rest of the report."""
+                inputs: list[str] | None = None, payload: str | None = None) -> Output:
+    """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory;
+    ``payload`` (``--payload``) is carried on top of the tools' loads. Targets the robot cannot
+    take are all reported (exit 1), with the rest of the report."""
     from ..export.srdf import read_srdf
     from ..sim.engine import cluster_for
 
@@ -115,14 +122,15 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     floor = checked("floor", robot.si_length(floor))
     env = placed_environments(robot, environment or [])
     mounted = load_tool(robot, tool)
+    load = read_payload(payload, robot)
     disabled = read_srdf(collision_matrix, robot.link_names) if collision_matrix else ()
     mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
-                           cycles, external_axes, warn, strict=False, limits=limits, inputs=given)
+                           cycles, external_axes, warn, strict=False, limits=limits, inputs=given, payload=load)
     if p.errors:
         if csv is not None or video is not None:
             warn(f"{'--csv' if csv is not None else '--video'}: nothing written, the task has targets the robot "
                  "cannot take (below)")
-        doc = _document(mech, p, None, [], None, csv=None)
+        doc = _document(mech, p, None, [], None, csv=None, payload=load)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
     tally, tools, tested = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
                                          progress=progress, tool=mounted)
@@ -130,7 +138,7 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     if csv is not None:
         atomic_write(csv, trajectory_csv(mech, p).encode())
         record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])
-    doc = _document(mech, p, tally, names, tested, csv, floor, tools, mounted)
+    doc = _document(mech, p, tally, names, tested, csv, floor, tools, mounted, load)
     if video is not None:
         from .videos import program_video
 
@@ -138,9 +146,11 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     return Output(json_safe(doc), program_text(mech, doc))
 
 
-def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, tools=None, tool=None) -> dict:
+def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, tools=None, tool=None,
+              payload=None) -> dict:
     """The run as data (SI): its moves with their findings as records (a target it could not take
-    among them), and every finding once per move line, kind and links, counted, in time order."""
+    among them), every finding once per move line, kind and links, counted, in time order, and
+    the loads the moves carry with what each does to the accelerations."""
     run = p.run
     kin = Kinematics(mech)
     ends = _move_ends(kin, p)
@@ -158,6 +168,7 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
                          "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin,
                          "ignored": t.ignored} for t in p.targets],
             "tool": None if tool is None else {"name": tool.name, "given": tool.source},
+            "loads": carried_loads(mech, p, payload),
             "moves": moves, "findings": found,
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
             "stopped": str(run.stopped) if run.stopped is not None else None, "needs_input": run.needs_input,
@@ -165,9 +176,11 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
 
 
 def _limits_dict(limits) -> dict:
-    """The axis limits the timing used (SI), where they come from, and that line in words."""
+    """The axis limits the timing used (SI), where they come from, and that line in words; ``axes``
+    per axis with each quantity's source and which are estimates, so a move's time can be redone."""
     return {"source": limits.source, "assumed": limits.assumed, "accelerations_assumed": limits.accel_assumed,
-            "velocity": limits.velocity, "acceleration": limits.acceleration, "summary": limits.summary()}
+            "velocity": limits.velocity, "acceleration": limits.acceleration, "jerk": limits.jerks(),
+            "axes": limits.rows(), "summary": limits.summary()}
 
 
 def _move_ends(kin, p: Plan) -> list:

@@ -1,6 +1,6 @@
 """What a robot programmer reads of ``rswarp program``: one row per move (``file:line`` when the
 task has several files, the routine when it has several), its findings under the table, the
-cycle time, and every error of a target the robot cannot take."""
+cycle time, the loads the moves carry, and every error of a target the robot cannot take."""
 
 from __future__ import annotations
 
@@ -66,7 +66,16 @@ def _head(doc: dict, files: list[str]) -> str:
     head += f"; {doc['axis_limits']['summary']}"
     if doc.get("tool"):
         head += f"\ntool: {doc['tool']['given']}, checked against every link but its own, the meshes and the floor"
+    if doc.get("loads"):
+        head += "\nloads: " + "; ".join(_load(x) for x in doc["loads"])
     return head
+
+
+def _load(load: dict) -> str:
+    """A load the moves carry and the range of the factors it puts on the axes' accelerations."""
+    f = load["acceleration_factor"]
+    return (f"{load['mass']:g} kg ({load['source']}; {load['moves']} move{'s' * (load['moves'] != 1)}): "
+            f"accelerations x{min(f):.2f}-{max(f):.2f}")
 
 
 def _seconds(values: list[float], shown: int = 6) -> str:

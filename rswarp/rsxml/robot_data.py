@@ -1,9 +1,10 @@
 """What an RSXML file does not hold and the timing and exports need: each axis's speed,
-acceleration and effort, the robot's mass and payload. Read from a robot-data file beside the
-RSXML (``<model>.robot.toml``, found by the longest name it starts with), or from ``--limits``: a
-URDF (``<limit velocity= effort=>``), MoveIt's ``joint_limits.yaml`` (``max_velocity``,
-``max_acceleration``) or a robot-data file. Where none is found, every axis is assumed to go at
-90 deg/s (0.5 m/s), and the outputs that depend on it say so."""
+acceleration, jerk and effort, where each comes from, the robot's mass and payload. Read from a
+robot-data file beside the RSXML (``<model>.robot.toml``, found by the longest name it starts
+with), or from ``--limits``: a URDF (``<limit velocity= effort=>``), MoveIt's ``joint_limits.yaml``
+(``max_velocity``, ``max_acceleration``) or a robot-data file. Where none is found, every axis is
+assumed to go at 90 deg/s (0.5 m/s), and the outputs that depend on it say so. docs/robot-data.md
+describes the format and how the bundled robots' estimates are made."""
 
 from __future__ import annotations
 
@@ -27,13 +28,20 @@ from .units import JOINT_VELOCITY
 
 SUFFIX = ".robot.toml"
 RAMP_S = 0.25  # s: an axis with no published acceleration reaches its top speed in this time
+JERK_S = 0.05  # s: an axis with no published jerk reaches its top acceleration in this time
+QUANTITIES = ("velocity", "acceleration", "jerk")
+SPEED_RULE = "rswarp's default: 90 deg/s (0.5 m/s) for every axis"
+ACCEL_RULE = f"rswarp's rule: each axis reaches its top speed in {RAMP_S:g} s"
+JERK_RULE = f"rswarp's rule: each axis reaches its top acceleration in {JERK_S:g} s"
 
 
 @dataclass(frozen=True)
 class AxisLimits:
     """Per active axis, in joint order, SI (rad or m): top speed, acceleration, effort (N·m or
-    N; NaN where unknown); ``source`` says where they come from, ``assumed`` that the speeds are
-    rswarp's default, not the robot's."""
+    N; NaN where unknown), jerk; ``source`` names the file, ``*_source`` where each quantity comes
+    from, ``estimated`` (axes, 3) which of velocity, acceleration, jerk are estimates rather than
+    published; ``assumed``: the speeds are rswarp's default, ``accel_assumed``: some acceleration
+    is not published (an estimate or rswarp's rule)."""
 
     velocity: np.ndarray
     acceleration: np.ndarray
@@ -41,14 +49,59 @@ class AxisLimits:
     source: str
     assumed: bool = False
     accel_assumed: bool = True
+    jerk: np.ndarray | None = None  # rad/s^3 or m/s^3; None: the acceleration reached in JERK_S
+    names: tuple[str, ...] = ()  # the active joints' names
+    velocity_source: str = ""
+    accel_source: str = ""
+    jerk_source: str = ""
+    estimated: np.ndarray | None = None  # (axes, 3) bool; None: from assumed, accel_assumed, jerk
+
+    def jerks(self) -> np.ndarray:
+        """Each axis's jerk limit: the robot data's, else its acceleration reached in ``JERK_S``."""
+        return self.jerk if self.jerk is not None else self.acceleration / JERK_S
+
+    def sources(self) -> tuple[str, str, str]:
+        """Where the velocities, accelerations and jerks come from, in words."""
+        return (self.velocity_source or (SPEED_RULE if self.assumed else self.source),
+                self.accel_source or (ACCEL_RULE if self.accel_assumed else self.source),
+                self.jerk_source or (JERK_RULE if self.jerk is None else self.source))
+
+    def estimates(self) -> np.ndarray:
+        """(axes, 3) bool: which of each axis's velocity, acceleration and jerk are estimates."""
+        if self.estimated is not None:
+            return np.asarray(self.estimated, bool)
+        flags = [self.assumed, self.accel_assumed, self.jerk is None]
+        return np.tile(np.array(flags, bool), (len(self.velocity), 1))
+
+    def rows(self) -> list[dict]:
+        """One dict per axis (SI) for the JSON: its limits, where each comes from, which are
+        estimates, so anyone can recompute a move's time."""
+        names = self.names or tuple(f"axis {k + 1}" for k in range(len(self.velocity)))
+        sources, est, jerk = self.sources(), self.estimates(), self.jerks()
+        return [{"axis": name, "velocity": float(self.velocity[k]), "acceleration": float(self.acceleration[k]),
+                 "jerk": float(jerk[k]), "velocity_source": sources[0], "acceleration_source": sources[1],
+                 "jerk_source": sources[2], "estimated": [q for q, e in zip(QUANTITIES, est[k]) if e]}
+                for k, name in enumerate(names)]
 
     def summary(self) -> str:
-        """One line: where the speeds come from, or that they are assumed."""
+        """One line: where the speeds come from (or that they are assumed), then whether the
+        accelerations and jerks are given, estimated in the robot data or rswarp's rule."""
         if self.assumed:
             return "axis speeds assumed 90 deg/s (0.5 m/s): give --limits"
-        ramp = f"; accelerations assumed (top speed in {RAMP_S:g} s)" if self.accel_assumed else ""
         deg = np.degrees(self.velocity)
-        return f"axis speeds {deg.min():.0f}-{deg.max():.0f} deg/s from {self.source}{ramp}"
+        speeds = "estimated in" if self.estimates()[:, 0].any() else "from"
+        accel = self._origin(1, ACCEL_RULE, f"top speed in {RAMP_S:g} s")
+        jerk = self._origin(2, JERK_RULE, f"top acceleration in {JERK_S:g} s")
+        rest = f"accelerations and jerks {accel}" if accel == jerk else f"accelerations {accel}, jerks {jerk}"
+        return f"axis speeds {deg.min():.0f}-{deg.max():.0f} deg/s {speeds} {self.source}; {rest}"
+
+    def _origin(self, k: int, rule: str, short: str) -> str:
+        est = self.estimates()[:, k]
+        if not est.any():
+            return "given there"
+        if self.sources()[k] == rule:
+            return f"assumed ({short})"
+        return "estimated there" if est.all() else f"partly assumed ({short})"
 
 
 @dataclass(frozen=True)
@@ -80,9 +133,10 @@ class RobotData:
     path: str = ""
 
 
-def default_limits(revolute: list[bool]) -> AxisLimits:
+def default_limits(revolute: list[bool], names: tuple[str, ...] = ()) -> AxisLimits:
+    """rswarp's default limits: 90 deg/s (0.5 m/s), reached in ``RAMP_S``; all assumed."""
     v = np.array([JOINT_VELOCITY[r] for r in revolute])
-    return AxisLimits(v, v / RAMP_S, np.full(len(v), np.nan), "rswarp's default", assumed=True)
+    return AxisLimits(v, v / RAMP_S, np.full(len(v), np.nan), "rswarp's default", assumed=True, names=tuple(names))
 
 
 def axis_limits(mech, limits: str | None = None) -> AxisLimits:
@@ -91,7 +145,10 @@ def axis_limits(mech, limits: str | None = None) -> AxisLimits:
     if limits is not None:
         return read_limits(limits, mech)
     data = robot_data(mech)
-    return data.limits if data is not None else default_limits([j.revolute for j in mech.graph.active])
+    if data is not None:
+        return data.limits
+    active = mech.graph.active
+    return default_limits([j.revolute for j in active], tuple(j.name for j in active))
 
 
 def robot_data(mech) -> RobotData | None:
@@ -129,8 +186,9 @@ def read_limits(path: str, mech) -> AxisLimits:
 
 
 def read_robot_data(path: str, mech) -> RobotData:
-    """A robot-data file: ``source``, ``mass_kg``, ``payload_kg`` and ``[axes]`` with
-    ``names``, ``speed_deg_s`` (or ``speed`` in SI) and optional ``accel_deg_s2``, ``effort_Nm``."""
+    """A robot-data file: ``source``, ``mass_kg``, ``payload_kg`` and ``[axes]`` with ``names``,
+    ``speed_deg_s`` and optional ``accel_deg_s2``, ``jerk_deg_s3``, ``effort_Nm``; each of speed,
+    accel and jerk may have a ``*_source`` (text) and ``*_estimated`` (true: not published)."""
     text = _text(path)
     try:
         doc = tomllib.loads(text)
@@ -140,15 +198,44 @@ def read_robot_data(path: str, mech) -> RobotData:
     axes = doc.get("axes")
     if not isinstance(axes, dict):
         raise RsxmlError(Diagnostic(path, 0, "no [axes] table: a robot-data file gives names and speed_deg_s"))
-    revolute = [j.revolute for j in mech.graph.active]
+    active = mech.graph.active
+    revolute = [j.revolute for j in active]
     names = axes.get("names")
     speed = _column(path, text, axes, "speed_deg_s", revolute, names, mech, required=True)
     accel = _column(path, text, axes, "accel_deg_s2", revolute, names, mech)
+    jerk = _column(path, text, axes, "jerk_deg_s3", revolute, names, mech)
     effort = _column(path, text, axes, "effort_Nm", [False] * len(revolute), names, mech)
-    source = str(doc.get("source", Path(path).name))
-    limits = AxisLimits(speed, np.where(np.isnan(accel), speed / RAMP_S, accel), effort, Path(path).name,
-                        accel_assumed=bool(np.isnan(accel).any()))
+    source = _words(path, text, doc, "source") or Path(path).name
+    given = [True, not np.isnan(accel).any(), not np.isnan(jerk).any()]
+    said = [(_words(path, text, axes, f"{q}_source"), _flag(path, text, axes, f"{q}_estimated"))
+            for q in ("speed", "accel", "jerk")]
+    rules = (source, ACCEL_RULE, JERK_RULE)  # where a quantity is not given (speeds always are)
+    sources = [(words or source) if g else rule for g, (words, _), rule in zip(given, said, rules)]
+    flags = [estimated or not g for g, (_, estimated) in zip(given, said)]
+    limits = AxisLimits(
+        speed, accel if given[1] else speed / RAMP_S, effort, Path(path).name, accel_assumed=flags[1],
+        jerk=jerk if given[2] else None, names=tuple(j.name for j in active), velocity_source=sources[0],
+        accel_source=sources[1], jerk_source=sources[2], estimated=np.tile(np.array(flags, bool), (len(active), 1)))
     return RobotData(limits, _kg(path, text, doc, "mass_kg"), _kg(path, text, doc, "payload_kg"), source, path)
+
+
+def estimated_accelerations(mech, speed: np.ndarray, accel_time: float) -> tuple[np.ndarray, np.ndarray]:
+    """The estimate a robot-data file writes where no acceleration is published (SI, per active
+    axis): the TCP's acceleration a = (1 m/s) / ``accel_time`` (a data sheet's "acceleration time
+    0-1 m/s"); axes 1-3 a / r, r the distance from the axis to the flange at the zero pose (a
+    prismatic one: a); the others reach their top ``speed`` in the time the slowest of axes 1-3
+    takes; the jerks: the acceleration reached in ``JERK_S``."""
+    a_tcp = 1.0 / accel_time
+    flange = np.asarray(mech.flanges[0].pose.t or (0.0, 0.0, 0.0), float)
+    joints = mech.graph.active
+    main = min(3, len(joints))
+    accel = np.empty(len(joints))
+    for k, j in enumerate(joints[:main]):
+        reach = np.linalg.norm(np.cross(flange - np.asarray(j.point1, float), j.axis)) if j.revolute else 1.0
+        accel[k] = a_tcp / reach
+    ramp = float(np.max(speed[:main] / accel[:main]))
+    accel[main:] = speed[main:] / ramp
+    return accel, accel / JERK_S
 
 
 def _column(path, text, axes, key, revolute, names, mech, required=False) -> np.ndarray:
@@ -163,9 +250,29 @@ def _column(path, text, axes, key, revolute, names, mech, required=False) -> np.
     if not isinstance(values, list) or not all(isinstance(v, (int, float)) and math.isfinite(v) and v > 0
                                                 for v in values):
         raise RsxmlError(Diagnostic(path, line, f"{key} must be a list of numbers above 0"))
+    if isinstance(names, list) and len(values) != len(names):
+        raise RsxmlError(Diagnostic(path, line, f"{key} has {len(values)} values for {len(names)} names"))
     by_joint = _match(path, line, names if isinstance(names, list) else None, len(values), mech)
     scale = np.array([math.radians(1.0) if r else 1e-3 for r in revolute])
     return np.array([values[k] for k in by_joint], float) * scale
+
+
+def _words(path, text, table, key) -> str | None:
+    """A text field (a source): None where absent; an error where it is not text."""
+    v = table.get(key)
+    if v is None:
+        return None
+    if not isinstance(v, str) or not v.strip():
+        raise RsxmlError(Diagnostic(path, _line_of(text, key), f"{key} must be text: where the figures come from"))
+    return v.strip()
+
+
+def _flag(path, text, table, key) -> bool:
+    """A true/false field (an ``*_estimated``): False where absent."""
+    v = table.get(key, False)
+    if not isinstance(v, bool):
+        raise RsxmlError(Diagnostic(path, _line_of(text, key), f"{key} must be true or false"))
+    return v
 
 
 def _kg(path, text, doc, key) -> float | None:
@@ -193,7 +300,8 @@ def _from_urdf(path: str, mech) -> AxisLimits:
         raise RsxmlError(Diagnostic(path, 0, "no joint with <limit velocity=...>: not a URDF with speed limits"))
     rows = _rows(path, found, mech)
     v = np.array([r[0] for r in rows])
-    return AxisLimits(v, v / RAMP_S, np.array([r[1] for r in rows]), Path(path).name)
+    return AxisLimits(v, v / RAMP_S, np.array([r[1] for r in rows]), Path(path).name,
+                      names=tuple(j.name for j in mech.graph.active))
 
 
 def _from_yaml(path: str, mech) -> AxisLimits:
@@ -223,8 +331,12 @@ def _from_yaml(path: str, mech) -> AxisLimits:
     rows = _rows(path, found, mech)
     v, a = np.array([r[0] for r in rows]), np.array([r[1] for r in rows])
     missing = np.isnan(a)
-    return AxisLimits(v, np.where(missing, v / RAMP_S, a), np.full(len(v), np.nan),
-                      Path(path).name, accel_assumed=bool(missing.any()))
+    name = Path(path).name
+    accel_source = ACCEL_RULE if missing.all() else f"{name} where given, else {ACCEL_RULE}" if missing.any() else name
+    estimated = np.column_stack([np.zeros(len(v), bool), missing, np.ones(len(v), bool)])
+    return AxisLimits(v, np.where(missing, v / RAMP_S, a), np.full(len(v), np.nan), name,
+                      accel_assumed=bool(missing.any()), names=tuple(j.name for j in mech.graph.active),
+                      accel_source=accel_source, estimated=estimated)
 
 
 def _rows(path: str, found: dict, mech) -> list[tuple]:
@@ -272,7 +384,9 @@ def _yaml_number(path: str, line: int, spec: dict, key: str) -> float:
 
 
 def _line_of(text: str, key: str) -> int:
-    at = text.find(key)
+    """The line of ``key = ...`` (a TOML key, not a mention in a comment), else of ``key``'s first mention."""
+    m = re.search(rf"^[ \t]*{re.escape(key)}[ \t]*=", text, re.M)
+    at = m.start() if m else text.find(key)
     return text.count("\n", 0, at) + 1 if at >= 0 else 0
 
 
