@@ -18,42 +18,70 @@ from .cache import cached, module_name
 TINY = 1e-12  # |q'| below this: the axis does not move along the path there (only q'' x bounds it)
 
 
+@wp.func
+def slope(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int, i: int):
+    """dq/du of axis i at probe k: central, one-sided at the ends."""
+    a = wp.max(k - 1, 0)
+    b = wp.min(k + 1, n - 1)
+    return (q[lo + b, i] - q[lo + a, i]) / (u[lo + b] - u[lo + a])
+
+
+@wp.func
+def bend(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int, i: int):
+    """d²q/du² of axis i at probe k (that of the probe next to it at the ends; 0 on 2 probes)."""
+    if n < 3:
+        return wp.float64(0.0)
+    c = wp.min(wp.max(k, 1), n - 2)
+    h0 = u[lo + c] - u[lo + c - 1]
+    h1 = u[lo + c + 1] - u[lo + c]
+    d0 = (q[lo + c, i] - q[lo + c - 1, i]) / h0
+    d1 = (q[lo + c + 1, i] - q[lo + c, i]) / h1
+    return wp.float64(2.0) * (d1 - d0) / (h0 + h1)
+
+
+@wp.func
+def ramp(u0: wp.float64, u1: wp.float64, head: wp.float64, tail: wp.float64, up: wp.float64,
+         down: wp.float64):
+    """|a| on the stretch [u0, u1]: a zone's ramp where it lies in one, else no bound."""
+    a = wp.float64(1e300)
+    if u0 < head:
+        a = up
+    if u1 > tail:
+        a = wp.min(a, down)
+    return a
+
+
+@wp.func
+def stretch_time(v0: wp.float64, v1: wp.float64, h: wp.float64, speed_up: wp.float64, slow_down: wp.float64):
+    """The time over a stretch of ``h`` from speed v0 to v1: the change at the most the stretch's
+    start allows, then the cruise (what a probe grid's constant acceleration would overstate)."""
+    if v1 > v0:
+        a = wp.max(speed_up, (v1 * v1 - v0 * v0) / (wp.float64(2.0) * h))
+        return (v1 - v0) / a + (h - (v1 * v1 - v0 * v0) / (wp.float64(2.0) * a)) / v1
+    if v1 < v0:
+        a = wp.max(slow_down, (v0 * v0 - v1 * v1) / (wp.float64(2.0) * h))
+        return (v0 - v1) / a + (h - (v0 * v0 - v1 * v1) / (wp.float64(2.0) * a)) / v0
+    return h / v0
+
+
+@wp.func
+def speed_cap(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int,
+              cap: wp.float64, vel: wp.array2d(dtype=wp.float64), m: int):
+    """The greatest x at probe k the axes' speeds and the path's cap allow."""
+    x = cap * cap
+    for i in range(q.shape[1]):
+        d = wp.abs(slope(q, u, lo, n, k, i))
+        if d > TINY:
+            x = wp.min(x, (vel[m, i] / d) * (vel[m, i] / d))
+    return x
+
+
 @cached
-def topp_kernel(dof: int):
-    """The kernel for paths of ``dof`` axes; per path ``first`` and ``count`` locate its probes in
-    the flat ``u`` (P,) and ``q`` (P, dof)."""
+def _stretch_bounds(dof: int):
+    """(bounds, fastest) for ``dof`` axes: a stretch's bounds on the path's acceleration, held in
+    vectors of their count, and the fastest x they allow."""
     rows = 2 * dof + 1  # each axis at the probe and at the next, then the zone's bound on the path itself
     vec = wp.types.vector(length=rows, dtype=wp.float64)
-
-    @wp.func
-    def slope(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int, i: int):
-        """dq/du of axis i at probe k: central, one-sided at the ends."""
-        a = wp.max(k - 1, 0)
-        b = wp.min(k + 1, n - 1)
-        return (q[lo + b, i] - q[lo + a, i]) / (u[lo + b] - u[lo + a])
-
-    @wp.func
-    def bend(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int, i: int):
-        """d²q/du² of axis i at probe k (that of the probe next to it at the ends; 0 on 2 probes)."""
-        if n < 3:
-            return wp.float64(0.0)
-        c = wp.min(wp.max(k, 1), n - 2)
-        h0 = u[lo + c] - u[lo + c - 1]
-        h1 = u[lo + c + 1] - u[lo + c]
-        d0 = (q[lo + c, i] - q[lo + c - 1, i]) / h0
-        d1 = (q[lo + c + 1, i] - q[lo + c, i]) / h1
-        return wp.float64(2.0) * (d1 - d0) / (h0 + h1)
-
-    @wp.func
-    def speed_cap(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int,
-                  cap: wp.float64, vel: wp.array2d(dtype=wp.float64), m: int):
-        """The greatest x at probe k the axes' speeds and the path's cap allow."""
-        x = cap * cap
-        for i in range(dof):
-            d = wp.abs(slope(q, u, lo, n, k, i))
-            if d > TINY:
-                x = wp.min(x, (vel[m, i] / d) * (vel[m, i] / d))
-        return x
 
     @wp.func
     def bounds(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int,
@@ -102,28 +130,15 @@ def topp_kernel(dof: int):
                     x = room / grow
         return wp.max(x, wp.float64(0.0))
 
-    @wp.func
-    def ramp(u0: wp.float64, u1: wp.float64, head: wp.float64, tail: wp.float64, up: wp.float64,
-             down: wp.float64):
-        """|a| on the stretch [u0, u1]: a zone's ramp where it lies in one, else no bound."""
-        a = wp.float64(1e300)
-        if u0 < head:
-            a = up
-        if u1 > tail:
-            a = wp.min(a, down)
-        return a
+    return bounds, fastest
 
-    @wp.func
-    def stretch_time(v0: wp.float64, v1: wp.float64, h: wp.float64, speed_up: wp.float64, slow_down: wp.float64):
-        """The time over a stretch of ``h`` from speed v0 to v1: the change at the most the stretch's
-        start allows, then the cruise (what a probe grid's constant acceleration would overstate)."""
-        if v1 > v0:
-            a = wp.max(speed_up, (v1 * v1 - v0 * v0) / (wp.float64(2.0) * h))
-            return (v1 - v0) / a + (h - (v1 * v1 - v0 * v0) / (wp.float64(2.0) * a)) / v1
-        if v1 < v0:
-            a = wp.max(slow_down, (v0 * v0 - v1 * v1) / (wp.float64(2.0) * h))
-            return (v0 - v1) / a + (h - (v0 * v0 - v1 * v1) / (wp.float64(2.0) * a)) / v0
-        return h / v0
+
+@cached
+def topp_kernel(dof: int):
+    """The kernel for paths of ``dof`` axes; per path ``first`` and ``count`` locate its probes in
+    the flat ``u`` (P,) and ``q`` (P, dof)."""
+    rows = 2 * dof + 1
+    bounds, fastest = _stretch_bounds(dof)
 
     @wp.kernel(enable_backward=False, module=module_name("topp", dof))
     def topp(

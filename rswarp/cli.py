@@ -78,7 +78,7 @@ COMMANDS = {
 
 # Commands that run a RAPID task and take --payload, a load carried on top of the tools' for the
 # whole run (cable and dresspack join once their run functions take ``payload``).
-PAYLOAD_COMMANDS = ("program",)
+PAYLOAD_COMMANDS = ("program", "cable", "dresspack")
 
 
 def _payload(p: argparse.ArgumentParser) -> None:

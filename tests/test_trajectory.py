@@ -9,7 +9,7 @@ import pytest
 
 import rswarp
 from rswarp import examples
-from rswarp.kinematics.trajectory import joint_speed_limits, assign, random_trajectory, read_trajectory
+from rswarp.kinematics.trajectory import assign, joint_speed_limits, random_trajectory, read_trajectory
 
 from conftest import DATA
 

@@ -77,14 +77,25 @@ class Plan:
     errors: tuple[Diagnostic, ...] = ()
     cycles: tuple[float, ...] = ()
     limits: AxisLimits | None = None  # the axis speeds and accelerations the timing used
+    into_next: float = 0.0  # s the last pass would end sooner blending into another, as the loop goes on
+
+    @property
+    def cycle_pass(self) -> int | None:
+        """The pass ``cycle_s`` times (from 0): the second where there are two or more (it starts
+        from a pass, as every later one does), else the first; None without passes."""
+        if not self.cycles:
+            return None
+        return 1 if len(self.cycles) > 1 and self.run.stopped is None else len(self.cycles) - 1
 
     @property
     def cycle_s(self) -> float:
-        """The time of one pass of the main loop (the last), or of the whole routine; None where the
-        run stopped (a live input) before a pass ended."""
-        if self.run.stopped is not None:
-            return self.cycles[-1] if self.cycles else None
-        return self.cycles[-1] if self.cycles else float(self.times[-1])
+        """The steady cycle: the time of pass ``cycle_pass`` of the main loop up to where the next
+        pass takes over (the last one's end into the next pass it would blend into), or of the whole
+        routine; None where the run stopped (a live input) before a pass ended."""
+        k = self.cycle_pass
+        if k is None:
+            return None if self.run.stopped is not None else float(self.times[-1])
+        return self.cycles[k] - (self.into_next if k == len(self.cycles) - 1 else 0.0)
 
 
 class Planner:
@@ -114,6 +125,7 @@ class Planner:
         self.bounds = self.mech.bounds()
         self.flange_now = None  # the flange's pose at self.q, where a move left it known
         self.frames: dict = {}  # (tool, wobj) -> their Frames, or why no robot moves them
+        self.pieces: dict = {}  # move index -> its timed segment (``zones.Segment``), as the blend sees it
 
     # -- what the interpreter asks ------------------------------------------------------------------
     def revolute(self) -> tuple[bool, ...]:
@@ -164,7 +176,8 @@ class Planner:
         times, q = np.concatenate(self.times), np.vstack(self.rows)
         moves, errors = misses.explained(self)  # each skipped target by how much; an error per line, counted
         self.notes += self._ignored_notes()
-        return Plan(run, self._targets(), moves, times, q, errors, self._cycles(run), self.limits)
+        return Plan(run, self._targets(), moves, times, q, errors, self._cycles(run), self.limits,
+                    self._into_next(run))
 
     def time_step(self, s, tcp) -> None:
         """One resolved step timed, sampled and appended to the trajectory (``tcp``: a joint move's
@@ -301,6 +314,8 @@ class Planner:
         findings = [self._timed(f, end, seg) for f in findings]
         label = ", ".join(m.names) if m.kind != "wait" else f"{m.seconds:g} s"
         self.moves.append(PlannedMove(m, label, self.now, end, (self.count, self.count + len(t)), findings))
+        if piece is not None:
+            self.pieces[len(self.moves) - 1] = piece
         if len(t):
             self.times.append(self.now + t)
             self.rows.append(seg)
@@ -340,6 +355,15 @@ class Planner:
         return tuple(Target(name, file, line, joints, None if c is None else tuple(int(v) for v in c), float(limit[k]),
                             None if reach is None else float(reach[k]), self.ignored_at.get((file, line, name)))
                      for k, ((name, file, line, joints), c) in enumerate(zip(found, confs)))
+
+    def _into_next(self, run: Run) -> float:
+        """How much sooner the last pass would end if the loop went on: the overlap of its last
+        move, in its zone, with the pass's first move, which the next pass would start with."""
+        cycle = run.cycle
+        if cycle is None or run.stopped is not None or self.zoned is None or len(cycle.starts) < 2:
+            return 0.0
+        first = self.pieces.get(cycle.starts[-2])
+        return 0.0 if first is None else zones.overlap(self.zoned[0], first, self.zoned[1])
 
     def _cycles(self, run: Run) -> tuple[float, ...]:
         """The time of each pass of the main loop (or of each run of the entry routine)."""

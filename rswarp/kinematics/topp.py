@@ -20,11 +20,11 @@ def launcher() -> Launcher:
 
 def path_times(u: np.ndarray, q: np.ndarray, count: np.ndarray, cap: np.ndarray, vel: np.ndarray,
                 acc: np.ndarray, head: np.ndarray | None = None, tail: np.ndarray | None = None) -> np.ndarray:
-    """The time at each probe (from its path's start) of paths laid end to end: probes ``u`` (P,)
-    and joints ``q`` (P, dof), path m the next ``count[m]`` (at least 2, u rising); per path its
-    cap on du/dt, its axes' speeds and accelerations (M, dof), and the shares of its way in zones: it speeds up to its cap
-    no faster than evenly over [0, head] and slows down no faster than evenly over [tail, 1], so a
-    blend starts where the zone does (0 and 1: no zone)."""
+    """The time at each probe (from its path's start) of paths laid end to end: probes ``u``
+    (P,) and joints ``q`` (P, dof), path m the next ``count[m]`` (at least 2, u rising); per path
+    its cap on du/dt, its axes' speeds and accelerations (M, dof), and the shares of its way in
+    zones: it speeds up to its cap no faster than evenly over [0, head] and slows down no faster
+    than evenly over [tail, 1], so a blend starts where the zone does (0 and 1: no zone)."""
     head = np.zeros(len(count)) if head is None else head
     tail = np.ones(len(count)) if tail is None else tail
     wp = init_warp()

@@ -45,7 +45,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
                max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
                max_clamp_load: float | None = None, rated_cycles: str | None = None,
                progress: Callable[[float, float], None] | None = None, warn: Warn = ignore,
-               inputs: list[str] | None = None) -> Output:
+               inputs: list[str] | None = None, payload: str | None = None) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
     ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
@@ -70,7 +70,8 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         from .program import input_values, moved_before_stop, program_plan, signal_values
 
         _, plan = program_plan(path, program, routine, io=signal_values(io), cycles=cycles,
-                                external_axes=external_axes, warn=warn, limits=limits, inputs=input_values(inputs))
+                                external_axes=external_axes, warn=warn, limits=limits, inputs=input_values(inputs),
+                                payload=payload)
         moved_before_stop(plan)
     else:
         plan = None

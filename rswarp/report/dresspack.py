@@ -76,7 +76,7 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
                   friction: float = FRICTION, frame_rate: float = FRAME_RATE, substeps: int = SUBSTEPS,
                   min_margin: float = 0.0, progress: Callable[[float, float], None] | None = None,
                   warn: Warn = ignore, inputs: list[str] | None = None, video: str | None = None,
-                  video_color: str = "bend", video_size: int = 512) -> Output:
+                  video_color: str = "bend", video_size: int = 512, payload: str | None = None) -> Output:
     """``rswarp dresspack``: ``designs`` designs of ``cable`` (``vary``: specs, or one TOML file of
     them) over the RAPID task ``programs``, ranked, written into ``out``: the chosen design is the
     shortest hose that passes with ``min_margin`` % to every rating; the other options as
@@ -84,7 +84,7 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     design's run rendered there, as ``rswarp cable --video`` renders one."""
     opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
                         static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
-                        poisson, friction, frame_rate, substeps, inputs, rated_cycles)
+                        poisson, friction, frame_rate, substeps, inputs, rated_cycles, payload)
     mech, _ = load_mechanism(path)
     rated = rated_fatigue(rated_cycles, mech)
     drawn, short = _drawn(mech, cable, vary, designs, seed)
@@ -137,7 +137,7 @@ def _task_plan(path: str, programs: list[str], opts: SweepOptions, warn: Warn):
 
     _, plan = program_plan(path, programs, opts.routine, io=signal_values(opts.io), cycles=opts.cycles,
                            external_axes=opts.external_axes, warn=warn, limits=opts.limits,
-                           inputs=input_values(opts.inputs))
+                           inputs=input_values(opts.inputs), payload=opts.payload)
     moved_before_stop(plan)
     return plan
 

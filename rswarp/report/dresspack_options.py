@@ -41,6 +41,7 @@ class SweepOptions:
     substeps: int = SUBSTEPS
     inputs: list | None = None  # --input NAME=VALUE: what the task's live reads give
     rated_cycles: str | None = None  # --rated-cycles N@R: the hose's bending life
+    payload: str | None = None  # --payload: a load carried on top of the tool's, slowing the moves
 
 
 def cable_options(mech, o: SweepOptions, device: str, cable_model: str = "rod", record: int = -1) -> CableOptions:
@@ -63,7 +64,7 @@ _FLAGS = {"routine": "--routine", "cycles": "--cycles", "external_axes": "--exte
           "max_strain": "--max-strain", "max_torsion": "--max-torsion", "max_contact_force": "--max-contact-force",
           "max_clamp_load": "--max-clamp-load", "density": "--density", "poisson": "--poisson",
           "friction": "--friction", "frame_rate": "--frame-rate", "substeps": "--substeps",
-          "rated_cycles": "--rated-cycles"}
+          "rated_cycles": "--rated-cycles", "payload": "--payload"}
 
 
 def repeat_command(out: str, programs: list[str], o: SweepOptions, passed: bool) -> str:

@@ -11,7 +11,6 @@ theorem of their rigid union)."""
 
 from __future__ import annotations
 
-import weakref
 from pathlib import Path
 
 import numpy as np
@@ -143,17 +142,17 @@ class LoadFactors:
         return out
 
 
-_BUILT: dict[int, tuple] = {}  # id(mech) -> (a weak reference to it, its LoadFactors)
+_BUILT: list = []  # (mechanism, its LoadFactors), the last few robots asked
 
 
 def load_factors(mech) -> LoadFactors:
     """The robot's ``LoadFactors``, made once per mechanism object (its caches kept with it)."""
-    held = _BUILT.get(id(mech))
-    if held is not None and held[0]() is mech:
-        return held[1]
-    key = id(mech)
+    for held, factors in _BUILT:
+        if held is mech:
+            return factors
     factors = LoadFactors(mech)
-    _BUILT[key] = (weakref.ref(mech, lambda _, k=key, built=_BUILT: built.pop(k, None)), factors)
+    _BUILT.append((mech, factors))
+    del _BUILT[:-4]
     return factors
 
 

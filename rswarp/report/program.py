@@ -162,6 +162,7 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
     cycle = run.cycle
     return {"robot": mech.name, "files": list(run.files), "routine": run.routine,
             "duration_s": float(p.times[-1]), "cycle_s": p.cycle_s, "cycles_s": list(p.cycles),
+            "cycle_pass": None if p.cycle_pass is None else p.cycle_pass + 1, "into_next_pass_s": p.into_next,
             "main_loop": f"{cycle.file}:{cycle.line}" if cycle is not None and cycle.endless else None,
             "samples": len(p.times), "statements": run.statements, "axis_limits": _limits_dict(p.limits),
             "targets": [{"name": t.name, "file": t.file, "line": t.line, "joints": t.joints, "conf": t.conf,

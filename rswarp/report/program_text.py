@@ -41,6 +41,27 @@ def program_text(mech, doc: dict) -> str:
     return "\n".join(lines)
 
 
+def _which_pass(doc: dict) -> str:
+    """Which pass the cycle time is, and from and into what: the steady pass where the run has two."""
+    passes, k = doc["cycles_s"], doc["cycle_pass"]
+    if doc["main_loop"]:
+        loop = doc["main_loop"]
+        what = f"the main loop at {Path(loop.rsplit(':', 1)[0]).name}:{loop.rsplit(':', 1)[1]}"
+    else:
+        what = f"{doc['routine']} run again and again"
+    if doc.get("stopped"):
+        return f"the last whole pass of {what} before the stop: {_seconds(passes)} s"
+    into = "into the next pass as the loop goes on" if doc["into_next_pass_s"] > 0 else "to rest"
+    if len(passes) == 1:
+        return f"one pass of {what}, from the moves before it (--cycles 2 times a pass from the one before), {into}"
+    return (f"the steady pass: the {_ordinal(k)} of {len(passes)} passes of {what}, from the pass before, "
+            f"{'into the pass after' if k < len(passes) else into} (each pass as run: {_seconds(passes)} s)")
+
+
+def _ordinal(k: int) -> str:
+    return {1: "1st", 2: "2nd", 3: "3rd"}.get(k, f"{k}th")
+
+
 def _head(doc: dict, files: list[str]) -> str:
     moves = doc["moves"]
     count = sum(1 for m in moves if m["kind"] != "wait")
@@ -50,17 +71,8 @@ def _head(doc: dict, files: list[str]) -> str:
     passes = doc["cycles_s"]
     if doc["cycle_s"] is None:
         head += "\ncycle: none: the run stopped before a pass ended (see 'stopped' below)"
-    elif doc["main_loop"]:
-        loop = doc["main_loop"]
-        where = f"{Path(loop.rsplit(':', 1)[0]).name}:{loop.rsplit(':', 1)[1]}"
-        what = f"one pass of the main loop at {where}"
-        if len(passes) > 1:
-            what = f"the last of {len(passes)} passes of the main loop at {where}: {_seconds(passes)} s"
-        cut = " (the whole passes before the stop)" if doc.get("stopped") else ""
-        head += f"\ncycle: {doc['cycle_s']:.2f} s, {what}{cut}"
-    elif len(passes) > 1:
-        head += (f"\ncycle: {doc['cycle_s']:.2f} s, the last of {len(passes)} runs of {doc['routine']}: "
-                 f"{_seconds(passes)} s")
+    elif doc["main_loop"] or len(passes) > 1:
+        head += f"\ncycle: {doc['cycle_s']:.2f} s, {_which_pass(doc)}"
     else:
         head += f"\ncycle: {doc['cycle_s']:.2f} s, one run of {doc['routine']}"
     head += f"; {doc['axis_limits']['summary']}"
