@@ -218,3 +218,22 @@ def test_moves_timed_together_are_timed_as_each_alone(task, monkeypatch):
     alone = program_plan(str(IRB2600), [str(RAPID / task)], strict=False)[1]
     assert np.array_equal(together.times, alone.times) and np.array_equal(together.q, alone.q)
     assert [(mv.start, mv.end, mv.rows) for mv in together.moves] == [(mv.start, mv.end, mv.rows) for mv in alone.moves]
+
+
+def test_a_joint_moves_zone_keeps_its_geometry(tmp_path):
+    """Two MoveJ at a corner (``joint_zone.mod``): the first slows down over its zone, so it hands
+    over to the second where the TCP comes within the zone of the corner (z50: 40 to 50 mm from
+    it, z10: 8 to 10 mm), the bigger zone sooner, and neither touches the corner; fine stops there."""
+    kin = Kinematics(mech())
+    link, m = kin.flange_frame()
+    corner = np.array([1.0, 0.1, 0.7])
+    ends = {}
+    for zone, (lo, hi) in {"z50": (0.040, 0.0501), "z10": (0.008, 0.0101), "fine": (0.0, 1e-9)}.items():
+        path = tmp_path / f"{zone}.mod"
+        path.write_text((RAPID / "joint_zone.mod").read_text().replace("pB, v1000, z50", f"pB, v1000, {zone}"))
+        p = program_plan(str(IRB2600), [str(path)])[1]
+        mv = p.moves[1]
+        switch = (kin.fk64(p.q[mv.rows[1] - 1][None])[:, link] @ m)[0, :3, 3]
+        assert lo <= np.linalg.norm(switch - corner) <= hi, zone
+        ends[zone] = mv.end
+    assert ends["z50"] < ends["z10"] < ends["fine"]

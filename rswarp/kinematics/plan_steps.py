@@ -59,7 +59,7 @@ class Step:
     turn: float = 0.0
     findings: list = field(default_factory=list)
     end_conf: tuple | None = None
-    head: float = 0.0  # a path's share speeding up out of the zone before it (0: it starts at a stop)
+    head: float = 0.0  # the share of its way it speeds up over out of the zone before it (0: from a stop)
     tail: float = 1.0  # the share from which it slows into the zone at its end (1: it ends at a stop)
     timed: object = None  # (t, q, share, zones.Ahead) the batch timed it at, or the TooLong it met
 
@@ -337,14 +337,21 @@ def time_all(planner, steps: list[Step]) -> None:
 
 
 def _zone_ramps(steps: list[Step], tcp: dict) -> None:
-    """Where a path move ends in a zone the next move blends into at once, the zone's share of its
-    way (cut to half of either move, as ``zones.overlap`` cuts it) is where it slows down from, and
-    the next path move speeds up over the same length, so the blend starts where the zone does."""
+    """Where a move ends in a zone the next move blends into at once, the share of its way from
+    which it is in the zone (cut to half of either move, as ``zones.overlap`` cuts it) is where it
+    slows down from (``tail``), and the next move speeds up over the same length (``head``), so
+    the blend starts where the zone does. A joint move's shares are its TCP's, along its probes."""
     def length(s: Step) -> float:
         if s.kind == "path":
             return s.length if len(s.u) >= 2 else 0.0
         found = tcp.get(id(s))
         return found.length if s.kind == "joint" and found is not None else 0.0
+
+    def share(s: Step, gone: float) -> float:
+        if s.kind == "path":
+            return gone / s.length
+        found = tcp[id(s)]
+        return float(np.interp(gone, found.gone, np.linspace(0.0, 1.0, len(found.gone))))
 
     for prev, nxt in zip(steps, steps[1:]):
         zone = prev.motion.zone
@@ -352,9 +359,6 @@ def _zone_ramps(steps: list[Step], tcp: dict) -> None:
             continue
         a, b = length(prev), length(nxt)
         z = min(zone.pzone_tcp, a / 2, b / 2)
-        if z <= 0:
-            continue
-        if prev.kind == "path":
-            prev.tail = 1.0 - z / a
-        if nxt.kind == "path":
-            nxt.head = z / b
+        if z > 0:
+            prev.tail = share(prev, a - z)
+            nxt.head = share(nxt, z)

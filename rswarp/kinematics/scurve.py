@@ -56,18 +56,41 @@ def position(t: np.ndarray, d: np.ndarray, cruise: np.ndarray, a: np.ndarray, j:
              duration: np.ndarray) -> np.ndarray:
     """Where the axis is at times ``t`` (clipped to [0, duration]) on the profile over ``d`` that
     cruises at ``cruise`` with at most ``a`` and ``j``: a ramp up, the cruise, the ramp mirrored."""
+    return position2(t, d, cruise, a, j, a, j, duration)
+
+
+def position2(t: np.ndarray, d: np.ndarray, cruise: np.ndarray, up_a: np.ndarray, up_j: np.ndarray,
+              down_a: np.ndarray, down_j: np.ndarray, duration: np.ndarray) -> np.ndarray:
+    """``position`` of a profile whose ramp up and ramp down have limits of their own (a ramp
+    into a zone gentler than the axes' own)."""
     t = np.clip(t, 0.0, duration)
     with np.errstate(divide="ignore", invalid="ignore"):
-        reached = cruise * j >= a * a
-        tj = np.where(reached, a / j, np.sqrt(cruise / j))  # jerk phases
-        peak = j * tj
-        ta = np.where(reached, cruise / np.where(a > 0, a, 1.0) - tj, 0.0)  # constant acceleration
-        up = 2.0 * tj + ta
-        ramp_d = 0.5 * cruise * up
-        out = np.where(t <= up, _ramp(t, tj, ta, peak, j),
-                       np.where(t >= duration - up, d - _ramp(duration - t, tj, ta, peak, j),
-                                ramp_d + cruise * (t - up)))
+        up = _phases(cruise, up_a, up_j)
+        down = _phases(cruise, down_a, down_j)
+        out = np.where(t <= up[3], _ramp(t, *up[:3], up_j),
+                       np.where(t >= duration - down[3], d - _ramp(duration - t, *down[:3], down_j),
+                                0.5 * cruise * up[3] + cruise * (t - up[3])))
     return np.where(d > 0, np.clip(out, 0.0, d), 0.0)
+
+
+def _phases(cruise, a, j):
+    """(jerk time, constant-acceleration time, peak acceleration, whole ramp time) of a ramp from
+    rest to ``cruise``."""
+    reached = cruise * j >= a * a
+    tj = np.where(reached, a / j, np.sqrt(cruise / j))
+    ta = np.where(reached, cruise / np.where(a > 0, a, 1.0) - tj, 0.0)
+    return tj, ta, j * tj, 2.0 * tj + ta
+
+
+def zone_ramp(cruise: np.ndarray, a: np.ndarray, j: np.ndarray, zone: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(acceleration, jerk) of a ramp between rest and ``cruise`` spread over ``zone`` of the way
+    (0: none, the axes' own ``a`` and ``j``), its jerk time the axes' own: the least of ``a`` and
+    the acceleration whose ramp covers the zone (``cruise²/2a + cruise a/2j``)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tau = a / j
+        room = zone - 0.5 * cruise * tau
+        spread = np.where((zone > 0) & (room > 0), np.minimum(a, cruise * cruise / (2.0 * room)), a)
+    return spread, spread / tau
 
 
 def _ramp(t, tj, ta, peak, j):

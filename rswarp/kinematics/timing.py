@@ -124,23 +124,28 @@ def move_limits(motions, limits, factors: np.ndarray | None = None) -> tuple[np.
 @dataclass(frozen=True)
 class JointProfiles:
     """Joint moves' rest-to-rest profiles (M moves, dof axes): each move's duration, each axis's
-    way (signed), cruise speed, acceleration and jerk, the slowest axis (``lead``) and whether
-    the axes share its profile (``phased``: on the straight line in joint space)."""
+    way (signed), the slowest axis (``lead``), whether the axes share one profile of the share of
+    the way (``phased``: on the straight line in joint space) and that profile (``share``: cruise,
+    then acceleration and jerk up, then down, per move), else each axis's own cruise speed,
+    acceleration and jerk (M, dof)."""
 
     duration: np.ndarray
     way: np.ndarray
+    lead: np.ndarray
+    phased: np.ndarray
+    share: tuple
     cruise: np.ndarray
     accel: np.ndarray
     jerk: np.ndarray
-    lead: np.ndarray
-    phased: np.ndarray
 
 
 def joint_profiles(q0: np.ndarray, q1: np.ndarray, motions, limits, caps: np.ndarray,
-                   factors: np.ndarray | None = None) -> JointProfiles:
+                   factors: np.ndarray | None = None, head: np.ndarray | None = None,
+                   tail: np.ndarray | None = None) -> JointProfiles:
     """Ruckig's time-synchronized profiles of joint moves from ``q0`` to ``q1`` (M, dof): the
     slowest axis's least time (at least a ``\\T``), each axis's speed capped by the move's
-    ``caps`` (share of the way a second)."""
+    ``caps`` (share of the way a second). A phased move speeds up over at least ``head`` and
+    slows down over at least ``tail`` of its way (zones' shares, 0: none), as a path does."""
     v, a, j = move_limits(motions, limits, factors)
     way = q1 - q0
     dist = np.abs(way)
@@ -154,27 +159,75 @@ def joint_profiles(q0: np.ndarray, q1: np.ndarray, motions, limits, caps: np.nda
     c_l = scurve.cruise_for(d_l, v_l, a_l, j_l, duration)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(d_l[:, None] > 0, dist / d_l[:, None], 0.0)
+        unit = np.where(d_l > 0, 1.0 / d_l, 0.0)  # the lead's way as the share of the way
     top = 1.0 + SHARED
     peak = np.minimum(a_l, np.sqrt(c_l * j_l))
     phased = np.all((r * c_l[:, None] <= v * top) & (r * peak[:, None] <= a * top) & (r * j_l[:, None] <= j * top),
                     axis=1)
+    share = (c_l * unit, a_l * unit, j_l * unit, a_l * unit, j_l * unit)
+    head = np.zeros(len(way)) if head is None else head
+    tail = np.zeros(len(way)) if tail is None else tail
+    zoned = phased & (d_l > 0) & ((head > 0) | (tail > 0))
+    if zoned.any():
+        share, duration = _zoned(share, duration, zoned, scurve.peak_speed(d_l, v_l, a_l, j_l) * unit, given,
+                                 head, tail)
     own = scurve.cruise_for(dist, v, a, j, duration[:, None])
-    cruise = np.where(phased[:, None], r * c_l[:, None], own)
-    return JointProfiles(duration, way, cruise, np.where(phased[:, None], r * a_l[:, None], a),
-                         np.where(phased[:, None], r * j_l[:, None], j), lead, phased)
+    return JointProfiles(duration, way, lead, phased, share, own, a, j)
+
+
+def _zoned(share: tuple, duration: np.ndarray, zoned: np.ndarray, top: np.ndarray, given: np.ndarray,
+           head: np.ndarray, tail: np.ndarray) -> tuple[tuple, np.ndarray]:
+    """The share profiles of the zoned moves made again: ramps spread over their zones
+    (``scurve.zone_ramp``), the fastest cruise the way then allows (at most ``top``), slowed to a
+    ``\\T``; each found by bisection (the time falls and the ramps' way grows with the cruise)."""
+    k = np.flatnonzero(zoned)
+    a, j, h, t = share[1][k], share[2][k], head[k], tail[k]
+
+    def shape(c):
+        ua, uj = scurve.zone_ramp(c, a, j, h)
+        da, dj = scurve.zone_ramp(c, a, j, t)
+        tu, td = scurve.ramp_time(c, ua, uj), scurve.ramp_time(c, da, dj)
+        return (ua, uj, da, dj), 0.5 * c * (tu + td), 1.0 / c + 0.5 * (tu + td)
+
+    c = _bisect(lambda x: shape(x)[1] <= 1.0, top[k])  # the fastest cruise whose ramps fit in the way
+    c = np.where(shape(top[k])[1] <= 1.0, top[k], c)
+    slow = given[k] > shape(c)[2]
+    if slow.any():  # a \T longer than that: the cruise that takes it
+        c = np.where(slow, _bisect(lambda x: shape(x)[2] > given[k], c, keep_high=True), c)
+    limits, _, took = shape(c)
+    out = [x.copy() for x in share]
+    for n, x in enumerate((c, *limits)):
+        out[n][k] = x
+    duration = duration.copy()
+    duration[k] = took
+    return tuple(out), duration
+
+
+def _bisect(ok, high: np.ndarray, keep_high: bool = False) -> np.ndarray:
+    """Per entry, the greatest x in (0, high] with ``ok(x)`` (``ok`` true below a threshold), or,
+    with ``keep_high``, the least x where it turns false (true below: the time still longer)."""
+    lo, hi = np.zeros_like(high), high.copy()
+    for _ in range(scurve.FIT_STEPS):
+        mid = 0.5 * (lo + hi)
+        good = ok(mid)
+        lo, hi = np.where(good, mid, lo), np.where(good, hi, mid)
+    return hi if keep_high else lo
 
 
 def joint_positions(p: JointProfiles, row: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(way gone (S, dof), share of the slowest axis's way) at times ``t`` of moves ``row``."""
-    lead = p.lead[row]
-    d_l = np.abs(p.way[row, lead])
-    at = scurve.position(t, d_l, p.cruise[row, lead], p.accel[row, lead], p.jerk[row, lead], p.duration[row])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        share = np.where(d_l > 0, at / d_l, 1.0)
+    """(way gone (S, dof), share of the way) at times ``t`` of moves ``row``: the shared profile's,
+    or, for axes each on its own profile, the slowest axis's share."""
+    c, ua, uj, da, dj = (x[row] for x in p.share)
+    share = scurve.position2(t, np.ones(len(row)), c, ua, uj, da, dj, p.duration[row])
     gone = share[:, None] * p.way[row]
     own = ~p.phased[row]
     if own.any():  # axes each on its own profile of the move's time
         r, tt = row[own], t[own][:, None]
         gone[own] = np.sign(p.way[r]) * scurve.position(tt, np.abs(p.way[r]), p.cruise[r], p.accel[r], p.jerk[r],
                                                         p.duration[r][:, None])
+        lead = p.lead[r]
+        d_l = np.abs(p.way[r, lead])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            share[own] = np.where(d_l > 0, np.abs(gone[own][np.arange(len(r)), lead]) / d_l, 1.0)
     return gone, share
+

@@ -48,7 +48,8 @@ def joint_moves(steps, tcp: dict, limits, rate: float, budget: list | None = Non
     length = np.array([p.length if p is not None else 0.0 for p in paths])
     turn = np.array([p.turn if p is not None else 0.0 for p in paths])
     prof = timing.joint_profiles(q0, q1, motions, limits, timing.share_caps(motions, length, turn),
-                                 _factors(group, factor))
+                                 _factors(group, factor), np.array([s.head for s in group]),
+                                 np.array([1.0 - s.tail for s in group]))
     grid = Grid(prof.duration, rate, [BATCH_SAMPLES] if budget is None else budget)
     gone, share = timing.joint_positions(prof, grid.row, grid.t)
     grid.hand_out(group, out, q0[grid.row] + gone, share)
