@@ -112,6 +112,8 @@ def test_demo_runs_on_the_bundled_examples(capsys, demo_run):
     assert "cables (16 random programs, free of the floor and the robot itself, 4 s; no meshes" in out
     assert "bend radius: least" in out
     assert "program pick_place.mod" in out and "program service.mod" in out
+    assert out.count("standard cycle 25 x 300 x 25 mm with 1 kg") == 3  # the three 6-axis arms, their robot data
+    assert "from IRB1300_11_90.robot.toml" in out and "from IRB2600ID_8_200.robot.toml" in out
     assert "task cell/ (3 modules, rswarp program)" in out and "one pass of the main loop at MainModule.mod:10" in out
     assert "line 18: fail: tool Gripper 335 mm below the floor" in out  # the service draft's finding, its tool lowest
     assert "program pick_place.mod (rswarp program, with --tool irb2600_12_165/gripper/Gripper.rsxml)" in out

@@ -198,7 +198,7 @@ def demo_robot(mech: Mechanism, out: Path, say: Callable[[str], None]) -> dict:
              f"   {collision_line}",
              f"   exported {usd}" + (f" and {urdf}" if len(done) > 1 else no_urdf)
              + f": {_physics_line(done[0].physics)}",
-             *_cables(mech, out), *_programs(mech, out), ""]
+             *_cables(mech, out), *_standard_cycle(mech), *_programs(mech, out), ""]
     say("\n".join(lines))
     return {"name": mech.name, "flange_at_home": flange[:3, 3].astype(float).tolist(), "reach": reach.value,
             "usd": str(usd), "urdf": str(urdf) if len(done) > 1 else None}
@@ -231,6 +231,20 @@ def _programs(mech: Mechanism, out: Path) -> list[str]:
         lines += [f"     {line}" for line in text[:2] + [t for t in text if t.startswith(("findings", "  ", "errors"))]]
         lines += [f"     assumed: {line.split(': warning: ', 1)[-1]}" for line in said]
     return lines
+
+
+def _standard_cycle(mech: Mechanism) -> list[str]:
+    """ABB's standard pick cycle (``examples/standard_cycle.mod``) on a 6-axis arm: its steady
+    cycle time and the axis data that timed it (nothing for other mechanisms)."""
+    from .. import examples
+    from ..kinematics.kinematics import Kinematics
+    from .program import run_program
+
+    if not mech.path or Kinematics(mech).ik_method != "arm":
+        return []
+    doc = run_program(str(mech.path), [str(examples.STANDARD_CYCLE)], cycles=3).doc
+    return [f"   standard cycle 25 x 300 x 25 mm with 1 kg ({examples.STANDARD_CYCLE.name}, rswarp program "
+            f"--cycles 3): {doc['cycle_s']:.3f} s steady; {doc['axis_limits']['summary']}"]
 
 
 def _purpose(module: Path) -> list[str]:
