@@ -5,8 +5,6 @@ them."""
 
 from __future__ import annotations
 
-import inspect
-
 import numpy as np
 import pytest
 import trimesh
@@ -16,7 +14,6 @@ from rswarp import examples
 from rswarp.cli import main
 from rswarp.export.physics import _combined, robot_physics
 from rswarp.geometry import DEFAULT_DENSITY
-from rswarp.kinematics.program import Planner
 from rswarp.rapid import data as rd
 from rswarp.rapid.interpret import Interpreter
 from rswarp.rapid.task import load_task
@@ -156,18 +153,25 @@ def test_program_reports_the_loads_and_their_factors(irb2600):
     assert "loads: 9 kg (" in out.text and f"accelerations x{min(expected):.2f}-1.00" in out.text
 
 
-@pytest.mark.parametrize("spec", ["abc", "-3", "6@0,0", "nowhere.mod:tool1"])
+@pytest.mark.parametrize("spec", ["abc", "-3", "6@0,0", "nowhere.mod:tool1", "12@0,0,100"])
 def test_bad_payloads_are_one_line_errors(spec, capsys):
     assert main(["program", ROBOT, PICK_PLACE, "--payload", spec]) == 1
     err = capsys.readouterr().err.strip()
     assert err and "\n" not in err and "Traceback" not in err and ("payload" in err or "nowhere.mod" in err)
 
 
-def _planner_scales_loads() -> bool:
-    return "load_scale" in inspect.signature(Planner).parameters
+def test_a_centre_of_gravity_in_the_wrong_unit_is_said_in_the_files(capsys):
+    """The IRB 2600's file is in metres: 100 (a programmer's mm) is 100 m from the flange."""
+    assert main(["program", ROBOT, PICK_PLACE, "--payload", "12@0,0,100"]) == 1
+    assert "100 m from the flange: the robot file's length unit is m" in capsys.readouterr().err
 
 
-@pytest.mark.xfail(not _planner_scales_loads(), reason="the Planner does not take load_scale yet", strict=True)
+def test_a_load_over_the_rated_payload_is_timed_and_warned(capsys):
+    assert main(["program", ROBOT, PICK_PLACE, "--payload", "30"]) == 0
+    err = capsys.readouterr().err
+    assert "a load of 33 kg" in err and "over the robot's rated 12 kg (IRB2600_12_165.robot.toml)" in err
+
+
 def test_a_heavier_load_makes_the_program_slower():
     payloads = (None, "6@0,0,0.1", "12@0,0,0.1")
     times = [float(program_plan(ROBOT, [PICK_PLACE], payload=kg)[1].times[-1]) for kg in payloads]

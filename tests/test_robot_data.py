@@ -95,6 +95,7 @@ def _bad_file(tmp_path, line: str) -> tuple:
     ("jerk_deg_s3 = [1, 2, 3, 4, 5, -6]", "jerk_deg_s3 must be a list of numbers above 0"),
     ('jerk_deg_s3 = [1, 2, "fast", 4, 5, 6]', "jerk_deg_s3 must be a list of numbers above 0"),
     ("jerk_deg_s3 = [1, 2, 3]", "jerk_deg_s3 has 3 values for 6 names"),
+    ("jerk_deg_s3 = [1, 2, 3, 4, 5, true]", "jerk_deg_s3 must be a list of numbers above 0"),  # TOML's true is no 1
     ('accel_estimated = "yes"', "accel_estimated must be true or false"),
     ("jerk_source = 3", "jerk_source must be text"),
 ])

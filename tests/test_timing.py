@@ -237,3 +237,19 @@ def test_a_joint_moves_zone_keeps_its_geometry(tmp_path):
         assert lo <= np.linalg.norm(switch - corner) <= hi, zone
         ends[zone] = mv.end
     assert ends["z50"] < ends["z10"] < ends["fine"]
+
+
+@pytest.mark.parametrize("task", ["zone_slow_next.mod", "zone_square.mod", "joint_zone.mod", "pick_place"])
+def test_a_zone_never_makes_a_task_slower_than_fine(task, tmp_path):
+    """Every zone of a task swapped for fine: the task takes longer (a slow move after a fast one
+    in a zone once took 0.7 s more than after a stop)."""
+    import re
+
+    from rswarp.examples import IRB2600_PROGRAM
+
+    source = IRB2600_PROGRAM if task == "pick_place" else RAPID / task
+    fine = tmp_path / "fine.mod"
+    fine.write_text(re.sub(r"\bz\d+\b", "fine", source.read_text()))
+    zoned = program_plan(str(IRB2600), [str(source)])[1]
+    stopped = program_plan(str(IRB2600), [str(fine)])[1]
+    assert zoned.times[-1] < stopped.times[-1]

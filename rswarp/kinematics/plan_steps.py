@@ -326,7 +326,7 @@ def time_all(planner, steps: list[Step]) -> None:
         flanges = flanges.reshape(len(joint), timing.JOINT_PROBES, 4, 4)  # at each's ``timing.joint_probes``
         poses = np.array([planner.world(s.motion, f) for s, f in zip(joint, flanges)])
         tcp = {id(s): path for s, path in zip(joint, timing_batch.tcp_paths(poses))}
-    _zone_ramps(steps, tcp)
+    _zone_ramps(steps, tcp, planner.limits)
     budget = [timing_batch.BATCH_SAMPLES]
     timed = timing_batch.path_moves(steps, planner.limits, planner.rate, budget, planner.load_factor)
     timed.update(timing_batch.joint_moves(steps, tcp, planner.limits, planner.rate, budget, planner.load_factor))
@@ -336,29 +336,51 @@ def time_all(planner, steps: list[Step]) -> None:
         planner.time_step(s, tcp.get(id(s)))
 
 
-def _zone_ramps(steps: list[Step], tcp: dict) -> None:
+def _zone_ramps(steps: list[Step], tcp: dict, limits) -> None:
     """Where a move ends in a zone the next move blends into at once, the share of its way from
     which it is in the zone (cut to half of either move, as ``zones.overlap`` cuts it) is where it
-    slows down from (``tail``), and the next move speeds up over the same length (``head``), so
-    the blend starts where the zone does. A joint move's shares are its TCP's, along its probes."""
-    def length(s: Step) -> float:
-        if s.kind == "path":
-            return s.length if len(s.u) >= 2 else 0.0
-        found = tcp.get(id(s))
-        return found.length if s.kind == "joint" and found is not None else 0.0
-
-    def share(s: Step, gone: float) -> float:
-        if s.kind == "path":
-            return gone / s.length
-        found = tcp[id(s)]
-        return float(np.interp(gone, found.gone, np.linspace(0.0, 1.0, len(found.gone))))
-
+    slows down from (``tail``), and the next move speeds up over the same time (``head``: the
+    way it goes in that time at its own speed), so the blend starts where the zone does and ends
+    with the next move at speed. A joint move's shares are its TCP's, along its probes."""
     for prev, nxt in zip(steps, steps[1:]):
         zone = prev.motion.zone
         if zone is None or zone.fine or prev.kind not in ("path", "joint") or nxt.kind not in ("path", "joint"):
             continue
-        a, b = length(prev), length(nxt)
+        a, b = _length(prev, tcp), _length(nxt, tcp)
         z = min(zone.pzone_tcp, a / 2, b / 2)
-        if z > 0:
-            prev.tail = share(prev, a - z)
-            nxt.head = share(nxt, z)
+        if z <= 0:
+            continue
+        prev.tail = _share(prev, tcp, a - z)
+        speed_in, speed_out = _tcp_speed(prev, tcp, limits, a), _tcp_speed(nxt, tcp, limits, b)
+        nxt.head = _share(nxt, tcp, min(z * speed_out / speed_in, b / 2))
+
+
+def _length(s: Step, tcp: dict) -> float:
+    """The TCP's path length of a step (m; 0 where it does not move)."""
+    if s.kind == "path":
+        return s.length if len(s.u) >= 2 else 0.0
+    found = tcp.get(id(s))
+    return found.length if s.kind == "joint" and found is not None else 0.0
+
+
+def _share(s: Step, tcp: dict, gone: float) -> float:
+    """The share of a step's way at which its TCP has gone ``gone`` (m) along its path."""
+    if s.kind == "path":
+        return gone / s.length
+    found = tcp[id(s)]
+    return float(np.interp(gone, found.gone, np.linspace(0.0, 1.0, len(found.gone))))
+
+
+def _tcp_speed(s: Step, tcp: dict, limits, length: float) -> float:
+    """The TCP's top speed along a step (m/s): its speed data's cap, a joint move's axes' too."""
+    m = s.motion
+    cap = float(timing.share_caps([m], np.array([length]), np.array([s.turn if s.kind == "path" else
+                                                                      tcp[id(s)].turn]))[0])
+    if m.duration is not None:
+        cap = min(cap, 1.0 / timing.given_time(m))
+    if s.kind == "joint":
+        way = np.abs(s.q1 - s.q0)
+        moving = way > 0
+        if moving.any():
+            cap = min(cap, float(np.min(limits.velocity[moving] * m.override / way[moving])))
+    return cap * length

@@ -28,6 +28,7 @@ from ..rsxml.robot_data import Payload, robot_data
 from ..rsxml.units import MAX_LENGTH
 
 MAX_PAYLOAD = 1e4  # kg: beyond any robot's
+FAR_COG = 3.0  # m: a load's centre of gravity this far from the flange is a length in the wrong unit
 NO_MASSES = "no link masses (no meshes beside the robot file): the load does not change the timing"
 
 
@@ -49,6 +50,12 @@ def read_payload(spec: str | None, mech) -> Payload | None:
     if len(cog) != 3:
         raise InputError(usage)
     _check(kg, cog, spec)
+    far = float(np.linalg.norm(cog))
+    if far > FAR_COG:
+        unit = mech.length_unit or "m"
+        given = f"{far / mech.length_factor:g} {unit}" + (f" ({far:g} m)" if unit != "m" else "")
+        raise InputError(f"--payload '{spec}': a centre of gravity {given} from the flange: the robot file's length "
+                         f"unit is {unit}, give x,y,z in it")
     return Payload(kg, tuple(cog), source=f"--payload {spec}")
 
 

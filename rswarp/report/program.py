@@ -21,7 +21,7 @@ from ..outputs import claim, record
 from ..rapid.interpret import MAX_CYCLES, Interpreter
 from ..rapid.task import load_task
 from ..rsxml.documents import load_mechanism
-from ..rsxml.robot_data import axis_limits
+from ..rsxml.robot_data import axis_limits, robot_data
 from ..sim.bodies import placed_environments
 from ..sim.program_check import check_program
 from ..sim.tool import load_tool
@@ -81,13 +81,27 @@ def program_plan(path: str, programs, routine: str = "main", device: str = "cpu"
     plan = planner.finish(run)
     for w in (*run.warnings, *planner.notes):
         warn(str(w))
-    if carried_loads(mech, plan, load) and load_factors(mech).arm is None:
+    carried = carried_loads(mech, plan, load)
+    if carried and load_factors(mech).arm is None:
         warn(load_factors(mech).warning)
+    _over_rated(mech, carried, warn)
     if run.stopped is not None:
         warn(str(run.stopped))
     if strict and plan.errors:
         raise RsxmlError(list(plan.errors))
     return mech, plan
+
+
+def _over_rated(mech, carried: list[dict], warn: Warn) -> None:
+    """A warning for each load heavier than the robot data's rated payload: the timing takes it,
+    the robot is not made for it."""
+    data = robot_data(mech)
+    rated = data.payload if data is not None else None
+    for found in carried:
+        if rated is not None and found["mass"] > rated * (1 + 1e-9):
+            warn(f"{mech.path or mech.name}: warning: a load of {found['mass']:g} kg ({found['source']}) is over the "
+                 f"robot's rated {rated:g} kg ({Path(data.path).name}): timed as given, beyond what the robot is "
+                 "made to carry")
 
 
 def moved_before_stop(plan) -> None:

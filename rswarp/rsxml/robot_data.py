@@ -247,8 +247,7 @@ def _column(path, text, axes, key, revolute, names, mech, required=False) -> np.
             raise RsxmlError(Diagnostic(path, 0, f"[axes] has no {key}"))
         return np.full(len(revolute), np.nan)
     line = _line_of(text, key)
-    if not isinstance(values, list) or not all(isinstance(v, (int, float)) and math.isfinite(v) and v > 0
-                                                for v in values):
+    if not isinstance(values, list) or not all(_positive(v) for v in values):
         raise RsxmlError(Diagnostic(path, line, f"{key} must be a list of numbers above 0"))
     if isinstance(names, list) and len(values) != len(names):
         raise RsxmlError(Diagnostic(path, line, f"{key} has {len(values)} values for {len(names)} names"))
@@ -279,7 +278,7 @@ def _kg(path, text, doc, key) -> float | None:
     v = doc.get(key)
     if v is None:
         return None
-    if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+    if not _positive(v):
         raise RsxmlError(Diagnostic(path, _line_of(text, key), f"{key} must be a number above 0"))
     return float(v)
 
@@ -381,6 +380,11 @@ def _yaml_number(path: str, line: int, spec: dict, key: str) -> float:
     if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v <= 0:
         raise RsxmlError(Diagnostic(path, line, f"{key}: {v!r} must be a number above 0"))
     return float(v)
+
+
+def _positive(v) -> bool:
+    """A finite number above 0, and not a TOML ``true`` (which Python counts as 1)."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0
 
 
 def _line_of(text: str, key: str) -> int:
