@@ -10,7 +10,7 @@ flange. It is centred on the same place relative to each arm: ``CalcRobT`` of th
 [0, 20, 20, 0, 50, 0] deg (axes 2 and 3 tilted forward, the tool pointing straight down, some
 60 % of the reach out and 0.6 m high on all three), the 300 mm across the front of the robot
 (along y). ``--cycles 3``; rswarp's figure is the JSON's ``cycle_s``, the steady pass (the
-second: the first starts from the move to the pick point before the loop).
+second; here every pass starts and ends at rest at the pick point, so all three take the same).
 
 ABB's published figures: none was found in the sources searched (this project's search of public
 pages, documentation and code, for the IRB 1300, IRB 2600 and IRB 2600ID data sheets and product

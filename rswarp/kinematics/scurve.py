@@ -13,14 +13,14 @@ FIT_STEPS = 64  # bisection steps of a cruise speed below a²/j (to the float's 
 
 def ramp_time(v: np.ndarray, a: np.ndarray, j: np.ndarray) -> np.ndarray:
     """The time to go from rest to speed ``v`` (and from it back to rest)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         return np.where(v * j >= a * a, v / a + a / j, 2.0 * np.sqrt(v / j))
 
 
 def peak_speed(d: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray) -> np.ndarray:
     """The cruise speed of the quickest profile over ``d``: ``v``, or the most a shorter distance
     lets the axis reach before it must slow down (``speed * ramp_time(speed) = d``)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         c = a * a / j
         full = 0.5 * (-c + np.sqrt(c * c + 4.0 * d * a))  # the acceleration reaches a
         short = np.cbrt(d * d * j / 4.0)  # it does not
@@ -30,7 +30,7 @@ def peak_speed(d: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray) -> np
 def min_time(d: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray) -> np.ndarray:
     """The least time to cover ``d`` from rest to rest (0 for no distance)."""
     top = peak_speed(d, v, a, j)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         return np.where(d > 0, d / top + ramp_time(top, a, j), 0.0)
 
 
@@ -38,7 +38,7 @@ def cruise_for(d: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray, durat
     """The cruise speed at which the profile over ``d`` takes ``duration`` (at least its least
     time): ``d / speed + ramp_time(speed) = duration``, which falls as the speed rises."""
     top = peak_speed(d, v, a, j)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         slack = duration - a / j
         disc = slack * slack - 4.0 * d / a
         full = 0.5 * a * (slack - np.sqrt(np.maximum(disc, 0.0)))  # a reached: a quadratic's lower root
@@ -64,7 +64,7 @@ def position2(t: np.ndarray, d: np.ndarray, cruise: np.ndarray, up_a: np.ndarray
     """``position`` of a profile whose ramp up and ramp down have limits of their own (a ramp
     into a zone gentler than the axes' own)."""
     t = np.clip(t, 0.0, duration)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         up = _phases(cruise, up_a, up_j)
         down = _phases(cruise, down_a, down_j)
         out = np.where(t <= up[3], _ramp(t, *up[:3], up_j),
@@ -86,7 +86,7 @@ def zone_ramp(cruise: np.ndarray, a: np.ndarray, j: np.ndarray, zone: np.ndarray
     """(acceleration, jerk) of a ramp between rest and ``cruise`` spread over ``zone`` of the way
     (0: none, the axes' own ``a`` and ``j``), its jerk time the axes' own: the least of ``a`` and
     the acceleration whose ramp covers the zone (``cruise²/2a + cruise a/2j``)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         tau = a / j
         room = zone - 0.5 * cruise * tau
         spread = np.where((zone > 0) & (room > 0), np.minimum(a, cruise * cruise / (2.0 * room)), a)

@@ -243,8 +243,10 @@ def _standard_cycle(mech: Mechanism) -> list[str]:
     if not mech.path or Kinematics(mech).ik_method != "arm":
         return []
     doc = run_program(str(mech.path), [str(examples.STANDARD_CYCLE)], cycles=3).doc
+    timed = any(f < 1.0 for load in doc["loads"] for f in load["acceleration_factor"])
+    unloaded = "" if timed else " (the 1 kg not timed: no link meshes, so no masses)"
     return [f"   standard cycle 25 x 300 x 25 mm with 1 kg ({examples.STANDARD_CYCLE.name}, rswarp program "
-            f"--cycles 3): {doc['cycle_s']:.3f} s steady; {doc['axis_limits']['summary']}"]
+            f"--cycles 3): {doc['cycle_s']:.3f} s steady{unloaded}; {doc['axis_limits']['summary']}"]
 
 
 def _purpose(module: Path) -> list[str]:

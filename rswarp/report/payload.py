@@ -41,7 +41,8 @@ def read_payload(spec: str | None, mech) -> Payload | None:
     if sep and head and Path(head).suffix.lower() in SUFFIXES:
         return _from_module(head, name.strip())
     mass, at, where = spec.partition("@")
-    usage = f"--payload '{spec}': give KG, KG@x,y,z (the file's length unit) or MODULE.mod:TOOLDATA"
+    usage = (f"--payload '{spec}': give KG, KG@x,y,z (the file's length unit) or MODULE.mod:NAME (a tooldata or "
+             "loaddata)")
     try:
         kg = number(mass)
         cog = [mech.si_length(number(v)) for v in where.split(",")] if at else [0.0, 0.0, 0.0]
