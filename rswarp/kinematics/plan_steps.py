@@ -342,17 +342,22 @@ def _zone_ramps(steps: list[Step], tcp: dict, limits) -> None:
     slows down from (``tail``), and the next move speeds up over the same time (``head``: the
     way it goes in that time at its own speed), so the blend starts where the zone does and ends
     with the next move at speed. A joint move's shares are its TCP's, along its probes."""
-    for prev, nxt in zip(steps, steps[1:]):
+    moving = ("path", "joint")
+    lengths = [_length(s, tcp) if s.kind in moving else 0.0 for s in steps]
+    speeds: dict = {}  # step index -> its TCP's top speed, made once
+    for k, (prev, nxt) in enumerate(zip(steps, steps[1:])):
         zone = prev.motion.zone
-        if zone is None or zone.fine or prev.kind not in ("path", "joint") or nxt.kind not in ("path", "joint"):
+        if zone is None or zone.fine or prev.kind not in moving or nxt.kind not in moving:
             continue
-        a, b = _length(prev, tcp), _length(nxt, tcp)
+        a, b = lengths[k], lengths[k + 1]
         z = min(zone.pzone_tcp, a / 2, b / 2)
         if z <= 0:
             continue
         prev.tail = _share(prev, tcp, a - z)
-        speed_in, speed_out = _tcp_speed(prev, tcp, limits, a), _tcp_speed(nxt, tcp, limits, b)
-        nxt.head = _share(nxt, tcp, min(z * speed_out / speed_in, b / 2))
+        for j in (k, k + 1):
+            if j not in speeds:
+                speeds[j] = _tcp_speed(steps[j], tcp, limits, lengths[j])
+        nxt.head = _share(nxt, tcp, min(z * speeds[k + 1] / speeds[k], b / 2))
 
 
 def _length(s: Step, tcp: dict) -> float:
@@ -372,15 +377,18 @@ def _share(s: Step, tcp: dict, gone: float) -> float:
 
 
 def _tcp_speed(s: Step, tcp: dict, limits, length: float) -> float:
-    """The TCP's top speed along a step (m/s): its speed data's cap, a joint move's axes' too."""
+    """The TCP's top speed along a step (m/s): its speed data's (v_tcp, and v_ori over its turn),
+    VelSet's with a ``\\T``, and a joint move's axes' at their top speeds."""
     m = s.motion
-    cap = float(timing.share_caps([m], np.array([length]), np.array([s.turn if s.kind == "path" else
-                                                                      tcp[id(s)].turn]))[0])
-    if m.duration is not None:
-        cap = min(cap, 1.0 / timing.given_time(m))
+    turn = s.turn if s.kind == "path" else tcp[id(s)].turn
+    if m.duration is None:
+        v_tcp, v_ori = timing.tcp_speeds(m)
+        top = min(v_tcp, v_ori * length / turn) if turn > 0 else v_tcp
+    else:
+        top = min(m.vmax if m.vmax is not None else np.inf, length / timing.given_time(m))
     if s.kind == "joint":
         way = np.abs(s.q1 - s.q0)
         moving = way > 0
         if moving.any():
-            cap = min(cap, float(np.min(limits.velocity[moving] * m.override / way[moving])))
-    return cap * length
+            top = min(top, length * float(np.min(limits.velocity[moving] * m.override / way[moving])))
+    return top
