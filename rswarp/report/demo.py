@@ -76,7 +76,8 @@ def _run_demo(out: str | Path, say: Callable[[str], None]) -> Demo:
 
 # the demo's design sweep: the hose's length (m), the tool clamp's height (m) and pitch (deg), the upper
 # arm clamp along x (m), about a region a 128-design sweep found passing designs in
-DEMO_SWEEP = {"length": (1.19, 1.24), "Link6.z": (0.035, 0.08), "Link6.pitch": (-12.0, -3.0), "Link3.x": (-0.085, -0.065)}
+DEMO_SWEEP = {"length": (1.19, 1.24), "Link6.z": (0.035, 0.08), "Link6.pitch": (-12.0, -3.0),
+              "Link3.x": (-0.085, -0.065)}
 DEMO_DESIGNS = 32
 
 
