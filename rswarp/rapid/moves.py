@@ -101,8 +101,13 @@ def run_move(interp, spec: MoveSpec, a: Arguments, s: n.ProcCall, frame) -> None
     interp.emit(Motion(spec.kind, s.name, interp.path, s.line, frame.routine.name, frame.chain(), tuple(targets),
                        tuple(names), speed, zone, tool, wobj, conf, state["accel"], state["ramp"], state["override"],
                        state["vmax"], duration, 0.0, interp.pass_index, tuple(declared),
-                       held_in_flange(state.get("grip_load"), tool, wobj)))
+                       _held(state.get("grip_load"), tool, wobj)))
     _after(interp, s, a, spec, frame)
+
+
+def _held(load, tool, wobj):
+    """``held_in_flange``, asked only where a GripLoad holds a payload (hashing a tool costs)."""
+    return None if load is None else held_in_flange(load, tool, wobj)
 
 
 @lru_cache(maxsize=1024)
