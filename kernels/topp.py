@@ -134,11 +134,35 @@ def _stretch_bounds(dof: int):
 
 
 @cached
+def _advance(dof: int):
+    """The forward pass's step for ``dof`` axes."""
+    rows = 2 * dof + 1
+    vec = wp.types.vector(length=rows, dtype=wp.float64)
+
+    @wp.func
+    def advance(w: vec, s: vec, x: wp.float64, reach: wp.float64, h: wp.float64):
+        """(x at the stretch's end, its time): the greatest acceleration the bounds and the next
+        probe's reach allow, timed with what holds at both ends of the stretch (so all along it)."""
+        a = (reach - x) / (wp.float64(2.0) * h)
+        for r in range(rows):
+            a = wp.min(a, w[r] + s[r] * x)
+        x1 = wp.min(wp.max(x + wp.float64(2.0) * h * a, wp.float64(0.0)), reach)
+        speed_up = wp.float64(1e300)
+        slow_down = wp.float64(1e300)
+        for r in range(rows):
+            speed_up = wp.min(speed_up, wp.min(w[r] + s[r] * x, w[r] + s[r] * x1))
+            slow_down = wp.min(slow_down, wp.min(w[r] - s[r] * x, w[r] - s[r] * x1))
+        return x1, stretch_time(wp.sqrt(x), wp.sqrt(x1), h, speed_up, slow_down)
+
+    return advance
+
+
+@cached
 def topp_kernel(dof: int):
     """The kernel for paths of ``dof`` axes; per path ``first`` and ``count`` locate its probes in
     the flat ``u`` (P,) and ``q`` (P, dof)."""
-    rows = 2 * dof + 1
     bounds, fastest = _stretch_bounds(dof)
+    advance = _advance(dof)
 
     @wp.kernel(enable_backward=False, module=module_name("topp", dof))
     def topp(
@@ -183,17 +207,8 @@ def topp_kernel(dof: int):
         t_out[lo] = t
         for k in range(n - 1):  # forward: the greatest acceleration that stays controllable
             w, s, still = bounds(q, u, lo, n, k, acc, m, ramp(u[lo + k], u[lo + k + 1], head[m], tail[m], up, down))
-            h = u[lo + k + 1] - u[lo + k]
-            a = (reach[lo + k + 1] - x) / (wp.float64(2.0) * h)
-            for r in range(rows):
-                a = wp.min(a, w[r] + s[r] * x)
-            x1 = wp.min(wp.max(x + wp.float64(2.0) * h * a, wp.float64(0.0)), reach[lo + k + 1])
-            speed_up = wp.float64(1e300)  # what holds at both ends of the stretch, so all along it
-            slow_down = wp.float64(1e300)
-            for r in range(rows):
-                speed_up = wp.min(speed_up, wp.min(w[r] + s[r] * x, w[r] + s[r] * x1))
-                slow_down = wp.min(slow_down, wp.min(w[r] - s[r] * x, w[r] - s[r] * x1))
-            t += stretch_time(wp.sqrt(x), wp.sqrt(x1), h, speed_up, slow_down)
+            x1, dt = advance(w, s, x, reach[lo + k + 1], u[lo + k + 1] - u[lo + k])
+            t += dt
             t_out[lo + k + 1] = t
             x = x1
 
