@@ -14,4 +14,6 @@ IRB2600_GRIPPER = FOLDER / "irb2600_12_165" / "gripper" / "Gripper.rsxml"  # a T
 IRB2600_CELL = FOLDER / "irb2600_12_165" / "cell"  # a palletizing task of three modules, a main loop (rswarp program)
 PALLETIZER = FOLDER / "palletizer" / "IRB9460_110_240__01.rsxml"
 STANDARD_CYCLE = FOLDER / "standard_cycle.mod"  # ABB's 25 x 300 x 25 mm pick cycle, for any 6-axis arm
+TRACK = FOLDER / "track" / "IRBT2005_4m.rsxml"  # an ExternalAxis: a 4 m robot track (one prismatic axis)
+POSITIONER = FOLDER / "positioner" / "IRBP_A250.rsxml"  # an ExternalAxis: a tilt-and-turn positioner
 ALL = (IRB1300, IRB1300_LIBRARY, IRB2600ID, IRB2600, IRB2600_LIBRARY, PALLETIZER)

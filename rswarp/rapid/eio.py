@@ -4,16 +4,14 @@ the configuration declares is a signal, as on the controller."""
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..files import read_regular
+from ..rsxml.cfg import parse_cfg
 from .errors import fail
 from .parse import decode
 
-_SECTION = re.compile(r"^([A-Z][A-Z0-9_]*):\s*$")
-_ATTR = re.compile(r'-(\w+)\s+(?:"((?:[^"\\]|\\.)*)"|(\S+))')
 _TYPES = {"DI": "signaldi", "DO": "signaldo", "AI": "signalai", "AO": "signalao", "GI": "signalgi", "GO": "signalgo"}
 
 
@@ -47,39 +45,13 @@ def read_eio(path: Path) -> dict[str, Signal]:
     except OSError as exc:
         fail(str(path), 0, f"cannot read: {exc.strerror or exc}")
     out: dict[str, Signal] = {}
-    for line, entry in _entries(text):
-        attrs = {m.group(1).lower(): m.group(2) if m.group(2) is not None else m.group(3)
-                 for m in _ATTR.finditer(entry)}
-        name, kind = attrs.get("name"), (attrs.get("signaltype") or attrs.get("type") or "").upper()
-        if not name or kind not in _TYPES:
+    for entry in parse_cfg(text, str(path), strict=False):  # lenient: an optional file, read for names
+        name, kind = entry.name, (entry.text("signaltype") or entry.text("type") or "").upper()
+        if entry.section != "EIO_SIGNAL" or not name or kind not in _TYPES:
             continue
         try:
-            default = float(attrs.get("default", "0"))
+            default = float(entry.text("default") or "0")
         except ValueError:
             default = 0.0
-        out.setdefault(name.lower(), Signal(name, _TYPES[kind], default, str(path), line))
+        out.setdefault(name.lower(), Signal(name, _TYPES[kind], default, str(path), entry.line))
     return out
-
-
-def _entries(text: str):
-    """(line, text) of each instance of the EIO_SIGNAL section, its continued lines joined."""
-    section, entry, start = None, [], 0
-    for k, raw in enumerate(text.splitlines(), 1):
-        line = raw.strip()
-        head = _SECTION.match(raw)
-        if head:
-            if entry:
-                yield start, " ".join(entry)
-                entry = []
-            section = head.group(1)
-            continue
-        if section != "EIO_SIGNAL" or not line or line.startswith("#"):
-            continue
-        if line.startswith("-Name") and entry:
-            yield start, " ".join(entry)
-            entry = []
-        if not entry:
-            start = k
-        entry.append(line.rstrip("\\"))
-    if entry:
-        yield start, " ".join(entry)

@@ -55,6 +55,7 @@ class AxisLimits:
     accel_source: str = ""
     jerk_source: str = ""
     estimated: np.ndarray | None = None  # (axes, 3) bool; None: from assumed, accel_assumed, jerk
+    linear: tuple[bool, ...] = ()  # which axes slide (m, m/s): a track's; () where all turn
 
     def jerks(self) -> np.ndarray:
         """Each axis's jerk limit: the robot data's, else its acceleration reached in ``JERK_S``."""
@@ -88,12 +89,21 @@ class AxisLimits:
         accelerations and jerks are given, estimated in the robot data or rswarp's rule."""
         if self.assumed:
             return "axis speeds assumed 90 deg/s (0.5 m/s): give --limits"
-        deg = np.degrees(self.velocity)
         speeds = "estimated in" if self.estimates()[:, 0].any() else "from"
         accel = self._origin(1, ACCEL_RULE, f"top speed in {RAMP_S:g} s")
         jerk = self._origin(2, JERK_RULE, f"top acceleration in {JERK_S:g} s")
         rest = f"accelerations and jerks {accel}" if accel == jerk else f"accelerations {accel}, jerks {jerk}"
-        return f"axis speeds {deg.min():.0f}-{deg.max():.0f} deg/s {speeds} {self.source}; {rest}"
+        return f"axis speeds {self._speeds()} {speeds} {self.source}; {rest}"
+
+    def _speeds(self) -> str:
+        """The speeds' range in words: deg/s for the axes that turn, mm/s for those that slide."""
+        slide = np.array(self.linear if len(self.linear) == len(self.velocity) else [False] * len(self.velocity))
+        parts = []
+        for mask, values, unit in ((~slide, np.degrees(self.velocity), "deg/s"), (slide, self.velocity * 1e3, "mm/s")):
+            if mask.any():
+                lo, hi = values[mask].min(), values[mask].max()
+                parts.append(f"{lo:.0f}-{hi:.0f} {unit}" if round(lo) != round(hi) else f"{lo:.0f} {unit}")
+        return " and ".join(parts)
 
     def _origin(self, k: int, rule: str, short: str) -> str:
         est = self.estimates()[:, k]
@@ -136,7 +146,8 @@ class RobotData:
 def default_limits(revolute: list[bool], names: tuple[str, ...] = ()) -> AxisLimits:
     """rswarp's default limits: 90 deg/s (0.5 m/s), reached in ``RAMP_S``; all assumed."""
     v = np.array([JOINT_VELOCITY[r] for r in revolute])
-    return AxisLimits(v, v / RAMP_S, np.full(len(v), np.nan), "rswarp's default", assumed=True, names=tuple(names))
+    return AxisLimits(v, v / RAMP_S, np.full(len(v), np.nan), "rswarp's default", assumed=True, names=tuple(names),
+                      linear=tuple(not r for r in revolute))
 
 
 def axis_limits(mech, limits: str | None = None) -> AxisLimits:
@@ -204,7 +215,7 @@ def read_robot_data(path: str, mech) -> RobotData:
     speed = _column(path, text, axes, "speed_deg_s", revolute, names, mech, required=True)
     accel = _column(path, text, axes, "accel_deg_s2", revolute, names, mech)
     jerk = _column(path, text, axes, "jerk_deg_s3", revolute, names, mech)
-    effort = _column(path, text, axes, "effort_Nm", [False] * len(revolute), names, mech)
+    effort = _column(path, text, axes, "effort_Nm", revolute, names, mech, si=True)  # N m, or N where it slides
     source = _words(path, text, doc, "source") or Path(path).name
     given = [True, not np.isnan(accel).any(), not np.isnan(jerk).any()]
     said = [(_words(path, text, axes, f"{q}_source"), _flag(path, text, axes, f"{q}_estimated"))
@@ -215,7 +226,8 @@ def read_robot_data(path: str, mech) -> RobotData:
     limits = AxisLimits(
         speed, accel if given[1] else speed / RAMP_S, effort, Path(path).name, accel_assumed=flags[1],
         jerk=jerk if given[2] else None, names=tuple(j.name for j in active), velocity_source=sources[0],
-        accel_source=sources[1], jerk_source=sources[2], estimated=np.tile(np.array(flags, bool), (len(active), 1)))
+        accel_source=sources[1], jerk_source=sources[2], estimated=np.tile(np.array(flags, bool), (len(active), 1)),
+        linear=tuple(not r for r in revolute))
     return RobotData(limits, _kg(path, text, doc, "mass_kg"), _kg(path, text, doc, "payload_kg"), source, path)
 
 
@@ -238,9 +250,9 @@ def estimated_accelerations(mech, speed: np.ndarray, accel_time: float) -> tuple
     return accel, accel / JERK_S
 
 
-def _column(path, text, axes, key, revolute, names, mech, required=False) -> np.ndarray:
+def _column(path, text, axes, key, revolute, names, mech, required=False, si=False) -> np.ndarray:
     """One per-axis column of a robot-data file, matched to the active joints, in SI (deg to rad
-    for revolute axes; a prismatic axis's value is in mm and goes to m)."""
+    for revolute axes; a prismatic axis's value is in mm and goes to m; ``si``: as written)."""
     values = axes.get(key)
     if values is None:
         if required:
@@ -252,7 +264,7 @@ def _column(path, text, axes, key, revolute, names, mech, required=False) -> np.
     if isinstance(names, list) and len(values) != len(names):
         raise RsxmlError(Diagnostic(path, line, f"{key} has {len(values)} values for {len(names)} names"))
     by_joint = _match(path, line, names if isinstance(names, list) else None, len(values), mech)
-    scale = np.array([math.radians(1.0) if r else 1e-3 for r in revolute])
+    scale = np.array([1.0 if si else math.radians(1.0) if r else 1e-3 for r in revolute])
     return np.array([values[k] for k in by_joint], float) * scale
 
 
@@ -300,7 +312,8 @@ def _from_urdf(path: str, mech) -> AxisLimits:
     rows = _rows(path, found, mech)
     v = np.array([r[0] for r in rows])
     return AxisLimits(v, v / RAMP_S, np.array([r[1] for r in rows]), Path(path).name,
-                      names=tuple(j.name for j in mech.graph.active))
+                      names=tuple(j.name for j in mech.graph.active),
+                      linear=tuple(not j.revolute for j in mech.graph.active))
 
 
 def _from_yaml(path: str, mech) -> AxisLimits:
@@ -335,6 +348,7 @@ def _from_yaml(path: str, mech) -> AxisLimits:
     estimated = np.column_stack([np.zeros(len(v), bool), missing, np.ones(len(v), bool)])
     return AxisLimits(v, np.where(missing, v / RAMP_S, a), np.full(len(v), np.nan), name,
                       accel_assumed=bool(missing.any()), names=tuple(j.name for j in mech.graph.active),
+                      linear=tuple(not j.revolute for j in mech.graph.active),
                       accel_source=accel_source, estimated=estimated)
 
 

@@ -1,0 +1,426 @@
+"""A cell file (``cell.toml``): what stands where. The robot (its RSXML, on the floor or on an
+external unit's carriage, at a frame), the external units (``ExternalAxis`` RSXML: tracks,
+positioners) with their frames and the logical axes (``eax_a`` .. ``eax_f``) that drive their
+joints, the tool on the flange and the environment meshes. Frames are six numbers as RAPID and
+RobotStudio write them: x, y, z in mm, then rx, ry, rz in degrees, R = Rz(rz) Ry(ry) Rx(rx) (ABB's
+Euler ZYX). Paths are relative to the cell file. docs/cell-file.md gives every key.
+
+Read once, checked whole: every problem is an ``RsxmlError`` at the line of the key that holds it
+(``file:line: message``), an unknown key names the nearest known one; a robot whose
+AllowedTrackModels does not name the model it stands on is a warning, as are the RSXML files'
+own warnings."""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+try:
+    import tomllib
+except ImportError:  # Python 3.10
+    import tomli as tomllib
+
+from ..errors import Diagnostic, InputError, RsxmlError
+from ..files import read_regular
+from ..transforms import euler_zyx_matrix, matrix_euler_zyx
+from .documents import load_mechanism
+from .model import Mechanism
+from .units import MAX_ANGLE, MAX_LENGTH
+
+LOGICAL_AXES = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
+MECHANISM_SUFFIXES = (".rsxml", ".xml")  # a tool given by one of these is a Tool mechanism, else a mesh
+KEYS = {  # table -> its keys; "" is the file's top level
+    "": ("robot", "external", "tool", "environment"),
+    "robot": ("rsxml", "on", "frame"),
+    "external": ("name", "rsxml", "frame", "axes"),
+    "tool": ("path", "frame"),
+    "environment": ("mesh", "frame"),
+}
+FRAME_WORDS = "x, y, z in mm, then rx, ry, rz in degrees (ABB's Euler ZYX)"
+
+
+def _identity() -> np.ndarray:
+    return np.eye(4)
+
+
+@dataclass(frozen=True)
+class PlacedRobot:
+    """The robot: its RSXML file and mechanism, its base's frame (4x4, m) in the world, or on the
+    carrier ``on`` names (the external unit whose last joint's link carries it; None: the floor)."""
+
+    rsxml: str
+    mechanism: Mechanism = field(compare=False, repr=False)
+    frame: np.ndarray = field(default_factory=_identity, compare=False, repr=False)
+    on: str | None = None
+    line: int = 0
+
+
+@dataclass(frozen=True)
+class External:
+    """An external unit (a track, a positioner): its name in the cell, its RSXML file and
+    mechanism, its frame in the world (4x4, m), the logical axes driving its active joints and
+    those joints' names, in joint order."""
+
+    name: str
+    rsxml: str
+    mechanism: Mechanism = field(compare=False, repr=False)
+    frame: np.ndarray = field(default_factory=_identity, compare=False, repr=False)
+    axes: tuple[str, ...] = ()
+    joints: tuple[str, ...] = ()
+    line: int = 0
+
+    @property
+    def carrier_link(self) -> str:
+        """The link that carries what stands on this unit: the child of its last active joint
+        (a track's carriage, a positioner's faceplate); its base link where it has no joint."""
+        active = self.mechanism.active_joints
+        return active[-1].child if active else self.mechanism.base_link
+
+
+@dataclass(frozen=True)
+class CellTool:
+    """The tool on the flange, as ``--tool`` takes it: a mesh file or an RSXML Mechanism of type
+    Tool (``mechanism``), mounted at ``mount`` (4x4, m) in the flange's frame."""
+
+    path: str
+    mount: np.ndarray = field(default_factory=_identity, compare=False, repr=False)
+    mechanism: Mechanism | None = field(default=None, compare=False, repr=False)
+    line: int = 0
+
+    def spec(self, mech: Mechanism) -> str:
+        """The ``--tool PATH@x,y,z,rx,ry,rz`` text for the robot ``mech`` (its length unit, degrees)."""
+        xyz = self.mount[:3, 3] / mech.length_factor
+        angles = np.degrees(matrix_euler_zyx(self.mount[:3, :3]))
+        return f"{self.path}@" + ",".join(f"{v:.12g}" for v in (*xyz, *angles))
+
+
+@dataclass(frozen=True)
+class CellMesh:
+    """An environment mesh: its name (the file's stem), path and pose in the world (4x4, m)."""
+
+    name: str
+    path: str
+    pose: np.ndarray = field(default_factory=_identity, compare=False, repr=False)
+    line: int = 0
+
+
+@dataclass(frozen=True)
+class Cell:
+    """A cell file read: the robot, the external units (file order), the tool, the environment
+    meshes, and warnings (``file:line: warning: ...``)."""
+
+    path: str
+    robot: PlacedRobot
+    externals: tuple[External, ...] = ()
+    tool: CellTool | None = None
+    environment: tuple[CellMesh, ...] = ()
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def mapping(self) -> dict[str, tuple[str, str]]:
+        """Each logical axis the cell uses -> (external unit, joint), in axis order."""
+        found = {a: (e.name, j) for e in self.externals for a, j in zip(e.axes, e.joints)}
+        return {a: found[a] for a in LOGICAL_AXES if a in found}
+
+    def unit_of(self, axis: str) -> tuple[str, str]:
+        """The (external unit, joint) that logical ``axis`` (``eax_a``, case ignored) drives; an
+        InputError naming the axes the cell uses where it drives none."""
+        found = self.mapping.get(axis.strip().lower())
+        if found is None:
+            used = ", ".join(self.mapping) or "none"
+            raise InputError(f"{self.path}: {axis} drives no joint in this cell (its logical axes: {used})")
+        return found
+
+    def external(self, name: str) -> External:
+        """The external unit ``name``; KeyError where the cell has none of that name."""
+        for e in self.externals:
+            if e.name == name:
+                return e
+        raise KeyError(name)
+
+    @property
+    def carrier(self) -> External | None:
+        """The external unit the robot stands on; None on the floor."""
+        return None if self.robot.on is None else self.external(self.robot.on)
+
+
+def read_cell(path) -> Cell:
+    """A cell file, read and checked: its RSXML files loaded, its frames as 4x4 (m), its axes
+    mapped; an ``RsxmlError`` at the line of the first problem."""
+    path = str(path)
+    text = _text(path)
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        line = int(m.group(1)) if (m := re.search(r"line (\d+)", str(exc))) else 0
+        raise RsxmlError(Diagnostic(path, line, f"TOML: {str(exc).split(' (at')[0]}")) from None
+    r = _Reader(path, text)
+    r.known(doc, "", None)
+    if "robot" not in doc:
+        raise RsxmlError(Diagnostic(path, 0, "no [robot] table: a cell places one robot (rsxml = its RSXML file)"))
+    externals = r.externals(r.tables(doc, "external"))
+    robot = r.robot(r.table(doc, "robot"), externals)
+    tool = r.tool(r.table(doc, "tool")) if "tool" in doc else None
+    environment = tuple(r.mesh(t, k) for k, t in enumerate(r.tables(doc, "environment")))
+    return Cell(path, robot, externals, tool, environment, tuple(str(w) for w in r.warnings))
+
+
+def frame_matrix(values) -> np.ndarray:
+    """Six numbers (x, y, z in mm; rx, ry, rz in degrees, R = Rz Ry Rx) as a 4x4 transform in m."""
+    m = np.eye(4)
+    m[:3, :3] = euler_zyx_matrix(*np.radians(values[3:6]))
+    m[:3, 3] = np.asarray(values[:3], float) / 1000.0
+    return m
+
+
+class _Reader:
+    """One cell file's text, the line of each key (``_Lines``), its folder, the warnings so far."""
+
+    def __init__(self, path: str, text: str):
+        self.path, self.folder, self.lines = path, Path(path).parent, _Lines(text)
+        self.warnings: list[Diagnostic] = []
+        self.names: dict[tuple[str, int | None], str] = {}  # an [[external]]'s name, once known
+
+    def title(self, where: tuple[str, int | None]) -> str:
+        """``[robot]``, ``[[external]] 'track'`` (its name where known, else its number)."""
+        name = self.names.get(where)
+        return f"[[{where[0]}]] '{name}'" if name else _title(*where)
+
+    def fail(self, where: tuple[str, int | None], key: str | None, message: str):
+        raise RsxmlError(Diagnostic(self.path, self.lines.of(*where, key), message))
+
+    def table(self, doc: dict, name: str) -> dict:
+        value = doc[name]
+        if not isinstance(value, dict):
+            self.fail(("", None), name, f"{name} must be a table: [{name}]")
+        self.known(value, name, None)
+        return value
+
+    def tables(self, doc: dict, name: str) -> list[dict]:
+        value = doc.get(name, [])
+        if not isinstance(value, list) or not all(isinstance(t, dict) for t in value):
+            self.fail(("", None), name, f"{name} must be an array of tables: [[{name}]], once for each")
+        for k, t in enumerate(value):
+            self.known(t, name, k)
+        return value
+
+    def known(self, table: dict, name: str, index: int | None) -> None:
+        """An error at the first key ``name`` does not know, naming the nearest known one."""
+        keys = KEYS[name]
+        for key in table:
+            if key not in keys:
+                near = _nearest(key, keys)
+                hint = f"; did you mean '{near}'?" if near else f" (known: {', '.join(keys)})"
+                self.fail((name, index), key, f"unknown key '{key}' in {_title(name, index)}{hint}")
+
+    def robot(self, t: dict, externals: tuple[External, ...]) -> PlacedRobot:
+        where = ("robot", None)
+        path, mech = self.mechanism(t, where, "Robot")
+        on = t.get("on")
+        if on is not None:
+            names = [e.name for e in externals]
+            if not isinstance(on, str) or on not in names:
+                near = _nearest(str(on), names)
+                hint = f"; did you mean '{near}'?" if near else \
+                    f" (the cell's external units: {', '.join(names)})" if names else " (the cell has no [[external]])"
+                self.fail(where, "on", f"[robot] on = {_shown(on)} names no [[external]]{hint}")
+            self.allowed_track(mech, externals[names.index(on)])
+        return PlacedRobot(path, mech, self.frame(t, where), on, self.lines.of(*where, None))
+
+    def allowed_track(self, robot: Mechanism, carrier: External) -> None:
+        """A warning where the robot's AllowedTrackModels does not name the model it stands on."""
+        allowed = robot.allowed_track_models
+        model = carrier.mechanism.model_name or carrier.mechanism.name
+        if allowed and not any(re.fullmatch(rf"{re.escape(a)}(_.*)?", model, re.I) for a in allowed):
+            self.warnings.append(Diagnostic(
+                self.path, self.lines.of("robot", None, "on"), f"robot '{robot.name}' allows the track models "
+                f"{', '.join(allowed)} (AllowedTrackModels), not '{model}' of '{carrier.name}'", "warning"))
+
+    def externals(self, tables: list[dict]) -> tuple[External, ...]:
+        out: list[External] = []
+        taken: dict[str, tuple[str, str, int]] = {}  # logical axis -> (unit, joint, line)
+        for k, t in enumerate(tables):
+            where = ("external", k)
+            name = t.get("name")
+            if not isinstance(name, str) or not name.strip():
+                self.fail(where, "name" if "name" in t else None, f"{_title(*where)}: give it a name (text)")
+            if name in (e.name for e in out):
+                self.fail(where, "name", f"two external units are named '{name}'")
+            self.names[where] = name
+            path, mech = self.mechanism(t, where, "ExternalAxis")
+            joints = tuple(j.name for j in mech.active_joints)
+            axes = self.axes(t, where, name, joints, taken)
+            out.append(External(name, path, mech, self.frame(t, where), axes, joints, self.lines.of(*where, None)))
+        return tuple(out)
+
+    def axes(self, t: dict, where, unit: str, joints: tuple[str, ...], taken: dict) -> tuple[str, ...]:
+        """The logical axes of ``unit``'s joints: distinct, eax_a..eax_f, one per active joint, none
+        already driving another unit's joint (``taken``, which this adds to)."""
+        line = self.lines.of(*where, "axes")
+        values = t.get("axes")
+        count = f"{len(joints)} active joint{'s' * (len(joints) != 1)} ({', '.join(joints)})"
+        if not isinstance(values, list) or not all(isinstance(a, str) for a in values):
+            self.fail(where, "axes", f"[[external]] '{unit}' axes: give the logical axes (eax_a .. eax_f) of its "
+                                     f"{count}, in joint order, as a list of text")
+        axes = tuple(a.strip().lower() for a in values)
+        for a in axes:
+            if a not in LOGICAL_AXES:
+                self.fail(where, "axes", f"[[external]] '{unit}' axes: '{a}' is not a logical axis: eax_a .. eax_f")
+        if len(axes) != len(joints):
+            self.fail(where, "axes", f"[[external]] '{unit}' axes: {len(axes)} logical "
+                                     f"ax{'es' if len(axes) != 1 else 'is'} for its {count}: give one per joint, "
+                                     "in joint order")
+        for a, j in zip(axes, joints):
+            if a in taken:
+                other, joint, first = taken[a]
+                self.fail(where, "axes", f"[[external]] '{unit}' axes: {a} already drives joint {joint} of "
+                                         f"'{other}' (line {first})")
+            taken[a] = (unit, j, line)
+        return axes
+
+    def tool(self, t: dict) -> CellTool:
+        where = ("tool", None)
+        path = self.file(t, where, "path", "the tool: a mesh file or an RSXML Mechanism of type Tool")
+        mech = None
+        if Path(path).suffix.lower() in MECHANISM_SUFFIXES:
+            mech = self.load(path, where, "path", "Tool")
+        return CellTool(path, self.frame(t, where), mech, self.lines.of(*where, None))
+
+    def mesh(self, t: dict, k: int) -> CellMesh:
+        where = ("environment", k)
+        path = self.file(t, where, "mesh", "an environment mesh file")
+        return CellMesh(Path(path).stem, path, self.frame(t, where), self.lines.of(*where, None))
+
+    def mechanism(self, t: dict, where, kind: str) -> tuple[str, Mechanism]:
+        path = self.file(t, where, "rsxml", f"an RSXML Mechanism of type {kind}")
+        return path, self.load(path, where, "rsxml", kind)
+
+    def file(self, t: dict, where, key: str, what: str) -> str:
+        """The path ``key`` gives, relative to the cell file (``\\`` taken as ``/``); it must exist."""
+        value = t.get(key)
+        if not isinstance(value, str) or not value.strip():
+            self.fail(where, key if key in t else None, f"{self.title(where)} {key}: give {what}, as a path relative "
+                                                        "to the cell file")
+        path = self.folder / value.strip().replace("\\", "/")
+        if not path.is_file():
+            self.fail(where, key, f"{self.title(where)} {key}: no such file '{value}' (looked for {path})")
+        return str(path)
+
+    def load(self, path: str, where, key: str, kind: str) -> Mechanism:
+        """The mechanism in ``path``, which must be of type ``kind``; its warnings are the cell's."""
+        mech, report = load_mechanism(path)
+        if mech.type != kind:
+            self.fail(where, key, f"{self.title(where)} {key}: '{Path(path).name}' is a mechanism of type "
+                                  f"{mech.type or '(none)'}, not {kind}")
+        self.warnings.extend(w for w in report.warnings)
+        return mech
+
+    def frame(self, t: dict, where) -> np.ndarray:
+        """The table's ``frame`` as a 4x4 (m); the identity where it gives none."""
+        values = t.get("frame")
+        if values is None:
+            return np.eye(4)
+        prefix = f"{self.title(where)} frame"
+        if not isinstance(values, list) or len(values) != 6:
+            given = f"{len(values)} values" if isinstance(values, list) else _shown(values)
+            extra = " (a quaternion is not taken: give rx, ry, rz)" if isinstance(values, list) and \
+                len(values) == 7 else ""
+            self.fail(where, "frame", f"{prefix}: give 6 numbers, {FRAME_WORDS}, not {given}{extra}")
+        for k, v in enumerate(values):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                self.fail(where, "frame", f"{prefix}: value {k + 1} ({_shown(v)}) is not a finite number")
+        if max(abs(v) for v in values[:3]) > MAX_LENGTH * 1000 or max(abs(v) for v in values[3:]) > \
+                math.degrees(MAX_ANGLE):
+            self.fail(where, "frame", f"{prefix}: a position within {MAX_LENGTH * 1000:g} mm and angles within "
+                                      f"{math.degrees(MAX_ANGLE):.6g} degrees, please")
+        return frame_matrix([float(v) for v in values])
+
+
+class _Lines:
+    """The line of each key of a cell file by table (``[robot]``; the k-th ``[[external]]``), and
+    of each table's header, found by scanning the text: tomllib keeps no positions."""
+
+    _HEADER = re.compile(r"^\s*(\[\[?)\s*([A-Za-z0-9_.-]+)\s*\]\]?\s*(#.*)?$")
+    _KEY = re.compile(r"""^\s*([A-Za-z0-9_-]+|"[^"]*"|'[^']*')\s*[=.]""")
+
+    def __init__(self, text: str):
+        self.keys: dict[tuple[str, int | None, str], int] = {}
+        self.headers: dict[tuple[str, int | None], int] = {}
+        counts: dict[str, int] = {}
+        table: tuple[str, int | None] = ("", None)
+        for n, raw in enumerate(text.splitlines(), 1):
+            head = self._HEADER.match(raw)
+            if head:
+                name = head.group(2)
+                parent, dot, child = name.partition(".")
+                if dot:  # [robot.extra]: the key 'extra' of [robot]
+                    self.keys.setdefault((parent, None, child.split(".")[0]), n)
+                if head.group(1) == "[[":
+                    counts[name] = counts.get(name, -1) + 1
+                table = (name, counts[name] if head.group(1) == "[[" else None)
+                self.headers.setdefault(table, n)
+                continue
+            key = self._KEY.match(raw)
+            if key:
+                self.keys.setdefault((*table, key.group(1).strip("\"'")), n)
+
+    def of(self, table: str, index: int | None, key: str | None) -> int:
+        """The line of ``key`` in the table, else of the table's header, else of the table's name
+        as a top-level key (an inline table), else 0."""
+        if key is not None and (table, index, key) in self.keys:
+            return self.keys[(table, index, key)]
+        if (table, index) in self.headers:
+            return self.headers[(table, index)]
+        if not table and key is not None:  # a top-level key that opens a table: [robto]
+            return self.headers.get((key, None)) or self.headers.get((key, 0)) or self.keys.get(("", None, key), 0)
+        return self.keys.get(("", None, table), 0)
+
+
+def _nearest(key: str, names) -> str | None:
+    """The name ``key`` most likely misspells, by the rule RAPID's names follow
+    (``rswarp.rapid.errors.nearest``, which this layer cannot import): one letter off for a key of
+    3-4 letters, two for longer, a swapped pair counting as one, case ignored; None where none is."""
+    best, found = (3 if len(key) >= 5 else 2 if len(key) >= 3 else 0), None
+    for name in names:
+        d = _distance(key.lower(), name.lower())
+        if d < best:
+            best, found = d, name
+    return found if found is not None and found.lower() != key.lower() else None
+
+
+def _distance(a: str, b: str) -> int:
+    """Edits (insert, delete, change, swap two neighbours) from ``a`` to ``b``."""
+    before, row = None, list(range(len(b) + 1))
+    for i, ca in enumerate(a, 1):
+        now = [i] + [0] * len(b)
+        for j, cb in enumerate(b, 1):
+            now[j] = min(row[j] + 1, now[j - 1] + 1, row[j - 1] + (ca != cb))
+            if before is not None and j > 1 and ca == b[j - 2] and a[i - 2] == cb:
+                now[j] = min(now[j], before[j - 2] + 1)
+        before, row = row, now
+    return row[-1]
+
+
+def _title(name: str, index: int | None) -> str:
+    if not name:
+        return "the cell file"
+    return f"[{name}]" if index is None else f"[[{name}]] {index + 1}"
+
+
+def _shown(value) -> str:
+    return f"'{value}'" if isinstance(value, str) else repr(value)
+
+
+def _text(path: str) -> str:
+    try:
+        data = read_regular(path)
+    except OSError as exc:
+        raise RsxmlError(Diagnostic(path, 0, f"cannot read file: {exc.strerror or exc}")) from None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise RsxmlError(Diagnostic(path, 0, f"not UTF-8 text (byte {exc.start})")) from None
