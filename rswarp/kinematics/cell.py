@@ -1,0 +1,69 @@
+"""The kinematics of a cell (``rsxml.cell.Cell``): where every link of the robot and of the
+external units is in the world, for the robot's joints and the external axes' values. A unit's
+links are its own forward kinematics placed at its frame; the robot's base is its frame on the
+floor, or on the carrier link (a track's carriage, a positioner's face plate) of the unit it
+stands on, wherever that unit's joints put it: one more frame in the same product of transforms.
+
+Logical axes come as RAPID writes them in a robtarget's ``extax`` (mm for a linear axis, degrees
+for a rotating one, 9E9 for an axis not given); joints are SI."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..rsxml.cell import LOGICAL_AXES, Cell
+from .kinematics import Kinematics
+
+UNSET = 8.9e9  # an extax value at or above this is RAPID's 9E9: the axis is not given
+
+
+class CellKinematics:
+    """The robot's and each external unit's ``Kinematics``, compiled once, and the cell's frames."""
+
+    def __init__(self, cell: Cell, device: str = "cpu"):
+        self.cell = cell
+        self.robot = Kinematics(cell.robot.mechanism, device)
+        self.units = {e.name: Kinematics(e.mechanism, device) for e in cell.externals}
+        self.mapping = cell.mapping  # logical axis -> (unit, joint)
+
+    def unit_joints(self, extax, held: dict[str, np.ndarray] | None = None) -> dict[str, np.ndarray]:
+        """Each unit's joint values (N, its dof; SI) from logical axes' values (N, 6) in RAPID's
+        units (eax_a .. eax_f; mm or degrees); an axis not given (9E9) keeps its value in
+        ``held`` (unit -> (dof,) or (N, dof)), else its joint's home."""
+        extax = np.atleast_2d(np.asarray(extax, float))
+        out = {}
+        for e in self.cell.externals:
+            mech = e.mechanism
+            q = np.broadcast_to(held[e.name] if held and e.name in held else mech.home_position(),
+                                (len(extax), mech.dof)).copy()
+            for axis, joint in zip(e.axes, e.joints):
+                col = LOGICAL_AXES.index(axis)
+                k = [j.name for j in mech.active_joints].index(joint)
+                given = np.abs(extax[:, col]) < UNSET
+                q[given, k] = extax[given, col] * mech.joint_factor(mech.active_joints[k])
+            out[e.name] = q
+        return out
+
+    def unit_links(self, name: str, q) -> np.ndarray:
+        """(N, links, 4, 4) world poses of a unit's links at its joints ``q`` (N, dof)."""
+        return self.cell.external(name).frame @ self.units[name].fk64(q)
+
+    def robot_base(self, joints: dict[str, np.ndarray], count: int = 1) -> np.ndarray:
+        """(N, 4, 4) world pose of the robot's base: its frame on the floor, or on its carrier at
+        that unit's ``joints`` (unit -> (N, dof))."""
+        frame = self.cell.robot.frame
+        carrier = self.cell.carrier
+        if carrier is None:
+            return np.broadcast_to(frame, (count, 4, 4)).copy()
+        link = self.units[carrier.name].graph.link_index(carrier.carrier_link)
+        return self.unit_links(carrier.name, joints[carrier.name])[:, link] @ frame
+
+    def robot_links(self, q, joints: dict[str, np.ndarray]) -> np.ndarray:
+        """(N, links, 4, 4) world poses of the robot's links at its joints ``q`` (N, dof)."""
+        q = np.atleast_2d(np.asarray(q, float))
+        return self.robot_base(joints, len(q))[:, None] @ self.robot.fk64(q)
+
+    def flange(self, q, joints: dict[str, np.ndarray]) -> np.ndarray:
+        """(N, 4, 4) world pose of the robot's flange."""
+        link, offset = self.robot.flange_frame()
+        return self.robot_links(q, joints)[:, link] @ offset
