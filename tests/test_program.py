@@ -323,3 +323,16 @@ def test_clocks_read_the_time_of_the_moves_too():
     first = p.moves[0].end
     ends = [mv.end - first for mv in p.moves[1:]]
     assert ends[-1] >= 5.0 and ends[-3] < 5.0 and len(ends) % 2 == 0
+
+
+def test_a_t_shorter_than_the_axes_allow_takes_their_time_with_a_warning():
+    """``t_too_short.mod``: \\T:=0.1 s over 600 mm is beyond the IRB 2600's axes: the move takes
+    what they need (more than 0.3 s), said once at its line; \\T:=5 s is kept to the sample."""
+    from rswarp.report.program import program_plan
+
+    said = []
+    p = program_plan(str(IRB2600), [str(RAPID / "t_too_short.mod")], warn=said.append)[1]
+    short, kept = (mv.end - mv.start for mv in p.moves[1:3])
+    assert 0.3 < short < 1.0 and kept == pytest.approx(5.0, abs=1e-9)
+    line = next(k for k, text in enumerate((RAPID / "t_too_short.mod").read_text().splitlines(), 1) if ":=0.1" in text)
+    assert [w for w in said if "\\T:=0.1: its axes need" in w and f"t_too_short.mod:{line}: warning" in w]

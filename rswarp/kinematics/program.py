@@ -195,6 +195,7 @@ class Planner:
                 t, seg, share = s.timing(lambda: timing_batch.joint_move(s, tcp, self.limits, self.rate,
                                                                           self.load_factor))
                 piece = zones.jointed(t, seg, share, s.q0, tcp, s.ahead) if tcp is not None and len(t) else None
+                self._short_time(m, t)
                 return self._append(m, t, seg, [], piece)
             if len(s.u) < 2:
                 return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
@@ -202,7 +203,19 @@ class Planner:
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
         piece = zones.straight(t, seg, share, s.q0, s.length, s.turn, s.ahead) if len(t) else None
+        self._short_time(m, t)
         self._append(m, t, seg, s.findings + self._end_findings(m, t, seg, s.end_conf), piece)
+
+    def _short_time(self, m: Motion, t: np.ndarray) -> None:
+        """A warning, once a line, where a move's ``\\T`` is shorter than its axes allow: it takes
+        the time they need, as the controller moves it as fast as it can."""
+        if m.duration is None or not len(t) or t[-1] <= timing.given_time(m) * (1 + 1e-6):
+            return
+        key = (m.file, m.line, "\\T")
+        if key not in self.repeats:
+            self.repeats[key] = 1
+            self.note(m, f"{m.instruction} \\T:={m.duration:g}: its axes need {float(t[-1]):.3g} s at their limits, "
+                         "and it takes that")
 
     def flanges(self, q: np.ndarray) -> np.ndarray:
         """Flange poses (N, 4, 4) of joint values (N, dof), in one launch: the flange's own kernel
