@@ -11,11 +11,10 @@ neither RAPID nor the task defines (an option's) are not checked: only that opti
 
 from __future__ import annotations
 
-from ..errors import Diagnostic, RsxmlError
+from ..errors import Diagnostic, RsxmlError, nearest
 from . import nodes as n
 from . import words
 from .binding import ArgumentError, match_arguments
-from .errors import nearest
 from .functions import FUNCTIONS
 from .instructions import KNOWN
 from .moves import MOVES

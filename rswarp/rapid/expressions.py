@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import math
 
+from ..errors import nearest
 from . import nodes as n
-from .errors import fail, nearest, rapid_error
+from .errors import fail, rapid_error
 from .live import Live, LiveValue
 from .scope import PENDING, Cell
 from .values import SIGNALS, Arr, Mismatch, Rec, describe, field_index, whole

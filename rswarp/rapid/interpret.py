@@ -15,13 +15,13 @@ from __future__ import annotations
 import contextlib
 import sys
 
-from ..errors import Diagnostic, Diagnostics
+from ..errors import Diagnostic, Diagnostics, nearest
 from ..files import no_cyclic_gc
 from . import handlers
 from . import nodes as n
 from .binding import bind
 from .check import check_task
-from .errors import RapidError, fail, nearest
+from .errors import RapidError, fail
 from .expressions import Evaluator
 from .flow import ExitCycle, ExitTask, Goto, Returned
 from .functions import call_function

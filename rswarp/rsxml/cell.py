@@ -24,11 +24,11 @@ try:
 except ImportError:  # Python 3.10
     import tomli as tomllib
 
-from ..errors import Diagnostic, InputError, RsxmlError
-from ..files import read_regular
+from ..errors import Diagnostic, InputError, RsxmlError, nearest
 from ..transforms import euler_zyx_matrix, matrix_euler_zyx
 from .documents import load_mechanism
 from .model import Mechanism
+from .robot_data import read_text
 from .units import MAX_ANGLE, MAX_LENGTH
 
 LOGICAL_AXES = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
@@ -152,7 +152,7 @@ def read_cell(path) -> Cell:
     """A cell file, read and checked: its RSXML files loaded, its frames as 4x4 (m), its axes
     mapped; an ``RsxmlError`` at the line of the first problem."""
     path = str(path)
-    text = _text(path)
+    text = read_text(path)
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -213,7 +213,7 @@ class _Reader:
         keys = KEYS[name]
         for key in table:
             if key not in keys:
-                near = _nearest(key, keys)
+                near = nearest(key, keys)
                 hint = f"; did you mean '{near}'?" if near else f" (known: {', '.join(keys)})"
                 self.fail((name, index), key, f"unknown key '{key}' in {_title(name, index)}{hint}")
 
@@ -224,7 +224,7 @@ class _Reader:
         if on is not None:
             names = [e.name for e in externals]
             if not isinstance(on, str) or on not in names:
-                near = _nearest(str(on), names)
+                near = nearest(str(on), names)
                 hint = f"; did you mean '{near}'?" if near else \
                     f" (the cell's external units: {', '.join(names)})" if names else " (the cell has no [[external]])"
                 self.fail(where, "on", f"[robot] on = {_shown(on)} names no [[external]]{hint}")
@@ -380,31 +380,6 @@ class _Lines:
         return self.keys.get(("", None, table), 0)
 
 
-def _nearest(key: str, names) -> str | None:
-    """The name ``key`` most likely misspells, by the rule RAPID's names follow
-    (``rswarp.rapid.errors.nearest``, which this layer cannot import): one letter off for a key of
-    3-4 letters, two for longer, a swapped pair counting as one, case ignored; None where none is."""
-    best, found = (3 if len(key) >= 5 else 2 if len(key) >= 3 else 0), None
-    for name in names:
-        d = _distance(key.lower(), name.lower())
-        if d < best:
-            best, found = d, name
-    return found if found is not None and found.lower() != key.lower() else None
-
-
-def _distance(a: str, b: str) -> int:
-    """Edits (insert, delete, change, swap two neighbours) from ``a`` to ``b``."""
-    before, row = None, list(range(len(b) + 1))
-    for i, ca in enumerate(a, 1):
-        now = [i] + [0] * len(b)
-        for j, cb in enumerate(b, 1):
-            now[j] = min(row[j] + 1, now[j - 1] + 1, row[j - 1] + (ca != cb))
-            if before is not None and j > 1 and ca == b[j - 2] and a[i - 2] == cb:
-                now[j] = min(now[j], before[j - 2] + 1)
-        before, row = row, now
-    return row[-1]
-
-
 def _title(name: str, index: int | None) -> str:
     if not name:
         return "the cell file"
@@ -413,14 +388,3 @@ def _title(name: str, index: int | None) -> str:
 
 def _shown(value) -> str:
     return f"'{value}'" if isinstance(value, str) else repr(value)
-
-
-def _text(path: str) -> str:
-    try:
-        data = read_regular(path)
-    except OSError as exc:
-        raise RsxmlError(Diagnostic(path, 0, f"cannot read file: {exc.strerror or exc}")) from None
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise RsxmlError(Diagnostic(path, 0, f"not UTF-8 text (byte {exc.start})")) from None

@@ -200,7 +200,7 @@ def read_robot_data(path: str, mech) -> RobotData:
     """A robot-data file: ``source``, ``mass_kg``, ``payload_kg`` and ``[axes]`` with ``names``,
     ``speed_deg_s`` and optional ``accel_deg_s2``, ``jerk_deg_s3``, ``effort_Nm``; each of speed,
     accel and jerk may have a ``*_source`` (text) and ``*_estimated`` (true: not published)."""
-    text = _text(path)
+    text = read_text(path)
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -319,7 +319,7 @@ def _from_urdf(path: str, mech) -> AxisLimits:
 def _from_yaml(path: str, mech) -> AxisLimits:
     import yaml  # MoveIt's format; loaded only for it
 
-    text = _text(path)
+    text = read_text(path)
     try:
         doc = yaml.safe_load(text)  # plain data only: no tags, no objects
     except yaml.YAMLError as exc:
@@ -408,7 +408,8 @@ def _line_of(text: str, key: str) -> int:
     return text.count("\n", 0, at) + 1 if at >= 0 else 0
 
 
-def _text(path: str) -> str:
+def read_text(path: str) -> str:
+    """A small text file (a robot-data or cell file) read whole, bounded, as UTF-8 (a BOM allowed)."""
     try:
         data = read_regular(path)
     except OSError as exc:
