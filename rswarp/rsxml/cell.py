@@ -19,16 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-try:
-    import tomllib
-except ImportError:  # Python 3.10
-    import tomli as tomllib
-
 from ..errors import Diagnostic, InputError, RsxmlError, nearest
 from ..transforms import euler_zyx_matrix, matrix_euler_zyx
 from .documents import load_mechanism
 from .model import Mechanism
-from .robot_data import read_text
+from .robot_data import read_toml
 from .units import MAX_ANGLE, MAX_LENGTH
 
 LOGICAL_AXES = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
@@ -152,12 +147,7 @@ def read_cell(path) -> Cell:
     """A cell file, read and checked: its RSXML files loaded, its frames as 4x4 (m), its axes
     mapped; an ``RsxmlError`` at the line of the first problem."""
     path = str(path)
-    text = read_text(path)
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        line = int(m.group(1)) if (m := re.search(r"line (\d+)", str(exc))) else 0
-        raise RsxmlError(Diagnostic(path, line, f"TOML: {str(exc).split(' (at')[0]}")) from None
+    text, doc = read_toml(path)
     r = _Reader(path, text)
     r.known(doc, "", None)
     if "robot" not in doc:

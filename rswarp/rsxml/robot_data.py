@@ -200,12 +200,7 @@ def read_robot_data(path: str, mech) -> RobotData:
     """A robot-data file: ``source``, ``mass_kg``, ``payload_kg`` and ``[axes]`` with ``names``,
     ``speed_deg_s`` and optional ``accel_deg_s2``, ``jerk_deg_s3``, ``effort_Nm``; each of speed,
     accel and jerk may have a ``*_source`` (text) and ``*_estimated`` (true: not published)."""
-    text = read_text(path)
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        line = int(m.group(1)) if (m := re.search(r"line (\d+)", str(exc))) else 0
-        raise RsxmlError(Diagnostic(path, line, f"TOML: {str(exc).split(' (at')[0]}")) from None
+    text, doc = read_toml(path)
     axes = doc.get("axes")
     if not isinstance(axes, dict):
         raise RsxmlError(Diagnostic(path, 0, "no [axes] table: a robot-data file gives names and speed_deg_s"))
@@ -406,6 +401,16 @@ def _line_of(text: str, key: str) -> int:
     m = re.search(rf"^[ \t]*{re.escape(key)}[ \t]*=", text, re.M)
     at = m.start() if m else text.find(key)
     return text.count("\n", 0, at) + 1 if at >= 0 else 0
+
+
+def read_toml(path: str) -> tuple[str, dict]:
+    """(text, table) of a small TOML file; its syntax errors at their line."""
+    text = read_text(path)
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        line = int(m.group(1)) if (m := re.search(r"line (\d+)", str(exc))) else 0
+        raise RsxmlError(Diagnostic(path, line, f"TOML: {str(exc).split(' (at')[0]}")) from None
 
 
 def read_text(path: str) -> str:
