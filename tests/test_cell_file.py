@@ -343,3 +343,24 @@ def test_cfg_lenient_skips_what_strict_refuses():
     assert [(i.name, i.text("default")) for i in lenient] == [("d1", "1"), ("d2", None)]
     with pytest.raises(RsxmlError, match=r"^EIO.cfg:2: 'junk' in EIO_SIGNAL is no attribute"):
         parse_cfg(text, "EIO.cfg")
+
+
+def test_check_and_info_take_a_cell_file(capsys):
+    """``rswarp check`` and ``rswarp info`` on a cell file: its verdict, its problems at their line
+    (exit 1), and what stands where in the file's units (``--json``: SI)."""
+    import json
+
+    from rswarp.cli import main
+
+    assert main(["check", str(CELLS / "track_positioner.toml")]) == 0
+    assert "OK (Cell; 0 errors, 0 warnings)" in capsys.readouterr().out
+    assert main(["check", str(CELLS / "bad_on.toml")]) == 1
+    captured = capsys.readouterr()
+    assert "FAILED (Cell; 1 error" in captured.out and f"{CELLS / 'bad_on.toml'}:4: " in captured.err
+    assert main(["info", str(CELLS / "track_positioner.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "on track's Carriage, frame [0, 0, 565, 0, 0, 90]" in out and "eax_b -> A1, eax_c -> A2" in out
+    assert main(["info", "--json", str(CELLS / "track_positioner.toml")]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["kind"] == "Cell" and doc["externals"][0]["axes"] == {"eax_a": "T1"}
+    assert doc["robot"]["frame"][2][3] == pytest.approx(0.565)

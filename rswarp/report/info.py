@@ -6,9 +6,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import one_line
+from ..errors import RsxmlError, one_line
 from ..geometry.meshes import part_mesh_path
 from ..kinematics.loops import loops
+from ..rsxml.cell import read_cell
 from ..rsxml.documents import Report, check, checked
 from ..rsxml.library import DocumentProperties, LibraryCompiler, LibraryResource
 from ..rsxml.model import Group, Mechanism, Part, Pose, SmartComponent, iter_parts
@@ -290,12 +291,24 @@ def check_verdict(r: Report) -> str:
                     f"{nw} warning{'s' * (nw != 1)})")
 
 
+def check_any(path: str) -> Report:
+    """``check`` of an RSXML or library file, or of a cell file (``.toml``: its RSXML files read
+    with it, every problem at its line)."""
+    if not str(path).lower().endswith(".toml"):
+        return check(path)
+    try:
+        cell = read_cell(path)
+    except RsxmlError as exc:
+        return Report(str(path), "Cell", None, tuple(exc.diagnostics))
+    return Report(str(path), "Cell", cell, cell.diagnostics)
+
+
 def run_check(paths: list[str], warn: Warn = ignore, say: Warn = ignore) -> Output:
     """``rswarp check``: each file's problems to ``warn`` and its verdict to ``say``, file by file
     as they are checked (the text is empty: all of it was said); exit 1 when any file has errors."""
     reports = []
     for path in paths:
-        reports.append(report := check(path))
+        reports.append(report := check_any(path))
         for d in report.all_diagnostics:
             warn(str(d))
         say(check_verdict(report))
@@ -304,6 +317,10 @@ def run_check(paths: list[str], warn: Warn = ignore, say: Warn = ignore) -> Outp
 
 def run_info(path: str, warn: Warn = ignore) -> Output:
     """``rswarp info``: what a file describes (its warnings to ``warn``); errors raise."""
+    if str(path).lower().endswith(".toml"):
+        from .cell_info import cell_output
+
+        return cell_output(read_cell(path), warn)
     report = checked(path)
     for d in report.warnings:
         warn(str(d))

@@ -114,6 +114,7 @@ class Cell:
     tool: CellTool | None = None
     environment: tuple[CellMesh, ...] = ()
     warnings: tuple[str, ...] = ()
+    diagnostics: tuple[Diagnostic, ...] = ()  # the warnings as records (``rswarp check``'s)
 
     @property
     def mapping(self) -> dict[str, tuple[str, str]]:
@@ -156,7 +157,7 @@ def read_cell(path) -> Cell:
     robot = r.robot(r.table(doc, "robot"), externals)
     tool = r.tool(r.table(doc, "tool")) if "tool" in doc else None
     environment = tuple(r.mesh(t, k) for k, t in enumerate(r.tables(doc, "environment")))
-    return Cell(path, robot, externals, tool, environment, tuple(str(w) for w in r.warnings))
+    return Cell(path, robot, externals, tool, environment, tuple(str(w) for w in r.warnings), tuple(r.warnings))
 
 
 def frame_matrix(values) -> np.ndarray:

@@ -1,0 +1,55 @@
+"""What ``rswarp info`` shows of a cell file: the robot and where it stands, each external unit
+with its frame and the logical axes that drive its joints, the tool and the environment, in the
+cell file's own units (mm, degrees) and as SI data for ``--json``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..rsxml.cell import Cell
+from ..transforms import matrix_euler_zyx
+from .output import Output, Warn, ignore
+
+
+def _frame(m: np.ndarray) -> str:
+    """A 4x4 (m) as the cell file writes it: x, y, z in mm, then rx, ry, rz in degrees."""
+    rx, ry, rz = np.degrees(matrix_euler_zyx(m[:3, :3]))
+    return ", ".join(f"{v:g}" for v in (*np.round(m[:3, 3] * 1e3, 3), *np.round((rx, ry, rz), 3)))
+
+
+def cell_dict(cell: Cell) -> dict:
+    """The cell as data (SI: frames as 4x4 in metres)."""
+    r = cell.robot
+    return {"path": cell.path, "kind": "Cell",
+            "robot": {"rsxml": r.rsxml, "name": r.mechanism.name, "on": r.on, "frame": r.frame.tolist()},
+            "externals": [{"name": e.name, "rsxml": e.rsxml, "model": e.mechanism.model_name,
+                           "frame": e.frame.tolist(), "axes": dict(zip(e.axes, e.joints)),
+                           "carrier_link": e.carrier_link} for e in cell.externals],
+            "tool": None if cell.tool is None else {"path": cell.tool.path, "mount": cell.tool.mount.tolist()},
+            "environment": [{"mesh": m.path, "pose": m.pose.tolist()} for m in cell.environment],
+            "warnings": list(cell.warnings)}
+
+
+def cell_text(cell: Cell) -> str:
+    """The cell in the file's units, a line per thing it places."""
+    r = cell.robot
+    where = f"on {r.on}'s {cell.carrier.carrier_link}" if r.on else "on the floor"
+    lines = [f"{cell.path}: a cell of {1 + len(cell.externals)} mechanism{'s' if cell.externals else ''}",
+             f"robot {r.mechanism.name} ({Path(r.rsxml).name}) {where}, frame [{_frame(r.frame)}]"]
+    for e in cell.externals:
+        axes = ", ".join(f"{a} -> {j}" for a, j in zip(e.axes, e.joints))
+        lines.append(f"external {e.name}: {e.mechanism.model_name} ({Path(e.rsxml).name}), frame [{_frame(e.frame)}], "
+                     f"{axes}, carries on {e.carrier_link}")
+    if cell.tool is not None:
+        lines.append(f"tool {Path(cell.tool.path).name}, mounted [{_frame(cell.tool.mount)}] on the flange")
+    lines += [f"environment {Path(m.path).name} at [{_frame(m.pose)}]" for m in cell.environment]
+    return "\n".join(lines)
+
+
+def cell_output(cell: Cell, warn: Warn = ignore) -> Output:
+    """``rswarp info CELL.toml``: its warnings to ``warn``, the cell as text and data."""
+    for w in cell.warnings:
+        warn(w)
+    return Output(cell_dict(cell), cell_text(cell))
