@@ -49,7 +49,8 @@ def _parents() -> dict[str, argparse.ArgumentParser]:
 SIMULATED = "s simulated"  # a cable run's progress: its simulated seconds, every environment at once
 # command -> (library entry as "module:function", progress unit, help, parents)
 COMMANDS = {
-    "check": ("info:run_check", None, "validate RSXML, LibraryCompiler and LibraryResource files, and cell files (.toml)", ("json",)),
+    "check": ("info:run_check", None, "validate RSXML, LibraryCompiler and LibraryResource files, and cell files",
+              ("json",)),
     "info": ("info:run_info", None, "show what a file (or a cell file) describes, in its own units", ("json",)),
     "fk": ("poses:run_fk", None, "link and flange poses for one set of joint values", ("json", "device")),
     "sweep": ("sweep:run_sweep", "sample", "workspace over the joint limits: reach, voxels, work-range figures",
