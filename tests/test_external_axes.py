@@ -269,3 +269,16 @@ def test_committed_meshes_are_what_the_script_builds(path, builders):
         assert committed.is_watertight
         np.testing.assert_allclose(committed.bounds, built.bounds, atol=1e-3)
         assert committed.volume == pytest.approx(built.volume, rel=1e-6)
+
+
+def test_a_sweep_of_the_track_says_where_its_flange_travels(tmp_path, capsys):
+    """A track has no J1 axis to measure a reach from: its sweep gives the flange's travel, 0 to
+    4000 mm along x to within its voxels, at its 400 mm height."""
+    from rswarp.cli import main
+
+    assert main(["sweep", str(examples.TRACK), "--samples", "4096", "--out", str(tmp_path / "sweep")]) == 0
+    out = capsys.readouterr().out
+    line = next(t for t in out.splitlines() if "flange travel" in t)
+    x = [float(v) for v in line.split(" x ")[1].split(",")[0].replace("mm", "").split(" to ")]
+    assert -30 <= x[0] <= 0 and 4000 <= x[1] <= 4030 and "reach" not in out
+    assert "flange height: 400 mm to 400 mm" in out

@@ -32,7 +32,13 @@ def run_export(path: str, output: str, layout: str | None = None, mesh_paths: st
     """``rswarp export``: the file's model as USD or URDF at ``output`` (``drive_hz`` 0: no drives),
     filtering the pairs an SRDF or a collision sweep of ``collision_samples`` disables; the robot's
     mass and axis limits from ``mass``/``limits``, else its robot-data file, else defaults; the
-    ``payload`` (``read_payload``) in the flange link's mass."""
+    ``payload`` (``read_payload``) in the flange link's mass. A cell file (``.toml``): the whole cell."""
+    if str(path).lower().endswith(".toml"):  # a cell file: every mechanism in it, on one stage
+        from .cell_export import run_cell_export
+
+        return run_cell_export(path, output, layout, mesh_paths, (mass, limits, payload, collision_matrix_srdf,
+                               collision_samples), warn, density=density, collision=collision, drive_hz=drive_hz
+                               or None, armature=armature, effort=effort, velocity=velocity)
     model = checked(path).model
     mech = mechanism_of(model)[0]
     axes, mass, source = robot_figures(path, mech, limits, mass)

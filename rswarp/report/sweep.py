@@ -76,6 +76,15 @@ def save_voxels(ws: Workspace, path) -> None:
     atomic_write(path, buf.getvalue())
 
 
+def _flange_box(ws: Workspace) -> tuple[np.ndarray, np.ndarray]:
+    """The least and greatest corner (m) of the voxels the flange occupied."""
+    k = np.argwhere(ws.flange_voxels)
+    origin = np.asarray(ws.origin, float)
+    if not len(k):
+        return origin, origin
+    return origin + k.min(axis=0) * ws.resolution, origin + (k.max(axis=0) + 1) * ws.resolution
+
+
 def sweep_text(ws: Workspace, mech: Mechanism, files: dict) -> str:
     """The sweep's figures in the file's length unit, and the files written."""
     lf, unit = mech.length_factor, mech.length_unit or "m"
@@ -88,9 +97,14 @@ def sweep_text(ws: Workspace, mech: Mechanism, files: dict) -> str:
         lines.append(f"  reach (J1 axis to wrist centre): {length(ws.reach.value)}  "
                      f"(best sample {length(ws.reach.sampled)})")
         lines.append(f"  wrist centre height: {length(ws.wrist_low.value)} to {length(ws.wrist_high.value)}")
-    flange = "  flange reach" if ws.reach is not None else \
-        "  reach (J1 axis to flange centre; no wrist centre below five axes)"
-    lines.append(f"{flange}: {length(ws.flange_reach.value)}")
+    if mech.type == "Robot":
+        flange = "  flange reach" if ws.reach is not None else \
+            "  reach (J1 axis to flange centre; no wrist centre below five axes)"
+        lines.append(f"{flange}: {length(ws.flange_reach.value)}")
+    else:  # a track or a positioner has no J1 axis to measure a reach from: where its flange goes
+        lo, hi = _flange_box(ws)
+        lines.append(f"  flange travel (to its {length(ws.resolution)} voxels): "
+                     + ", ".join(f"{a} {length(u)} to {length(v)}" for a, u, v in zip("xyz", lo, hi)))
     lines.append(f"  flange height: {length(ws.flange_low.value)} to {length(ws.flange_high.value)}")
     if ws.unreachable:
         lines.append(f"  skipped {ws.unreachable} samples ({ws.unreachable / ws.samples:.1%}) where a loop cannot "
