@@ -58,7 +58,8 @@ COMMANDS = {
     "collisions": ("collisions:run_collisions", "sample",
                    "self-collision sweep over the joint limits and the MoveIt collision matrix",
                    ("json", "device", "ray", "seed", "out")),
-    "export": ("exports:run_export", None, "write OpenUSD (.usda/.usdc/.usdz) or URDF (.urdf)", ("json",)),
+    "export": ("exports:run_export", None, "write OpenUSD (.usda/.usdc/.usdz) or URDF (.urdf); from a cell file "
+                                           "(.toml), the whole cell as one USD stage", ("json",)),
     "build": ("library:run_build", "asset", "build the assets of a LibraryCompiler XML: USD with metadata and a "
                                             "preview", ("json", "device")),
     "cable": ("cables:run_cables", SIMULATED, "cable (dress-pack) dynamics in many environments, each robot on "

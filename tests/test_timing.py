@@ -253,3 +253,30 @@ def test_a_zone_never_makes_a_task_slower_than_fine(task, tmp_path):
     zoned = program_plan(str(IRB2600), [str(source)])[1]
     stopped = program_plan(str(IRB2600), [str(fine)])[1]
     assert zoned.times[-1] < stopped.times[-1]
+
+
+def test_a_moves_own_limits_in_the_json_recompute_its_time(tmp_path):
+    """A MoveAbsJ with a 12 kg tool under AccSet 50, 100: its record gives the limits it was timed
+    under (the robot's lowered by the load and halved), and it takes Ruckig's time under them."""
+    from rswarp.report.program import run_program
+
+    module = tmp_path / "loaded.mod"
+    module.write_text("""MODULE Loaded
+  PERS tooldata tHeavy:=[TRUE,[[0,0,200],[1,0,0,0]],[12,[0,0,100],[1,0,0,0],0,0,0]];
+  CONST jointtarget jA:=[[0,0,0,0,30,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+  CONST jointtarget jB:=[[90,20,-10,45,60,90],[9E9,9E9,9E9,9E9,9E9,9E9]];
+  PROC main()
+    AccSet 50, 100;
+    MoveAbsJ jA, vmax, fine, tHeavy;
+    MoveAbsJ jB, vmax, fine, tHeavy;
+  ENDPROC
+ENDMODULE
+""")
+    doc = run_program(str(IRB2600), [str(module)]).doc
+    move = doc["moves"][1]
+    own = {k: np.array(v) for k, v in move["limits"].items()}
+    assert np.all(own["acceleration"] < 0.5 * np.array(doc["axis_limits"]["acceleration"]) + 1e-12)
+    used = type("Limits", (), {"velocity": own["velocity"], "acceleration": own["acceleration"],
+                               "jerks": lambda self: own["jerk"]})()
+    q0, q1 = np.radians([0, 0, 0, 0, 30, 0]), np.radians([90, 20, -10, 45, 60, 90])
+    assert move["end_s"] - move["start_s"] == pytest.approx(ruckig_time(q0, q1, used), rel=1e-6)

@@ -110,8 +110,10 @@ def _retarget_root(stage, robot: str, anchor: np.ndarray, body0: str | None) -> 
 
     joint = next(p for p in stage.GetPrimAtPath(robot).GetAllChildren() if p.GetName() == "joints")
     fixed = UsdPhysics.FixedJoint(next(p for p in joint.GetChildren() if p.IsA(UsdPhysics.FixedJoint)))
-    if body0 is not None:
+    if body0 is not None:  # one articulation with the carrier's: the robot's own root is removed
         fixed.CreateBody0Rel().SetTargets([body0])
+        for schema in ("PhysicsArticulationRootAPI", "NewtonArticulationRootAPI"):
+            stage.GetPrimAtPath(robot).RemoveAppliedSchema(schema)
     fixed.CreateLocalPos0Attr().Set(Gf.Vec3f(*anchor[:3, 3].tolist()))
     q = Gf.Matrix4d(*anchor.T.flatten().tolist()).ExtractRotationQuat()
     fixed.CreateLocalRot0Attr().Set(Gf.Quatf(q.GetReal(), *q.GetImaginary()))

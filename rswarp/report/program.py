@@ -12,6 +12,7 @@ import numpy as np
 
 from ..errors import Diagnostic, InputError, RsxmlError
 from ..files import atomic_write
+from ..kinematics import timing
 from ..kinematics.kinematics import Kinematics
 from ..kinematics.program import Plan, Planner
 from ..kinematics.targets import joint_values
@@ -170,6 +171,11 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
     ends = _move_ends(kin, p)
     moves = [_move(mech, p, m, tally, names, floor, ends[k] + (_target_m(kin, m.motion),), tools)
              for k, m in enumerate(p.moves)]
+    scale = load_scale(mech, payload)
+    for said, move in zip(moves, p.moves):
+        used = _move_limits(p.limits, move.motion, scale)
+        if used is not None:
+            said["limits"] = used
     for f in tool_findings(p, tool):  # the tooldata against the tool, at the first move that used it
         next(m for m in moves if (m["file"], m["line"]) == (f.file, f.line))["findings"].append(f.record())
     found = grouped([(f, m) for m in moves for f in m["findings"]])
@@ -188,6 +194,20 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
             "stopped": str(run.stopped) if run.stopped is not None else None, "needs_input": run.needs_input,
             "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
+
+
+def _move_limits(limits, motion, scale) -> dict | None:
+    """A move's own axis limits (SI) where VelSet, AccSet or the load it carries make them differ
+    from the robot's (``axis_limits``); None where they do not, or for a wait."""
+    if motion.kind == "wait" or limits is None:
+        return None
+    tool = motion.tool.load if motion.tool is not None and motion.tool.robhold else None
+    factor = scale(tool, getattr(motion, "load", None)) if scale is not None else None
+    v, a, j = timing.move_limits([motion], limits, None if factor is None else np.asarray(factor)[None])
+    if np.array_equal(v[0], limits.velocity) and np.array_equal(a[0], limits.acceleration) and \
+            np.array_equal(j[0], limits.jerks()):
+        return None
+    return {"velocity": v[0], "acceleration": a[0], "jerk": j[0]}
 
 
 def _limits_dict(limits) -> dict:
