@@ -129,3 +129,24 @@ def test_a_cell_takes_no_single_robot_options(tmp_path, exported, capsys):
     assert "a cell exports to one USD stage" in capsys.readouterr().err
     assert main(["export", kin.cell.path, "-o", str(tmp_path / "cell.usda"), "--mass", "100"]) == 1
     assert "not a cell" in capsys.readouterr().err
+
+
+def test_a_robot_on_the_floor_is_fixed_to_the_world_at_its_frame(tmp_path):
+    """No carrier: the root joint stays on the world, its frame the cell's; a .usdc stage."""
+    newton = pytest.importorskip("newton")
+    cell = tmp_path / "floor.toml"
+    cell.write_text(f'[robot]\nrsxml = "{examples.IRB2600.as_posix()}"\nframe = [1000, 200, 300, 0, 0, 45]\n')
+    out = tmp_path / "cell.usdc"
+    assert main(["export", str(cell), "-o", str(out)]) == 0
+    stage = Usd.Stage.Open(str(out))
+    frame = read_cell(str(cell)).robot.frame
+    assert np.abs(_world(stage, f"/World/{ROBOT}") - frame).max() <= 1e-6
+    assert stage.GetPrimAtPath(f"/World/{ROBOT}").HasAPI(UsdPhysics.ArticulationRootAPI)
+    builder = newton.ModelBuilder()
+    builder.add_usd(str(out))
+    model = builder.finalize(device="cpu")
+    state = model.state()
+    newton.eval_fk(model, model.joint_q, model.joint_qd, state)
+    base = state.body_q.numpy()[list(model.body_label).index(f"/World/{ROBOT}/Base")]
+    assert base[:3] == pytest.approx(frame[:3, 3], abs=1e-5)
+    assert np.abs(_rotation(base[3:]) - frame[:3, :3]).max() <= 1e-5

@@ -8,6 +8,7 @@ the positioner in a simulation carries the robot with it. The part layers stay u
 
 from __future__ import annotations
 
+import os
 from dataclasses import replace
 from pathlib import Path
 
@@ -16,10 +17,10 @@ import numpy as np
 from ..errors import InputError
 from ..export import export
 from ..export.names import PrimNames
+from ..export.physics import DRIVE_HZ
 from ..files import new_folders, output_error
 from ..kinematics.cell import CellKinematics
 from ..rsxml.cell import read_cell
-from .exports import data_physics, export_dict
 from .output import Output, Warn, ignore
 
 CELL_SUFFIXES = (".usda", ".usdc", ".usd")  # a .usdz cannot hold the parts as separate layers
@@ -27,10 +28,11 @@ ONE_ROBOT = ("--mass", "--limits", "--payload", "--collision-matrix", "--collisi
 
 
 def run_cell_export(path: str, output: str, layout: str | None = None, mesh_paths: str | None = None,
-                    one_robot: tuple = (), warn: Warn = ignore, **physics) -> Output:
+                    one_robot: tuple = (), warn: Warn = ignore, *, data_physics, **physics) -> Output:
     """Export the cell at ``path`` to the USD stage ``output``; ``physics`` (density, collision,
     drive_hz, armature, effort, velocity) applies to every mechanism, ``one_robot`` holds the
-    values of the options that only one robot's file takes (each must be None)."""
+    values of the options that only one robot's file takes (each must be None). ``data_physics``
+    is ``exports.data_physics`` (given by its caller, so that neither module imports the other)."""
     out = Path(output)
     if out.suffix.lower() not in CELL_SUFFIXES:
         raise InputError(f"{output}: a cell exports to one USD stage: .usda, .usdc or .usd")
@@ -42,37 +44,54 @@ def run_cell_export(path: str, output: str, layout: str | None = None, mesh_path
     cell = read_cell(path)
     for w in cell.warnings:
         warn(w)
-    parts = out.parent / f"{out.stem}_parts"
     names = PrimNames()
     units = {e.name: names(e.name) for e in cell.externals}
     robot_name = names(cell.robot.mechanism.name or "robot")
     mechs = [(robot_name, cell.robot.rsxml, cell.robot.mechanism)] + [
         (units[e.name], e.rsxml, e.mechanism) for e in cell.externals]
-    results = {}
     try:
         with new_folders(out):
-            for name, rsxml, mech in mechs:
-                opts = replace(data_physics(rsxml, mech), **{k: v for k, v in physics.items() if v is not None})
-                results[name] = export(mech, parts / f"{name}{out.suffix}", physics=opts)
-                for w in results[name].warnings:
-                    warn(f"{name}: {w}")
-            write_cell_stage(cell, out, {n: results[n].output for n, *_ in mechs}, robot_name, units,
+            results = _export_parts(mechs, out, data_physics, physics, warn)
+            write_cell_stage(cell, out, {n: r.output for n, r in results.items()}, robot_name, units,
                              {n: r.physics for n, r in results.items()})
     except OSError as exc:
         raise output_error(out, exc) from None
-    doc = {"output": str(out), "parts": {n: export_dict(r) for n, r in results.items()},
-           "warnings": list(cell.warnings)}
+    doc = {"output": str(out), "warnings": list(cell.warnings), "parts": {
+        n: {"output": str(r.output), "total_mass": r.physics.total_mass, "joints": list(r.physics.joints),
+            "warnings": list(r.warnings)} for n, r in results.items()}}
     text = [f"{n}: {r.physics.total_mass:.3f} kg, {len(r.physics.joints)} joints, {r.output}"
             for n, r in results.items()]
-    return Output(doc, "\n".join([*text, f"wrote {out} (the cell: {len(results)} mechanisms)"]))
+    count = f"{len(results)} mechanism{'s' * (len(results) > 1)}"
+    return Output(doc, "\n".join([*text, f"wrote {out} (the cell: {count})"]))
+
+
+def _export_parts(mechs, out: Path, data_physics, physics: dict, warn: Warn) -> dict:
+    """Each mechanism (prim name, RSXML path, mechanism) exported alone to ``<stem>_parts/``, with
+    its robot-data physics and the options given (``drive_hz`` 0: no drives); returns the exports by prim name."""
+    parts = out.parent / f"{out.stem}_parts"
+    results = {}
+    for name, rsxml, mech in mechs:
+        given = {k: v for k, v in physics.items() if v is not None and k != "drive_hz"}
+        opts = replace(data_physics(rsxml, mech), **given, drive_hz=physics.get("drive_hz", DRIVE_HZ) or None)
+        results[name] = export(mech, parts / f"{name}{out.suffix}", physics=opts)
+        for w in results[name].warnings:
+            warn(f"{name}: {w}")
+    return results
 
 
 def write_cell_stage(cell, out: Path, files: dict, robot_name: str, units: dict, physics: dict) -> None:
     """The cell's stage at ``out``: /World (default prim, Z up, metres, kilograms) with each part
     referenced at its frame; the robot at its base's world pose at home, fixed to its carrier."""
-    from pxr import Usd, UsdGeom, UsdPhysics
+    from pxr import Sdf, Usd, UsdGeom, UsdPhysics
 
-    stage = Usd.Stage.CreateNew(str(out))
+    for file in files.values():  # a part this process opened before is read again as just written
+        if (part := Sdf.Layer.Find(str(file))) is not None:
+            part.Reload()
+    staged = out.parent / f".{out.stem}.partial{out.suffix}"  # written whole, then renamed to ``out``
+    layer = Sdf.Layer.Find(str(staged))  # one this process staged before is written again
+    if layer is not None:
+        layer.Clear()
+    stage = Usd.Stage.Open(layer) if layer is not None else Usd.Stage.CreateNew(str(staged))
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
     UsdPhysics.SetStageKilogramsPerUnit(stage, 1.0)
@@ -100,7 +119,11 @@ def write_cell_stage(cell, out: Path, files: dict, robot_name: str, units: dict,
         anchor = np.linalg.inv(carried) @ anchor
     _retarget_root(stage, f"/World/{robot_name}", anchor, body0)
     stage.GetRootLayer().customLayerData = {"rsxmlCell": Path(cell.path).name}
-    stage.Save()
+    try:
+        stage.Save()
+        os.replace(staged, out)
+    finally:
+        staged.unlink(missing_ok=True)
 
 
 def _retarget_root(stage, robot: str, anchor: np.ndarray, body0: str | None) -> None:

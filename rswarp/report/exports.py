@@ -37,8 +37,8 @@ def run_export(path: str, output: str, layout: str | None = None, mesh_paths: st
         from .cell_export import run_cell_export
 
         return run_cell_export(path, output, layout, mesh_paths, (mass, limits, payload, collision_matrix_srdf,
-                               collision_samples), warn, density=density, collision=collision, drive_hz=drive_hz
-                               or None, armature=armature, effort=effort, velocity=velocity)
+                               collision_samples), warn, density=density, collision=collision, drive_hz=drive_hz,
+                               armature=armature, effort=effort, velocity=velocity, data_physics=data_physics)
     model = checked(path).model
     mech = mechanism_of(model)[0]
     axes, mass, source = robot_figures(path, mech, limits, mass)
