@@ -13,6 +13,7 @@ IRB2600_PROGRAM = FOLDER / "irb2600_12_165" / "pick_place.mod"  # a RAPID pick-a
 IRB2600_GRIPPER = FOLDER / "irb2600_12_165" / "gripper" / "Gripper.rsxml"  # a Tool for --tool, TCP as tGripper's
 IRB2600_CELL = FOLDER / "irb2600_12_165" / "cell"  # a palletizing task of three modules, a main loop (rswarp program)
 PALLETIZER = FOLDER / "palletizer" / "IRB9460_110_240__01.rsxml"
+CELLS = FOLDER / "cells"  # cell files: the IRB 2600 on the track, and beside the positioner
 STANDARD_CYCLE = FOLDER / "standard_cycle.mod"  # ABB's 25 x 300 x 25 mm pick cycle, for any 6-axis arm
 TRACK = FOLDER / "track" / "IRBT2005_4m.rsxml"  # an ExternalAxis: a 4 m robot track (one prismatic axis)
 POSITIONER = FOLDER / "positioner" / "IRBP_A250.rsxml"  # an ExternalAxis: a tilt-and-turn positioner

@@ -364,3 +364,16 @@ def test_check_and_info_take_a_cell_file(capsys):
     doc = json.loads(capsys.readouterr().out)
     assert doc["kind"] == "Cell" and doc["externals"][0]["axes"] == {"eax_a": "T1"}
     assert doc["robot"]["frame"][2][3] == pytest.approx(0.565)
+
+
+@pytest.mark.parametrize("name", ["track_cell.toml", "positioner_cell.toml"])
+def test_the_bundled_cells_check_clean(name, capsys):
+    """The example cells (``examples/cells``): the IRB 2600 on the track, 400 mm up on its carriage,
+    and beside the positioner; each checks with no error and no warning."""
+    from rswarp import examples
+    from rswarp.cli import main
+
+    assert main(["check", str(examples.CELLS / name)]) == 0
+    assert "OK (Cell; 0 errors, 0 warnings)" in capsys.readouterr().out
+    cell = read_cell(str(examples.CELLS / name))
+    assert cell.robot.mechanism.name == "IRB2600_12_165__01" and len(cell.externals) == 1

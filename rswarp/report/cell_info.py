@@ -16,7 +16,7 @@ from .output import Output, Warn, ignore
 def _frame(m: np.ndarray) -> str:
     """A 4x4 (m) as the cell file writes it: x, y, z in mm, then rx, ry, rz in degrees."""
     rx, ry, rz = np.degrees(matrix_euler_zyx(m[:3, :3]))
-    return ", ".join(f"{v:g}" for v in (*np.round(m[:3, 3] * 1e3, 3), *np.round((rx, ry, rz), 3)))
+    return ", ".join(f"{v + 0.0:g}" for v in (*np.round(m[:3, 3] * 1e3, 3), *np.round((rx, ry, rz), 3)))
 
 
 def cell_dict(cell: Cell) -> dict:
