@@ -12,38 +12,20 @@ from rswarp.cli import main
 from rswarp.kinematics.cell import CellKinematics
 from rswarp.rsxml.cell import read_cell
 
+from conftest import DATA
+
 pxr = pytest.importorskip("pxr")
 from pxr import Usd, UsdGeom, UsdPhysics  # noqa: E402
 
-CELL = """[robot]
-rsxml = "{robot}"
-on = "track"
-frame = [0, 0, 400, 0, 0, 90]
-
-[[external]]
-name = "track"
-rsxml = "{track}"
-frame = [500, -1200, 0, 0, 0, 0]
-axes = ["eax_a"]
-
-[[external]]
-name = "stn"
-rsxml = "{positioner}"
-frame = [2000, 1500, 0, 0, 0, 180]
-axes = ["eax_b", "eax_c"]
-"""
+CELL = DATA / "cells" / "irb2600_track_positioner.toml"  # the robot on the track, the positioner
 ROBOT = "IRB2600_12_165__01"
 
 
 @pytest.fixture(scope="module")
 def exported(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("cell")
-    cell = folder / "cell.toml"
-    cell.write_text(CELL.format(robot=examples.IRB2600.as_posix(), track=examples.TRACK.as_posix(),
-                                positioner=examples.POSITIONER.as_posix()))
-    out = folder / "out" / "cell.usda"
-    assert main(["export", str(cell), "-o", str(out)]) == 0
-    return CellKinematics(read_cell(str(cell))), out
+    out = tmp_path_factory.mktemp("cell") / "out" / "cell.usda"
+    assert main(["export", str(CELL), "-o", str(out)]) == 0
+    return CellKinematics(read_cell(str(CELL))), out
 
 
 def _world(stage, path: str) -> np.ndarray:

@@ -13,31 +13,14 @@ from rswarp.kinematics.kinematics import Kinematics
 from rswarp.rsxml.cell import read_cell
 from rswarp.transforms import euler_zyx_matrix
 
-CELL = """[robot]
-rsxml = "{robot}"
-on = "track"
-frame = [0, 0, 400, 0, 0, 90]
+from conftest import DATA
 
-[[external]]
-name = "track"
-rsxml = "{track}"
-frame = [500, -1200, 0, 0, 0, 0]
-axes = ["eax_a"]
-
-[[external]]
-name = "stn"
-rsxml = "{positioner}"
-frame = [2000, 1500, 0, 0, 0, 180]
-axes = ["eax_b", "eax_c"]
-"""
+CELL = DATA / "cells" / "irb2600_track_positioner.toml"  # the robot on the track, the positioner
 
 
 @pytest.fixture(scope="module")
-def cell_kin(tmp_path_factory):
-    path = tmp_path_factory.mktemp("cell") / "cell.toml"
-    path.write_text(CELL.format(robot=examples.IRB2600.as_posix(), track=examples.TRACK.as_posix(),
-                                positioner=examples.POSITIONER.as_posix()))
-    return CellKinematics(read_cell(str(path)))
+def cell_kin():
+    return CellKinematics(read_cell(str(CELL)))
 
 
 def _frame(x, y, z, rz_deg):

@@ -255,6 +255,7 @@ def test_near_a_singularity_only_the_samples_that_need_it_are_slowed():
     assert (rate <= p.limits.velocity * 1.01).all()
     assert speed.max() > 0.19  # v200 where the wrist allows it
     assert mv.end - mv.start < 10.0
+    assert mv.end - mv.start == pytest.approx(2.5, abs=0.05)  # docs/program.md's figure
 
 
 def test_json_and_the_csv_a_cable_run_reads(tmp_path):

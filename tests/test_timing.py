@@ -69,6 +69,7 @@ def test_the_bundled_data_gives_the_datasheet_speeds_and_a_170_degree_swing_ruck
     assert seconds == pytest.approx(ruckig_time(*SWING, used), rel=1e-6)
     # 170 deg at 175 deg/s and the ramps the axis's acceleration and jerk take, never less
     assert 170 / 175 < seconds < 170 / 175 + 2 * 3.054 / used.acceleration[0] + 0.1
+    assert seconds == pytest.approx(1.24, abs=0.005)  # docs/program.md's figure
     assert "175-500 deg/s from IRB2600_12_165.robot.toml" in used.summary()
 
 
@@ -111,12 +112,14 @@ def test_zones_blend_a_square_faster_than_fine_passing_each_corner_inside_its_zo
     _, zoned = program_plan(str(IRB2600), [str(RAPID / "zone_square.mod")])
     _, stopped = program_plan(str(IRB2600), [str(fine)])
     assert zoned.times[-1] < stopped.times[-1] - 0.1  # three corners not stopped at
+    assert (zoned.times[-1], stopped.times[-1]) == pytest.approx((3.91, 4.05), abs=0.005)  # docs/program.md
     kin = Kinematics(mech())
     link, m = kin.flange_frame()
     tcp = (kin.fk64(zoned.q)[:, link] @ m)[:, :3, 3]
     for corner in [(1.0, 0.2, 0.7), (1.4, 0.2, 0.7), (1.4, -0.2, 0.7)]:
         nearest = np.linalg.norm(tcp - corner, axis=1).min()
         assert 0.001 < nearest < 0.050  # inside z50, never touching the point
+        assert nearest == pytest.approx(0.017, abs=0.001)  # docs/program.md's 17 mm
     speed = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / np.diff(zoned.times)
     corners = [mv.end for mv in zoned.moves[1:4]]
     at = [int(np.searchsorted(zoned.times, t)) for t in corners]
@@ -165,6 +168,7 @@ def test_a_move_shorter_than_its_turn_is_timed_by_its_reorientation():
     a6 = p.limits.acceleration[5]
     assert 2 * np.sqrt(np.radians(10) / a6) <= small < 2 * np.sqrt(np.radians(10) / a6) * 1.1
     assert 3.0 < quarter < 3.0 + 2 * np.radians(30) / a6 + 0.01
+    assert (small, quarter) == pytest.approx((0.14, 3.02), abs=0.005)  # docs/program.md's figures
     assert still == 0.0
     kin = Kinematics(mech())
     link, m = kin.flange_frame()

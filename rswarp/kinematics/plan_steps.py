@@ -380,12 +380,9 @@ def _tcp_speed(s: Step, tcp: dict, limits, length: float) -> float:
     """The TCP's top speed along a step (m/s): its speed data's (v_tcp, and v_ori over its turn),
     VelSet's with a ``\\T``, and a joint move's axes' at their top speeds."""
     m = s.motion
-    turn = s.turn if s.kind == "path" else tcp[id(s)].turn
-    if m.duration is None:
-        v_tcp, v_ori = timing.tcp_speeds(m)
-        top = min(v_tcp, v_ori * length / turn) if turn > 0 else v_tcp
-    else:
-        top = min(m.vmax if m.vmax is not None else np.inf, length / timing.given_time(m))
+    top = timing.share_cap(m, length, s.turn if s.kind == "path" else tcp[id(s)].turn) * length
+    if m.duration is not None:
+        top = min(top, length / timing.given_time(m))
     if s.kind == "joint":
         way = np.abs(s.q1 - s.q0)
         moving = way > 0

@@ -272,8 +272,7 @@ class Planner:
         """The per-axis acceleration factors of the load the move carries (None: the arm's own)."""
         if self.load_scale is None or m.kind == "wait":
             return None
-        tool = m.tool.load if m.tool is not None and m.tool.robhold else None
-        return self.load_scale(tool, getattr(m, "load", None))
+        return self.load_scale(*m.held_loads)
 
     def note(self, m: Motion, message: str) -> None:
         self.notes.append(Diagnostic(m.file, m.line, message, "warning"))

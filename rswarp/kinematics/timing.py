@@ -97,17 +97,19 @@ def tcp_speeds(motion) -> tuple[float, float]:
     return v_tcp, motion.speed.v_ori * motion.override
 
 
+def share_cap(m, length: float, turn: float) -> float:
+    """A move's top speed along its way (share of the way a second): the TCP's path of ``length``
+    at v_tcp and its ``turn`` at v_ori; with ``\\T`` (which replaces the speed data) VelSet's top
+    speed alone."""
+    if m.duration is None:
+        v_tcp, v_ori = tcp_speeds(m)
+        return min(v_tcp / length if length > 0 else np.inf, v_ori / turn if turn > 0 else np.inf)
+    return m.vmax / length if m.vmax is not None and length > 0 else np.inf
+
+
 def share_caps(motions, length: np.ndarray, turn: np.ndarray) -> np.ndarray:
-    """Each move's top speed along its way (share of the way a second): the TCP's path at v_tcp and
-    its turn at v_ori; with ``\\T`` (which replaces the speed data) VelSet's top speed alone."""
-    out = np.full(len(motions), np.inf)
-    for k, m in enumerate(motions):
-        if m.duration is None:
-            v_tcp, v_ori = tcp_speeds(m)
-            out[k] = min(v_tcp / length[k] if length[k] > 0 else np.inf, v_ori / turn[k] if turn[k] > 0 else np.inf)
-        elif m.vmax is not None and length[k] > 0:
-            out[k] = m.vmax / length[k]
-    return out
+    """``share_cap`` of each move."""
+    return np.array([share_cap(m, a, b) for m, a, b in zip(motions, length, turn)], float)
 
 
 def move_limits(motions, limits, factors: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

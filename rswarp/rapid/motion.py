@@ -47,6 +47,13 @@ class Motion:
     declared: tuple[str, ...] = ()  # per target, "file:line" of the data it is or is built from ("" inline)
     load: rd.Load | None = None  # GripLoad's payload in the flange's frame (a moves.HeldLoad: its source); None: none
 
+    @property
+    def held_loads(self) -> tuple:
+        """(the tool's load where the robot holds the tool, else None; GripLoad's payload or None):
+        what the robot carries on this move besides ``--payload``."""
+        tool = self.tool
+        return (tool.load if tool is not None and tool.robhold else None), self.load
+
 
 class Robot(Protocol):
     """The kinematics a running task asks about, in SI (joint values in rad or m, the robot's

@@ -210,10 +210,9 @@ def _key(load) -> tuple:
 def move_loads(motion, payload: Payload | None = None) -> list[tuple[object, str]]:
     """(load, where it comes from) of what a move carries: its tool's load where the robot holds
     the tool, GripLoad's payload, ``payload``; loads that weigh nothing left out."""
-    tool = motion.tool
-    parts = [(tool.load if tool is not None and tool.robhold else None,
-              f"the tool's tload, from {Path(motion.file).name}:{motion.line}"),
-             (motion.load, getattr(motion.load, "source", "GripLoad")),
+    tool, grip = motion.held_loads
+    parts = [(tool, f"the tool's tload, from {Path(motion.file).name}:{motion.line}"),
+             (grip, getattr(grip, "source", "GripLoad")),
              (payload, payload.source if payload is not None else "")]
     return [(x, why) for x, why in parts if _weighs(x)]
 
@@ -230,7 +229,7 @@ def carried_loads(mech, plan, payload: Payload | None = None) -> list[dict]:
         m = move.motion
         if m.kind == "wait":
             continue
-        held = (m.tool.load if m.tool is not None and m.tool.robhold else None, m.load)
+        held = m.held_loads
         if held not in seen:
             parts = move_loads(m, payload)
             seen[held] = key = tuple(sorted(_key(x) for x, _ in parts))

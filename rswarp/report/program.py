@@ -171,11 +171,14 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
     ends = _move_ends(kin, p)
     moves = [_move(mech, p, m, tally, names, floor, ends[k] + (_target_m(kin, m.motion),), tools)
              for k, m in enumerate(p.moves)]
-    scale = load_scale(mech, payload)
-    for said, move in zip(moves, p.moves):
-        used = _move_limits(p.limits, move.motion, scale)
-        if used is not None:
-            said["limits"] = used
+    scale, made = load_scale(mech, payload), {}
+    for said, move in zip(moves, p.moves):  # made once per setting a move runs under
+        m = move.motion
+        key = (m.kind == "wait", m.override, m.accel, m.ramp, m.held_loads)
+        if key not in made:
+            made[key] = _move_limits(p.limits, m, scale)
+        if made[key] is not None:
+            said["limits"] = made[key]
     for f in tool_findings(p, tool):  # the tooldata against the tool, at the first move that used it
         next(m for m in moves if (m["file"], m["line"]) == (f.file, f.line))["findings"].append(f.record())
     found = grouped([(f, m) for m in moves for f in m["findings"]])
@@ -201,8 +204,7 @@ def _move_limits(limits, motion, scale) -> dict | None:
     from the robot's (``axis_limits``); None where they do not, or for a wait."""
     if motion.kind == "wait" or limits is None:
         return None
-    tool = motion.tool.load if motion.tool is not None and motion.tool.robhold else None
-    factor = scale(tool, getattr(motion, "load", None)) if scale is not None else None
+    factor = scale(*motion.held_loads) if scale is not None else None
     v, a, j = timing.move_limits([motion], limits, None if factor is None else np.asarray(factor)[None])
     if np.array_equal(v[0], limits.velocity) and np.array_equal(a[0], limits.acceleration) and \
             np.array_equal(j[0], limits.jerks()):
