@@ -17,6 +17,11 @@ from .kinematics import Kinematics
 UNSET = 8.9e9  # an extax value at or above this is RAPID's 9E9: the axis is not given
 
 
+def rapid_factor(joint) -> float:
+    """SI per RAPID unit of a joint's value: RAPID writes degrees and mm whatever the RSXML's units."""
+    return float(np.radians(1.0)) if joint.revolute else 1e-3
+
+
 class CellKinematics:
     """The robot's and each external unit's ``Kinematics``, compiled once, and the cell's frames."""
 
@@ -40,7 +45,7 @@ class CellKinematics:
                 col = LOGICAL_AXES.index(axis)
                 k = [j.name for j in mech.active_joints].index(joint)
                 given = np.abs(extax[:, col]) < UNSET
-                q[given, k] = extax[given, col] * mech.joint_factor(mech.active_joints[k])
+                q[given, k] = extax[given, col] * rapid_factor(mech.active_joints[k])
             out[e.name] = q
         return out
 
@@ -67,3 +72,47 @@ class CellKinematics:
         """(N, 4, 4) world pose of the robot's flange."""
         link, offset = self.robot.flange_frame()
         return self.robot_links(q, joints)[:, link] @ offset
+
+    def unit_flange(self, name: str, q) -> np.ndarray:
+        """(N, 4, 4) world pose of a unit's flange (a positioner's face plate, where a work object
+        it moves is defined; a track's mount) at its joints ``q`` (N, dof)."""
+        link, offset = self.units[name].flange_frame()
+        return self.unit_links(name, np.atleast_2d(q))[:, link] @ offset
+
+    # -- the external joints as one vector (each unit's joints, in the cell's order) ---------------
+    @property
+    def slices(self) -> dict[str, slice]:
+        """Each unit's columns in the cell's vector of external joints."""
+        out, at = {}, 0
+        for e in self.cell.externals:
+            out[e.name] = slice(at, at + e.mechanism.dof)
+            at += e.mechanism.dof
+        return out
+
+    def split(self, ext) -> dict[str, np.ndarray]:
+        """Unit -> its joints (N, dof) of external joint vectors ``ext`` (N, all)."""
+        ext = np.atleast_2d(np.asarray(ext, float))
+        return {name: ext[:, s] for name, s in self.slices.items()}
+
+    def joined(self, joints: dict[str, np.ndarray]) -> np.ndarray:
+        """External joint vectors (N, all) of each unit's joints (N, dof)."""
+        return np.concatenate([np.atleast_2d(joints[e.name]) for e in self.cell.externals], axis=1)
+
+    def home(self) -> np.ndarray:
+        """The external joints at every unit's home (all,)."""
+        return np.concatenate([np.asarray(e.mechanism.home_position(), float) for e in self.cell.externals] or
+                              [np.zeros(0)])
+
+    def logical(self, ext) -> tuple[float | None, ...]:
+        """The six logical axes (RAPID's units) of one external joint vector (None: not in the cell)."""
+        joints = self.split(ext)
+        out = []
+        for axis in LOGICAL_AXES:
+            found = self.mapping.get(axis)
+            if found is None:
+                out.append(None)
+                continue
+            mech = self.cell.external(found[0]).mechanism
+            k = [j.name for j in mech.active_joints].index(found[1])
+            out.append(float(joints[found[0]][0, k] / rapid_factor(mech.active_joints[k])))
+        return tuple(out)

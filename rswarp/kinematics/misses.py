@@ -34,7 +34,7 @@ def declared_words(name: str, where: str | None) -> str:
     return f"; {base.group(1) if base else 'its data'} is {verb} at {Path(file).name}:{line}"
 
 
-def _flange(planner, m) -> np.ndarray | None:
+def target_flange(planner, m) -> np.ndarray | None:
     """The flange pose a robtarget move asks for, where its frames are known."""
     fr = planner.frames.get((m.tool, m.wobj))
     if not isinstance(fr, Frames) or not m.targets:
@@ -56,7 +56,7 @@ def explained(planner) -> tuple[tuple, tuple[Diagnostic, ...]]:
     rows, flanges, limits = [], [], []
     for k, mv in enumerate(moves):
         why = next((lim for words, lim in FIGURED if mv.error and mv.error.endswith(words)), None)
-        flange = _flange(planner, mv.motion) if why is not None else None
+        flange = planner.target_flange(mv.motion) if why is not None else None
         if flange is not None:
             rows.append(k)
             flanges.append(flange)

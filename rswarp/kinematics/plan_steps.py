@@ -42,6 +42,8 @@ class Prepared:
     path: tuple | None = None  # (u, length, turn, flanges) of a linear or circular move
     probe_sol: IKSolutions | None = None  # the probes' branches
     followed: dict | None = None  # joints a path starts from -> ``follow``'s answer (shared by equal paths)
+    along: object = None  # in a cell, where external axes move the frames: share of the way -> its Frames
+    ext: tuple | None = None  # in a cell: the external joints (SI) before and after the move
 
 
 @dataclass
@@ -91,13 +93,13 @@ def no_gc():
 
 def prepare(planner, motions) -> list[Prepared]:
     """Frames, targets, their solutions and the paths' probes of ``motions``, in batches."""
-    out = [_frames(planner, m) for m in motions]
+    out = [planner.prepared(m) for m in motions]
     _targets(planner, motions, out)
     _paths(planner, motions, out)
     return out
 
 
-def _frames(planner, m) -> Prepared:
+def frames_of(planner, m) -> Prepared:
     """The move's frames, made once per tool and work object."""
     if m.kind in ("wait", "absolute"):
         return Prepared()
@@ -113,10 +115,11 @@ def _frames(planner, m) -> Prepared:
 
 
 def _by_frames(motions, out: list[Prepared], kinds=None) -> dict:
-    """{id(frames): (frames, [move index])} of the moves with frames (of ``kinds``)."""
+    """{id(frames): (frames, [move index])} of the moves with frames (of ``kinds``; those with
+    frames moving along their way left out)."""
     groups: dict = {}
     for k, (m, p) in enumerate(zip(motions, out)):
-        if p.frames is not None and (kinds is None or m.kind in kinds):
+        if p.frames is not None and (kinds is None or (m.kind in kinds and p.along is None)):
             groups.setdefault(id(p.frames), (p.frames, []))[1].append(k)
     return groups
 
@@ -164,9 +167,9 @@ def _paths(planner, motions, out: list[Prepared]) -> None:
     for m, p in zip(motions, out):
         if m.kind in ("linear", "circular") and p.frames is not None:
             p.start = before if before is not None else planner.flange_at(planner.q)
-            if m.kind == "circular":
+            if m.kind == "circular" or p.along is not None:
                 try:
-                    p.path = probe_path(p.frames, m, p.start)
+                    p.path = probe_path(p.frames, m, p.start, p.along)
                 except ValueError as exc:
                     p.error, p.start = str(exc), None
         if m.kind != "wait" and p.end is not None and p.error is None:
@@ -232,16 +235,21 @@ def _lines(fr: Frames, motions: list, out: list[Prepared]) -> None:
             p.path = made[keys[(p.start.tobytes(), ends[k].tobytes())]]
 
 
-def probe_path(fr: Frames, m, start: np.ndarray):
+def probe_path(fr: Frames, m, start: np.ndarray, along=None):
     """(u, length, turn, flanges) of a move's path from flange pose ``start``; None where the
-    robot is there already; ValueError for a circle on one line."""
-    rel = fr.relative(start[None])[0]
+    robot is there already; ValueError for a circle on one line. ``along`` (a cell's external
+    axes moving the robot's base or the work object): share of the way -> the Frames there, the
+    path probed densely enough for their travel too (``along.travel``: m, rad)."""
+    rel = (fr if along is None else along(np.zeros(1))).relative(start[None])[0]
     ends = [t.pose.matrix() for t in m.targets]
     at, length, turn = path(rel, ends[-1], ends[0] if m.kind == "circular" else None)
-    if length < timing.STILL and turn < timing.STILL:
-        return None
-    u = timing.probes(length, turn)
-    return u, length, turn, fr.flange(at(u))
+    if along is None:
+        if length < timing.STILL and turn < timing.STILL:
+            return None
+        u = timing.probes(length, turn)
+        return u, length, turn, fr.flange(at(u))
+    u = timing.probes(max(length, along.travel[0]), max(turn, along.travel[1]))
+    return u, length, turn, along(u).flange(at(u))
 
 
 def resolve(planner, m, p: Prepared) -> Step:
@@ -279,8 +287,8 @@ def _pick(planner, m, p: Prepared) -> tuple:
             cands = p.within[p.row] = p.sol.q[p.row][p.sol.status[p.row] == OK]
     if cands is None or not len(cands):  # checked, or none to take: as ``targets.pick`` says it
         return tg.pick(p.sol, p.row, m.targets[-1].conf, planner.q, m.conf, m.names[-1], planner.form,
-                       planner.bounds, planner.limits.velocity)
-    return cands[tg.nearest(cands, planner.q, planner.limits.velocity)].copy(), None
+                       planner.bounds, planner.speeds)
+    return cands[tg.nearest(cands, planner.q, planner.speeds)].copy(), None
 
 
 def _follow(planner, m, p: Prepared) -> Step:
@@ -288,10 +296,10 @@ def _follow(planner, m, p: Prepared) -> Step:
     now = planner.flange_now if planner.flange_now is not None else planner.flange_at(planner.q)
     path_, sol, memo = p.path, p.probe_sol, p.followed
     if p.start is None or np.max(np.abs(now - p.start)) > 1e-9:  # the move before ended elsewhere
-        path_ = probe_path(p.frames, m, now)
+        path_ = probe_path(p.frames, m, now, p.along)
         sol, memo = (planner.kin.ik64(path_[3]) if path_ is not None else None), None
     if path_ is None:
-        return Step(m, "path", q0=planner.q, u=np.zeros(0), q=np.zeros((0, len(planner.q))))
+        return Step(m, "path", q0=planner.q, u=np.zeros(0), q=np.zeros((0, planner.dof)))
     u, length, turn, flanges = path_
     key = planner.q.tobytes()
     found = memo.get(key) if memo is not None else None
@@ -320,11 +328,7 @@ def time_all(planner, steps: list[Step]) -> None:
     joint = [s for s in steps if s.kind == "joint" and np.any(s.q1 != s.q0)]
     tcp = {}
     if joint:
-        q0, q1 = np.array([s.q0 for s in joint]), np.array([s.q1 for s in joint])
-        shares = np.linspace(0, 1, timing.JOINT_PROBES)[None, :, None]
-        flanges = planner.flanges((q0[:, None] + shares * (q1 - q0)[:, None]).reshape(-1, q0.shape[1]))
-        flanges = flanges.reshape(len(joint), timing.JOINT_PROBES, 4, 4)  # at each's ``timing.joint_probes``
-        poses = np.array([planner.world(s.motion, f) for s, f in zip(joint, flanges)])
+        poses = planner.joint_tcps(joint)
         tcp = {id(s): path for s, path in zip(joint, timing_batch.tcp_paths(poses))}
     _zone_ramps(steps, tcp, planner.limits)
     budget = [timing_batch.BATCH_SAMPLES]

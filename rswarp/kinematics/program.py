@@ -78,6 +78,9 @@ class Plan:
     cycles: tuple[float, ...] = ()
     limits: AxisLimits | None = None  # the axis speeds and accelerations the timing used
     into_next: float = 0.0  # s the last pass would end sooner blending into another, as the loop goes on
+    ext: np.ndarray | None = None  # (T, external joints) SI, in a cell: each unit's joints in the cell's order
+    ext_axes: tuple = ()  # per column of ``ext``: (logical axis, unit, joint, revolute)
+    framer: object = None  # in a cell: (tool, wobj, external joints) -> the move's Frames there
 
     @property
     def cycle_pass(self) -> int | None:
@@ -139,27 +142,58 @@ class Planner:
         self.extend(motions)
         return self.now
 
-    def pose(self, joints, tool: rd.Tool, wobj: rd.WorkObject):
-        fr = self._frames_or_raise(tool, wobj)
+    def extax_after(self, motions) -> tuple:
+        """The robot alone has no external axes: none (9E9 in RAPID)."""
+        return (None,) * 6
+
+    def pose(self, joints, tool: rd.Tool, wobj: rd.WorkObject, extax=()):
+        fr = self.query_frames(tool, wobj, extax)
         q = np.asarray(joints, float)[None]
         relative = fr.relative(self.flanges(q))[0]
         conf = tuple(int(c) for c in self.kin.confdata(q)[0]) if self.kin.ik_method != "numerical" else (0, 0, 0, 0)
         return pose_of(relative), conf
 
     def solve(self, target: rd.RobTarget, tool: rd.Tool, wobj: rd.WorkObject):
-        fr = self._frames_or_raise(tool, wobj)
+        fr = self.query_frames(tool, wobj, target.extax)
         pose = fr.flange(target.pose.matrix()[None])
         sol = self.kin.solutions64(pose)
         tg.off_the_axis(self.kin, pose, sol, float(self.q[0]), [target.conf])
-        q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget", self.form, self.bounds,
-                         self.limits.velocity)
+        q, why = tg.pick(sol, 0, target.conf, self.q, True, "the robtarget", self.form, self.bounds, self.speeds)
         return (None, misses.figured(self, pose[0], why)) if q is None else (tuple(float(v) for v in q), None)
 
-    def _frames_or_raise(self, tool, wobj) -> Frames:
+    def query_frames(self, tool, wobj, extax=()) -> Frames:
+        """The frames CRobT, CalcRobT and CalcJointT answer in (the robot alone: no external axes);
+        LookupError for a tool and work object no robot can move."""
         try:
             return frames(self.mech, tool, wobj)
         except ValueError as exc:
             raise LookupError(str(exc)) from None
+
+    @property
+    def dof(self) -> int:
+        """The robot's own axes (a cell's trajectory has the external axes' columns after them)."""
+        return len(self.q)
+
+    @property
+    def speeds(self) -> np.ndarray:
+        """The robot's own axes' top speeds (which IK solution is reached soonest)."""
+        return self.limits.velocity[:self.dof]
+
+    def prepared(self, m: Motion) -> plan_steps.Prepared:
+        """What the batch knows of a move before it is resolved: its frames."""
+        return plan_steps.frames_of(self, m)
+
+    def target_flange(self, m: Motion) -> np.ndarray | None:
+        """The flange pose (robot's frame) a robtarget move asks for, where its frames are known."""
+        return misses.target_flange(self, m)
+
+    def joint_tcps(self, steps) -> np.ndarray:
+        """(M, JOINT_PROBES, 4, 4): the TCP in the world along joint steps (at ``timing.joint_probes``)."""
+        q0, q1 = np.array([s.q0 for s in steps]), np.array([s.q1 for s in steps])
+        shares = np.linspace(0, 1, timing.JOINT_PROBES)[None, :, None]
+        flanges = self.flanges((q0[:, None] + shares * (q1 - q0)[:, None]).reshape(-1, q0.shape[1]))
+        flanges = flanges.reshape(len(steps), timing.JOINT_PROBES, 4, 4)
+        return np.array([self.world(s.motion, f) for s, f in zip(steps, flanges)])
 
     # -- planning -------------------------------------------------------------------------------------
     def extend(self, motions) -> None:
@@ -168,8 +202,12 @@ class Planner:
         self.done = len(motions)
         with plan_steps.no_gc():  # many small objects, no cycles: the collector's passes are all cost
             prepared = plan_steps.prepare(self, new)
-            steps = [plan_steps.resolve(self, m, p) for m, p in zip(new, prepared)]
+            steps = [self.resolved(m, p) for m, p in zip(new, prepared)]
             plan_steps.time_all(self, steps)
+
+    def resolved(self, m: Motion, p: plan_steps.Prepared) -> plan_steps.Step:
+        """Where a motion takes the robot (``plan_steps.resolve``)."""
+        return plan_steps.resolve(self, m, p)
 
     def finish(self, run: Run) -> Plan:
         self.extend(run.motions)
@@ -198,7 +236,7 @@ class Planner:
                 self._short_time(m, t)
                 return self._append(m, t, seg, [], piece)
             if len(s.u) < 2:
-                return self._append(m, np.zeros(0), np.zeros((0, len(self.q))), s.findings)
+                return self._append(m, np.zeros(0), np.zeros((0, len(s.q0))), s.findings)
             t, seg, share = s.timing(lambda: timing_batch.path_move(s, self.limits, self.rate, self.load_factor))
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
@@ -239,23 +277,35 @@ class Planner:
         return base @ flanges @ tool
 
     def external(self, m: Motion) -> str | None:
-        """Why a motion cannot run for an axis the robot lacks, or None. As the controller, a
-        target's value for an external axis the robot does not have is ignored (tallied, said once
-        an axis); a work object a unit moves is an error, unless --external-axes ignore."""
-        values = tg.extax_values(m)
+        """Why a motion cannot run for an axis the robot (or its cell) lacks, or None. As the
+        controller, a target's value for an external axis nothing drives is ignored (tallied, said
+        once an axis); a work object a unit moves is an error, unless --external-axes ignore."""
+        values = [(axis, v) for axis, v in tg.extax_values(m) if axis not in self.driven]
         if values and self.strict_external:
-            return tg.external_axes(m, self.mech.name)
+            axis, v = values[0]
+            return (f"'{m.names[-1]}' puts the external axis {axis} at {v:g}: {self.lacks(axis)} "
+                    "(--external-axes ignore runs the robot's own axes)")
         for axis, v in values:
             seen = self.ignored.setdefault(axis, [0, v, v, m.file, m.line])
             seen[0], seen[1], seen[2] = seen[0] + 1, min(seen[1], v), max(seen[2], v)
         if values:
             words = ", ".join(sorted({f"{axis} {v:g}" for axis, v in values}))
-            self.ignored_at[(m.file, m.line, m.names[-1])] = f"{words}: ignored, '{self.mech.name}' has no such axis"
-        why = tg.coordinated(m, self.mech.name)
+            self.ignored_at[(m.file, m.line, m.names[-1])] = f"{words}: ignored, {self.lacks(values[0][0])}"
+        why = self.uncoordinated(m)
         if why is not None and self.ignore_external:
             self.note(m, f"{why.split(' (')[0]}: ignored (--external-axes ignore)")
             return None
         return why
+
+    driven: tuple = ()  # the logical external axes something drives (a cell's)
+
+    def lacks(self, axis: str) -> str:
+        """That nothing drives external ``axis``, in words."""
+        return f"'{self.mech.name}' has no such axis"
+
+    def uncoordinated(self, m: Motion) -> str | None:
+        """Why the move's work object is moved by a unit the robot does not have, or None."""
+        return tg.coordinated(m, self.mech.name)
 
     def _ignored_notes(self) -> list[Diagnostic]:
         """One warning an external axis whose values were ignored: how many, their range."""
@@ -263,9 +313,8 @@ class Planner:
         for axis, (count, lo, hi, file, line) in sorted(self.ignored.items()):
             span = f"{lo:g}" if lo == hi else f"{lo:g} to {hi:g}"
             out.append(Diagnostic(file, line, f"{count} target{'s' * (count != 1)} give {axis} ({span}); "
-                                              f"'{self.mech.name}' has no external axis, and the controller ignores "
-                                              "the value: so does rswarp (--external-axes error refuses them)",
-                                  "warning"))
+                                              f"{self.lacks(axis)}, and the controller ignores the value: so does "
+                                              "rswarp (--external-axes error refuses them)", "warning"))
         return out
 
     def load_factor(self, m: Motion):
@@ -295,7 +344,7 @@ class Planner:
                                    advice="move the path or the tool's orientation away from q5 = 0, or use "
                                           "SingArea\\Wrist"))
         if m.conf and len(seg) and self.kin.ik_method != "numerical":
-            got = conf if conf is not None else tuple(int(c) for c in self.kin.confdata(seg[-1:])[0])
+            got = conf if conf is not None else tuple(int(c) for c in self.kin.confdata(seg[-1:, :self.dof])[0])
             if tuple(got) != tuple(m.targets[-1].conf):
                 out.append(at_time("configuration", f"ends in configuration {list(got)}, not the robtarget's "
                                    f"{list(m.targets[-1].conf)} (ConfL would stop it)", m, t[-1], seg[-1],

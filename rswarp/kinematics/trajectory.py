@@ -24,6 +24,7 @@ from ..rsxml.units import format_number
 LIMIT_SLACK = 1e-9  # SI: rounding in a file's units does not put a value outside its limits
 WAYPOINT_SPAN = 0.6  # a random move goes at most this share of a joint's range
 MAX_ROWS = 10_000_000  # rows of one trajectory file: memory stays bounded
+EXTERNAL_AXES = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")  # a cell's axes: columns after the joints
 
 
 @dataclass(frozen=True)
@@ -37,6 +38,8 @@ class Trajectory:
     q: np.ndarray
     smooth: bool = False
     until: float | None = None  # where it ends, if before its last row (random motion, cut at its length)
+    ext: np.ndarray | None = None  # (T, axes) a cell's external axes (RAPID's mm and degrees), where given
+    ext_axes: tuple[str, ...] = ()  # their logical axes (eax_a .. eax_f), the CSV's columns after the joints
 
     @property
     def duration(self) -> float:
@@ -68,8 +71,12 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
     names = ["time"] + [j.name for j in mech.active_joints]
     rows = csv.reader(io.StringIO(text, newline=""))
     header = _next(rows, path)
-    if header is None or [h.strip() for h in header] != names:
-        raise _error(path, 1, f"the header must be '{','.join(names)}' (the active joints in file order)")
+    header = [h.strip() for h in header] if header is not None else None
+    extra = tuple(header[len(names):]) if header is not None else ()
+    if header is None or header[:len(names)] != names or not set(extra) <= set(EXTERNAL_AXES) or \
+            len(set(extra)) != len(extra):
+        raise _error(path, 1, f"the header must be '{','.join(names)}' (the active joints in file order), then "
+                              "a cell's external axes where it has them (eax_a .. eax_f)")
     times, values = [], []
     while (row := _next(rows, path)) is not None:
         line = rows.line_num
@@ -77,14 +84,17 @@ def read_trajectory(path: str | Path, mech: Mechanism) -> Trajectory:
             continue  # blank lines are allowed (a trailing newline, spacing)
         if len(times) >= MAX_ROWS:
             raise _error(path, line, f"more than {MAX_ROWS} rows: split the trajectory")
-        t, q = _row(path, line, row, mech, len(names))
+        t, q = _row(path, line, row, mech, len(header))
         if times and not t > times[-1]:
             raise _error(path, line, f"time {t:g} s does not come after {times[-1]:g} s")
         times.append(t)
         values.append(q)
     if not times:
         raise _error(path, 1, "no rows: a trajectory needs at least one time")
-    return Trajectory(str(path), np.array(times), np.array(values))
+    values = np.array(values)
+    dof = len(names) - 1
+    return Trajectory(str(path), np.array(times), values[:, :dof], ext=values[:, dof:] if extra else None,
+                      ext_axes=extra)
 
 
 def _next(rows, path: Path) -> list[str] | None:
@@ -114,7 +124,7 @@ def _row(path: Path, line: int, row: list[str], mech: Mechanism, width: int) -> 
             raise _error(path, line, f"{j.name} = {format_number(v * f, f)} is outside its limits "
                                      f"[{format_number(lim.min, f)}, {format_number(lim.max, f)}]")
         q.append(v * f)
-    return cells[0], np.array(q)
+    return cells[0], np.array(q + cells[1 + len(q):])  # a cell's external axes after the joints, as written
 
 
 def _error(path: Path, line: int, message: str) -> RsxmlError:

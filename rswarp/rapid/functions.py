@@ -181,15 +181,21 @@ def _robot(interp, a: Arguments, ask):
         fail(interp.path, a.line, f"{a.name}: {exc}")
 
 
-def _robtarget(interp, pose: rd.Pose, conf) -> Rec:
+def _extax(values) -> list[float]:
+    """Six external-axis values as RAPID holds them (9E9 for an axis not there)."""
+    values = list(values or ())
+    return [9e9 if v is None else float(v) for v in values + [None] * (6 - len(values))]
+
+
+def _robtarget(interp, pose: rd.Pose, conf, extax=()) -> Rec:
     return interp.types.coerce([[c * 1000.0 for c in pose.trans], list(pose.quat), [float(c) for c in conf],
-                                [9e9] * 6], "robtarget")
+                                _extax(extax)], "robtarget")
 
 
-def _jointtarget(interp, joints) -> Rec:
+def _jointtarget(interp, joints, extax=()) -> Rec:
     revolute = interp.robot.revolute()
     values = [math.degrees(q) if r else q * 1000.0 for q, r in zip(joints, revolute)]
-    return interp.types.coerce([values + [9e9] * (6 - len(values)), [9e9] * 6], "jointtarget")
+    return interp.types.coerce([values + [9e9] * (6 - len(values)), _extax(extax)], "jointtarget")
 
 
 def _si_joints(interp, jt: Rec, a: Arguments) -> tuple[float, ...]:
@@ -207,8 +213,9 @@ def _si_joints(interp, jt: Rec, a: Arguments) -> tuple[float, ...]:
 def _crobt(interp, a: Arguments) -> Rec:
     _, _, tool, wobj = a.tool_wobj()
     joints = _robot(interp, a, lambda: interp.robot.joints_after(interp.motions))
-    pose, conf = _robot(interp, a, lambda: interp.robot.pose(joints, tool, wobj))
-    return _robtarget(interp, pose, conf)
+    extax = interp.robot.extax_after(interp.motions)
+    pose, conf = _robot(interp, a, lambda: interp.robot.pose(joints, tool, wobj, extax))
+    return _robtarget(interp, pose, conf, extax)
 
 
 def _cpos(interp, a: Arguments) -> Rec:
@@ -216,7 +223,8 @@ def _cpos(interp, a: Arguments) -> Rec:
 
 
 def _cjointt(interp, a: Arguments) -> Rec:
-    return _jointtarget(interp, _robot(interp, a, lambda: interp.robot.joints_after(interp.motions)))
+    joints = _robot(interp, a, lambda: interp.robot.joints_after(interp.motions))
+    return _jointtarget(interp, joints, interp.robot.extax_after(interp.motions))
 
 
 def _calcjointt(interp, a: Arguments) -> Rec:
@@ -226,15 +234,17 @@ def _calcjointt(interp, a: Arguments) -> Rec:
     joints, why = _robot(interp, a, lambda: interp.robot.solve(target, tool, wobj))
     if joints is None:
         rapid_error(interp.path, a.line, f"CalcJointT: {why}", "ERR_ROBLIMIT")
-    return _jointtarget(interp, joints)
+    return _jointtarget(interp, joints, target.extax)
 
 
 def _calcrobt(interp, a: Arguments) -> Rec:
     a.need(2)
-    joints = _si_joints(interp, a.value(0, "jointtarget"), a)
+    jt = a.value(0, "jointtarget")
+    joints = _si_joints(interp, jt, a)
+    extax = [None if rd.UNUSED[0] <= abs(v) <= rd.UNUSED[1] else float(v) for v in jt.vals[1].vals]
     _, _, tool, wobj = a.tool_wobj(a.value(1, "tooldata"), active=False)
-    pose, conf = _robot(interp, a, lambda: interp.robot.pose(joints, tool, wobj))
-    return _robtarget(interp, pose, conf)
+    pose, conf = _robot(interp, a, lambda: interp.robot.pose(joints, tool, wobj, extax))
+    return _robtarget(interp, pose, conf, extax)
 
 
 def _signal_value(interp, a: Arguments) -> float:

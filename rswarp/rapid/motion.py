@@ -68,8 +68,14 @@ class Robot(Protocol):
     def seconds_after(self, motions: Sequence[Motion]) -> float:
         """How long these motions take (the clocks: ClkRead)."""
 
-    def pose(self, joints: Sequence[float], tool: rd.Tool, wobj: rd.WorkObject) -> tuple[rd.Pose, tuple]:
-        """The TCP pose in the work object at ``joints``, and the configuration data there (CalcRobT)."""
+    def extax_after(self, motions: Sequence[Motion]) -> tuple[float | None, ...]:
+        """The six logical external axes (eax_a .. eax_f, mm or degrees; None: none) where these
+        motions leave them (CRobT, CJointT)."""
+
+    def pose(self, joints: Sequence[float], tool: rd.Tool, wobj: rd.WorkObject,
+             extax: Sequence[float | None] = ()) -> tuple[rd.Pose, tuple]:
+        """The TCP pose in the work object at ``joints`` (and the external axes at ``extax``, where
+        they are now where not given), and the configuration data there (CalcRobT)."""
 
     def solve(self, target: rd.RobTarget, tool: rd.Tool, wobj: rd.WorkObject) -> tuple:
         """(joints that put the TCP on ``target`` with its confdata, None) or (None, why none do)
@@ -88,7 +94,10 @@ class NoRobot:
     def seconds_after(self, motions):
         raise LookupError("it needs a robot model")
 
-    def pose(self, joints, tool, wobj):
+    def extax_after(self, motions):
+        return (None,) * 6
+
+    def pose(self, joints, tool, wobj, extax=()):
         raise LookupError("it needs a robot model")
 
     def solve(self, target, tool, wobj):

@@ -11,6 +11,7 @@ from typing import Callable
 from ..errors import RsxmlError
 from ..rsxml.documents import Report, check
 from ..rsxml.model import Mechanism
+from .demo_cells import demo_cells
 from .info import report_dict, report_text
 from .output import Output
 
@@ -30,14 +31,16 @@ class Demo:
     libraries: list[dict] = field(default_factory=list)
     dresspack: dict = field(default_factory=dict)
     ray: dict = field(default_factory=dict)
+    cells: list[dict] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
-        return all(r.ok for r in self.reports) and self.ray.get("same_as_local", True)
+        return all(r.ok for r in self.reports) and self.ray.get("same_as_local", True) and \
+            not any(c["errors"] for c in self.cells)
 
     def as_dict(self) -> dict:
         return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots,
-                "libraries": self.libraries, "dresspack": self.dresspack, "ray": self.ray}
+                "libraries": self.libraries, "dresspack": self.dresspack, "cells": self.cells, "ray": self.ray}
 
 
 def demo_output(out: str | Path = "rswarp-demo", say: Callable[[str], None] = lambda text: None) -> Output:
@@ -70,6 +73,7 @@ def _run_demo(out: str | Path, say: Callable[[str], None]) -> Demo:
         elif report.ok and report.kind == "LibraryCompiler":
             demo.libraries.append(demo_library(path, Path(out) / "library", say))
     demo.dresspack = demo_dresspack(Path(out), say)
+    demo.cells = demo_cells(Path(out) / "cells", say, DEMO_VIDEO)
     demo.ray = demo_ray(robots, say)
     return demo
 

@@ -21,11 +21,11 @@ from ..options import checked
 from ..outputs import claim, record
 from ..rapid.interpret import MAX_CYCLES, Interpreter
 from ..rapid.task import load_task
-from ..rsxml.documents import load_mechanism
 from ..rsxml.robot_data import axis_limits, robot_data
 from ..sim.bodies import placed_environments
 from ..sim.program_check import check_program
 from ..sim.tool import load_tool
+from .cell_program import cell_floor, cell_planner, csv_columns, external_values, robot_of, tool_spec
 from .findings import grouped, move_findings, skipped_finding, tool_findings
 from .output import Output, Warn, ignore, json_safe
 from .payload import carried_loads, load_factors, load_scale, read_payload
@@ -73,11 +73,16 @@ def program_plan(path: str, programs, routine: str = "main", device: str = "cpu"
         raise InputError(f"--external-axes must be one of {', '.join(EXTERNAL_AXES)}")
     if not 1 <= int(cycles) <= MAX_CYCLES:
         raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {cycles}")
-    mech, _ = load_mechanism(path)
+    mech, cell = robot_of(path)
     load = read_payload(payload, mech) if isinstance(payload, str) else payload
     task = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
-    planner = Planner(Kinematics(mech, device), external_axes=external_axes, limits=axis_limits(mech, limits),
-                      load_scale=load_scale(mech, load))
+    if cell is not None:
+        for w in cell.warnings:
+            warn(w)
+        planner = cell_planner(cell, device, external_axes, axis_limits(mech, limits), load_scale(mech, load))
+    else:
+        planner = Planner(Kinematics(mech, device), external_axes=external_axes, limits=axis_limits(mech, limits),
+                          load_scale=load_scale(mech, load))
     run = Interpreter(task, planner, io, int(cycles), inputs).run(routine)
     plan = planner.finish(run)
     for w in (*run.warnings, *planner.notes):
@@ -133,8 +138,9 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
 
         claim_video(video)
     signals, given = signal_values(io), input_values(inputs)
-    robot, _ = load_mechanism(path)  # every option and input checked before any work
-    floor = checked("floor", robot.si_length(floor))
+    robot, cell = robot_of(path)  # every option and input checked before any work
+    tool = tool_spec(cell, tool)
+    floor = checked("floor", robot.si_length(floor)) - (cell_floor(cell) if cell is not None else 0.0)
     env = placed_environments(robot, environment or [])
     mounted = load_tool(robot, tool)
     load = read_payload(payload, robot)
@@ -147,6 +153,9 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
                  "cannot take (below)")
         doc = _document(mech, p, None, [], None, csv=None, payload=load)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
+    if cell is not None and (cell.externals or cell.environment):
+        warn(f"{cell.path}: warning: the external units' bodies and the cell's environment meshes are not checked "
+             "for collisions yet; the robot's own links, its tool, its joint limits and the floor are")
     tally, tools, tested = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
                                          progress=progress, tool=mounted)
     names = tools.checker.bodies.pair_names() if tools.checker is not None else []
@@ -157,7 +166,8 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     if video is not None:
         from .videos import program_video
 
-        doc["video"] = program_video(mech, p, tally, names, video, video_size, floor=floor, tool=mounted)
+        doc["video"] = program_video(mech, p, tally, names, video, video_size, tool=mounted, cell=cell,
+                                     floor=floor if cell is None else floor + cell_floor(cell))
     return Output(json_safe(doc), program_text(mech, doc))
 
 
@@ -192,6 +202,8 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
                          "limit_margin": t.limit_margin, "reach_margin_m": t.reach_margin,
                          "ignored": t.ignored} for t in p.targets],
             "tool": None if tool is None else {"name": tool.name, "given": tool.source},
+            "external_axes": {axis or f"{unit}.{joint}": "rotational" if revolute else "linear"
+                              for axis, unit, joint, revolute in p.ext_axes},
             "loads": carried_loads(mech, p, payload),
             "moves": moves, "findings": found,
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
@@ -205,7 +217,9 @@ def _move_limits(limits, motion, scale) -> dict | None:
     if motion.kind == "wait" or limits is None:
         return None
     factor = scale(*motion.held_loads) if scale is not None else None
-    v, a, j = timing.move_limits([motion], limits, None if factor is None else np.asarray(factor)[None])
+    if factor is not None:  # a cell's external axes after the robot's: the load does not slow them
+        factor = np.concatenate([factor, np.ones(len(limits.velocity) - len(factor))])
+    v, a, j = timing.move_limits([motion], limits, None if factor is None else factor[None])
     if np.array_equal(v[0], limits.velocity) and np.array_equal(a[0], limits.acceleration) and \
             np.array_equal(j[0], limits.jerks()):
         return None
@@ -229,7 +243,7 @@ def _move_ends(kin, p: Plan) -> list:
         if m.error or mo.kind == "wait" or mo.tool is None:
             out.append((p.q[row] if m.error is None else None, None, None))
             continue
-        fr = frames(kin.mech, mo.tool, mo.wobj)
+        fr = frames(kin.mech, mo.tool, mo.wobj) if p.framer is None else p.framer(mo.tool, mo.wobj, p.ext[row])
         link, offset = kin.flange_frame()
         flange = kin.fk64(p.q[row][None])[:, link] @ offset
         out.append((p.q[row], fr.relative(flange)[0, :3, 3], fr.world(flange)[0, :3, 3]))
@@ -241,6 +255,7 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
     out = {"file": m.file, "line": m.line, "routine": m.routine, "chain": list(m.chain), "instruction": m.instruction,
            "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
            "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2], "target_m": end[3],
+           "external_axes": external_values(p, None if move.error else move.rows[1] - 1),
            "declared": (m.declared[-1].removeprefix("set ") or None) if m.declared else None,
            "findings": [f.record() for f in move_findings(mech, p, move, tally, names, floor, tools)]}
     if move.error:
@@ -270,11 +285,12 @@ def _target_m(kin, m) -> list[float] | None:
 def trajectory_csv(mech, p: Plan) -> str:
     """``time,<joints>`` in the file's units, one row per sample (what ``--trajectory`` reads)."""
     joints = mech.active_joints
+    names, ext = csv_columns(p)
     buf = _io.StringIO()
-    buf.write(",".join(["time"] + [j.name for j in joints]) + "\n")
+    buf.write(",".join(["time"] + [j.name for j in joints] + names) + "\n")
     factors = [mech.joint_factor(j) for j in joints]
-    for t, q in zip(p.times, p.q):
-        buf.write(",".join([f"{t:.6f}"] + [_fixed(v / f) for v, f in zip(q, factors)]) + "\n")
+    for t, q, e in zip(p.times, p.q, ext):
+        buf.write(",".join([f"{t:.6f}"] + [_fixed(v / f) for v, f in zip(q, factors)] + [_fixed(v) for v in e]) + "\n")
     return buf.getvalue()
 
 

@@ -17,14 +17,16 @@ def program_text(mech, doc: dict) -> str:
     several = len(files) > 1
     routines = len({m["routine"] for m in moves}) > 1
     lines = [_head(doc, files)]
+    axes = doc.get("external_axes") or {}
     rows = [["line" if not several else "file:line"] + (["routine"] if routines else []) +
-            ["instruction", "target", "resolved [mm]", "start [s]", "duration [s]", "findings"]]
+            ["instruction", "target", "resolved [mm]"] + (["external [mm, deg]"] if axes else []) +
+            ["start [s]", "duration [s]", "findings"]]
     for m in moves[:MAX_ROWS]:
         where = f"{Path(m['file']).name}:{m['line']}" if several else str(m["line"])
         count = "error" if m.get("error") else str(len(m["findings"])) if m["findings"] else "-"
         rows.append([where] + ([m["routine"]] if routines else []) +
-                    [m["instruction"], m["target"], _resolved(m), f"{m['start_s']:.2f}",
-                     f"{m['end_s'] - m['start_s']:.2f}", count])
+                    [m["instruction"], m["target"], _resolved(m)] + ([_external(m, axes)] if axes else []) +
+                    [f"{m['start_s']:.2f}", f"{m['end_s'] - m['start_s']:.2f}", count])
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
     if len(moves) > MAX_ROWS:
@@ -39,6 +41,15 @@ def program_text(mech, doc: dict) -> str:
     if doc.get("video"):
         lines.append(f"video: {doc['video']['path']} ({doc['video']['frames']} frames)")
     return "\n".join(lines)
+
+
+def _external(m: dict, axes: dict) -> str:
+    """A move's external axes at its end as RAPID writes them (mm, degrees): ``eax_a 1200``."""
+    values = m.get("external_axes")
+    if not values or m["kind"] == "wait":
+        return "-"
+    return ", ".join(f"{a} {v * (1000.0 if axes.get(a) == 'linear' else 57.29577951308232):.1f}"
+                     for a, v in values.items())
 
 
 def _which_pass(doc: dict) -> str:

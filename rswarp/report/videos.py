@@ -150,15 +150,21 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
 
 
 def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, floor: float | None = None,
-                  tool=None, progress: Callable[[int, int], None] | None = None) -> dict:
+                  tool=None, progress: Callable[[int, int], None] | None = None, cell=None) -> dict:
     """A program's motion at ``FRAME_RATE`` (``VIDEO_FPS``), the links of a colliding pair red while they touch,
     each frame with its time and the move under way (file:line and instruction), on a floor grid
     at ``floor`` (m; None: under the robot). ``progress(done, total)`` counts frames (default
-    ``FRAME_PROGRESS``'s)."""
+    ``FRAME_PROGRESS``'s). With a ``cell`` the whole cell, in the world: the robot where its
+    carrier puts it, the units' links where the external axes put them, its meshes."""
     fps = FRAME_RATE.get()
     times = np.arange(0.0, float(plan.times[-1]) + 1e-9, 1.0 / fps)
     rows = np.clip(np.searchsorted(plan.times, times), 0, len(plan.times) - 1)
     poses = Kinematics(mech).fk64(plan.q[rows])
+    extra = ()
+    if cell is not None:
+        from .cell_program import cell_bodies
+
+        poses, extra = cell_bodies(cell, plan, rows, poses)
     marked = []
     for r in rows:
         hit = tally.hit[r] if tally.hit.shape[1] else np.zeros(0, bool)
@@ -166,7 +172,7 @@ def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, f
     frames = render_frames(mech, poses, [], size, marked=marked,
                            legend=[(GREY, f"{Path(plan.run.files[0]).stem}.{plan.run.routine}"), (RED, "in collision")],
                            captions=captions(times, plan.moves), floor=floor, length=_unit(mech), tool=tool,
-                           progress=progress if progress is not None else FRAME_PROGRESS.get())
+                           progress=progress if progress is not None else FRAME_PROGRESS.get(), extra=extra)
     return _saved(path, frames, fps)
 
 

@@ -56,6 +56,7 @@ class AxisLimits:
     jerk_source: str = ""
     estimated: np.ndarray | None = None  # (axes, 3) bool; None: from assumed, accel_assumed, jerk
     linear: tuple[bool, ...] = ()  # which axes slide (m, m/s): a track's; () where all turn
+    axis_sources: tuple = ()  # per axis (velocity, acceleration, jerk) sources where they differ (a cell's)
 
     def jerks(self) -> np.ndarray:
         """Each axis's jerk limit: the robot data's, else its acceleration reached in ``JERK_S``."""
@@ -78,10 +79,11 @@ class AxisLimits:
         """One dict per axis (SI) for the JSON: its limits, where each comes from, which are
         estimates, so anyone can recompute a move's time."""
         names = self.names or tuple(f"axis {k + 1}" for k in range(len(self.velocity)))
-        sources, est, jerk = self.sources(), self.estimates(), self.jerks()
+        est, jerk = self.estimates(), self.jerks()
+        sources = self.axis_sources or (self.sources(),) * len(names)
         return [{"axis": name, "velocity": float(self.velocity[k]), "acceleration": float(self.acceleration[k]),
-                 "jerk": float(jerk[k]), "velocity_source": sources[0], "acceleration_source": sources[1],
-                 "jerk_source": sources[2], "estimated": [q for q, e in zip(QUANTITIES, est[k]) if e]}
+                 "jerk": float(jerk[k]), "velocity_source": sources[k][0], "acceleration_source": sources[k][1],
+                 "jerk_source": sources[k][2], "estimated": [q for q, e in zip(QUANTITIES, est[k]) if e]}
                 for k, name in enumerate(names)]
 
     def summary(self) -> str:

@@ -116,7 +116,7 @@ def _tube_vertices(points: np.ndarray, radius: float) -> np.ndarray:
 class _Scene:
     """The triangles of every frame: the links' and the tool's (posed) and the tubes'."""
 
-    def __init__(self, mech, poses: np.ndarray, tubes: list[Tube], tool=None):
+    def __init__(self, mech, poses: np.ndarray, tubes: list[Tube], tool=None, extra=()):
         meshes = contact_meshes(mech, tool=tool)
         graph = mech.graph
         self.links = [(graph.links[k], k, m[0], m[1]) for k, m in enumerate(meshes.links) if m is not None]
@@ -124,6 +124,9 @@ class _Scene:
         if not self.links and not tubes:
             raise InputError(f"'{mech.name}' has no mesh to draw")
         self.poses, self.tubes = poses, tubes
+        self.extra = [(name, -1 - k, v, f) for k, (name, v, f, _) in enumerate(extra)]
+        self.extra_poses = [p for *_, p in extra]  # each (F, 4, 4): a cell's unit links, its meshes
+        self.links += self.extra
         faces, base, self.link_faces = [], 0, []
         for name, _, v, f in self.links:
             faces.append(f + base)
@@ -135,9 +138,12 @@ class _Scene:
         self.faces = np.concatenate(faces)
 
     def vertices(self, frame: int) -> np.ndarray:
-        out = [v @ self.poses[frame, k, :3, :3].T + self.poses[frame, k, :3, 3] for _, k, v, _ in self.links]
+        out = [v @ self._pose(frame, k)[:3, :3].T + self._pose(frame, k)[:3, 3] for _, k, v, _ in self.links]
         out += [_tube_vertices(t.points[frame], t.radius) for t in self.tubes]
         return np.concatenate(out)
+
+    def _pose(self, frame: int, k: int) -> np.ndarray:
+        return self.poses[frame, k] if k >= 0 else self.extra_poses[-1 - k][frame]
 
     def colours(self, frame: int, marked: set[str]) -> np.ndarray:
         out = [np.tile(RED if name in marked else GREY, (n, 1)) for name, n in self.link_faces]
@@ -148,9 +154,10 @@ class _Scene:
 def render_frames(mech, poses: np.ndarray, tubes: list[Tube], size: int = 512, marked=None, legend=(),
                   device: str = "cpu", captions: Sequence[str] | None = None, floor: float | None = None,
                   grid: bool = True, length: tuple[float, str] = (1.0, "m"), tool=None,
-                  progress: Callable[[int, int], None] | None = None) -> np.ndarray:
+                  progress: Callable[[int, int], None] | None = None, extra=()) -> np.ndarray:
     """(F, size, size, 3) uint8 frames: the links at ``poses`` (F, links, 4, 4), the ``tool`` on
-    the flange (``sim.tool.Tool``), the tubes, the bodies named in ``marked[f]`` red, on a floor
+    the flange (``sim.tool.Tool``), the tubes, ``extra`` bodies ((name, vertices, faces, (F, 4, 4)
+    poses): a cell's units and meshes), the bodies named in ``marked[f]`` red, on a floor
     grid at height ``floor`` (m; None: the scene's lowest point; ``grid`` False: on white); above
     the scene a band with ``captions[f]`` (lines of text for frame f) and ``legend`` ((colour,
     text) entries) with the grid's entry after them, its lengths in ``length`` (factor to metres,
@@ -158,7 +165,7 @@ def render_frames(mech, poses: np.ndarray, tubes: list[Tube], size: int = 512, m
     wp = init_warp()
     from ..kernels.render import Camera, render_kernel
 
-    scene = _Scene(mech, poses, tubes, tool)
+    scene = _Scene(mech, poses, tubes, tool, extra)
     frames = len(poses)
     if captions is not None and len(captions) != frames:
         raise ValueError(f"{len(captions)} captions for {frames} frames")

@@ -1,0 +1,97 @@
+"""A cell file wherever a command takes a robot: the robot it places, the planner that drives its
+external axes with the robot's (``kinematics.cell_plan``), and the external axes in what the
+commands write (a move's values by logical axis in the JSON, a column per axis in the CSV)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..rsxml.cell import Cell, read_cell
+from ..rsxml.documents import load_mechanism
+
+CELL_SUFFIX = ".toml"
+
+
+def is_cell(path) -> bool:
+    """Whether ``path`` names a cell file (``cell.toml``) rather than a robot's RSXML."""
+    return Path(str(path)).suffix.lower() == CELL_SUFFIX
+
+
+def robot_of(path) -> tuple:
+    """(the robot's mechanism, the cell or None) of an RSXML file or a cell file."""
+    if is_cell(path):
+        cell = read_cell(path)
+        return cell.robot.mechanism, cell
+    return load_mechanism(path)[0], None
+
+
+def cell_planner(cell: Cell, device: str, external_axes: str, limits, load_scale):
+    """The planner of a task over ``cell`` (its robot's axis ``limits``, each unit's from its
+    robot-data file)."""
+    from ..kinematics.cell import CellKinematics
+    from ..kinematics.cell_plan import CellPlanner
+
+    return CellPlanner(CellKinematics(cell, device), external_axes=external_axes, limits=limits,
+                       load_scale=load_scale)
+
+
+def tool_spec(cell: Cell | None, tool: str | None) -> str | None:
+    """``--tool`` where given, else the cell's ``[tool]`` as ``--tool`` writes it."""
+    if tool is not None or cell is None or cell.tool is None:
+        return tool
+    return cell.tool.spec(cell.robot.mechanism)
+
+
+def external_values(p, row: int | None) -> dict | None:
+    """A trajectory row's external axes by logical axis (SI: m, rad); None outside a cell."""
+    if p.ext is None or row is None:
+        return None
+    return {axis or f"{unit}.{joint}": float(p.ext[row, k]) for k, (axis, unit, joint, _) in enumerate(p.ext_axes)}
+
+
+def csv_columns(p) -> tuple[list[str], np.ndarray]:
+    """The CSV's columns after the joints: each external axis by logical axis, in RAPID's units
+    (mm, degrees), as a robtarget's extax writes them."""
+    if p.ext is None or not p.ext_axes:
+        return [], np.zeros((len(p.times), 0))
+    names = [axis or f"{unit}.{joint}" for axis, unit, joint, _ in p.ext_axes]
+    factor = np.array([np.degrees(1.0) if revolute else 1000.0 for *_, revolute in p.ext_axes])
+    return names, p.ext * factor
+
+
+def cell_floor(cell: Cell) -> float:
+    """The height (m) of the robot's base above the world's floor with every unit at home: the
+    floor check runs in the robot's frame (a track's carriage holds the robot above the floor)."""
+    from ..kinematics.cell import CellKinematics
+
+    ck = CellKinematics(cell)
+    return float(ck.robot_base(ck.split(ck.home()[None]))[0, 2, 3])
+
+
+def cell_bodies(cell: Cell, plan, rows: np.ndarray, poses: np.ndarray) -> tuple:
+    """(the robot's link poses (F, links, 4, 4) in the world, the other bodies to draw as
+    ``render_frames`` takes them): each unit's links where the trajectory's ``rows`` put its
+    joints, the cell's environment meshes where they stand."""
+    import trimesh
+
+    from ..geometry.meshes import link_mesh
+    from ..kinematics.cell import CellKinematics
+
+    ck = CellKinematics(cell)
+    joints = ck.split(plan.ext[rows])
+    world = ck.robot_base(joints, len(rows))[:, None] @ poses
+    extra = []
+    for e in cell.externals:
+        links = ck.unit_links(e.name, joints[e.name])
+        for k, name in enumerate(e.mechanism.graph.links):
+            mesh = link_mesh(e.mechanism, name)
+            if mesh is not None and len(mesh.faces):
+                extra.append((f"{e.name}.{name}", np.asarray(mesh.vertices, float), np.asarray(mesh.faces),
+                              links[:, k]))
+    for m in cell.environment:
+        mesh = trimesh.load(m.path, force="mesh")
+        extra.append((m.name, np.asarray(mesh.vertices, float), np.asarray(mesh.faces),
+                      np.broadcast_to(m.pose, (len(rows), 4, 4))))
+    return world, extra

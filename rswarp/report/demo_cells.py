@@ -1,0 +1,35 @@
+"""The demo's cells: the IRB 2600 on the 4 m track and beside the two-axis positioner, each with
+the RAPID module beside its cell file run over the whole cell (``rswarp program CELL.toml``), its
+table, the external axes' values, its trajectory and a video of the cell."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+CELL_PROGRAMS = (("track_cell.toml", "track_transfer.mod"), ("positioner_cell.toml", "positioner_weld.mod"))
+
+
+def demo_cells(out: Path, say: Callable[[str], None], video_size: int) -> list[dict]:
+    """Each bundled cell's program run over the cell, with its video; what it found."""
+    from .. import examples
+    from .program import run_program
+
+    out.mkdir(parents=True, exist_ok=True)
+    done = []
+    for cell_name, module in CELL_PROGRAMS:
+        cell, program = examples.CELLS / cell_name, examples.CELLS / module
+        stem = Path(cell_name).stem
+        csv, video = out / f"{stem}-{Path(module).stem}.csv", out / f"{stem}-{Path(module).stem}.gif"
+        said: list[str] = []
+        result = run_program(str(cell), [str(program)], csv=str(csv), video=str(video), video_size=video_size,
+                             warn=said.append)
+        lines = [f"== cell {cell_name}: {module} over the robot and its external axes (rswarp program {cell_name}), "
+                 f"trajectory -> {csv}:"]
+        lines += [f"     {line}" for line in result.text.splitlines() if not line.startswith("trajectory:")]
+        lines += [f"     note: {line.split(': warning: ', 1)[-1]}" for line in said]
+        say("\n".join(lines + [""]))
+        doc = result.doc
+        done.append({"cell": str(cell), "program": str(program), "cycle_s": doc["cycle_s"], "csv": str(csv),
+                     "video": doc.get("video", {}).get("path"), "errors": doc["errors"]})
+    return done
