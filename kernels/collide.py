@@ -275,3 +275,36 @@ def _pair_kernels(module: str, chain: Chain, fk, body, scalar):
         witness_out[i] = crossing_sample(m, m.pair_a[pair[i]], m.pair_b[pair[i]], rotation(rel), t)
 
     return distance, witness
+
+
+@cached
+def posed_kernel(scalar=wp.float32):
+    """``posed(bodies, pose_a, pose_b, pair, gap_out)``: pair ``pair[i]``'s bodies at poses the
+    host gives (``pose_a[i]``, ``pose_b[i]``: bodies on two chains, a robot and the track or
+    positioner beside it), its verdict as ``collide`` gives it: ``gap_out[i]`` at most the padding
+    where they collide (-1 where one contains the other), else a lower bound of their distance."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    BodyArrays = bodies_struct(scalar)
+    pair_verdict, _ = pair_functions(scalar)
+    _, _, apply, _ = pose_functions(scalar)
+
+    @wp.kernel(enable_backward=False, module=module_name("collide_posed", scalar))
+    def posed(
+        # Model:
+        m: BodyArrays,
+        # In:
+        pose_a: wp.array(dtype=M34),
+        pose_b: wp.array(dtype=M34),
+        pair: wp.array(dtype=wp.int32),
+        # Out:
+        gap_out: wp.array(dtype=S),
+    ):
+        i = wp.tid()
+        a = m.pair_a[pair[i]]
+        b = m.pair_b[pair[i]]
+        g = wp.length(apply(pose_a[i], m.center[a]) - apply(pose_b[i], m.center[b])) - m.radius[a] - m.radius[b]
+        if g <= m.padding:
+            g = pair_verdict(m, a, b, pose_a[i], pose_b[i], -1, g)
+        gap_out[i] = g
+
+    return posed

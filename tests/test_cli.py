@@ -105,7 +105,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, demo_run):
                                                                  "IRB2600_12_165__01-cell.csv",
                                                                  "IRB2600_12_165__01-service.gif", "dresspack-program",
                                                                  "dresspack-program.gif", "dresspack-random",
-                                                                 "dresspack-random.gif", "dresspack-sweep"] + [
+                                                                 "dresspack-random.gif", "dresspack-sweep", "cells"] + [
         f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01", "IRB9460_110_240__01")
         for e in ("urdf", "srdf", "usdc")])
     assert "matrix disables 6 adjacent, 1 default, 0 always" in out
@@ -121,6 +121,11 @@ def test_demo_runs_on_the_bundled_examples(capsys, demo_run):
     assert "no meshes ship with this robot, so its hose meets only the floor" in out
     assert "dresspack: 32 designs of cable 'ProcessHose'" in out and "the shortest hose that passes" in out
     assert (tmp_path / "dresspack-sweep" / "best.rsxml").is_file()
+    assert "== cell track_cell.toml: track_transfer.mod" in out and "eax_a 3200.0" in out
+    assert "== cell positioner_cell.toml: positioner_weld.mod" in out and "eax_a 20.0, eax_b 90.0" in out
+    assert sorted(p.name for p in (tmp_path / "cells").iterdir()) == sorted([".rswarp.json"] + [
+        f"{c}-{m}.{e}" for c, m in (("track_cell", "track_transfer"), ("positioner_cell", "positioner_weld"))
+        for e in ("csv", "gif")])
     assert (tmp_path / "IRB2600ID_8_200__03-cables" / "report.json").is_file()
     assert (tmp_path / "IRB2600_12_165__01-collisions" / "collision_matrix.srdf").is_file()
     assert (tmp_path / "meshes" / "IRB2600_12_165__01" / "Link6.stl").is_file()  # each robot its own meshes

@@ -21,7 +21,7 @@ import numpy as np
 from ..rapid.motion import Motion, Run
 from ..rsxml.robot_data import AxisLimits, axis_limits
 from . import plan_steps, timing
-from .cell import CellKinematics
+from .cell import CellKinematics, rapid_factor
 from .program import Plan, Planner
 from .tcp import Frames
 
@@ -68,7 +68,8 @@ def cell_limits(cellkin: CellKinematics, robot: AxisLimits, units: dict[str, Axi
                       source, robot.assumed, any(x.accel_assumed for x in lims), cat(lambda x: x.jerks()),
                       tuple(n for p in parts for n in p[1]), *robot.sources(),
                       np.concatenate([x.estimates() for x in lims]), linear,
-                      tuple(s for x in lims for s in [x.sources()] * len(x.velocity)))
+                      tuple(s for x in lims for s in [x.sources()] * len(x.velocity)),
+                      (False,) * len(robot.velocity) + (True,) * (len(linear) - len(robot.velocity)))
 
 
 class CellPlanner(Planner):
@@ -154,7 +155,8 @@ class CellPlanner(Planner):
     def resolved(self, m: Motion, p: plan_steps.Prepared) -> plan_steps.Step:
         """The step with the external joints after the robot's: a joint move's at its ends, a
         path's at each probe (linear in the share of the way)."""
-        s = plan_steps.resolve(self, m, p)
+        why = self.outside(m, p.ext[1]) if p.ext is not None else None
+        s = plan_steps.Step(m, "skip", why) if why is not None else plan_steps.resolve(self, m, p)
         if s.kind == "skip":
             return s
         e0 = self.ext
@@ -168,6 +170,19 @@ class CellPlanner(Planner):
             s.q = np.hstack([s.q[:len(s.u)], ext]) if len(s.u) else np.zeros((0, len(s.q0)))
             self.ext = ext[-1] if len(ext) >= 2 else (e1 if not len(s.u) else e0)
         return s
+
+    def outside(self, m: Motion, ext: np.ndarray) -> str | None:
+        """Why a move's target puts an external axis outside its unit's limits (RAPID's units), or None."""
+        for e, (name, cols) in zip(self.cellkin.cell.externals, self.cellkin.slices.items()):
+            lower, upper = e.mechanism.bounds()
+            axis = dict(zip(e.joints, e.axes))
+            for j, v, lo, hi in zip(e.mechanism.active_joints, ext[cols], lower, upper):
+                if not lo - 1e-9 <= v <= hi + 1e-9:
+                    f = rapid_factor(j)
+                    unit = "deg" if j.revolute else "mm"
+                    return (f"'{m.names[-1]}' puts {axis.get(j.name, j.name)} at {v / f:g} {unit}, outside {name}'s "
+                            f"limits [{lo / f:g}, {hi / f:g}] {unit}")
+        return None
 
     def joint_tcps(self, steps) -> np.ndarray:
         """The TCP along joint steps in each move's work object (where it moves with a unit, as the

@@ -119,8 +119,23 @@ def move_limits(motions, limits, factors: np.ndarray | None = None) -> tuple[np.
     accel = np.array([m.accel for m in motions])[:, None]
     ramp = np.array([m.ramp for m in motions])[:, None]
     load = 1.0 if factors is None else factors
-    return (limits.velocity[None, :] * override, limits.acceleration[None, :] * accel * load,
-            limits.jerks()[None, :] * ramp * load)
+    speed = limits.velocity[None, :] * override
+    if any(limits.external):
+        speed = np.minimum(speed, external_caps(motions, limits) * override)
+    return speed, limits.acceleration[None, :] * accel * load, limits.jerks()[None, :] * ramp * load
+
+
+def external_caps(motions, limits) -> np.ndarray:
+    """(M, dof) each move's speeddata caps on a cell's external axes (v_leax for one that slides,
+    v_reax for one that turns; inf for the robot's own axes and a wait)."""
+    ext = np.array(limits.external, bool)
+    slide = np.array(limits.linear if len(limits.linear) == len(ext) else [False] * len(ext), bool)
+    out = np.full((len(motions), len(ext)), np.inf)
+    for k, m in enumerate(motions):
+        if m.speed is not None:
+            out[k, ext & slide] = m.speed.v_leax
+            out[k, ext & ~slide] = m.speed.v_reax
+    return out
 
 
 @dataclass(frozen=True)

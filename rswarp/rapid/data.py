@@ -98,6 +98,8 @@ class JointTarget:
 class Speed:
     v_tcp: float  # m/s
     v_ori: float  # rad/s
+    v_leax: float = math.inf  # m/s: a linear external axis's (a track's) top speed; inf: none given
+    v_reax: float = math.inf  # rad/s: a rotating external axis's (a positioner's)
 
 
 @dataclass(frozen=True)
@@ -187,7 +189,8 @@ def speed(value: Rec, what: str) -> Speed:
         raise Mismatch(f"{what} has v_tcp {v_tcp:g} mm/s and v_ori {v_ori:g} deg/s: both must be above 0")
     if v_leax < 0 or v_reax < 0:
         raise Mismatch(f"{what} has a negative speed for external axes")
-    return Speed(v_tcp / 1000.0, math.radians(v_ori))
+    return Speed(v_tcp / 1000.0, math.radians(v_ori), v_leax / 1000.0 if v_leax > 0 else math.inf,
+                 math.radians(v_reax) if v_reax > 0 else math.inf)
 
 
 def zone(value: Rec, what: str) -> Zone:

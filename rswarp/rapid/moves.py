@@ -8,7 +8,7 @@ motion; its process (the arc, the gun, the search's signal) is not modelled."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 from . import data as rd
@@ -162,7 +162,7 @@ def _weld_speed(interp, weld, speed: rd.Speed, s) -> rd.Speed:
         modern = len(parts) == 4 and isinstance(parts[2], (list, tuple))
         v = parts[0] if modern else parts[1]
         if isinstance(v, (int, float)) and not isinstance(v, bool) and 0 < v <= rd.MAX_SPEED:
-            return rd.Speed(float(v) / 1000.0, speed.v_ori)
+            return replace(speed, v_tcp=float(v) / 1000.0)
     interp.warn(s.line, f"{s.name}: the welddata has no weld_speed rswarp can read: timed at the speeddata")
     return speed
 
@@ -178,7 +178,7 @@ def _top_speed(interp, speed: rd.Speed, s, name: str) -> rd.Speed:
         interp.warn_once(("top speed", name.lower()), s.line,
                          f"{s.name}: '{name}' asks {v:g} mm/s of the TCP: the controller limits it to the robot's "
                          f"top speed, {rd.TOP_TCP_SPEED:g} mm/s, and so does rswarp (said once for '{name}')")
-    return rd.Speed(min(speed.v_tcp, rd.TOP_TCP_SPEED / 1000.0), min(speed.v_ori, _TOP_ORI))
+    return replace(speed, v_tcp=min(speed.v_tcp, rd.TOP_TCP_SPEED / 1000.0), v_ori=min(speed.v_ori, _TOP_ORI))
 
 
 def _overrides(interp, a: Arguments, speed: rd.Speed, s) -> tuple[rd.Speed, float | None]:
@@ -187,7 +187,7 @@ def _overrides(interp, a: Arguments, speed: rd.Speed, s) -> tuple[rd.Speed, floa
     if v is not None:
         if not 0 < v < 1e30:
             fail(interp.path, s.line, f"{s.name}: \\V must be above 0 mm/s, not {v:g}")
-        speed = rd.Speed(v / 1000.0, speed.v_ori)
+        speed = replace(speed, v_tcp=v / 1000.0)
     t = a.option("T", "num")
     if t is not None and not 0 < t <= MAX_WAIT:
         fail(interp.path, s.line, f"{s.name}: \\T must be above 0 and at most {MAX_WAIT:g} s, not {t:g}")

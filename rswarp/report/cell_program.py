@@ -4,6 +4,7 @@ commands write (a move's values by logical axis in the JSON, a column per axis i
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -95,3 +96,23 @@ def cell_bodies(cell: Cell, plan, rows: np.ndarray, poses: np.ndarray) -> tuple:
         extra.append((m.name, np.asarray(mesh.vertices, float), np.asarray(mesh.faces),
                       np.broadcast_to(m.pose, (len(rows), 4, 4))))
     return world, extra
+
+
+def with_cell_pairs(cell: Cell, p, tally, names: list, tested, tool=None, device: str = "cpu"):
+    """(tally, names, tested) of a program's check with the cell's pairs added: every robot link
+    (and its tool) against every unit link and environment mesh at every sample (``sim.cell_check``),
+    those touching with everything at home left untested."""
+    from ..kinematics.cell import CellKinematics
+    from ..sim.cell_check import CellChecker, cell_pairs
+    from ..sim.tool import tool_body
+
+    ck = CellKinematics(cell, device)
+    found = cell_pairs(ck, tool_body(ck.robot.mech, tool) if tool is not None else None)
+    if found is None:
+        return tally, names, tested
+    checker = CellChecker(ck, found, device)
+    hit = checker.hits(p.q, p.ext) & checker.checked
+    own = tally.hit if tally.hit.shape[1] else np.zeros((len(p.q), len(names)), bool)
+    tally = replace(tally, hit=np.concatenate([own, hit], axis=1))
+    before = np.ones(len(names), bool) if tested is None else np.asarray(tested, bool)
+    return tally, list(names) + found.pair_names(), np.concatenate([before, checker.checked])

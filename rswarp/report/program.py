@@ -25,7 +25,7 @@ from ..rsxml.robot_data import axis_limits, robot_data
 from ..sim.bodies import placed_environments
 from ..sim.program_check import check_program
 from ..sim.tool import load_tool
-from .cell_program import cell_floor, cell_planner, csv_columns, external_values, robot_of, tool_spec
+from .cell_program import cell_floor, cell_planner, csv_columns, external_values, robot_of, tool_spec, with_cell_pairs
 from .findings import grouped, move_findings, skipped_finding, tool_findings
 from .output import Output, Warn, ignore, json_safe
 from .payload import carried_loads, load_factors, load_scale, read_payload
@@ -153,12 +153,11 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
                  "cannot take (below)")
         doc = _document(mech, p, None, [], None, csv=None, payload=load)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
-    if cell is not None and (cell.externals or cell.environment):
-        warn(f"{cell.path}: warning: the external units' bodies and the cell's environment meshes are not checked "
-             "for collisions yet; the robot's own links, its tool, its joint limits and the floor are")
     tally, tools, tested = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
                                          progress=progress, tool=mounted)
     names = tools.checker.bodies.pair_names() if tools.checker is not None else []
+    if cell is not None:  # the robot against the units' links and the cell's meshes, where the axes put them
+        tally, names, tested = with_cell_pairs(cell, p, tally, names, tested, mounted, device)
     if csv is not None:
         atomic_write(csv, trajectory_csv(mech, p).encode())
         record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])

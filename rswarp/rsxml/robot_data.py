@@ -57,6 +57,7 @@ class AxisLimits:
     estimated: np.ndarray | None = None  # (axes, 3) bool; None: from assumed, accel_assumed, jerk
     linear: tuple[bool, ...] = ()  # which axes slide (m, m/s): a track's; () where all turn
     axis_sources: tuple = ()  # per axis (velocity, acceleration, jerk) sources where they differ (a cell's)
+    external: tuple[bool, ...] = ()  # which axes are a cell's external axes (speeddata's v_leax, v_reax cap them)
 
     def jerks(self) -> np.ndarray:
         """Each axis's jerk limit: the robot data's, else its acceleration reached in ``JERK_S``."""

@@ -160,6 +160,13 @@ def environment_body(mech: Mechanism, env: Environment, taken: set[str], warning
     return body
 
 
+def placed_body(name: str, mesh, pose: np.ndarray, warnings: list[str]) -> Body:
+    """A mesh (a cell unit's link) as a body posed by the caller (``link`` -1), within reach."""
+    body = _body(name, -1, mesh, pose, warnings)
+    _within_reach(body, f"'{name}'")
+    return body
+
+
 def _body(name: str, link: int, mesh, pose: np.ndarray, warnings: list[str]) -> Body:
     if not mesh.is_watertight:
         warnings.append(f"'{name}': mesh is not closed; whether it contains another body is judged by its "
