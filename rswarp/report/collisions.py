@@ -14,13 +14,14 @@ from ..export.srdf import srdf_text
 from ..files import atomic_write
 from ..launch import driver_device
 from ..outputs import atomic_folder, check_replaceable
-from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
 from ..sim.bodies import placed_environments
 from ..sim.collisions import REASONS, Collisions, collisions
 from ..sim.engine import cluster_for
 from ..sim.tool import load_tool
+from .cell_program import robot_of, tool_spec
+from .cell_sweeps import cell_collisions, cell_collisions_text
 from .output import Output, Warn, ignore, json_bytes, json_safe
 
 COLLISION_FILES = ("collision_matrix.srdf", "report.json", "heatmap.png")
@@ -32,7 +33,8 @@ def run_collisions(path: str, out: str, samples: int, seed: int = 0, padding: fl
     """``rswarp collisions``: the sweep of ``path`` and its matrix written into ``out``; ``padding``
     and the ``env`` meshes' positions (``MESH@x,y,z``) in the file's length unit; ``tool`` on the
     flange (``MESH[@x,y,z,rx,ry,rz]`` or a Tool RSXML)."""
-    mech, _ = load_mechanism(path)
+    mech, cell = robot_of(path)
+    tool = tool_spec(cell, tool)
     mounted = load_tool(mech, tool)
     check_collisions_folder(out)
     cluster = cluster_for(ray, device)
@@ -44,8 +46,13 @@ def run_collisions(path: str, out: str, samples: int, seed: int = 0, padding: fl
                         tool=mounted)
     for w in result.warnings:
         warn(w)
-    doc = write_collisions(result, out)
-    return Output(doc, collisions_text(result, mech, doc["files"]))
+    extra = {"cell": cell_collisions(cell, samples, seed, mounted, here)} if cell is not None else {}
+    doc = write_collisions(result, out, extra)
+    text = collisions_text(result, mech, doc["files"])
+    if cell is not None:
+        lines = text.splitlines()
+        text = "\n".join(lines[:-1] + cell_collisions_text(extra["cell"]) + lines[-1:])
+    return Output(doc, text)
 
 
 def check_collisions_folder(out: str | Path) -> None:
@@ -59,12 +66,12 @@ def collisions_srdf(c: Collisions) -> str:
                      f"{c.padding:g} m; Default = colliding at the RSXML HomePosition")
 
 
-def write_collisions(c: Collisions, out: str | Path) -> dict:
+def write_collisions(c: Collisions, out: str | Path, extra: dict | None = None) -> dict:
     """Write the SRDF, the JSON report and the heat map into ``out`` as one set (an interrupted run
     leaves the folder as it was); the report, its files under ``files``."""
     out = Path(out)
     files = {name.split(".")[0]: out / name for name in COLLISION_FILES}
-    doc = json_safe(c.report()) | {"files": {k: str(v) for k, v in files.items()}}
+    doc = json_safe(c.report() | (extra or {})) | {"files": {k: str(v) for k, v in files.items()}}
     with atomic_folder(out) as tmp:
         atomic_write(tmp / "collision_matrix.srdf", collisions_srdf(c).encode())
         atomic_write(tmp / "heatmap.png", heatmap_png(c))

@@ -14,11 +14,12 @@ from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..launch import driver_device
 from ..outputs import atomic_folder, check_replaceable
-from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
 from ..sim.engine import cluster_for
 from ..sim.workspace import Workspace, workspace
+from .cell_program import robot_of
+from .cell_sweeps import cell_reach, cell_reach_text, flange_box
 from .output import Output, Warn, ignore, json_bytes, json_safe
 
 DEFAULT_RESOLUTION = 0.025  # m: voxel size of a sweep
@@ -29,7 +30,7 @@ def run_sweep(path: str, out: str, samples: int, method: str = "random", seed: i
               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore) -> Output:
     """``rswarp sweep``: the sweep of ``path`` written into ``out``; ``resolution`` in the file's
     length unit (default 25 mm); ``ray``: a Ray address ("local" for a local instance), or None."""
-    mech, _ = load_mechanism(path)
+    mech, cell = robot_of(path)
     check_sweep_folder(out)
     cluster = cluster_for(ray, device)
     here, why = driver_device(device, cluster is not None)
@@ -38,8 +39,13 @@ def run_sweep(path: str, out: str, samples: int, method: str = "random", seed: i
     ws = workspace(mech, samples=samples, seed=seed, method=method,
                    resolution=DEFAULT_RESOLUTION if resolution is None else mech.si_length(resolution),
                    kinematics=Kinematics(mech, device=here), progress=progress, cluster=cluster)
-    doc = write_sweep(ws, mech, out)
-    return Output(doc, sweep_text(ws, mech, doc["files"]))
+    extra = {"cell": cell_reach(cell, ws)} if cell is not None else {}
+    doc = write_sweep(ws, mech, out, extra)
+    text = sweep_text(ws, mech, doc["files"])
+    if cell is not None:
+        lines = text.splitlines()
+        text = "\n".join(lines[:-1] + cell_reach_text(extra["cell"]) + lines[-1:])
+    return Output(doc, text)
 
 
 
@@ -49,14 +55,14 @@ def check_sweep_folder(out: str | Path) -> None:
     check_replaceable(Path(out))
 
 
-def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path) -> dict:
+def write_sweep(ws: Workspace, mech: Mechanism, out: str | Path, extra: dict | None = None) -> dict:
     """Write the sweep's files into ``out`` as one set: written into a temporary folder that then
     replaces ``out`` (a folder holding an earlier sweep's files only, or none), so an interrupted
     run never leaves new voxels beside an old report. The report as a dict, its files under ``files``."""
     out = Path(out)
     files = {"voxels": out / "workspace.npz", "report": out / "report.json", "side_view": out / "side.png",
              "top_view": out / "top.png"}
-    doc = json_safe(ws.report()) | {"files": {k: str(v) for k, v in files.items()}}
+    doc = json_safe(ws.report() | (extra or {})) | {"files": {k: str(v) for k, v in files.items()}}
     with atomic_folder(out) as tmp:
         from .figures import work_range_figures
 
@@ -76,15 +82,6 @@ def save_voxels(ws: Workspace, path) -> None:
     atomic_write(path, buf.getvalue())
 
 
-def _flange_box(ws: Workspace) -> tuple[np.ndarray, np.ndarray]:
-    """The least and greatest corner (m) of the voxels the flange occupied."""
-    k = np.argwhere(ws.flange_voxels)
-    origin = np.asarray(ws.origin, float)
-    if not len(k):
-        return origin, origin
-    return origin + k.min(axis=0) * ws.resolution, origin + (k.max(axis=0) + 1) * ws.resolution
-
-
 def sweep_text(ws: Workspace, mech: Mechanism, files: dict) -> str:
     """The sweep's figures in the file's length unit, and the files written."""
     lf, unit = mech.length_factor, mech.length_unit or "m"
@@ -102,7 +99,7 @@ def sweep_text(ws: Workspace, mech: Mechanism, files: dict) -> str:
             "  reach (J1 axis to flange centre; no wrist centre below five axes)"
         lines.append(f"{flange}: {length(ws.flange_reach.value)}")
     else:  # a track or a positioner has no J1 axis to measure a reach from: where its flange goes
-        lo, hi = _flange_box(ws)
+        lo, hi = flange_box(ws)
         lines.append(f"  flange travel (to its {length(ws.resolution)} voxels): "
                      + ", ".join(f"{a} {length(u)} to {length(v)}" for a, u, v in zip("xyz", lo, hi)))
     lines.append(f"  flange height: {length(ws.flange_low.value)} to {length(ws.flange_high.value)}")
