@@ -15,12 +15,12 @@ class Diagnostic:
     file: str
     line: int
     message: str
-    severity: str = "error"  # "error" or "warning"
+    severity: str = "error"  # "error", "warning" or "note" (what an input set, said)
     repeats: int = 1  # the problems this line stands for (a summary of many alike)
 
     def __str__(self) -> str:
         where = f"{self.file}:{self.line}" if self.line else self.file
-        prefix = "warning: " if self.severity == "warning" else ""
+        prefix = f"{self.severity}: " if self.severity in ("warning", "note") else ""
         return one_line(f"{where}: {prefix}{self.message}")
 
 

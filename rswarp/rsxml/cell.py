@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +29,7 @@ from .units import MAX_ANGLE, MAX_LENGTH
 LOGICAL_AXES = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
 MECHANISM_SUFFIXES = (".rsxml", ".xml")  # a tool given by one of these is a Tool mechanism, else a mesh
 KEYS = {  # table -> its keys; "" is the file's top level
-    "": ("robot", "external", "tool", "environment"),
+    "": ("robot", "external", "tool", "environment", "backup"),
     "robot": ("rsxml", "on", "frame"),
     "external": ("name", "rsxml", "frame", "axes"),
     "tool": ("path", "frame"),
@@ -157,7 +157,16 @@ def read_cell(path) -> Cell:
     robot = r.robot(r.table(doc, "robot"), externals)
     tool = r.tool(r.table(doc, "tool")) if "tool" in doc else None
     environment = tuple(r.mesh(t, k) for k, t in enumerate(r.tables(doc, "environment")))
-    return Cell(path, robot, externals, tool, environment, tuple(str(w) for w in r.warnings), tuple(r.warnings))
+    cell = Cell(path, robot, externals, tool, environment)
+    if "backup" in doc:  # the controller's own setup (SYSPAR/MOC.cfg): its bounds, carrier and frames
+        from .cell_moc import apply_backup
+
+        given = {("robot", "frame"): "frame" in doc["robot"]}
+        given |= {("external", t.get("name")): "frame" in t for t in r.tables(doc, "external")}
+        cell, said = apply_backup(cell, r.folder, doc["backup"], r.lines.of("", None, "backup"), given,
+                                  lambda message: r.fail(("", None), "backup", message))
+        r.warnings.extend(said)
+    return replace(cell, warnings=tuple(str(w) for w in r.warnings), diagnostics=tuple(r.warnings))
 
 
 def frame_matrix(values) -> np.ndarray:
