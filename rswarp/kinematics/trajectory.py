@@ -40,10 +40,19 @@ class Trajectory:
     until: float | None = None  # where it ends, if before its last row (random motion, cut at its length)
     ext: np.ndarray | None = None  # (T, axes) a cell's external axes (RAPID's mm and degrees), where given
     ext_axes: tuple[str, ...] = ()  # their logical axes (eax_a .. eax_f), the CSV's columns after the joints
+    base: np.ndarray | None = None  # (T, 3) m: the robot's base moved from where it starts (a track's carriage)
 
     @property
     def duration(self) -> float:
         return float(self.times[-1]) if self.until is None else self.until
+
+    def base_at(self, t) -> np.ndarray | None:
+        """``(len(t), 3)`` the base's offset from its start at times ``t`` (linear between rows);
+        None for a robot that stands still."""
+        if self.base is None:
+            return None
+        t = np.atleast_1d(np.asarray(t, float))
+        return np.stack([np.interp(t, self.times, self.base[:, c]) for c in range(3)], axis=1)
 
     def at(self, t) -> np.ndarray:
         """``(len(t), dof)`` joint values at times ``t``; held at the ends."""

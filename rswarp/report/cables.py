@@ -16,6 +16,7 @@ from ..kinematics.kinematics import Kinematics
 from ..kinematics.trajectory import RANDOM_SECONDS, Trajectory, run_trajectories
 from ..options import checked
 from ..outputs import atomic_folder, check_replaceable
+from ..rsxml.cell import read_cell
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
 from ..sim.cable_results import CableResult
@@ -25,6 +26,7 @@ from ..sim.engine import cluster_for
 from .cable_contact import contact, run_worst, shown_slots
 from .cable_lines import cable_lines, pinched
 from .cable_plots import cable_plots
+from .cell_program import base_offsets, floor_in_robot, is_cell
 from .dresspack_options import SweepOptions, cable_options, ratings_of
 from .output import Output, Warn, ignore, json_bytes, json_safe
 from .payload import task_payload
@@ -51,8 +53,10 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
     ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
     unit."""
     envs = default_envs(envs, program)
-    mech, report = load_mechanism(path)
+    cell = read_cell(path) if is_cell(path) else None
+    mech, report = load_mechanism(cell.robot.rsxml if cell is not None else path)
     _say_no_slack(report, warn)
+    floor = floor_in_robot(cell, mech, floor)
     hose = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
                         static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
                         poisson, friction, frame_rate, substeps)
@@ -75,7 +79,8 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         moved_before_stop(plan)
     else:
         plan = None
-    trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, seed, warn)
+    trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, seed, warn,
+                                 base_offsets(cell, plan) if plan is not None else None)
     run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
                           cluster=cluster_for(ray, device))
     for w in run.warnings:
@@ -103,10 +108,11 @@ def _say_no_slack(report, warn: Warn) -> None:
 
 
 def _trajectories(mech, options: CableOptions, plan, trajectory, random: bool, envs: int, seconds, seed: int,
-                  warn: Warn) -> list:
-    """What the environments follow: the program's ``plan``, random programs, or CSV files."""
+                  warn: Warn, base=None) -> list:
+    """What the environments follow: the program's ``plan`` (its robot carried by ``base``, a
+    track's travel), random programs, or CSV files."""
     if plan is not None:
-        trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
+        trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q, base=base)]
         if seconds is not None and seconds < trajectories[0].duration:
             warn(f"rswarp: warning: --seconds {seconds:g}: the task takes {trajectories[0].duration:.2f} s; the run "
                  f"covers its first {seconds:g} s")

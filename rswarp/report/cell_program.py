@@ -116,3 +116,35 @@ def with_cell_pairs(cell: Cell, p, tally, names: list, tested, tool=None, device
     tally = replace(tally, hit=np.concatenate([own, hit], axis=1))
     before = np.ones(len(names), bool) if tested is None else np.asarray(tested, bool)
     return tally, list(names) + found.pair_names(), np.concatenate([before, checker.checked])
+
+
+BASE_CHUNK = 100_000  # rows of a trajectory whose base poses are made at once
+
+
+def base_offsets(cell: Cell | None, plan) -> np.ndarray | None:
+    """(T, 3) m: where the robot's base has moved from its start, in the frame it starts in, at
+    each row of a plan over ``cell`` (a track's carriage carrying it); None where nothing carries
+    the robot. An InputError where its carrier turns it: the hose runs in a frame that slides."""
+    from ..errors import InputError
+    from ..kinematics.cell import CellKinematics
+
+    if cell is None or cell.carrier is None or plan.ext is None:
+        return None
+    ck = CellKinematics(cell)
+    start = np.linalg.inv(ck.robot_base(ck.split(plan.ext[:1]))[0])
+    out = np.empty((len(plan.ext), 3))
+    for lo in range(0, len(plan.ext), BASE_CHUNK):
+        rel = start @ ck.robot_base(ck.split(plan.ext[lo:lo + BASE_CHUNK]), len(plan.ext[lo:lo + BASE_CHUNK]))
+        if np.abs(rel[:, :3, :3] - np.eye(3)).max() > 1e-9:
+            raise InputError(f"{cell.path}: '{cell.carrier.name}' turns the robot's base as it moves: a hose run takes "
+                             "a carrier that slides (a track), not one that turns")
+        out[lo:lo + len(rel)] = rel[:, :3, 3]
+    return out
+
+
+def floor_in_robot(cell: Cell | None, mech, floor: float | None) -> float | None:
+    """A ``--floor`` height (the file's length unit) in the world of a cell as the robot's frame has
+    it (the robot's base stands above the floor on a carriage); as given without a cell."""
+    if cell is None or floor is None:
+        return floor
+    return floor - cell_floor(cell) / mech.length_factor

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Callable
 
 CELL_PROGRAMS = (("track_cell.toml", "track_transfer.mod"), ("positioner_cell.toml", "positioner_weld.mod"))
+HOSE_CELL = ("track_dresspack_cell.toml", "track_transfer.mod")  # the dress pack run with the carriage moving
 
 
 def demo_cells(out: Path, say: Callable[[str], None], video_size: int) -> list[dict]:
@@ -32,4 +33,21 @@ def demo_cells(out: Path, say: Callable[[str], None], video_size: int) -> list[d
         doc = result.doc
         done.append({"cell": str(cell), "program": str(program), "cycle_s": doc["cycle_s"], "csv": str(csv),
                      "video": doc.get("video", {}).get("path"), "errors": doc["errors"]})
+    done.append(_hose(out, say))
     return done
+
+
+def _hose(out: Path, say: Callable[[str], None]) -> dict:
+    """The IRB 2600's process hose over the track program, the carriage carrying the robot."""
+    from .. import examples
+    from .cables import run_cables
+
+    cell, program = (examples.CELLS / name for name in HOSE_CELL)
+    folder = out / "track-dresspack"
+    result = run_cables(str(cell), str(folder), program=[str(program)])
+    keep = ("  verdict", "  bend radius", "  control point", "  floor")
+    lines = [f"== cell {cell.name}: the dress pack over {program.name}, the carriage moving the robot "
+             f"(rswarp cable {cell.name} --program {program.name}) -> {folder}:"]
+    lines += [f"     {line.strip()}" for line in result.text.splitlines() if line.startswith(keep)]
+    say("\n".join(lines + [""]))
+    return {"cell": str(cell), "program": str(program), "hose": str(folder), "errors": []}

@@ -23,6 +23,7 @@ from ..files import atomic_write, read_regular
 from ..kinematics.trajectory import Trajectory
 from ..outputs import atomic_folder
 from ..rsxml.cable_spans import LENGTH_TOLERANCE, MAX_CABLE_SEGMENTS, cable_spans
+from ..rsxml.cell import read_cell
 from ..rsxml.documents import load_mechanism
 from ..rsxml.robot_data import data_file
 from ..rsxml.write import to_rsxml
@@ -33,6 +34,7 @@ from ..sim.designs import DesignSet, Variable, design, inside_links, parse_vary,
 from ..sim.engine import cluster_for
 from .cable_lines import fatigue_line
 from .cables import check_cable_folder, check_video_options, rated_fatigue, run_findings
+from .cell_program import base_offsets, floor_in_robot, is_cell
 from .dresspack_options import SweepOptions, cable_options, ratings_of, repeat_command
 from .figures import figure_png
 from .output import Output, Warn, ignore, json_bytes, json_safe
@@ -82,10 +84,12 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     shortest hose that passes with ``min_margin`` % to every rating; the other options as
     ``rswarp cable --program`` takes them (the robot file's length unit); ``video``: the chosen
     design's run rendered there, as ``rswarp cable --video`` renders one."""
+    cell = read_cell(path) if is_cell(path) else None
+    mech, _ = load_mechanism(cell.robot.rsxml if cell is not None else path)
+    floor = floor_in_robot(cell, mech, floor)
     opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
                         static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
                         poisson, friction, frame_rate, substeps, inputs, rated_cycles, payload)
-    mech, _ = load_mechanism(path)
     rated = rated_fatigue(rated_cycles, mech)
     drawn, short = _drawn(mech, cable, vary, designs, seed)
     k = drawn.cable
@@ -95,7 +99,7 @@ def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], des
     check_video_options(video, None, video_color, 1, out)
     options = cable_options(mech, opts, device)
     plan = _task_plan(path, programs, opts, warn)
-    trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q)]
+    trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q, base=base_offsets(cell, plan))]
     start = time.perf_counter()
     run = simulate_cables(mech, trajectories, len(run_set), None, options, progress=progress,
                           cluster=cluster_for(ray, device), designs=run_set)

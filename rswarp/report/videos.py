@@ -141,6 +141,9 @@ def cable_video(mech, run, trajectories, path: str, env: int | None = None, colo
     n = min(len(rows), *(len(t.points) for t in tubes))
     rows = rows[:n]
     poses = Kinematics(mech).fk64(again.q[rows])
+    base = trajectories[run.assignment[env]].base_at(again.times[rows])
+    if base is not None:  # the robot carried along its track, as the hose was run
+        poses[..., :3, 3] += base[:, None, :]
     tubes = [Tube(t.points[:n], t.colours[:n], t.radius) for t in tubes]
     frames = render_frames(mech, poses, tubes, size, legend=[(GREY, label or f"environment {env}"), *legend],
                            captions=captions(again.times[rows], moves), floor=options.floor, length=_unit(mech),

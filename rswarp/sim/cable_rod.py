@@ -60,6 +60,7 @@ class RodState:
     joints: np.ndarray
     design: object  # (envs,) each environment's design, on the device
     designs: np.ndarray  # the same on the host
+    base: np.ndarray | None = None  # (envs, 3) the robot's base moved from its start, at the end of the last frame
 
 
 class CosseratRod(CableSolver):
@@ -203,7 +204,7 @@ class CosseratRod(CableSolver):
     def set_damping(self, damping: float) -> None:
         self.params.damping = float(damping)
 
-    def step(self, state: RodState, qs: np.ndarray, dt: float) -> None:
+    def step(self, state: RodState, qs: np.ndarray, dt: float, base: np.ndarray | None = None) -> None:
         from ..kernels.rod_types import MAX_CONTACTS
 
         envs = state.x.shape[0]
@@ -211,6 +212,10 @@ class CosseratRod(CableSolver):
         if qs.ndim != 3 or qs.shape[:2] != (envs, self.options.substeps):
             raise ValueError(f"qs must have shape ({envs}, {self.options.substeps}, dof), got {qs.shape}")
         poses = self._poses(state.joints, qs)
+        if base is not None:  # the links carried with the base (a track's carriage), in the frame it starts in
+            start = state.base if state.base is not None else np.zeros((envs, 3))
+            poses[..., :3, 3] += np.concatenate([start[:, None], base], axis=1)[:, :, None, :]
+            state.base = np.asarray(base[:, -1], np.float64).copy()
         bodies = self.bodies
         self.launcher.launch(self.kernel, envs, params=[self.params, float(dt), int(self.options.iterations)],
                              inputs=[poses, state.design], scratch=(bodies, bodies, bodies * MAX_CONTACTS, bodies),

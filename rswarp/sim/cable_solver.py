@@ -199,8 +199,10 @@ class CableSolver(ABC):
         """``envs`` environments at the rest shape, at rest, running (on the solver's device)."""
 
     @abstractmethod
-    def step(self, state, qs: np.ndarray, dt: float) -> None:
-        """One frame of length ``dt``: ``qs`` (envs, substeps, dof) the joints at each substep's end."""
+    def step(self, state, qs: np.ndarray, dt: float, base: np.ndarray | None = None) -> None:
+        """One frame of length ``dt``: ``qs`` (envs, substeps, dof) the joints at each substep's end;
+        ``base`` (envs, substeps, 3) where the robot's base has moved from its start then (a track's
+        carriage: the hose runs in the frame the robot starts in, the world's, carriage and all)."""
 
     @abstractmethod
     def set_damping(self, damping: float) -> None:

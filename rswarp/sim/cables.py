@@ -224,7 +224,7 @@ class CableJob(Job):
         for f in range(self.frames):
             t0 = f / self.options.frame_rate
             qs = schedule.frame(t0)
-            run.step(qs, t0 + 1 / self.options.frame_rate)
+            run.step(qs, t0 + 1 / self.options.frame_rate, schedule.bases(t0))
             if record >= 0:  # the played-back environment's joints (playback thins them like its cables)
                 recorded_q.append(qs[record, -1])
             tick(self.size(span) / self.frames)
@@ -254,6 +254,19 @@ class _Schedule:
             rows = self.who == k
             if rows.any():
                 out[rows] = traj.at(t)[None]
+        return out
+
+    def bases(self, t0: float) -> np.ndarray | None:
+        """(envs, substeps, 3) the robot's base moved from its start (a carriage's travel), or None
+        where every trajectory's robot stands still."""
+        if all(tr.base is None for tr in self.trajectories):
+            return None
+        t = self._times(t0)
+        out = np.zeros((len(self.who), self.options.substeps, 3))
+        for k, traj in enumerate(self.trajectories):
+            rows = self.who == k
+            if rows.any() and traj.base is not None:
+                out[rows] = traj.base_at(t)[None]
         return out
 
     def settling(self, t0: float) -> np.ndarray:
@@ -294,8 +307,8 @@ class _CableEnvs:
                           for b, info in zip(bends, self.solver.cables)]
             self._bend(bends)
 
-    def step(self, qs: np.ndarray, t: float) -> None:
-        self.solver.step(self.state, qs, 1 / self.options.frame_rate)
+    def step(self, qs: np.ndarray, t: float, base: np.ndarray | None = None) -> None:
+        self.solver.step(self.state, qs, 1 / self.options.frame_rate, base)
         last = self.envs - 1
         for c, (x, stats) in enumerate(zip(self.extremes, self.solver.statistics(self.state))):
             x.add(stats, t, qs[:, -1], lambda c=c: self.solver.points(self.state, c, min(self.record, last)))
