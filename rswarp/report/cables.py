@@ -26,7 +26,7 @@ from ..sim.engine import cluster_for
 from .cable_contact import contact, run_worst, shown_slots
 from .cable_lines import cable_lines, pinched
 from .cable_plots import cable_plots
-from .cell_program import base_offsets, floor_in_robot, is_cell
+from .cell_program import base_offsets, carried, floor_in_robot, is_cell
 from .dresspack_options import SweepOptions, cable_options, ratings_of
 from .output import Output, Warn, ignore, json_bytes, json_safe
 from .payload import task_payload
@@ -81,6 +81,7 @@ def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[st
         plan = None
     trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, seed, warn,
                                  base_offsets(cell, plan) if plan is not None else None)
+    trajectories = [carried(cell, t) for t in trajectories]  # a CSV's external axes carry the robot
     run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
                           cluster=cluster_for(ray, device))
     for w in run.warnings:

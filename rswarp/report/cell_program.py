@@ -125,16 +125,38 @@ def base_offsets(cell: Cell | None, plan) -> np.ndarray | None:
     """(T, 3) m: where the robot's base has moved from its start, in the frame it starts in, at
     each row of a plan over ``cell`` (a track's carriage carrying it); None where nothing carries
     the robot. An InputError where its carrier turns it: the hose runs in a frame that slides."""
+    if cell is None or cell.carrier is None or plan.ext is None:
+        return None
+    return _offsets(cell, plan.ext)
+
+
+def carried(cell: Cell | None, trajectory):
+    """A trajectory read from a CSV with the cell's external axes (``eax_a`` .. columns, mm and
+    degrees) with its robot carried as they say (``Trajectory.base``); as read otherwise."""
+    from dataclasses import replace as _replace
+
+    from ..kinematics.cell import CellKinematics
+    from ..rsxml.cell import LOGICAL_AXES
+
+    if cell is None or cell.carrier is None or trajectory.ext is None:
+        return trajectory
+    ck = CellKinematics(cell)
+    extax = np.full((len(trajectory.times), 6), 9e9)
+    for k, axis in enumerate(trajectory.ext_axes):
+        extax[:, LOGICAL_AXES.index(axis)] = trajectory.ext[:, k]
+    return _replace(trajectory, base=_offsets(cell, ck.joined(ck.unit_joints(extax))))
+
+
+def _offsets(cell: Cell, ext: np.ndarray) -> np.ndarray:
     from ..errors import InputError
     from ..kinematics.cell import CellKinematics
 
-    if cell is None or cell.carrier is None or plan.ext is None:
-        return None
     ck = CellKinematics(cell)
-    start = np.linalg.inv(ck.robot_base(ck.split(plan.ext[:1]))[0])
-    out = np.empty((len(plan.ext), 3))
-    for lo in range(0, len(plan.ext), BASE_CHUNK):
-        rel = start @ ck.robot_base(ck.split(plan.ext[lo:lo + BASE_CHUNK]), len(plan.ext[lo:lo + BASE_CHUNK]))
+    start = np.linalg.inv(ck.robot_base(ck.split(ext[:1]))[0])
+    out = np.empty((len(ext), 3))
+    for lo in range(0, len(ext), BASE_CHUNK):
+        part = ext[lo:lo + BASE_CHUNK]
+        rel = start @ ck.robot_base(ck.split(part), len(part))
         if np.abs(rel[:, :3, :3] - np.eye(3)).max() > 1e-9:
             raise InputError(f"{cell.path}: '{cell.carrier.name}' turns the robot's base as it moves: a hose run takes "
                              "a carrier that slides (a track), not one that turns")
