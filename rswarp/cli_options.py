@@ -18,6 +18,9 @@ def check(p: argparse.ArgumentParser) -> None:
     p.add_argument("paths", nargs="+", metavar="FILE")
 
 
+CELL_HELP = "a robot's RSXML file, or a cell file (cell.toml: the robot on its track or beside its positioner)"
+
+
 def info(p: argparse.ArgumentParser) -> None:
     p.add_argument("path", metavar="FILE")
 
@@ -28,7 +31,7 @@ def fk(p: argparse.ArgumentParser) -> None:
 
 
 def sweep(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", metavar="FILE")
+    p.add_argument("path", metavar="FILE", help=CELL_HELP)
     p.add_argument("--samples", type=argument("samples"), default=1_000_000,
                    help="joint configurations (default 1000000)")
     p.add_argument("--method", choices=["random", "sobol", "grid"], default="random")
@@ -36,7 +39,7 @@ def sweep(p: argparse.ArgumentParser) -> None:
 
 
 def collisions(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", metavar="FILE")
+    p.add_argument("path", metavar="FILE", help=CELL_HELP)
     p.add_argument("--samples", type=argument("samples"), default=1_000_000,
                    help="random configurations (default 1000000)")
     p.add_argument("--padding", type=argument("padding"), default=0.0,
@@ -96,7 +99,7 @@ def build(p: argparse.ArgumentParser) -> None:
 
 
 def program(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file")
+    p.add_argument("path", metavar="ROBOT", help=CELL_HELP + ": a robtarget's extax drives its external axes")
     p.add_argument("programs", nargs="+", metavar="PATH",
                    help="the RAPID task: module files (.mod, .modx, .prg, .sys), a folder of them (a backup's "
                         "RAPID/TASK1), or a .pgf program file")
@@ -144,7 +147,7 @@ def _limits(p: argparse.ArgumentParser) -> None:
 
 
 def cable(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", metavar="FILE")
+    p.add_argument("path", metavar="FILE", help=CELL_HELP + " (its robot's RSXML with the Cable; a track carries it)")
     p.add_argument("--envs", type=argument("envs"), default=None,
                    help="parallel environments (default 16; 1 with --program, whose environments would be alike)")
     how = p.add_mutually_exclusive_group(required=True)
@@ -174,7 +177,8 @@ def cable(p: argparse.ArgumentParser) -> None:
 
 
 def dresspack(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file, with its dress-pack Cable")
+    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file, with its dress-pack Cable, or a cell file "
+                                                 "whose robot has it (a track carries it)")
     p.add_argument("--program", dest="programs", nargs="+", required=True, metavar="PATH",
                    help="the RAPID task (module files, a folder, a .pgf) whose routine (--routine) every design runs")
     _task(p)

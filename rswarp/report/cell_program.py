@@ -170,3 +170,10 @@ def floor_in_robot(cell: Cell | None, mech, floor: float | None) -> float | None
     if cell is None or floor is None:
         return floor
     return floor - cell_floor(cell) / mech.length_factor
+
+
+def with_meshes(cell: Cell, environment) -> Cell:
+    """The cell with ``--env`` meshes (``sim.bodies.Environment``, placed in the world) among its own."""
+    from ..rsxml.cell import CellMesh
+
+    return replace(cell, environment=cell.environment + tuple(CellMesh(e.name, e.path, e.pose) for e in environment))

@@ -25,7 +25,16 @@ from ..rsxml.robot_data import axis_limits, robot_data
 from ..sim.bodies import placed_environments
 from ..sim.program_check import check_program
 from ..sim.tool import load_tool
-from .cell_program import cell_floor, cell_planner, csv_columns, external_values, robot_of, tool_spec, with_cell_pairs
+from .cell_program import (
+    cell_floor,
+    cell_planner,
+    csv_columns,
+    external_values,
+    robot_of,
+    tool_spec,
+    with_cell_pairs,
+    with_meshes,
+)
 from .findings import grouped, move_findings, skipped_finding, tool_findings
 from .output import Output, Warn, ignore, json_safe
 from .payload import carried_loads, load_factors, load_scale, read_payload
@@ -142,6 +151,8 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     tool = tool_spec(cell, tool)
     floor = checked("floor", robot.si_length(floor)) - (cell_floor(cell) if cell is not None else 0.0)
     env = placed_environments(robot, environment or [])
+    if cell is not None and env:  # --env meshes stand in the cell's world, checked with its own
+        cell, env = with_meshes(cell, env), ()
     mounted = load_tool(robot, tool)
     load = read_payload(payload, robot)
     disabled = read_srdf(collision_matrix, robot.link_names) if collision_matrix else ()
