@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .bodies import Body, CollisionBodies, DeviceBodies, collision_bodies, environment_body, placed_body
+from .bodies import Body, CollisionBodies, DeviceBodies, Environment, collision_bodies, environment_body, placed_body
 
 CHUNK = 4096  # samples a launch
 
@@ -20,12 +20,12 @@ CHUNK = 4096  # samples a launch
 @dataclass(frozen=True)
 class CellPairs:
     """The robot's bodies against the cell's: ``bodies`` (the robot's first, then the units'
-    links and the environment meshes), the pairs tested, and what poses each body: ("robot",
-    link), ("unit", name, link) or ("fixed", None)."""
+    links and the environment meshes) and their pairs, and what poses each body: ("robot",
+    link), ("unit", name, link) or ("fixed", None). Which pairs are tested (not touching at
+    home) is ``CellChecker.checked``."""
 
     bodies: CollisionBodies
     owner: tuple
-    checked: np.ndarray  # (pairs,) bool: not touching at home
 
     def pair_names(self) -> list[tuple[str, str]]:
         return self.bodies.pair_names()
@@ -37,7 +37,7 @@ def cell_pairs(ck, tool=None) -> CellPairs | None:
     from ..geometry.meshes import link_mesh
 
     robot = collision_bodies(ck.robot.mech, (), (), tool)
-    mine = [b for b in robot.bodies]
+    mine = list(robot.bodies)
     owner = [("robot", b.link) for b in mine]
     others: list[Body] = []
     warnings: list[str] = []
@@ -49,16 +49,13 @@ def cell_pairs(ck, tool=None) -> CellPairs | None:
                 owner.append(("unit", e.name, k))
     taken = {b.name for b in mine + others}
     for m in ck.cell.environment:
-        from .bodies import Environment
-
         others.append(environment_body(ck.robot.mech, Environment(m.name, m.path, m.pose), taken, warnings))
         owner.append(("fixed", None))
     if not others:
         return None
     pairs = tuple((i, len(mine) + j) for i in range(len(mine)) for j in range(len(others)))
     bodies = CollisionBodies(tuple(mine + others), pairs, frozenset(), tuple(warnings))
-    found = CellPairs(bodies, tuple(owner), np.ones(len(pairs), bool))
-    return found
+    return CellPairs(bodies, tuple(owner))
 
 
 def body_poses(ck, found: CellPairs, q: np.ndarray, ext: np.ndarray) -> np.ndarray:
