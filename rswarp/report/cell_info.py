@@ -28,7 +28,7 @@ def cell_dict(cell: Cell) -> dict:
                            "frame": e.frame.tolist(), "axes": dict(zip(e.axes, e.joints)),
                            "carrier_link": e.carrier_link} for e in cell.externals],
             "tool": None if cell.tool is None else {"path": cell.tool.path, "mount": cell.tool.mount.tolist()},
-            "environment": [{"mesh": m.path, "pose": m.pose.tolist()} for m in cell.environment],
+            "environment": [{"mesh": m.path, "pose": m.pose.tolist(), "on": m.on} for m in cell.environment],
             "warnings": list(cell.warnings)}
 
 
@@ -44,7 +44,8 @@ def cell_text(cell: Cell) -> str:
                      f"{axes}, carries on {e.carrier_link}")
     if cell.tool is not None:
         lines.append(f"tool {Path(cell.tool.path).name}, mounted [{_frame(cell.tool.mount)}] on the flange")
-    lines += [f"environment {Path(m.path).name} at [{_frame(m.pose)}]" for m in cell.environment]
+    lines += [f"environment {Path(m.path).name} at [{_frame(m.pose)}]" + (f" on {m.on}'s flange" if m.on else "")
+              for m in cell.environment]
     return "\n".join(lines)
 
 

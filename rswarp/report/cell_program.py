@@ -75,9 +75,7 @@ def cell_bodies(cell: Cell, plan, rows: np.ndarray, poses: np.ndarray) -> tuple:
     """(the robot's link poses (F, links, 4, 4) in the world, the other bodies to draw as
     ``render_frames`` takes them): each unit's links where the trajectory's ``rows`` put its
     joints, the cell's environment meshes where they stand."""
-    import trimesh
-
-    from ..geometry.meshes import link_mesh
+    from ..geometry.meshes import file_mesh, link_mesh
     from ..kinematics.cell import CellKinematics
 
     ck = CellKinematics(cell)
@@ -91,10 +89,10 @@ def cell_bodies(cell: Cell, plan, rows: np.ndarray, poses: np.ndarray) -> tuple:
             if mesh is not None and len(mesh.faces):
                 extra.append((f"{e.name}.{name}", np.asarray(mesh.vertices, float), np.asarray(mesh.faces),
                               links[:, k]))
-    for m in cell.environment:
-        mesh = trimesh.load(m.path, force="mesh")
-        extra.append((m.name, np.asarray(mesh.vertices, float), np.asarray(mesh.faces),
-                      np.broadcast_to(m.pose, (len(rows), 4, 4))))
+    for m in cell.environment:  # a mesh on a unit moves with its flange (the work on a face plate)
+        mesh = file_mesh(cell.robot.mechanism, Path(m.path))  # in the robot file's length unit, as checked
+        pose = ck.unit_flange(m.on, joints[m.on]) @ m.pose if m.on else np.broadcast_to(m.pose, (len(rows), 4, 4))
+        extra.append((m.name, np.asarray(mesh.vertices, float), np.asarray(mesh.faces), pose))
     return world, extra
 
 

@@ -33,7 +33,7 @@ KEYS = {  # table -> its keys; "" is the file's top level
     "robot": ("rsxml", "on", "frame"),
     "external": ("name", "rsxml", "frame", "axes"),
     "tool": ("path", "frame"),
-    "environment": ("mesh", "frame"),
+    "environment": ("mesh", "frame", "on"),
 }
 FRAME_WORDS = "x, y, z in mm, then rx, ry, rz in degrees (ABB's Euler ZYX)"
 
@@ -95,12 +95,15 @@ class CellTool:
 
 @dataclass(frozen=True)
 class CellMesh:
-    """An environment mesh: its name (the file's stem), path and pose in the world (4x4, m)."""
+    """An environment mesh: its name (the file's stem), path and pose in the world (4x4, m); or,
+    ``on`` a unit (the work clamped on a positioner's face plate), in that unit's flange frame,
+    moving with it."""
 
     name: str
     path: str
     pose: np.ndarray = field(default_factory=_identity, compare=False, repr=False)
     line: int = 0
+    on: str | None = None
 
 
 @dataclass(frozen=True)
@@ -156,7 +159,7 @@ def read_cell(path) -> Cell:
     externals = r.externals(r.tables(doc, "external"))
     robot = r.robot(r.table(doc, "robot"), externals)
     tool = r.tool(r.table(doc, "tool")) if "tool" in doc else None
-    environment = tuple(r.mesh(t, k) for k, t in enumerate(r.tables(doc, "environment")))
+    environment = tuple(r.mesh(t, k, externals) for k, t in enumerate(r.tables(doc, "environment")))
     cell = Cell(path, robot, externals, tool, environment)
     if "backup" in doc:  # the controller's own setup (SYSPAR/MOC.cfg): its bounds, carrier and frames
         from .cell_moc import apply_backup
@@ -290,10 +293,17 @@ class _Reader:
             mech = self.load(path, where, "path", "Tool")
         return CellTool(path, self.frame(t, where), mech, self.lines.of(*where, None))
 
-    def mesh(self, t: dict, k: int) -> CellMesh:
+    def mesh(self, t: dict, k: int, externals: tuple[External, ...]) -> CellMesh:
         where = ("environment", k)
         path = self.file(t, where, "mesh", "an environment mesh file")
-        return CellMesh(Path(path).stem, path, self.frame(t, where), self.lines.of(*where, None))
+        on = t.get("on")
+        names = [e.name for e in externals]
+        if on is not None and (not isinstance(on, str) or on not in names):
+            near = nearest(str(on), names)
+            hint = f"; did you mean '{near}'?" if near else \
+                f" (the cell's external units: {', '.join(names)})" if names else " (the cell has no [[external]])"
+            self.fail(where, "on", f"{_title(*where)} on = {_shown(on)} names no [[external]]{hint}")
+        return CellMesh(Path(path).stem, path, self.frame(t, where), self.lines.of(*where, None), on)
 
     def mechanism(self, t: dict, where, kind: str) -> tuple[str, Mechanism]:
         path = self.file(t, where, "rsxml", f"an RSXML Mechanism of type {kind}")

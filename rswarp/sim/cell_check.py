@@ -8,7 +8,7 @@ to the carriage) are not tested, as the robot's own sweep leaves them out."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -21,8 +21,8 @@ CHUNK = 4096  # samples a launch
 class CellPairs:
     """The robot's bodies against the cell's: ``bodies`` (the robot's first, then the units'
     links and the environment meshes) and their pairs, and what poses each body: ("robot",
-    link), ("unit", name, link) or ("fixed", None). Which pairs are tested (not touching at
-    home) is ``CellChecker.checked``."""
+    link), ("unit", name, link), ("on", unit) for a mesh on a unit's flange, or ("fixed",
+    None). Which pairs are tested (not touching at home) is ``CellChecker.checked``."""
 
     bodies: CollisionBodies
     owner: tuple
@@ -48,9 +48,11 @@ def cell_pairs(ck, tool=None) -> CellPairs | None:
                 others.append(placed_body(f"{e.name}.{name}", mesh, np.eye(4), warnings))
                 owner.append(("unit", e.name, k))
     taken = {b.name for b in mine + others}
-    for m in ck.cell.environment:
-        others.append(environment_body(ck.robot.mech, Environment(m.name, m.path, m.pose), taken, warnings))
-        owner.append(("fixed", None))
+    for m in ck.cell.environment:  # a mesh on a unit (the work on a face plate): posed by its flange
+        home = ck.unit_flange(m.on, ck.split(ck.home()[None])[m.on])[0] @ m.pose if m.on else m.pose
+        body = environment_body(ck.robot.mech, Environment(m.name, m.path, home), taken, warnings)
+        others.append(replace(body, pose=m.pose) if m.on else body)
+        owner.append(("on", m.on) if m.on else ("fixed", None))
     if not others:
         return None
     pairs = tuple((i, len(mine) + j) for i in range(len(mine)) for j in range(len(others)))
@@ -69,6 +71,8 @@ def body_poses(ck, found: CellPairs, q: np.ndarray, ext: np.ndarray) -> np.ndarr
             out[:, b] = robot[:, where[0]]
         elif who == "unit":
             out[:, b] = units[where[0]][:, where[1]]
+        elif who == "on":
+            out[:, b] = ck.unit_flange(where[0], joints[where[0]]) @ found.bodies.bodies[b].pose
         else:
             out[:, b] = found.bodies.bodies[b].pose
     return out
