@@ -178,8 +178,10 @@ def test_only_base_on_carriage_is_untested(track, positioner):
     poses = body_poses(track.ck, track.found, home_q[None], track.ck.home()[None])[0]
     touching = [names[k] for k, (i, j) in enumerate(track.found.bodies.pairs) if track.ref.touch(i, j, poses)]
     assert touching == [("Base", "track.Carriage")]
-    # the robot on the floor beside the positioner touches none of its links at home: all tested
-    assert positioner.chk.checked.all() and len(positioner.chk.checked) == 7 * 3
+    # the robot on the floor beside the positioner touches none of its links, nor the part on its face
+    # plate, at home: all tested
+    assert positioner.chk.checked.all() and len(positioner.chk.checked) == 7 * 4
+    assert positioner.found.bodies.names[-1] == "weld_part"
 
 
 # -- 3. hand-made states -------------------------------------------------------------------------
@@ -286,9 +288,10 @@ def test_sweep_track_cell_box_is_the_robot_box_over_the_travel(tmp_path):
     np.testing.assert_allclose(world_lo, lo + [0.0, 0.0, BASE_ON_CARRIAGE], rtol=0, atol=1e-9)
     np.testing.assert_allclose(world_hi, hi + [TRAVEL, 0.0, BASE_ON_CARRIAGE], rtol=0, atol=1e-9)
     line = next(x for x in out.text.splitlines() if "in the cell" in x)
-    assert line.startswith("  in the cell, on 'track' (eax_a 0 to 4000): the flange reaches x ")
-    mm = [round(1000 * v) for pair in zip(world_lo, world_hi) for v in pair]
-    assert f"x {mm[0]} to {mm[1]} mm, y {mm[2]} to {mm[3]} mm, z {mm[4]} to {mm[5]} mm in the world" in line
+    assert line.startswith("  in the cell, on 'track' (eax_a 0 to 4000 mm): the flange reaches x ")
+    m = [f"{round(v, 4):g}" for pair in zip(world_lo, world_hi) for v in pair]  # the robot file's metres
+    assert f"x {m[0]} m to {m[1]} m, y {m[2]} m to {m[3]} m, z {m[4]} m to {m[5]} m in the world" in line
+    assert "the floor and the cell's bodies not considered" in line
 
 
 def test_sweep_positioner_cell_box_is_the_robot_box(tmp_path):

@@ -182,7 +182,7 @@ def write_cell(tmp_path, text: str, data: bytes | None = None):
                                                               "rx, ry, rz in degrees (ABB's Euler ZYX), not '0, 0, 0'"),
     ('robot = { rsxml = "robot.rsxml", fame = [] }\n', 1, "unknown key 'fame' in [robot]; did you mean 'frame'?"),
     ('[robot]\nrsxml = "robot.rsxml"\n[[environment]]\nmesh = "fixture.stl"\nname = "x"\n', 5,
-     "unknown key 'name' in [[environment]] 1 (known: mesh, frame)"),
+     "unknown key 'name' in [[environment]] 1 (known: mesh, frame, on)"),
     ('[robot]\nrsxml = "robot.rsxml"\n[robot.base]\nx = 1\n', 3, "unknown key 'base' in [robot] (known: rsxml, on, "
                                                                   "frame)"),
     ('[robot]\nrsxml = "robot.rsxml"\n[external]\nname = "t"\n', 3, "external must be an array of tables: "
@@ -377,3 +377,21 @@ def test_the_bundled_cells_check_clean(name, capsys):
     assert "OK (Cell; 0 errors, 0 warnings)" in capsys.readouterr().out
     cell = read_cell(str(examples.CELLS / name))
     assert cell.robot.mechanism.name == "IRB2600_12_165__01" and len(cell.externals) == 1
+
+
+def test_every_problem_of_a_cell_file_is_said_at_its_line(tmp_path):
+    """Five problems in five tables: all five, in line order, each at its line (a unit left out for
+    its own problem does not make the robot's `on` a sixth)."""
+    robot = DATA / "cells" / "robot.rsxml"
+    path = tmp_path / "cell.toml"
+    path.write_text(f'[robot]\nrsxml = "{robot}"\non = "track"\nfram = [0, 0, 0, 0, 0, 0]\n\n'
+                    '[[external]]\nname = "track"\nrsxml = "nothere.rsxml"\naxes = ["eax_a"]\n\n'
+                    f'[[external]]\nname = "stn"\nrsxml = "{DATA / "cells" / "positioner.rsxml"}"\n'
+                    'axes = ["eax_g", "eax_b"]\n\n[tool]\npath = "gone.stl"\n\n'
+                    '[[environment]]\nmesh = "gone2.stl"\non = "track"\n')
+    with pytest.raises(RsxmlError) as err:
+        read_cell(str(path))
+    found = [(d.line, d.message.split(":")[0]) for d in err.value.diagnostics]
+    assert found == [(4, "unknown key 'fram' in [robot]; did you mean 'frame'?"),
+                     (8, "[[external]] 'track' rsxml"), (14, "[[external]] 'stn' axes"), (17, "[tool] path"),
+                     (20, "[[environment]] 1 mesh")]

@@ -81,9 +81,9 @@ def track_base(eax_a_m) -> np.ndarray:
 
 def positioner_wobj(tilt: float, turn: float) -> np.ndarray:
     """wTable in the world at the positioner's (tilt, turn) (rad): the unit's frame (1100 mm along
-    x, turned 90 deg about z) @ the face plate (tilted about the line y = 0, z = 0.9 m along +x, then
+    x, turned -90 deg about z) @ the face plate (tilted about the line y = 0, z = 0.9 m along +x, then
     800 mm up, turned about its normal) @ the work object's uframe (100 mm above the plate)."""
-    unit = translation(1.1, 0, 0) @ rotation("z", np.pi / 2)
+    unit = translation(1.1, 0, 0) @ rotation("z", -np.pi / 2)
     about_tilt_axis = translation(0, 0, 0.9) @ rotation("x", tilt) @ translation(0, 0, -0.9)
     plate = about_tilt_axis @ translation(0, 0, 0.8) @ rotation("z", turn)
     return unit @ plate @ translation(0, 0, 0.1)
@@ -515,14 +515,14 @@ def cli(*args: str) -> subprocess.CompletedProcess:
 
 
 def test_cli_program_on_the_track_cell_and_on_the_robot_alone():
-    """`rswarp program track_cell.toml MODULE` exits 0 with an "external [mm, deg]" column giving
+    """`rswarp program track_cell.toml MODULE` exits 0 with an "extax [mm, deg]" column giving
     eax_a per move; the robot alone exits 1 with `file:line:` errors "out of reach" on stderr."""
     done = cli(str(TRACK_CELL), str(TRACK))
     assert done.returncode == 0, done.stderr
-    assert "external [mm, deg]" in done.stdout
+    assert "extax [mm, deg]" in done.stdout
     assert re.search(r"eax_a 1700(\.0)?\b", done.stdout), done.stdout
     alone = cli(str(ROBOT), str(TRACK))
     assert alone.returncode == 1, alone.stdout
     carry = line_of(TRACK, "MoveL pCarry,")
     assert re.search(rf"track_acceptance\.mod:{carry}:.*out of reach", alone.stderr), alone.stderr
-    assert "external [mm, deg]" not in alone.stdout
+    assert "extax [mm, deg]" not in alone.stdout

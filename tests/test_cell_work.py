@@ -25,13 +25,13 @@ def _rx(deg):
 
 def test_the_part_turns_and_tilts_with_the_face_plate():
     """The part's pose is the face plate's: by hand, the plate's centre 0.8 m up at zero, tilted
-    about the axis 0.9 m up, the positioner 1.1 m along x turned 90 deg (its x along the world's y)."""
+    about the axis 0.9 m up, the positioner 1.1 m along x turned -90 deg (its x along the world's -y)."""
     ck = CellKinematics(read_cell(str(CELL)))
     found = cell_pairs(ck)
     k = found.bodies.names.index("weld_part")
     tilt, turn = 30.0, 60.0
     poses = body_poses(ck, found, ck.robot.mech.home_position()[None], np.radians([[tilt, turn]]))
-    place = np.array([[0, -1, 0, 1.1], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+    place = np.array([[0, 1, 0, 1.1], [-1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
     up, down = np.eye(4), np.eye(4)
     up[2, 3], down[2, 3] = 0.9, -0.9
     rz = np.eye(4)

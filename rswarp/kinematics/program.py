@@ -284,7 +284,7 @@ class Planner:
         if values and self.strict_external:
             axis, v = values[0]
             return (f"'{m.names[-1]}' puts the external axis {axis} at {v:g}: {self.lacks(axis)} "
-                    "(--external-axes ignore runs the robot's own axes)")
+                    "(--external-axes auto ignores it, as the controller does)")
         for axis, v in values:
             seen = self.ignored.setdefault(axis, [0, v, v, m.file, m.line])
             seen[0], seen[1], seen[2] = seen[0] + 1, min(seen[1], v), max(seen[2], v)

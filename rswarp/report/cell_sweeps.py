@@ -50,14 +50,15 @@ def cell_reach(cell: Cell, ws) -> dict:
             "flange_box_world": [world.min(axis=0).tolist(), world.max(axis=0).tolist()]}
 
 
-def cell_reach_text(found: dict) -> list[str]:
-    """The cell's reach in words (mm)."""
-    lo, hi = (np.asarray(v) * 1000.0 for v in found["flange_box_world"])
-    box = ", ".join(f"{a} {u:.0f} to {v:.0f} mm" for a, u, v in zip("xyz", lo, hi))
+def cell_reach_text(found: dict, length) -> list[str]:
+    """The cell's reach in words (``length``: metres to the robot file's unit, as the lines above)."""
+    lo, hi = (np.asarray(v) for v in found["flange_box_world"])
+    box = ", ".join(f"{a} {length(u)} to {length(v)}" for a, u, v in zip("xyz", lo, hi))
+    what = "(the box of its voxels, from the joint limits alone: the floor and the cell's bodies not considered)"
     if found["carrier"] is None:
-        return [f"  in the cell (the robot on the floor): the flange reaches {box}"]
-    travel = ", ".join(f"{a} {1000 * u:.0f} to {1000 * v:.0f}" for a, (u, v) in found["travel"].items())
-    return [f"  in the cell, on '{found['carrier']}' ({travel}): the flange reaches {box} in the world"]
+        return [f"  in the cell (the robot on the floor): the flange reaches {box} {what}"]
+    travel = ", ".join(f"{a} {1000 * u:g} to {1000 * v:g} mm" for a, (u, v) in found["travel"].items())
+    return [f"  in the cell, on '{found['carrier']}' ({travel}): the flange reaches {box} in the world {what}"]
 
 
 def cell_collisions(cell: Cell, samples: int, seed: int, tool=None, device: str = "cpu") -> dict | None:

@@ -189,7 +189,7 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
     run = p.run
     kin = Kinematics(mech)
     ends = _move_ends(kin, p)
-    moves = [_move(mech, p, m, tally, names, floor, ends[k] + (_target_m(kin, m.motion),), tools)
+    moves = [_move(mech, p, m, tally, names, floor, ends[k] + (_target_m(kin, m.motion, p, m.rows[1] - 1),), tools)
              for k, m in enumerate(p.moves)]
     scale, made = load_scale(mech, payload), {}
     for said, move in zip(moves, p.moves):  # made once per setting a move runs under
@@ -266,6 +266,7 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
            "kind": m.kind, "target": move.target, "start_s": move.start, "end_s": move.end, "cycle": m.cycle,
            "joints": end[0], "tcp_m": end[1], "tcp_world_m": end[2], "target_m": end[3],
            "external_axes": external_values(p, None if move.error else move.rows[1] - 1),
+           "target_extax": list(m.targets[-1].extax) if p.ext is not None and m.targets else None,
            "declared": (m.declared[-1].removeprefix("set ") or None) if m.declared else None,
            "findings": [f.record() for f in move_findings(mech, p, move, tally, names, floor, tools)]}
     if move.error:
@@ -274,9 +275,10 @@ def _move(mech, p: Plan, move, tally, names, floor: float, end, tools) -> dict:
     return out
 
 
-def _target_m(kin, m) -> list[float] | None:
+def _target_m(kin, m, p: Plan, row: int) -> list[float] | None:
     """A move's target as resolved: a robtarget's position in the move's work object (m), or where
-    a jointtarget puts the TCP in it; None for a wait or a jointtarget the robot cannot take."""
+    a jointtarget puts the TCP in it (in a cell, with the external axes where the move leaves
+    them); None for a wait or a jointtarget the robot cannot take."""
     if m.kind == "wait" or not m.targets:
         return None
     if m.kind != "absolute":
@@ -285,7 +287,7 @@ def _target_m(kin, m) -> list[float] | None:
     if q is None or why is not None or m.tool is None:
         return None
     try:
-        fr = frames(kin.mech, m.tool, m.wobj)
+        fr = frames(kin.mech, m.tool, m.wobj) if p.framer is None else p.framer(m.tool, m.wobj, p.ext[row])
     except ValueError:
         return None
     link, offset = kin.flange_frame()

@@ -19,7 +19,7 @@ def program_text(mech, doc: dict) -> str:
     lines = [_head(doc, files)]
     axes = doc.get("external_axes") or {}
     rows = [["line" if not several else "file:line"] + (["routine"] if routines else []) +
-            ["instruction", "target", "resolved [mm]"] + (["external [mm, deg]"] if axes else []) +
+            ["instruction", "target", "resolved [mm]"] + (["extax [mm, deg]"] if axes else []) +
             ["start [s]", "duration [s]", "findings"]]
     for m in moves[:MAX_ROWS]:
         where = f"{Path(m['file']).name}:{m['line']}" if several else str(m["line"])
@@ -44,12 +44,13 @@ def program_text(mech, doc: dict) -> str:
 
 
 def _external(m: dict, axes: dict) -> str:
-    """A move's external axes at its end as RAPID writes them (mm, degrees): ``eax_a 1200``."""
-    values = m.get("external_axes")
-    if not values or m["kind"] == "wait":
+    """A move's target's external axes as the program writes them (mm, degrees; ``-``: 9E9, the
+    axis stays where it is): ``eax_a 1200``."""
+    given = m.get("target_extax")
+    if not given or m["kind"] == "wait":
         return "-"
-    return ", ".join(f"{a} {v * (1000.0 if axes.get(a) == 'linear' else 57.29577951308232):.1f}"
-                     for a, v in values.items())
+    names = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
+    return ", ".join(f"{a} {'-' if v is None else f'{v:g}'}" for a, v in zip(names, given) if a in axes)
 
 
 def _which_pass(doc: dict) -> str:

@@ -44,7 +44,7 @@ def run_sweep(path: str, out: str, samples: int, method: str = "random", seed: i
     text = sweep_text(ws, mech, doc["files"])
     if cell is not None:
         lines = text.splitlines()
-        text = "\n".join(lines[:-1] + cell_reach_text(extra["cell"]) + lines[-1:])
+        text = "\n".join(lines[:-1] + cell_reach_text(extra["cell"], lambda v: _length(mech, v)) + lines[-1:])
     return Output(doc, text)
 
 
@@ -82,12 +82,17 @@ def save_voxels(ws: Workspace, path) -> None:
     atomic_write(path, buf.getvalue())
 
 
+def _length(mech: Mechanism, v: float) -> str:
+    """A length (m) in the file's unit, rounded as the sweep's lines are."""
+    lf, unit = mech.length_factor, mech.length_unit or "m"
+    return f"{format_number(round(v / lf, 1 if lf < 0.01 else 4) * lf, lf)} {unit}"
+
+
 def sweep_text(ws: Workspace, mech: Mechanism, files: dict) -> str:
     """The sweep's figures in the file's length unit, and the files written."""
-    lf, unit = mech.length_factor, mech.length_unit or "m"
 
     def length(v):
-        return f"{format_number(round(v / lf, 1 if lf < 0.01 else 4) * lf, lf)} {unit}"
+        return _length(mech, v)
 
     lines = [f"{mech.name}: {ws.samples} {ws.method} samples (seed {ws.seed}) within the joint limits"]
     if ws.reach is not None:

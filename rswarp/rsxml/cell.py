@@ -149,17 +149,21 @@ class Cell:
 
 def read_cell(path) -> Cell:
     """A cell file, read and checked: its RSXML files loaded, its frames as 4x4 (m), its axes
-    mapped; an ``RsxmlError`` at the line of the first problem."""
+    mapped; an ``RsxmlError`` with every problem found, each at its line (a table with one is
+    left out, and what names it is not faulted for that)."""
     path = str(path)
     text, doc = read_toml(path)
     r = _Reader(path, text)
-    r.known(doc, "", None)
+    r.attempt(lambda: r.known(doc, "", None))
     if "robot" not in doc:
-        raise RsxmlError(Diagnostic(path, 0, "no [robot] table: a cell places one robot (rsxml = its RSXML file)"))
-    externals = r.externals(r.tables(doc, "external"))
-    robot = r.robot(r.table(doc, "robot"), externals)
-    tool = r.tool(r.table(doc, "tool")) if "tool" in doc else None
-    environment = tuple(r.mesh(t, k, externals) for k, t in enumerate(r.tables(doc, "environment")))
+        r.errors.append(Diagnostic(path, 0, "no [robot] table: a cell places one robot (rsxml = its RSXML file)"))
+    externals = r.externals(r.attempt(r.tables, doc, "external", default=[]))
+    robot = r.attempt(lambda: r.robot(r.table(doc, "robot"), externals)) if "robot" in doc else None
+    tool = r.attempt(lambda: r.tool(r.table(doc, "tool"))) if "tool" in doc else None
+    meshes = r.attempt(r.tables, doc, "environment", default=[])
+    environment = tuple(m for k, t in enumerate(meshes) if (m := r.attempt(r.mesh, t, k, externals)))
+    if r.errors:
+        raise RsxmlError(sorted(r.errors, key=lambda d: d.line))
     cell = Cell(path, robot, externals, tool, environment)
     if "backup" in doc:  # the controller's own setup (SYSPAR/MOC.cfg): its bounds, carrier and frames
         from .cell_moc import apply_backup
@@ -186,7 +190,17 @@ class _Reader:
     def __init__(self, path: str, text: str):
         self.path, self.folder, self.lines = path, Path(path).parent, _Lines(text)
         self.warnings: list[Diagnostic] = []
+        self.errors: list[Diagnostic] = []  # every problem found; a table with one is left out
+        self.failed: set[str] = set()  # the names of [[external]] tables left out for a problem
         self.names: dict[tuple[str, int | None], str] = {}  # an [[external]]'s name, once known
+
+    def attempt(self, read, *args, default=None):
+        """``read(*args)``, or ``default`` with its problem kept in ``errors`` (the rest read on)."""
+        try:
+            return read(*args)
+        except RsxmlError as exc:
+            self.errors.extend(exc.diagnostics)
+            return default
 
     def title(self, where: tuple[str, int | None]) -> str:
         """``[robot]``, ``[[external]] 'track'`` (its name where known, else its number)."""
@@ -224,7 +238,7 @@ class _Reader:
         where = ("robot", None)
         path, mech = self.mechanism(t, where, "Robot")
         on = t.get("on")
-        if on is not None:
+        if on is not None and on not in self.failed:  # a unit left out for its own problem: said there
             names = [e.name for e in externals]
             if not isinstance(on, str) or on not in names:
                 near = nearest(str(on), names)
@@ -247,18 +261,26 @@ class _Reader:
         out: list[External] = []
         taken: dict[str, tuple[str, str, int]] = {}  # logical axis -> (unit, joint, line)
         for k, t in enumerate(tables):
-            where = ("external", k)
-            name = t.get("name")
-            if not isinstance(name, str) or not name.strip():
-                self.fail(where, "name" if "name" in t else None, f"{_title(*where)}: give it a name (text)")
-            if name in (e.name for e in out):
-                self.fail(where, "name", f"two external units are named '{name}'")
-            self.names[where] = name
-            path, mech = self.mechanism(t, where, "ExternalAxis")
-            joints = tuple(j.name for j in mech.active_joints)
-            axes = self.axes(t, where, name, joints, taken)
-            out.append(External(name, path, mech, self.frame(t, where), axes, joints, self.lines.of(*where, None)))
+            found = self.attempt(self.external, t, k, out, taken)
+            if found is None:
+                self.failed.add(str(t.get("name")))
+            else:
+                out.append(found)
         return tuple(out)
+
+    def external(self, t: dict, k: int, out: list, taken: dict) -> External:
+        """One [[external]] table read (``out``: those before it; ``taken``: their axes)."""
+        where = ("external", k)
+        name = t.get("name")
+        if not isinstance(name, str) or not name.strip():
+            self.fail(where, "name" if "name" in t else None, f"{_title(*where)}: give it a name (text)")
+        if name in (e.name for e in out):
+            self.fail(where, "name", f"two external units are named '{name}'")
+        self.names[where] = name
+        path, mech = self.mechanism(t, where, "ExternalAxis")
+        joints = tuple(j.name for j in mech.active_joints)
+        axes = self.axes(t, where, name, joints, taken)
+        return External(name, path, mech, self.frame(t, where), axes, joints, self.lines.of(*where, None))
 
     def axes(self, t: dict, where, unit: str, joints: tuple[str, ...], taken: dict) -> tuple[str, ...]:
         """The logical axes of ``unit``'s joints: distinct, eax_a..eax_f, one per active joint, none
@@ -298,7 +320,7 @@ class _Reader:
         path = self.file(t, where, "mesh", "an environment mesh file")
         on = t.get("on")
         names = [e.name for e in externals]
-        if on is not None and (not isinstance(on, str) or on not in names):
+        if on is not None and on not in self.failed and (not isinstance(on, str) or on not in names):
             near = nearest(str(on), names)
             hint = f"; did you mean '{near}'?" if near else \
                 f" (the cell's external units: {', '.join(names)})" if names else " (the cell has no [[external]])"

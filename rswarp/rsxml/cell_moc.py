@@ -128,8 +128,13 @@ class MocApplied:
         return None
 
     def _unit_frame(self, e):
-        """A single-axis unit's frame from its SINGLE's base frame, where the cell gives none."""
-        if self.given.get(("external", e.name)) or len(e.axes) != 1:
+        """A single-axis unit's frame from its SINGLE's base frame, where the cell gives none (a
+        unit of several axes has a base frame per axis, none of which is the unit's: a warning)."""
+        if self.given.get(("external", e.name)):
+            return e
+        if len(e.axes) != 1:
+            self.note(f"the frame of '{e.name}' is not set: its {len(e.axes)} axes each have their own base frame "
+                      "in MOC.cfg, none the unit's; give its frame", "warning")
             return e
         for u in self.moc.units:
             for s in u.singles:

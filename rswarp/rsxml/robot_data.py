@@ -413,6 +413,8 @@ def read_toml(path: str) -> tuple[str, dict]:
         return text, tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         line = int(m.group(1)) if (m := re.search(r"line (\d+)", str(exc))) else 0
+        if not line and "end of document" in str(exc):  # an array or table left open: the file's last line
+            line = max(1, len(text.rstrip().splitlines()))
         raise RsxmlError(Diagnostic(path, line, f"TOML: {str(exc).split(' (at')[0]}")) from None
 
 
