@@ -6,6 +6,11 @@ and outputs are host arrays the caller owns (copied across on a GPU, outputs fil
 Warp arrays already on the device, which stay there: state kept across launches (a cable run's)
 never crosses the bus. Each item of the batch is computed by one thread the same way whatever
 the chunking, so results are bit-identical on one core or many.
+
+A small batch on the CPU (``SMALL`` items at most, host arrays) runs as a recorded launch
+(``_Recorded``): made once per kernel and shape, it copies the arrays in and out and calls the
+compiled kernel, a call of one item costing microseconds rather than the tens a Warp launch's
+argument packing takes (what an interpreter or a placement search calling per target pays).
 """
 
 from __future__ import annotations
@@ -27,6 +32,8 @@ from .files import stop_if_interrupted
 DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
 MIN_SPLIT = 512  # items a CPU chunk holds at least: a smaller batch costs less on one thread than handed out
 GPU_CHUNK = 1 << 20
+SMALL = 64  # items a CPU batch holds at most to run as a recorded launch (``_Recorded``): a call's fixed cost
+RECORDED = 32  # recorded launches a launcher keeps (each holds its arrays), the oldest dropped first
 
 
 CUDA_DRIVER_WARNING = b"Warp CUDA warning: Could not find or load the NVIDIA CUDA driver"
@@ -138,6 +145,8 @@ class Launcher:
         self.threads = max(1, threads or (os.cpu_count() or 1)) if self.device.is_cpu else 1
         self._pool: ThreadPoolExecutor | None = None
         self._local = threading.local()
+        self._records: dict = {}  # the small batches' recorded launches (``_Recorded``), oldest first
+        self._small = threading.Lock()  # one small call at a time: a recorded launch's arrays are shared
 
     def load(self, kernel) -> None:
         """Compile (or load from Warp's cache) the kernel's module before any thread launches it."""
@@ -148,6 +157,9 @@ class Launcher:
                scratch: int | Sequence[int] | None = None) -> None:
         """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk)."""
         stop_if_interrupted()
+        if 0 < n <= SMALL and self.device.is_cpu and _host(inputs, outputs):
+            with self._small:
+                return self._recorded(kernel, n, params, inputs, outputs, scratch).run(params, inputs, outputs)
         args = kernel.adj.args
         first = len(params)
         in_types = [args[first + k].type.dtype for k in range(len(inputs))]
@@ -169,6 +181,19 @@ class Launcher:
                         host[lo:hi] = dev.numpy().reshape(host[lo:hi].shape)
 
         self._spread(n, run)
+
+    def _recorded(self, kernel, n: int, params, inputs, outputs, scratch) -> "_Recorded":
+        """The recorded launch of ``kernel`` over ``n`` items with arrays shaped as these, made once."""
+        recorded = self._records
+        key = (kernel, n, len(params), _shapes(inputs), _shapes(outputs), scratch if scratch is None or
+               isinstance(scratch, int) else tuple(scratch))
+        found = recorded.pop(key, None)  # and put back last: the most recently used
+        if found is None:
+            if len(recorded) >= RECORDED:
+                recorded.pop(next(iter(recorded)))
+            found = _Recorded(self, kernel, n, params, inputs, outputs, scratch)
+        recorded[key] = found
+        return found
 
     def _view(self, host, dtype):
         """A zero-copy Warp view of a host array on the CPU, a device copy on a GPU; a Warp array
@@ -226,3 +251,56 @@ class Launcher:
             self.close()
         except Exception:
             pass
+
+
+def _host(inputs, outputs) -> bool:
+    for a in (*inputs, *outputs):
+        if type(a) is not np.ndarray:
+            return False
+    return True
+
+
+def _shapes(arrays) -> tuple:
+    return tuple([(a.shape, a.dtype.num) for a in arrays])
+
+
+class _Recorded:
+    """One small CPU batch's launch, recorded once with arrays of its own (Warp's ``Launch``): a call
+    copies its inputs and outputs in, runs the compiled kernel and copies its outputs out, with no
+    Warp arrays made, no arguments packed and no thread handed work, so a call of a few items costs
+    microseconds. The model's ``params`` are set again only where a call passes other objects than
+    the last (they are kept, so an object's id is never another's)."""
+
+    def __init__(self, launcher: Launcher, kernel, n: int, params, inputs, outputs, scratch):
+        wp = init_warp()
+        args = kernel.adj.args
+        first = len(params)
+        widths = () if scratch is None else (scratch,) if isinstance(scratch, int) else tuple(scratch)
+        dev = launcher.device
+        # shaped as a host array is viewed (a matrix or vector type takes its trailing axes)
+        self.ins = [wp.array(np.zeros_like(a), dtype=args[first + k].type.dtype, device=dev)
+                    for k, a in enumerate(inputs)]
+        extra = [wp.zeros((max(n, 1), max(w, 1)), dtype=args[first + len(inputs) + k].type.dtype, device=dev)
+                 for k, w in enumerate(widths)]
+        last = first + len(inputs) + len(widths)
+        self.outs = [wp.array(np.zeros_like(a), dtype=args[last + k].type.dtype, device=dev)
+                     for k, a in enumerate(outputs)]
+        self.in_views = [a.numpy().reshape(h.shape) for a, h in zip(self.ins, inputs)]
+        self.out_views = [a.numpy().reshape(h.shape) for a, h in zip(self.outs, outputs)]
+        with signals_held():
+            self.cmd = wp.launch(kernel, dim=n, inputs=[*params, *self.ins, *extra], outputs=self.outs, device=dev,
+                                 record_cmd=True)
+        self.params = list(params)
+
+    def run(self, params, inputs, outputs) -> None:
+        for k, (was, now) in enumerate(zip(self.params, params)):
+            if was is not now:  # another model object (or a number): set it, and keep it alive
+                self.cmd.set_param_at_index(k, now)
+                self.params[k] = now
+        for view, host in zip(self.in_views, inputs):
+            view[...] = host
+        for view, host in zip(self.out_views, outputs):  # as the caller's: a kernel may read what it updates
+            view[...] = host
+        self.cmd.launch()
+        for view, host in zip(self.out_views, outputs):
+            host[...] = view

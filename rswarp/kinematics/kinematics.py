@@ -44,7 +44,6 @@ def checked_conf(conf, n: int) -> np.ndarray:
     return a.astype(np.int64)
 
 
-@np.errstate(over="ignore", invalid="ignore")  # a number beyond float32 is said so below, not warned of
 def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int | None = None) -> np.ndarray:
     """``poses`` as a C-contiguous (N, 4, 4) array of ``dtype``; ``InputError`` for a shape other
     than (4, 4) or (N, 4, 4) and, ``checked``, naming the first that is not a rigid transform (a
@@ -60,19 +59,26 @@ def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int 
         a = np.ascontiguousarray(a, np.float64).reshape(-1, 4, 4)
     except (TypeError, ValueError) as exc:
         raise InputError(f"poses must hold real numbers: {exc}") from None
-    if dtype != np.float64:  # beyond float32, finite: out of reach all the same
-        far = np.isfinite(a[:, :3, 3]) & (np.abs(a[:, :3, 3]) > 1e30)
-        if far.any():
+    if not checked and len(a) and np.abs(a).max() <= 1e30:  # the usual poses: finite, within float32, one pass
+        return np.ascontiguousarray(a, dtype)
+    with np.errstate(over="ignore", invalid="ignore"):  # a number beyond float32 is said so below, not warned of
+        if dtype != np.float64 and not (np.abs(a[:, :3, 3]) <= 1e30).all():
+            far = np.isfinite(a[:, :3, 3]) & (np.abs(a[:, :3, 3]) > 1e30)  # beyond float32: out of reach all the same
             a = a.copy()
             a[:, :3, 3] = np.where(far, np.clip(a[:, :3, 3], -1e30, 1e30), a[:, :3, 3])
-    a = np.ascontiguousarray(a, dtype)
-    if not checked:
-        if not np.isfinite(a.sum()):  # one pass; the pose's reasons only when some number is not finite
-            bad = ~np.isfinite(a).all(axis=(1, 2))
-            if bad.any():
-                k = int(np.argmax(bad))
-                rigid_poses(a[k:k + 1], np.float64, offset=offset + k, total=total or len(a))
-        return a
+        a = np.ascontiguousarray(a, dtype)
+        if not checked:
+            if not np.isfinite(a.sum()):  # one pass; the pose's reasons only when some number is not finite
+                bad = ~np.isfinite(a).all(axis=(1, 2))
+                if bad.any():
+                    k = int(np.argmax(bad))
+                    rigid_poses(a[k:k + 1], np.float64, offset=offset + k, total=total or len(a))
+            return a
+        return _rigid_checked(a, offset, total)
+
+
+def _rigid_checked(a: np.ndarray, offset: int, total: int | None) -> np.ndarray:
+    """``a`` (N, 4, 4), or an InputError naming its first pose that is not a rigid transform."""
     x, y, z = (a[:, :3, k] for k in range(3))  # the rotation's columns
     dot = lambda u, v: np.einsum("ni,ni->n", u, v)  # noqa: E731
     skew = np.maximum.reduce([abs(dot(x, x) - 1), abs(dot(y, y) - 1), abs(dot(z, z) - 1), abs(dot(x, y)),
@@ -281,10 +287,11 @@ class Kinematics:
 
     def _solve_form(self, form, poses, dtype):
         if isinstance(form, ik.ArmConstants):
-            key = ("ik", np.dtype(dtype).str)
-            if key not in self._kernels:
-                self._kernels[key] = ik.ik_kernel(form, dtype)
-            sol = ik.closed_form(self.launcher, form, poses, dtype, self._kernels[key])
+            key = ("ik", dtype)
+            kernel = self._kernels.get(key)
+            if kernel is None:
+                kernel = self._kernels[key] = ik.ik_kernel(form, dtype)
+            sol = ik.closed_form(self.launcher, form, poses, dtype, kernel)
             bad = sol.status[:, 0] == NOT_RIGID  # the kernel refuses every branch of it
             if bad.any():
                 k = int(np.argmax(bad))
