@@ -19,8 +19,9 @@ import warp as wp
 from .cache import cached, module_name
 from .closed_forms import four_bar_function, slider_function
 from .loops import loop_solver, unknowns
-from .motion import revolute_motion
+from .motion import revolute_after, revolute_motion
 from .specs import FOUR_BAR, SPEC
+from .trig import sincos_func
 from .types import PRISMATIC, REVOLUTE, Chain, types_of
 
 # Longer chains compile slowly when unrolled (code grows with the chain): they take the generic walk.
@@ -64,11 +65,13 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T, V
     moves = (col >= 0 or follows) and jtype in (REVOLUTE, PRISMATIC)
     value = _joint_value(chain, k, T)
     revolute = jtype == REVOLUTE
-    rot, tra = revolute_motion(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
+    rot, tra = revolute_after(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
+    pose, shift = revolute_motion(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
     # a four-bar's or a Newton-solved joint is NaN where its loop cannot close: the pose then NaN whole
     can_fail = bool(chain.closed_form[k][0] == FOUR_BAR or chain.unknown[k] >= 0)
     axis = V3(*(float(v) for v in chain.axis[k]))
     emits = k in needed
+    sincos = sincos_func(S)
 
     @wp.func
     def visit(q: wp.array2d(dtype=S), i: int, rp: M33, tp: V3, out: Any, x: VX):
@@ -77,14 +80,15 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T, V
         if wp.static(moves):
             th = wp.static(value)(q, i, x)
             if wp.static(revolute):
-                c = wp.cos(th)
-                s = wp.sin(th)
+                sc = wp.static(sincos)(th)
+                s = sc[0]
+                c = sc[1]
                 if wp.static(on_root):
-                    r = wp.static(rot)(c, s)
-                    t = wp.static(tra)(c, s)
+                    r = wp.static(pose)(c, s)
+                    t = wp.static(shift)(c, s)
                 else:
-                    r = rp * wp.static(rot)(c, s)
-                    t = rp * wp.static(tra)(c, s) + tp
+                    r = wp.static(rot)(rp, c, s)  # rp R, its products by R's zeros left out
+                    t = wp.static(tra)(rp, tp, c, s)
             else:
                 t = rp * (th * wp.static(axis)) + tp
             if wp.static(can_fail):

@@ -41,3 +41,40 @@ def revolute_motion(axis: np.ndarray, point: np.ndarray, T):
     rot = entries(T.mat33, outer, ortho, skew, 3, 3)
     tra = entries(T.vec3, p - outer @ p, -ortho @ p, -skew @ p, 3, 1)
     return rot, tra
+
+
+def revolute_after(axis: np.ndarray, point: np.ndarray, T):
+    """(rot_after(rp, c, s) -> rp R, tra_after(rp, tp, c, s) -> rp t + tp): a revolute joint's
+    motion composed after its parent's pose, the products over entries that are zero for every
+    angle left out (an axis along x, y or z makes R five numbers and one, t two or none)."""
+    S, M33, V3 = T.scalar, T.mat33, T.vec3
+    rot, tra = revolute_motion(axis, point, T)
+    a, p = np.asarray(axis, float), np.asarray(point, float)
+    outer = np.outer(a, a)
+    ortho = np.eye(3) - outer
+    skew = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    nz = [bool(v) for v in np.ravel((outer != 0) | (ortho != 0) | (skew != 0))]  # R's entries, row by row
+    tz = [bool(v) for v in ((p - outer @ p != 0) | (ortho @ p != 0) | (skew @ p != 0))]
+
+    @wp.func
+    def rot_after(rp: M33, c: S, s: S) -> M33:
+        rr = wp.static(rot)(c, s)
+        m = M33()
+        for e in range(wp.static(9)):
+            v = S(0.0)
+            for k in range(wp.static(3)):
+                if wp.static(nz[k * 3 + e % 3]):
+                    v += rp[wp.static(e // 3), k] * rr[k, wp.static(e % 3)]
+            m[wp.static(e // 3), wp.static(e % 3)] = v
+        return m
+
+    @wp.func
+    def tra_after(rp: M33, tp: V3, c: S, s: S) -> V3:
+        tt = wp.static(tra)(c, s)
+        out = tp
+        for k in range(wp.static(3)):
+            if wp.static(tz[k]):
+                out += V3(rp[0, k], rp[1, k], rp[2, k]) * tt[k]
+        return out
+
+    return rot_after, tra_after

@@ -73,3 +73,47 @@ def _through_float64(scalar):
         return scalar(f.acos(wp.float64(x)))
 
     return SimpleNamespace(atan2=atan2, acos=acos)
+
+
+# sin and cos of one argument, inline: the quadrant by Cody-Waite reduction with pi/2 in three parts
+# (fdlibm's pio2_1, pio2_2 of 33 bits each, whose products with the quadrant's number are exact
+# below 2^20 quarter turns, and pio2_2t: the remainder keeps its digits near a zero of sin or cos),
+# then fdlibm's kernel polynomials on [-pi/4, pi/4], in float64 (within 2 ulp of libm's,
+# tests/test_trig.py).
+SIN_POLY = (-1.66666666666666324348e-01, 8.33333333332248946124e-03, -1.98412698298579493134e-04,
+            2.75573137070700676789e-06, -2.50507602534068634195e-08, 1.58969099521155010221e-10)
+COS_POLY = (4.16666666666666019037e-02, -1.38888888888741095749e-03, 2.48015872894767294178e-05,
+            -2.75573143513906633035e-07, 2.08757232129817482790e-09, -1.13596475577881948265e-11)
+PIO2_1, PIO2_2, PIO2_2T = 1.57079632673412561417e+00, 6.07710050630396597660e-11, 2.02226624879595063154e-21
+TWO_OVER_PI = 6.36619772367581382433e-01
+
+
+@cached
+def sincos_func(scalar):
+    """``sincos(x) -> vec2(sin x, cos x)`` of one precision, computed in float64."""
+    D = wp.float64
+    S = scalar
+    V2 = wp.types.vector(2, S)
+    s1, s2, s3, s4, s5, s6 = (D(c) for c in SIN_POLY)
+    c1, c2, c3, c4, c5, c6 = (D(c) for c in COS_POLY)
+    p1, p2, p2t, inv = D(PIO2_1), D(PIO2_2), D(PIO2_2T), D(TWO_OVER_PI)
+
+    big = D(PIO2_1 * 2.0**20)  # beyond it (or not finite) libm's reduction, exact at any size
+
+    @wp.func
+    def sincos(x: S) -> V2:
+        a = D(x)
+        if not (wp.abs(a) < big):
+            return V2(wp.sin(x), wp.cos(x))
+        k = wp.round(a * inv)
+        r = ((a - k * p1) - k * p2) - k * p2t
+        z = r * r
+        sr = r + r * z * (s1 + z * (s2 + z * (s3 + z * (s4 + z * (s5 + z * s6)))))
+        cr = D(1.0) - D(0.5) * z + z * z * (c1 + z * (c2 + z * (c3 + z * (c4 + z * (c5 + z * c6)))))
+        q = int(k) & 3  # the quadrant (two's complement: -1 is 3)
+        swap = (q & 1) == 1
+        sn = wp.where(swap, cr, sr)
+        cn = wp.where(swap, sr, cr)
+        return V2(S(wp.where((q & 2) != 0, -sn, sn)), S(wp.where(((q + 1) & 2) != 0, -cn, cn)))
+
+    return sincos
