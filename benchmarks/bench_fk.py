@@ -103,7 +103,47 @@ def pinocchio_rate(mech, q: np.ndarray) -> float:
     return len(rows) / median_time(run)
 
 
-def print_table(rows: list[tuple], cores: int) -> None:
+SINCOS_FLOPS = 34  # the inline sin and cos: the reduction (6), two degree-6 polynomials (12 each), the quadrant (4)
+
+
+def flops_per_config(kin) -> int:
+    """The arithmetic of one configuration's every-link poses, counted as the unrolled kernel does it:
+    per revolute joint its sine and cosine, R's entries (a term per nonzero coefficient), rp R and
+    rp t + tp over R's and t's nonzero entries (``kernels.motion.revolute_after``); a prismatic one
+    3 products and 3 sums. A count of the code, not of the machine: what the limit line divides."""
+    total = 0
+    for j in kin.graph.active:
+        if not j.revolute:
+            total += 6
+            continue
+        a, p = np.asarray(j.axis, float), np.asarray(j.point1, float)
+        outer = np.outer(a, a)
+        ortho, skew = np.eye(3) - outer, np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+        terms = sum(int(x != 0) for m in (outer, ortho, skew) for x in m.ravel())
+        nz = (outer != 0) | (ortho != 0) | (skew != 0)
+        tz = (p - outer @ p != 0) | (ortho @ p != 0) | (skew @ p != 0)
+        total += SINCOS_FLOPS + 2 * terms + 2 * 3 * int(nz.sum()) + 2 * 3 * int(tz.sum())
+    return total
+
+
+def copy_rate(n: int, links: int) -> float:
+    """Configurations a second that a copy of the all-links output's bytes allows (one thread, a
+    copy between two buffers of N x links x 64 bytes): the memory's limit on writing the poses."""
+    a = np.ones((n, links, 4, 4), np.float32)
+    b = np.empty_like(a)
+    return n / median_time(lambda: np.copyto(b, a))
+
+
+def print_limit(kin, n: int, one: float) -> tuple[float, int]:
+    """Our one-thread rate beside the copy's and as arithmetic a second: how near the limit."""
+    copy, flops = copy_rate(n, len(kin.links)), flops_per_config(kin)
+    print(f"the limit: writing {len(kin.links) * 64} bytes a configuration, a copy of the same bytes runs "
+          f"{copy / 1e6:.1f} M/s (ours on one thread at {one / copy:.0%} of it); {flops} floating-point operations "
+          f"a configuration (counted from the code), {one * flops / 1e9:.2f} GFLOP/s on one thread")
+    return copy, flops
+
+
+def print_table(rows: list[tuple], cores: int, limit: tuple = (None, None)) -> None:
     head = ("N", "worlds", "ours all links, 1 thread", f"ours all links, {cores} threads", "ours (fresh array)",
             "ours flange", "Newton all links (1 thread)", "pinocchio (1 thread)", "ratio, 1 thread",
             f"ratio, ours on {cores}", "Newton build", "max |dp| m")
@@ -115,7 +155,8 @@ def print_table(rows: list[tuple], cores: int) -> None:
     n, _, one, a, _, _, p, pin, _, _ = rows[-1]
     print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}_1_thread", "ours": round(one), "peer": round(p),
                       "peer_name": "Newton eval_fk (one thread)", "ratio": round(one / p, 2),
-                      "ours_all_cores": round(a), "ratio_all_cores": round(a / p, 2), "pinocchio": round(pin)}))
+                      "ours_all_cores": round(a), "ratio_all_cores": round(a / p, 2), "pinocchio": round(pin),
+                      "copy_same_bytes": limit[0] and round(limit[0]), "flops_per_config": limit[1]}))
 
 
 def main() -> None:
@@ -160,7 +201,8 @@ def main() -> None:
         "building the kernels, compiled or loaded from Warp's cache"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
           f"{first}); Newton per row below (replicated worlds)")
-    print_table(rows, os.cpu_count() or 1)
+    limit = print_limit(one, rows[-1][0], rows[-1][2])
+    print_table(rows, os.cpu_count() or 1, limit)
 
 
 if __name__ == "__main__":

@@ -67,6 +67,9 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T, V
     revolute = jtype == REVOLUTE
     rot, tra = revolute_after(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
     pose, shift = revolute_motion(chain.axis[k], chain.point[k], T) if moves and revolute else (None, None)
+    # float32 (the batches) takes the inline sine and cosine and the products by R's nonzero entries
+    # alone; float64 (refinement, checks, shortfalls) stays libm's and the full product, bit for bit
+    fast = S == wp.float32
     # a four-bar's or a Newton-solved joint is NaN where its loop cannot close: the pose then NaN whole
     can_fail = bool(chain.closed_form[k][0] == FOUR_BAR or chain.unknown[k] >= 0)
     axis = V3(*(float(v) for v in chain.axis[k]))
@@ -80,15 +83,24 @@ def _link_visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, T, V
         if wp.static(moves):
             th = wp.static(value)(q, i, x)
             if wp.static(revolute):
-                sc = wp.static(sincos)(th)
-                s = sc[0]
-                c = sc[1]
+                c = S(0.0)
+                s = S(0.0)
+                if wp.static(fast):
+                    sc = wp.static(sincos)(th)
+                    s = sc[0]
+                    c = sc[1]
+                else:
+                    c = wp.cos(th)
+                    s = wp.sin(th)
                 if wp.static(on_root):
                     r = wp.static(pose)(c, s)
                     t = wp.static(shift)(c, s)
-                else:
+                elif wp.static(fast):
                     r = wp.static(rot)(rp, c, s)  # rp R, its products by R's zeros left out
                     t = wp.static(tra)(rp, tp, c, s)
+                else:
+                    r = rp * wp.static(pose)(c, s)
+                    t = rp * wp.static(shift)(c, s) + tp
             else:
                 t = rp * (th * wp.static(axis)) + tp
             if wp.static(can_fail):
