@@ -32,20 +32,6 @@ def coordinated(motion, robot: str) -> str | None:
     return None
 
 
-def external_axes(motion, robot: str) -> str | None:
-    """Why ``motion`` needs axes the robot does not have, or None."""
-    for name, target in zip(motion.names, motion.targets):
-        for axis, value in zip(EXTERNAL, target.extax):
-            if value is not None:
-                return (f"'{name}' puts the external axis {axis} at {value:g}: '{robot}' has no external axes "
-                        "(--external-axes ignore runs the robot's own axes)")
-    if motion.wobj is not None and motion.wobj.coordinated:
-        unit = motion.wobj.ufmec or "a mechanical unit"
-        return (f"the work object is moved by {unit} (ufprog FALSE), an axis '{robot}' does not have "
-                "(--external-axes ignore runs it as a fixed frame)")
-    return None
-
-
 def joint_values(mech, target: rd.JointTarget, name: str) -> tuple[np.ndarray | None, str | None]:
     """A jointtarget's robax as the active joints' SI values, or why it cannot be."""
     joints = mech.graph.active
