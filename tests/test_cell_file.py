@@ -359,7 +359,7 @@ def test_check_and_info_take_a_cell_file(capsys):
     assert "FAILED (Cell; 1 error" in captured.out and f"{CELLS / 'bad_on.toml'}:4: " in captured.err
     assert main(["info", str(CELLS / "track_positioner.toml")]) == 0
     out = capsys.readouterr().out
-    assert "on track's Carriage, frame [0, 0, 565, 0, 0, 90]" in out and "eax_b -> A1, eax_c -> A2" in out
+    assert "on track's Carriage, frame [0, 0, 565, 0, 0, 90]" in out and "eax_b -> A1 (-90 .. 90 deg), eax_c -> A2 (-360 .. 360 deg)" in out
     assert main(["info", "--json", str(CELLS / "track_positioner.toml")]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["kind"] == "Cell" and doc["externals"][0]["axes"] == {"eax_a": "T1"}

@@ -39,7 +39,7 @@ def cell_text(cell: Cell) -> str:
     lines = [f"{cell.path}: a cell of {1 + len(cell.externals)} mechanism{'s' if cell.externals else ''}",
              f"robot {r.mechanism.name} ({Path(r.rsxml).name}) {where}, frame [{_frame(r.frame)}]"]
     for e in cell.externals:
-        axes = ", ".join(f"{a} -> {j}" for a, j in zip(e.axes, e.joints))
+        axes = ", ".join(f"{a} -> {j} ({_range(e.mechanism, j)})" for a, j in zip(e.axes, e.joints))
         lines.append(f"external {e.name}: {e.mechanism.model_name} ({Path(e.rsxml).name}), frame [{_frame(e.frame)}], "
                      f"{axes}, carries on {e.carrier_link}")
     if cell.tool is not None:
@@ -47,6 +47,14 @@ def cell_text(cell: Cell) -> str:
     lines += [f"environment {Path(m.path).name} at [{_frame(m.pose)}]" + (f" on {m.on}'s flange" if m.on else "")
               for m in cell.environment]
     return "\n".join(lines)
+
+
+def _range(mech, joint: str) -> str:
+    """A joint's travel as RAPID gives its axis: ``0 .. 4000 mm`` or ``-90 .. 90 deg``."""
+    j = mech.joint(joint)
+    lo, hi = (float(v[[x.name for x in mech.active_joints].index(joint)]) for v in mech.bounds())
+    f, unit = (np.degrees(1.0), "deg") if j.revolute else (1000.0, "mm")
+    return f"{lo * f:g} .. {hi * f:g} {unit}"
 
 
 def cell_output(cell: Cell, warn: Warn = ignore) -> Output:
