@@ -60,3 +60,17 @@ def test_the_cache_keeps_its_size_and_its_answers():
         launcher.launch(_scaled_add, n, params=[1.5], inputs=[x], outputs=[out])
         assert (out == 3.0).all()
     assert len(launcher._records) == RECORDED
+
+
+def test_stacked_trajectories_are_each_trajectory_bit_for_bit():
+    """A cable run's random programs evaluated all at once give each one's own joints exactly,
+    before its start, between its knots, on them and past its end."""
+    from rswarp.kinematics.trajectory import Stacked, random_trajectory
+
+    mech = load_mechanism(str(examples.IRB2600))[0]
+    trajs = [random_trajectory(mech, 3.0 + k, k) for k in range(5)]
+    stacked = Stacked.of(trajs)
+    t = np.concatenate([[-1.0, 0.0], np.linspace(0.0, 12.0, 997), trajs[2].times])
+    got = stacked.at(t)
+    for k, tr in enumerate(trajs):
+        assert np.array_equal(got[k], tr.at(t))

@@ -19,7 +19,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import InputError
-from ..kinematics.trajectory import Trajectory, assign, minimum_jerk
+from ..kinematics.trajectory import Stacked, Trajectory, assign, minimum_jerk
 from ..options import BOUNDS, checked
 from ..rsxml.model import Mechanism
 from .bodies import Environment
@@ -240,6 +240,7 @@ class _Schedule:
         self.trajectories, self.who, self.options = trajectories, who, options
         self.start = np.stack([trajectories[k].at(np.zeros(1))[0] for k in who])
         self.dof = self.start.shape[1]
+        self.stacked = Stacked.of(trajectories) if len(trajectories) > 1 else None  # all at once, where smooth
 
     def _times(self, t0: float) -> np.ndarray:
         """The ends of the substeps of the frame that starts at ``t0``."""
@@ -249,6 +250,8 @@ class _Schedule:
     def frame(self, t0: float) -> np.ndarray:
         """(envs, substeps, dof) float32 over the frame starting at ``t0`` (trajectory time)."""
         t = self._times(t0)
+        if self.stacked is not None:
+            return self.stacked.at(t)[self.who].astype(np.float32)
         out = np.empty((len(self.who), self.options.substeps, self.dof), np.float32)
         for k, traj in enumerate(self.trajectories):
             rows = self.who == k
