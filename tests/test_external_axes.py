@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -245,27 +246,29 @@ def test_robot_data_loads_with_speeds_and_sources(track, positioner):
 
 def _script(path):
     """The generator script at ``path``, imported as a module (its ``main`` not run)."""
-    spec = importlib.util.spec_from_file_location(f"make_meshes_{path.parent.name}", path)
+    spec = importlib.util.spec_from_file_location(f"{path.stem}_{path.parent.name}", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
 
 
-@pytest.mark.parametrize("path,builders", [
-    (examples.TRACK, {"track_rail": "rail", "track_carriage": "carriage"}),
-    (examples.POSITIONER, {"positioner_floor": "floor_plate", "positioner_column": "column",
-                           "positioner_tilt_arm": "tilt_arm", "positioner_turn_housing": "turn_housing",
-                           "positioner_faceplate": "face_plate"}),
-], ids=IDS)
-def test_committed_meshes_are_what_the_script_builds(path, builders):
-    """The STL files beside each RSXML are the generator script's (so the script documents them),
-    closed surfaces in millimetres. The scripts are not installed with the package: from a wheel, skipped."""
-    if not (path.parent / "make_meshes.py").is_file():
-        pytest.skip("the mesh scripts live in the source tree only")
-    script = _script(path.parent / "make_meshes.py")
+SOURCE = Path(__file__).resolve().parents[1] / "examples"  # the scripts: in the checkout, not installed
+
+
+@pytest.mark.parametrize("script,builders", [
+    ("track/make_meshes.py", {"track_rail": "rail", "track_carriage": "carriage"}),
+    ("positioner/make_meshes.py", {"positioner_floor": "floor_plate", "positioner_column": "column",
+                                   "positioner_tilt_arm": "tilt_arm", "positioner_turn_housing": "turn_housing",
+                                   "positioner_faceplate": "face_plate"}),
+    ("cells/make_part.py", {"weld_part": "part"}),
+], ids=["track", "positioner", "weld part"])
+def test_committed_meshes_are_what_the_script_builds(script, builders):
+    """The STL files beside each generator script are what it builds (so the script documents
+    them), closed surfaces; read from the source tree, where the scripts are."""
+    module = _script(SOURCE / script)
     for stem, builder in builders.items():
-        committed = trimesh.load(path.parent / f"{stem}.stl")
-        built = getattr(script, builder)()
+        committed = trimesh.load((SOURCE / script).parent / f"{stem}.stl")
+        built = getattr(module, builder)()
         assert committed.is_watertight
         np.testing.assert_allclose(committed.bounds, built.bounds, atol=1e-3)
         assert committed.volume == pytest.approx(built.volume, rel=1e-6)

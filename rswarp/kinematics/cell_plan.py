@@ -207,7 +207,7 @@ class CellPlanner(Planner):
         found = super().load_factor(m)
         if found is None:
             return None
-        return np.concatenate([np.asarray(found, float), np.ones(len(self.ext))])
+        return timing.widened(found, self.dof + len(self.ext))
 
     # -- what the interpreter asks ----------------------------------------------------------------
     def extax_after(self, motions) -> tuple:
@@ -232,9 +232,3 @@ class CellPlanner(Planner):
         axes = tuple((mapping.get((e.name, j.name)), e.name, j.name, j.revolute)
                      for e in self.cellkin.cell.externals for j in e.mechanism.active_joints)
         return replace(plan, q=plan.q[:, :dof], ext=plan.q[:, dof:], ext_axes=axes, framer=self.single)
-
-
-def cell_plan(cellkin: CellKinematics, run: Run, **kw) -> Plan:
-    """The trajectory over the cell of a task already run: ``CellPlanner`` over its motions."""
-    return CellPlanner(cellkin, **kw).finish(run)
-

@@ -125,6 +125,13 @@ def move_limits(motions, limits, factors: np.ndarray | None = None) -> tuple[np.
     return speed, limits.acceleration[None, :] * accel * load, limits.jerks()[None, :] * ramp * load
 
 
+def widened(factors, axes: int) -> np.ndarray:
+    """A load's per-axis acceleration factors over a cell's ``axes``: the load slows the robot's
+    own axes, not the external ones after them (factor 1)."""
+    factors = np.asarray(factors, float)
+    return np.concatenate([factors, np.ones(axes - len(factors))])
+
+
 def external_caps(motions, limits) -> np.ndarray:
     """(M, dof) each move's speeddata caps on a cell's external axes (v_leax for one that slides,
     v_reax for one that turns; inf for the robot's own axes and a wait)."""

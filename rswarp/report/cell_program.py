@@ -131,8 +131,6 @@ def base_offsets(cell: Cell | None, plan) -> np.ndarray | None:
 def carried(cell: Cell | None, trajectory):
     """A trajectory read from a CSV with the cell's external axes (``eax_a`` .. columns, mm and
     degrees) with its robot carried as they say (``Trajectory.base``); as read otherwise."""
-    from dataclasses import replace as _replace
-
     from ..kinematics.cell import CellKinematics
     from ..rsxml.cell import LOGICAL_AXES
 
@@ -142,14 +140,16 @@ def carried(cell: Cell | None, trajectory):
     extax = np.full((len(trajectory.times), 6), 9e9)
     for k, axis in enumerate(trajectory.ext_axes):
         extax[:, LOGICAL_AXES.index(axis)] = trajectory.ext[:, k]
-    return _replace(trajectory, base=_offsets(cell, ck.joined(ck.unit_joints(extax))))
+    return replace(trajectory, base=_offsets(cell, ck.joined(ck.unit_joints(extax)), ck))
 
 
-def _offsets(cell: Cell, ext: np.ndarray) -> np.ndarray:
+def _offsets(cell: Cell, ext: np.ndarray, ck=None) -> np.ndarray:
+    """(T, 3) the robot's base moved from its first row's pose at each row of external joints
+    ``ext``; an InputError where the carrier turns it."""
     from ..errors import InputError
     from ..kinematics.cell import CellKinematics
 
-    ck = CellKinematics(cell)
+    ck = ck if ck is not None else CellKinematics(cell)
     start = np.linalg.inv(ck.robot_base(ck.split(ext[:1]))[0])
     out = np.empty((len(ext), 3))
     for lo in range(0, len(ext), BASE_CHUNK):

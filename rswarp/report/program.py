@@ -149,7 +149,8 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
     signals, given = signal_values(io), input_values(inputs)
     robot, cell = robot_of(path)  # every option and input checked before any work
     tool = tool_spec(cell, tool)
-    floor = checked("floor", robot.si_length(floor)) - (cell_floor(cell) if cell is not None else 0.0)
+    world_floor = checked("floor", robot.si_length(floor))
+    floor = world_floor - (cell_floor(cell) if cell is not None else 0.0)  # in the robot's frame
     env = placed_environments(robot, environment or [])
     if cell is not None and env:  # --env meshes stand in the cell's world, checked with its own
         cell, env = with_meshes(cell, env), ()
@@ -177,7 +178,7 @@ def run_program(path: str, programs: list[str], routine: str = "main", csv: str 
         from .videos import program_video
 
         doc["video"] = program_video(mech, p, tally, names, video, video_size, tool=mounted, cell=cell,
-                                     floor=floor if cell is None else floor + cell_floor(cell))
+                                     floor=world_floor)
     return Output(json_safe(doc), program_text(mech, doc))
 
 
@@ -227,8 +228,8 @@ def _move_limits(limits, motion, scale) -> dict | None:
     if motion.kind == "wait" or limits is None:
         return None
     factor = scale(*motion.held_loads) if scale is not None else None
-    if factor is not None:  # a cell's external axes after the robot's: the load does not slow them
-        factor = np.concatenate([factor, np.ones(len(limits.velocity) - len(factor))])
+    if factor is not None:  # a cell's external axes after the robot's
+        factor = timing.widened(factor, len(limits.velocity))
     v, a, j = timing.move_limits([motion], limits, None if factor is None else factor[None])
     if np.array_equal(v[0], limits.velocity) and np.array_equal(a[0], limits.acceleration) and \
             np.array_equal(j[0], limits.jerks()):
