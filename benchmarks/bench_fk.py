@@ -3,11 +3,14 @@
 Same process, same 6-axis robot (the bundled IRB 2600-12/1.65), same joint configurations.
 Newton evaluates a model replicated into B worlds (B = min(N, 100 000), one configuration per
 world) in N/B batches, as one would to keep memory bounded; its build time is that of the
-replicated model. Timings are the median of 3 runs after a warm-up call (Warp compiles kernels on
-the first call). "all links" is every link's pose: ours as (N, 7, 4, 4) float32 matrices, Newton's
-as its body_q transforms. Ours is timed writing into a reused output buffer (as Newton writes into
-its state), the flange too; the fresh-array figure, which adds first-touch page faults for the
-output, is shown too.
+replicated model. Timings are the median of 5 runs after a warm-up call (Warp compiles kernels on
+the first call). "all links" is every link's pose: ours as (N, 7, 4, 4) float32 matrices and as
+their top rows (N, 7, 3, 4), the compact form a caller may ask for (``fk(q, rows=3)``: 48 bytes a
+pose, against Newton's 28-byte body_q transforms); the JSON line's ratio is the 3x4 one, the 4x4
+one beside it. Ours is timed writing into a reused output buffer (as Newton writes into its
+state), the flange too; the fresh-array figure, which adds first-touch page faults for the
+output, is shown too. Accuracy: the largest link-origin distance from Newton's (float32) and from
+pinocchio's (float64; its link frames differ from ours by a constant offset per link).
 
 Threads: Warp runs a CPU launch on one thread, so Newton's eval_fk uses one core; ours spreads its
 launches over every core. The ratio in the JSON line is at equal threads (ours on one thread
@@ -29,7 +32,7 @@ import time
 import numpy as np
 
 
-def median_time(fn, repeats: int = 3) -> float:
+def median_time(fn, repeats: int = 5) -> float:
     fn()  # warm-up: compiles and touches memory
     times = []
     for _ in range(repeats):
@@ -39,13 +42,15 @@ def median_time(fn, repeats: int = 3) -> float:
     return statistics.median(times)
 
 
-def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float]:
-    """Configurations per second: all links into a reused buffer, into a fresh array, the flange."""
+def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float, float]:
+    """Configurations per second: all links as 4x4 and as 3x4 into reused buffers, 4x4 into a fresh
+    array, the flange."""
     n = len(q)
     out = np.empty((n, len(kin.links), 4, 4), np.float32)
+    out3 = np.empty((n, len(kin.links), 3, 4), np.float32)
     fout = np.empty((n, 4, 4), np.float32)
-    return (n / median_time(lambda: kin.fk(q, out=out)), n / median_time(lambda: kin.fk(q)),
-            n / median_time(lambda: kin.flange(q, out=fout)))
+    return (n / median_time(lambda: kin.fk(q, out=out)), n / median_time(lambda: kin.fk(q, out=out3, rows=3)),
+            n / median_time(lambda: kin.fk(q)), n / median_time(lambda: kin.flange(q, out=fout)))
 
 
 def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, float, float]:
@@ -80,8 +85,11 @@ def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, 
     return worlds, rate, build, float(np.abs(body_q[..., :3] - kin.fk(last)[..., :3, 3]).max())
 
 
-def pinocchio_rate(mech, q: np.ndarray) -> float:
-    """Pinocchio's forwardKinematics, one configuration a call, one thread: configurations/s."""
+def pinocchio_rate(kin, q: np.ndarray) -> tuple[float, float]:
+    """Pinocchio's forwardKinematics, one configuration a call, one thread: (configurations/s, the
+    largest distance between its link origins and ours, metres, over 2000 configurations). Its link
+    frames (the URDF's, origins on the joint axes) differ from ours by a constant offset per link,
+    taken at the zero configuration."""
     import tempfile
     from pathlib import Path
 
@@ -91,7 +99,7 @@ def pinocchio_rate(mech, q: np.ndarray) -> float:
 
     with tempfile.TemporaryDirectory() as tmp:
         urdf = Path(tmp) / "robot.urdf"
-        rswarp.to_urdf(mech, urdf)
+        rswarp.to_urdf(kin.mech, urdf)
         model = pin.buildModelFromUrdf(str(urdf))
     data = model.createData()
     rows = [np.asarray(c, np.float64) for c in q[:20_000]]
@@ -100,63 +108,89 @@ def pinocchio_rate(mech, q: np.ndarray) -> float:
         for c in rows:
             pin.forwardKinematics(model, data, c)
 
-    return len(rows) / median_time(run)
+    rate = len(rows) / median_time(run)
+    frames = [(k, model.getFrameId(name)) for k, name in enumerate(kin.links) if model.existFrame(name)]
+
+    def placements(c):
+        pin.framesForwardKinematics(model, data, np.asarray(c, np.float64))
+        return [data.oMf[f].homogeneous.copy() for _, f in frames]
+
+    zero = placements(np.zeros(kin.dof))
+    ours_zero = kin.fk64(np.zeros((1, kin.dof)))[0]
+    offsets = [np.linalg.inv(m) @ ours_zero[k] for (k, _), m in zip(frames, zero)]
+    ours = kin.fk(q[:2000])
+    err = 0.0
+    for i, c in enumerate(q[:2000]):
+        for (k, _), m, o in zip(frames, placements(c), offsets):
+            err = max(err, float(np.abs((m @ o)[:3, 3] - ours[i, k, :3, 3]).max()))
+    return rate, err
 
 
-SINCOS_FLOPS = 34  # the inline sin and cos: the reduction (6), two degree-6 polynomials (12 each), the quadrant (4)
+SINCOS_FLOPS = 24  # the lanes' float32 sine and cosine: the reduction (7), the two polynomials (7 and 9), z (1)
+COMPOSE_FLOPS = 9 * 5 + 3 * 6  # a pose after a joint's motion, every product (``fk_lanes._compose``)
 
 
 def flops_per_config(kin) -> int:
-    """The arithmetic of one configuration's every-link poses, counted as the unrolled kernel does it:
-    per revolute joint its sine and cosine, R's entries (a term per nonzero coefficient), rp R and
-    rp t + tp over R's and t's nonzero entries (``kernels.motion.revolute_after``); a prismatic one
-    3 products and 3 sums. A count of the code, not of the machine: what the limit line divides."""
+    """The arithmetic of one configuration's every-link poses, counted as the lanes kernel does it
+    (``kernels/fk_lanes.py``): per revolute joint its sine and cosine, its motion's entries (a
+    product and a sum per nonzero coefficient) and the composition after its parent's pose (none on
+    the root); per prismatic joint its slide (21). A count of the code, not of the machine."""
+    from rswarp.kernels.motion import revolute_parts
+
     total = 0
-    for j in kin.graph.active:
-        if not j.revolute:
-            total += 6
+    chain = kin.chain
+    for k in range(len(chain.parent)):
+        if chain.qidx[k] < 0:
             continue
-        a, p = np.asarray(j.axis, float), np.asarray(j.point1, float)
-        outer = np.outer(a, a)
-        ortho, skew = np.eye(3) - outer, np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-        terms = sum(int(x != 0) for m in (outer, ortho, skew) for x in m.ravel())
-        nz = (outer != 0) | (ortho != 0) | (skew != 0)
-        tz = (p - outer @ p != 0) | (ortho @ p != 0) | (skew @ p != 0)
-        total += SINCOS_FLOPS + 2 * terms + 2 * 3 * int(nz.sum()) + 2 * 3 * int(tz.sum())
+        on_root = chain.parent[chain.parent[k]] < 0
+        if chain.jtype[k] != 0:  # prismatic
+            total += 21
+            continue
+        terms = sum(int(x != 0) for part in revolute_parts(chain.axis[k], chain.point[k])[1:] for x in part)
+        total += SINCOS_FLOPS + 2 * terms + (0 if on_root else COMPOSE_FLOPS)
     return total
 
 
-def copy_rate(n: int, links: int) -> float:
+def copy_rate(n: int, links: int, rows: int = 4) -> float:
     """Configurations a second that a copy of the all-links output's bytes allows (one thread, a
-    copy between two buffers of N x links x 64 bytes): the memory's limit on writing the poses."""
-    a = np.ones((n, links, 4, 4), np.float32)
+    copy between two buffers of N x links x rows x 4 floats): the memory's limit on writing poses."""
+    a = np.ones((n, links, rows, 4), np.float32)
     b = np.empty_like(a)
     return n / median_time(lambda: np.copyto(b, a))
 
 
-def print_limit(kin, n: int, one: float) -> tuple[float, int]:
-    """Our one-thread rate beside the copy's and as arithmetic a second: how near the limit."""
-    copy, flops = copy_rate(n, len(kin.links)), flops_per_config(kin)
-    print(f"the limit: writing {len(kin.links) * 64} bytes a configuration, a copy of the same bytes runs "
-          f"{copy / 1e6:.1f} M/s (ours on one thread at {one / copy:.0%} of it); {flops} floating-point operations "
-          f"a configuration (counted from the code), {one * flops / 1e9:.2f} GFLOP/s on one thread")
-    return copy, flops
+def print_limit(kin, n: int, one: float, one3: float) -> tuple[float, int]:
+    """Our one-thread rates beside the copy's and as arithmetic a second: how near the limit."""
+    flops = flops_per_config(kin)
+    copies = []
+    for rows, rate in ((4, one), (3, one3)):
+        copy = copy_rate(n, len(kin.links), rows)
+        copies.append(copy)
+        print(f"the limit, {rows}x4: writing {len(kin.links) * rows * 16} bytes a configuration, a copy of the same "
+              f"bytes runs {copy / 1e6:.1f} M/s (ours on one thread at {rate / copy:.0%} of it)")
+    print(f"the arithmetic: {flops} floating-point operations a configuration (counted from the code), "
+          f"{one3 * flops / 1e9:.2f} GFLOP/s on one thread (3x4)")
+    return copies[1], flops
 
 
 def print_table(rows: list[tuple], cores: int, limit: tuple = (None, None)) -> None:
-    head = ("N", "worlds", "ours all links, 1 thread", f"ours all links, {cores} threads", "ours (fresh array)",
-            "ours flange", "Newton all links (1 thread)", "pinocchio (1 thread)", "ratio, 1 thread",
-            f"ratio, ours on {cores}", "Newton build", "max |dp| m")
+    head = ("N", "worlds", "ours 4x4, 1 thread", "ours 3x4, 1 thread", f"ours 4x4, {cores} threads",
+            "ours 4x4 (fresh array)", "ours flange", "Newton (1 thread)", "pinocchio (1 thread)",
+            "ratio 3x4, 1 thread", "ratio 4x4, 1 thread", f"ratio 4x4, ours on {cores}", "Newton build",
+            "max |dp| Newton m", "max |dp| pinocchio m")
     print(" | ".join(head))
-    for n, worlds, one, a, fr, fl, p, pin, nb, err in rows:
-        print(" | ".join([f"{n}", f"{worlds}", f"{one / 1e6:.2f} M/s", f"{a / 1e6:.2f} M/s", f"{fr / 1e6:.2f} M/s",
-                          f"{fl / 1e6:.2f} M/s", f"{p / 1e6:.2f} M/s", f"{pin / 1e6:.3f} M/s", f"{one / p:.1f}x",
-                          f"{a / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}"]))
-    n, _, one, a, _, _, p, pin, _, _ = rows[-1]
-    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}_1_thread", "ours": round(one), "peer": round(p),
-                      "peer_name": "Newton eval_fk (one thread)", "ratio": round(one / p, 2),
-                      "ours_all_cores": round(a), "ratio_all_cores": round(a / p, 2), "pinocchio": round(pin),
-                      "copy_same_bytes": limit[0] and round(limit[0]), "flops_per_config": limit[1]}))
+    for n, worlds, one, one3, a, fr, fl, p, pin, nb, err, pin_err in rows:
+        print(" | ".join([f"{n}", f"{worlds}", f"{one / 1e6:.2f} M/s", f"{one3 / 1e6:.2f} M/s", f"{a / 1e6:.2f} M/s",
+                          f"{fr / 1e6:.2f} M/s", f"{fl / 1e6:.2f} M/s", f"{p / 1e6:.2f} M/s", f"{pin / 1e6:.3f} M/s",
+                          f"{one3 / p:.1f}x", f"{one / p:.1f}x", f"{a / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}",
+                          f"{pin_err:.1e}"]))
+    n, _, one, one3, a, _, _, p, pin, _, _, pin_err = rows[-1]
+    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}_1_thread", "ours": round(one3), "peer": round(p),
+                      "peer_name": "Newton eval_fk (one thread)", "ratio": round(one3 / p, 2), "form": "3x4",
+                      "ours_4x4": round(one), "ratio_4x4": round(one / p, 2), "ours_all_cores_4x4": round(a),
+                      "ratio_all_cores_4x4": round(a / p, 2), "pinocchio": round(pin),
+                      "max_dp_pinocchio_m": pin_err, "copy_same_bytes": limit[0] and round(limit[0]),
+                      "flops_per_config": limit[1]}))
 
 
 def main() -> None:
@@ -191,17 +225,18 @@ def main() -> None:
     rows = []
     for n in (int(s) for s in args.sizes.split(",")):
         q = np.random.default_rng(n).uniform(*mech.bounds(), (n, mech.dof)).astype(np.float32)
-        all_links, fresh, flange = ours_rates(kin, q)
-        single = ours_rates(one, q)[0]
+        all_links, _, fresh, flange = ours_rates(kin, q)
+        single, single3 = ours_rates(one, q)[:2]
         worlds, peer, build, err = newton_rate(mech, kin, q, args.max_worlds)
-        rows.append((n, worlds, single, all_links, fresh, flange, peer, pinocchio_rate(mech, q), build, err))
+        pin_rate, pin_err = pinocchio_rate(one, q)
+        rows.append((n, worlds, single, single3, all_links, fresh, flange, peer, pin_rate, build, err, pin_err))
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
     first = "compiling into an empty cache" if args.cold_cache else \
         "building the kernels, compiled or loaded from Warp's cache"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
           f"{first}); Newton per row below (replicated worlds)")
-    limit = print_limit(one, rows[-1][0], rows[-1][2])
+    limit = print_limit(one, rows[-1][0], rows[-1][2], rows[-1][3])
     print_table(rows, os.cpu_count() or 1, limit)
 
 

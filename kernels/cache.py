@@ -43,9 +43,22 @@ def content_digest(*args) -> str:
     return hashlib.sha256(repr(_part(args)).encode()).hexdigest()[:16]
 
 
+@functools.lru_cache(maxsize=1)
+def _source_digest() -> str:
+    """A hash of this package's source: Warp's own module hash can miss a change inside a closure
+    reached through ``wp.static`` (seen with the FK lanes), and would load the old compiled code."""
+    from pathlib import Path
+
+    h = hashlib.sha256()
+    for path in sorted(Path(__file__).parent.glob("*.py")):
+        h.update(path.read_bytes())
+    return h.hexdigest()[:8]
+
+
 def module_name(prefix: str, *args) -> str:
-    """The Warp module of a factory's kernels: ``rswarp_<prefix>_<content digest>``."""
-    return f"rswarp_{prefix}_{content_digest(*args)}"
+    """The Warp module of a factory's kernels: ``rswarp_<prefix>_<content digest>``, the content
+    being the arguments and the kernels' source."""
+    return f"rswarp_{prefix}_{content_digest(_source_digest(), *args)}"
 
 
 def finite_math(kernel):

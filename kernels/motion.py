@@ -31,15 +31,23 @@ def entries(matrix_type, const, cos_coef, sin_coef, rows: int, cols: int):
     return value
 
 
-def revolute_motion(axis: np.ndarray, point: np.ndarray, T):
-    """Rotation and translation of a revolute joint as functions of (cos, sin): Rodrigues written as
-    R = a a^T + c (I - a a^T) + s [a]x and t = p - R p. ``T``: the types of one precision."""
+def revolute_parts(axis: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A revolute joint's motion as const + c * cos_coef + s * sin_coef, each (12,): R's entries row
+    by row, then t's. Rodrigues: R = a a^T + c (I - a a^T) + s [a]x and t = p - R p."""
     a, p = np.asarray(axis, float), np.asarray(point, float)
     outer = np.outer(a, a)
     ortho = np.eye(3) - outer
     skew = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    rot = entries(T.mat33, outer, ortho, skew, 3, 3)
-    tra = entries(T.vec3, p - outer @ p, -ortho @ p, -skew @ p, 3, 1)
+    return (np.concatenate([outer.ravel(), p - outer @ p]), np.concatenate([ortho.ravel(), -ortho @ p]),
+            np.concatenate([skew.ravel(), -skew @ p]))
+
+
+def revolute_motion(axis: np.ndarray, point: np.ndarray, T):
+    """Rotation and translation of a revolute joint as functions of (cos, sin) (``revolute_parts``).
+    ``T``: the types of one precision."""
+    const, cos_coef, sin_coef = revolute_parts(axis, point)
+    rot = entries(T.mat33, const[:9], cos_coef[:9], sin_coef[:9], 3, 3)
+    tra = entries(T.vec3, const[9:], cos_coef[9:], sin_coef[9:], 3, 1)
     return rot, tra
 
 

@@ -117,3 +117,44 @@ def sincos_func(scalar):
         return V2(S(wp.where((q & 2) != 0, -sn, sn)), S(wp.where(((q + 1) & 2) != 0, -cn, cn)))
 
     return sincos
+
+
+# The same in float32 for the FK lanes (``fk_lanes``), where eight configurations share an AVX
+# register and float64 would halve that: Cody-Waite with pi/2 in three float32 parts (Cephes'
+# sinf), exact below 2^13 quarter turns, and Cephes' float32 polynomials on [-pi/4, pi/4].
+SIN32_POLY = (-1.6666654611e-1, 8.3321608736e-3, -1.9515295891e-4)
+COS32_POLY = (4.166664568298827e-2, -1.388731625493765e-3, 2.443315711809948e-5)
+PIO2_32 = (1.5703125, 4.837512969970703125e-4, 7.54978995489188216e-8)
+BIG32 = 8192.0  # beyond it (or not finite) libm's reduction
+
+
+@cached
+def sincos32_funcs():
+    """(core(x) -> vec2f(sin x, cos x) for |x| < BIG32 with no branch, so a loop over lanes of it
+    vectorizes; sincos(x) for any x, libm's past BIG32)."""
+    S = wp.float32
+    s1, s2, s3 = (S(c) for c in SIN32_POLY)
+    c1, c2, c3 = (S(c) for c in COS32_POLY)
+    p1, p2, p3 = (S(c) for c in PIO2_32)
+    inv, big = S(TWO_OVER_PI), S(BIG32)
+
+    @wp.func
+    def core(x: S) -> wp.vec2f:
+        k = wp.round(x * inv)
+        r = ((x - k * p1) - k * p2) - k * p3
+        z = r * r
+        sr = r + r * z * (s1 + z * (s2 + z * s3))
+        cr = S(1.0) - S(0.5) * z + z * z * (c1 + z * (c2 + z * c3))
+        q = int(k) & 3  # the quadrant (two's complement: -1 is 3)
+        swap = (q & 1) == 1
+        sn = wp.where(swap, cr, sr)
+        cn = wp.where(swap, sr, cr)
+        return wp.vec2f(wp.where((q & 2) != 0, -sn, sn), wp.where(((q + 1) & 2) != 0, -cn, cn))
+
+    @wp.func
+    def sincos(x: S) -> wp.vec2f:
+        if not (wp.abs(x) < big):
+            return wp.vec2f(wp.sin(x), wp.cos(x))
+        return core(x)
+
+    return core, sincos

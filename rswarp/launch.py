@@ -154,12 +154,13 @@ class Launcher:
             init_warp().load_module(kernel.module, device=self.device)
 
     def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence = (), outputs: Sequence = (),
-               scratch: int | Sequence[int] | None = None) -> None:
-        """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk)."""
+               scratch: int | Sequence[int] | None = None, lanes: int = 1) -> None:
+        """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk), or once
+        per ``lanes`` items (``wp.tid() * lanes`` the first; the kernel bounds the last block)."""
         stop_if_interrupted()
         if 0 < n <= SMALL and self.device.is_cpu and _host(inputs, outputs):
             with self._small:
-                return self._recorded(kernel, n, params, inputs, outputs, scratch).run(params, inputs, outputs)
+                return self._recorded(kernel, n, params, inputs, outputs, scratch, lanes).run(params, inputs, outputs)
         args = kernel.adj.args
         first = len(params)
         in_types = [args[first + k].type.dtype for k in range(len(inputs))]
@@ -173,7 +174,7 @@ class Launcher:
             outs = [self._target(a[lo:hi], t) for a, t in zip(outputs, out_types)]
             extra = [self._scratch(hi - lo, w, t, k) for k, (w, t) in enumerate(zip(widths, scratch_types))]
             with signals_held():
-                init_warp().launch(kernel, dim=hi - lo, inputs=[*params, *ins, *extra], outputs=outs,
+                init_warp().launch(kernel, dim=-(-(hi - lo) // lanes), inputs=[*params, *ins, *extra], outputs=outs,
                                    device=self.device)
             if not self.device.is_cpu:
                 for host, dev in zip(outputs, outs):
@@ -182,7 +183,7 @@ class Launcher:
 
         self._spread(n, run)
 
-    def _recorded(self, kernel, n: int, params, inputs, outputs, scratch) -> "_Recorded":
+    def _recorded(self, kernel, n: int, params, inputs, outputs, scratch, lanes: int) -> "_Recorded":
         """The recorded launch of ``kernel`` over ``n`` items with arrays shaped as these, made once."""
         recorded = self._records
         key = (kernel, n, len(params), _shapes(inputs), _shapes(outputs), scratch if scratch is None or
@@ -191,7 +192,7 @@ class Launcher:
         if found is None:
             if len(recorded) >= RECORDED:
                 recorded.pop(next(iter(recorded)))
-            found = _Recorded(self, kernel, n, params, inputs, outputs, scratch)
+            found = _Recorded(self, kernel, n, params, inputs, outputs, scratch, lanes)
         recorded[key] = found
         return found
 
@@ -271,7 +272,7 @@ class _Recorded:
     microseconds. The model's ``params`` are set again only where a call passes other objects than
     the last (they are kept, so an object's id is never another's)."""
 
-    def __init__(self, launcher: Launcher, kernel, n: int, params, inputs, outputs, scratch):
+    def __init__(self, launcher: Launcher, kernel, n: int, params, inputs, outputs, scratch, lanes: int = 1):
         wp = init_warp()
         args = kernel.adj.args
         first = len(params)
@@ -288,19 +289,47 @@ class _Recorded:
         self.in_views = [a.numpy().reshape(h.shape) for a, h in zip(self.ins, inputs)]
         self.out_views = [a.numpy().reshape(h.shape) for a, h in zip(self.outs, outputs)]
         with signals_held():
-            self.cmd = wp.launch(kernel, dim=n, inputs=[*params, *self.ins, *extra], outputs=self.outs, device=dev,
-                                 record_cmd=True)
+            self.cmd = wp.launch(kernel, dim=-(-n // lanes), inputs=[*params, *self.ins, *extra], outputs=self.outs,
+                                 device=dev, record_cmd=True)
         self.params = list(params)
+        self._direct()
+
+    def _direct(self) -> None:
+        """The compiled entry point and its argument struct, packed once (what Warp's ``invoke``
+        packs again at every call); ``self.call`` None where this Warp keeps them otherwise."""
+        import ctypes
+
+        self.call = None
+        cmd = self.cmd
+        hooks, cache = getattr(cmd, "hooks", None), getattr(cmd.kernel, "_invoke_cache", None)
+        if hooks is None or cache is None or cmd.adjoint or getattr(cmd, "block_dim", 1) > 1:
+            return
+        cmd.launch()  # fills the kernel's struct cache (the arrays are this record's own: harmless)
+        found = cache.get((tuple(type(p) for p in cmd.params[1:]), False))
+        if found is None:
+            return
+        struct, fields = found
+        self.args = struct()
+        for i, field in enumerate(fields):
+            setattr(self.args, field[0], cmd.params[1 + i])
+        self.fields = fields
+        self.call = (hooks.forward, ctypes.byref(cmd.params[0]), ctypes.byref(self.args))
 
     def run(self, params, inputs, outputs) -> None:
         for k, (was, now) in enumerate(zip(self.params, params)):
             if was is not now:  # another model object (or a number): set it, and keep it alive
                 self.cmd.set_param_at_index(k, now)
                 self.params[k] = now
+                if self.call is not None:
+                    setattr(self.args, self.fields[k][0], self.cmd.params[1 + k])
         for view, host in zip(self.in_views, inputs):
             view[...] = host
         for view, host in zip(self.out_views, outputs):  # as the caller's: a kernel may read what it updates
             view[...] = host
-        self.cmd.launch()
+        if self.call is None:
+            self.cmd.launch()
+        else:
+            forward, bounds, args = self.call
+            forward(bounds, args)
         for view, host in zip(self.out_views, outputs):
             host[...] = view

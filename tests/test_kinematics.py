@@ -151,7 +151,8 @@ def test_wrist_centre_is_on_j5_axis_nearest_j4(kins):
     j5 = kin.mech.joint("J5")
     want = (ref[:, kin.links.index("Link4")] @ np.array([*j5.point1, 1.0]))[:, :3]
     assert np.abs(wrist - want).max() < 1e-5
-    assert np.abs(flange - kin.flange(q)[:, :3, 3]).max() == 0
+    # two kernels (flange eight configurations a thread, this one one a thread): float32 rounding apart
+    assert np.abs(flange - kin.flange(q)[:, :3, 3]).max() < 2e-6
 
 
 def test_bad_inputs(kins):

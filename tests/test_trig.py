@@ -91,3 +91,33 @@ def test_inline_sincos_is_within_two_ulp_of_libm(scalar):
     err = np.abs(got.astype(np.float64) - exact.astype(np.float64)) / ulp
     assert err.max() <= 2.0, (x[np.argmax(err.max(axis=1))], err.max())
     assert np.isnan(_sincos(scalar, np.array([np.nan, np.inf], dtype))).all()
+
+
+def test_float32_sincos_of_the_fk_lanes():
+    """The FK lanes' float32 sine and cosine (Cephes' reduction and polynomials): within 2 ulp of
+    the float64 value rounded to float32 where |value| > 1e-3, within 2e-10 near a zero (the
+    reduction's last part, a float32, keeps the rest to that); libm's past BIG32, NaN for NaN."""
+    from rswarp.kernels.trig import BIG32, sincos32_funcs
+
+    f = sincos32_funcs()[1]
+
+    @wp.kernel(enable_backward=False, module="unique")
+    def run(x: wp.array(dtype=wp.float32), out: wp.array(dtype=wp.vec2f)):
+        i = wp.tid()
+        out[i] = f(x[i])
+
+    rng = np.random.default_rng(4)
+    x = np.concatenate([rng.uniform(-20 * np.pi, 20 * np.pi, 200_000), rng.uniform(-BIG32, BIG32, 50_000),
+                        np.arange(-16, 17) * np.pi / 4, [0.0, 1e-30, 1e-8, 1e5, -3e9]]).astype(np.float32)
+    x = np.concatenate([x, np.nextafter(x[-38:-5], np.float32(np.inf))])
+    out = wp.zeros(len(x), dtype=wp.vec2f, device="cpu")
+    wp.launch(run, len(x), inputs=[wp.array(x, dtype=wp.float32, device="cpu")], outputs=[out], device="cpu")
+    got = out.numpy().astype(np.float64)
+    exact = np.stack([np.sin(x.astype(np.float64)), np.cos(x.astype(np.float64))], axis=1).astype(np.float32)
+    big = np.abs(exact) > 1e-3
+    ulp = np.spacing(np.abs(exact)).astype(np.float64)
+    assert (np.abs(got - exact)[big] / ulp[big]).max() <= 2.0
+    assert np.abs(got - exact)[~big].max() < 2e-10
+    out = wp.zeros(2, dtype=wp.vec2f, device="cpu")
+    wp.launch(run, 2, inputs=[wp.array(np.float32([np.nan, np.inf]), device="cpu")], outputs=[out], device="cpu")
+    assert np.isnan(out.numpy()).all()

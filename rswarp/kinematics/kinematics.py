@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import InputError, model_error
 from ..kernels import fk as fk_kernels
-from ..kernels import walk
+from ..kernels import fk_lanes, walk
 from ..kernels.ik import FAR_M, NOT_RIGID, RIGID_TOL
 from ..launch import DEFAULT_CHUNK, Launcher, init_warp
 from ..rsxml.model import Mechanism
@@ -134,15 +134,28 @@ class Kinematics:
     def dof(self) -> int:
         return len(self.graph.active)
 
-    def fk(self, q, links: list[str] | None = None, out: np.ndarray | None = None) -> np.ndarray:
+    def fk(self, q, links: list[str] | None = None, out: np.ndarray | None = None, rows: int = 4) -> np.ndarray:
         """``(N, n_links, 4, 4)`` float32 link poses in metres (only ``links`` when given); NaN for
-        the links a loop moves where it cannot close (``loops_close(q)`` is False).
+        the links a loop moves where it cannot close (``loops_close(q)`` is False). ``rows=3``
+        gives the top three rows, (N, n_links, 3, 4): a quarter fewer bytes to write and keep.
 
         ``out`` (C-contiguous float32 of that shape) is filled in place: reusing one buffer in a loop
         saves the page faults of a fresh array."""
+        if rows not in (3, 4):
+            raise ValueError(f"rows must be 3 or 4, got {rows}")
+        lanes = self._lanes() if links is None else None
+        if lanes is not None:  # eight configurations a thread, in AVX registers
+            return self._launch_lanes(lanes[0][rows], q, out, (len(self.links), rows, 4))
+        whole = out if rows == 4 else None
         if links is not None:
-            return self.frames(q, [(self.graph.link_index(n), np.eye(4)) for n in links], out)
-        return self._all_links(q, out, np.float32)
+            poses = self.frames(q, [(self.graph.link_index(n), np.eye(4)) for n in links], whole)
+        else:
+            poses = self._all_links(q, whole, np.float32)
+        if rows == 4:
+            return poses
+        out = self._out(out, poses.shape[:2] + (3, 4), np.float32)
+        out[...] = poses[:, :, :3]
+        return out
 
     @property
     def passive_joints(self) -> tuple[str, ...]:
@@ -183,6 +196,9 @@ class Kinematics:
     def flange(self, q, name: str | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """``(N, 4, 4)`` float32 flange poses (the first flange, or the one named)."""
         f = self._flange_index(name)
+        lanes = self._lanes()
+        if lanes is not None:
+            return self._launch_lanes(lanes[1][f], q, out, (4, 4))
         if not self.unrolled:
             link, m = self._flanges[f]
             res = self.frames(q, [(link, m)], None if out is None else out[:, None])
@@ -342,6 +358,27 @@ class Kinematics:
                 kernels = None
             self._kernels[dtype] = kernels
         return self._kernels[dtype]
+
+    def _lanes(self):
+        """(all_links by rows, flange kernels) eight configurations a thread (``fk_lanes``), made
+        and compiled on first use; None on a GPU (a thread each is its parallelism) or for a chain
+        with loops, mimics or closed forms."""
+        if "lanes" not in self._kernels:
+            fits = self.unrolled and self.device.is_cpu and fk_lanes.lanes_fit(self.chain)
+            self._kernels["lanes"] = fk_lanes.lane_kernels(self.chain, self._flanges) if fits else None
+            self._loaded = set()
+        return self._kernels["lanes"]
+
+    def _launch_lanes(self, kernel, q, out, shape: tuple) -> np.ndarray:
+        """A lanes kernel over ``q`` into ``out`` (N, *shape), its module compiled (or loaded from
+        Warp's cache) first, here: not by two worker threads at once."""
+        if kernel not in self._loaded:
+            self.launcher.load(kernel)
+            self._loaded.add(kernel)
+        q = self._q(q, np.float32)
+        out = self._out(out, (q.shape[0], *shape), np.float32)
+        self.launcher.launch(kernel, q.shape[0], inputs=[q], outputs=[out], lanes=fk_lanes.LANES)
+        return out
 
     def _generic(self, dtype):
         """(tree struct on the device, frames kernel, wrist kernel) of the generic walk."""

@@ -1,0 +1,319 @@
+"""Forward kinematics eight configurations a thread, in float32: SIMD across configurations.
+
+Warp runs a CPU kernel one item after another, and its loop over items does not vectorize (the
+item's index is a 32-bit int the compiler cannot bound). Here each item is a block of ``LANES``
+configurations whose every number is a ``LANES``-vector: a pose is a (12, LANES) matrix, rotation
+rows then translation, and each step of the chain is a vector product the compiler lays out in AVX
+registers. Only the stores go lane by lane, into the caller's (N, links, 4, 4) or (N, links, 3, 4)
+layout. The block of the last few configurations reads its last row again and stores only its own.
+
+For serial and tree chains of revolute and prismatic joints driven by their own columns (the
+arms); a chain with loops, mimics or closed forms takes ``fk.chain_kernels``. Each lane's arithmetic
+is the same instruction sequence, so a configuration's pose does not depend on its lane.
+"""
+
+import functools
+from typing import Any
+
+import numpy as np
+import warp as wp
+
+from .cache import cached, module_name
+from .motion import revolute_parts
+from .trig import BIG32, sincos32_funcs
+from .types import PRISMATIC, REVOLUTE, Chain
+
+DEEP_SLP = "-mllvm=-slp-recursion-max-depth=12"
+LANES = 8  # configurations a thread: one AVX register of float32 (16 ran slower: register spills)
+S = wp.float32
+VL = wp.types.vector(LANES, S)
+PL = wp.types.matrix((12, LANES), S)  # a pose, lane by lane: R row by row (rows 0-8), t (rows 9-11)
+M34 = wp.types.matrix((3, 4), S)
+M44 = wp.types.matrix((4, 4), S)
+
+
+def lanes_fit(chain: Chain) -> bool:
+    """True where every moving joint reads its own column of q: no loop, mimic or closed form."""
+    return not (np.any(chain.mimic != 0.0) or np.any(chain.closed_form[:, 0] != 0.0)
+                or np.any(chain.unknown >= 0))
+
+
+@cached
+def lane_helpers():
+    """(row3 = a x + b y + c z over lanes, the identity pose)."""
+
+    @wp.func
+    def row3(a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
+        return wp.cw_mul(a, x) + wp.cw_mul(b, y) + wp.cw_mul(c, z)
+
+    @wp.func
+    def identity() -> PL:
+        one = VL(S(1.0))
+        zero = VL()
+        return wp.matrix_from_rows(one, zero, zero, zero, one, zero, zero, zero, one, zero, zero, zero)
+
+    return row3, identity
+
+
+def _compose(row3):
+    """``m J``: a pose after the joint's motion J, both (12, LANES); every product computed (leaving
+    out the zero ones ran slower: the compiler loses the pattern)."""
+
+    @wp.func
+    def compose(m: PL, j: PL) -> PL:
+        a0 = m[0]
+        a1 = m[1]
+        a2 = m[2]
+        a3 = m[3]
+        a4 = m[4]
+        a5 = m[5]
+        a6 = m[6]
+        a7 = m[7]
+        a8 = m[8]
+        j0 = j[0]
+        j1 = j[1]
+        j2 = j[2]
+        j3 = j[3]
+        j4 = j[4]
+        j5 = j[5]
+        j6 = j[6]
+        j7 = j[7]
+        j8 = j[8]
+        return wp.matrix_from_rows(
+            row3(a0, a1, a2, j0, j3, j6), row3(a0, a1, a2, j1, j4, j7), row3(a0, a1, a2, j2, j5, j8),
+            row3(a3, a4, a5, j0, j3, j6), row3(a3, a4, a5, j1, j4, j7), row3(a3, a4, a5, j2, j5, j8),
+            row3(a6, a7, a8, j0, j3, j6), row3(a6, a7, a8, j1, j4, j7), row3(a6, a7, a8, j2, j5, j8),
+            m[9] + row3(a0, a1, a2, j[9], j[10], j[11]), m[10] + row3(a3, a4, a5, j[9], j[10], j[11]),
+            m[11] + row3(a6, a7, a8, j[9], j[10], j[11]))
+
+    return compose
+
+
+def _entry(k0: float, kc: float, ks: float):
+    """``k0 + kc c + ks s`` over lanes, the zero terms left out."""
+
+    @wp.func
+    def entry(c: VL, s: VL) -> VL:
+        v = VL()
+        if wp.static(k0 != 0.0):
+            v = VL(S(k0))
+        if wp.static(kc != 0.0):
+            v = v + S(kc) * c
+        if wp.static(ks != 0.0):
+            v = v + S(ks) * s
+        return v
+
+    return entry
+
+
+def _step(chain: Chain, k: int, on_root: bool):
+    """``step(q, i0, n, m) -> (12, LANES)``: the pose ``m`` after link k's joint motion at the
+    lanes' joint values (``m`` unread where the parent's pose is the identity)."""
+    if int(chain.jtype[k]) == PRISMATIC:
+        return _slide(chain, k)
+    core, exact = sincos32_funcs()
+    compose = _compose(lane_helpers()[0])
+    col = int(chain.qidx[k])
+    const, cos_coef, sin_coef = revolute_parts(chain.axis[k], chain.point[k])
+    e = [_entry(*(float(x) for x in terms)) for terms in zip(const, cos_coef, sin_coef)]
+
+    @wp.func
+    def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
+        s = VL()
+        c = VL()
+        for ln in range(wp.static(LANES)):  # vectorized: no branch inside
+            v = core(q[wp.min(i0 + ln, n - 1), wp.static(col)])
+            s[ln] = v[0]
+            c[ln] = v[1]
+        # libm for a block with a huge angle or NaN: one test a block (one a lane breaks the vectors)
+        largest = S(0.0)
+        for ln in range(wp.static(LANES)):
+            largest = wp.max(largest, wp.abs(q[wp.min(i0 + ln, n - 1), wp.static(col)]))
+        if not (largest < S(BIG32)):
+            for ln in range(wp.static(LANES)):
+                v = exact(q[wp.min(i0 + ln, n - 1), wp.static(col)])
+                s[ln] = v[0]
+                c[ln] = v[1]
+        j = wp.matrix_from_rows(
+            wp.static(e[0])(c, s), wp.static(e[1])(c, s), wp.static(e[2])(c, s), wp.static(e[3])(c, s),
+            wp.static(e[4])(c, s), wp.static(e[5])(c, s), wp.static(e[6])(c, s), wp.static(e[7])(c, s),
+            wp.static(e[8])(c, s), wp.static(e[9])(c, s), wp.static(e[10])(c, s), wp.static(e[11])(c, s))
+        if wp.static(on_root):
+            return j
+        return compose(m, j)
+
+    return step
+
+
+def _slide(chain: Chain, k: int):
+    """A prismatic joint's step: the translation moved along the axis, turned by the parent."""
+    row3, _ = lane_helpers()
+    col = int(chain.qidx[k])
+    ax, ay, az = (VL(S(float(v))) for v in chain.axis[k])
+
+    @wp.func
+    def slide(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
+        th = VL()
+        for ln in range(wp.static(LANES)):
+            th[ln] = q[wp.min(i0 + ln, n - 1), wp.static(col)]
+        x = wp.cw_mul(wp.static(ax), th)
+        y = wp.cw_mul(wp.static(ay), th)
+        z = wp.cw_mul(wp.static(az), th)
+        return wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                                   m[9] + row3(m[0], m[1], m[2], x, y, z), m[10] + row3(m[3], m[4], m[5], x, y, z),
+                                   m[11] + row3(m[6], m[7], m[8], x, y, z))
+
+    return slide
+
+
+def lane_fk(chain: Chain, needed, emit):
+    """``fk(q, i0, n, out)``: the poses of configurations ``q[i0 : i0 + LANES]`` (rows past ``n``
+    repeat the last) for the links in ``needed``, each handed to ``emit(k)(out, i0, n, pose)``."""
+    needed = frozenset(int(k) for k in needed)
+    keep = chain.ancestors(needed)
+    root = _visitor(chain, chain.root, keep, needed, emit)
+    _, identity = lane_helpers()
+
+    @wp.func
+    def fk(q: wp.array2d(dtype=S), i0: int, n: int, out: Any):
+        wp.static(root)(q, i0, n, identity(), out)
+
+    return fk
+
+
+def _visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit):
+    kids = tuple(_visitor(chain, c, keep, needed, emit) for c in chain.children(k) if c in keep)
+    col = int(chain.qidx[k])
+    moves = col >= 0 and int(chain.jtype[k]) in (REVOLUTE, PRISMATIC)
+    on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0
+    step = _step(chain, k, on_root) if moves else None
+    emits = k in needed
+    store = emit(k) if emits else None
+
+    @wp.func
+    def visit(q: wp.array2d(dtype=S), i0: int, n: int, m: PL, out: Any):
+        r = m
+        if wp.static(moves):
+            r = wp.static(step)(q, i0, n, m)
+        if wp.static(emits):
+            wp.static(store)(out, i0, n, r)
+        for c in range(wp.static(len(kids))):
+            wp.static(kids[c])(q, i0, n, r, out)
+
+    return visit
+
+
+# -- what to store ------------------------------------------------------------------------------------
+
+
+def _emit_links(rows: int):
+    """emit(k): ``out[i, k]`` = link k's pose as a 4x4 (rows 4) or 3x4 (rows 3) matrix."""
+    return functools.partial(_emit_link, rows)
+
+
+@wp.func
+def lane_pose(r: PL, ln: int) -> M34:
+    """Lane ``ln`` of a pose as a 3x4 matrix."""
+    return M34(r[0, ln], r[1, ln], r[2, ln], r[9, ln], r[3, ln], r[4, ln], r[5, ln], r[10, ln],
+               r[6, ln], r[7, ln], r[8, ln], r[11, ln])
+
+
+@wp.func
+def to_mat44(m: M34) -> M44:
+    return M44(m[0, 0], m[0, 1], m[0, 2], m[0, 3], m[1, 0], m[1, 1], m[1, 2], m[1, 3],
+               m[2, 0], m[2, 1], m[2, 2], m[2, 3], S(0.0), S(0.0), S(0.0), S(1.0))
+
+
+@cached
+def _emit_link(rows: int, k: int):
+    @wp.func
+    def emit(out: Any, i0: int, n: int, r: PL):
+        for ln in range(wp.static(LANES)):
+            if i0 + ln < n:
+                if wp.static(rows == 4):
+                    out[i0 + ln, wp.static(k)] = to_mat44(lane_pose(r, ln))
+                else:
+                    out[i0 + ln, wp.static(k)] = lane_pose(r, ln)
+
+    return emit
+
+
+def _emit_flange(offset: np.ndarray):
+    """emit(k): ``out[i]`` = link k's pose times a constant 4x4 ``offset``, as a 4x4 matrix."""
+    return lambda k: _flange_emit(offset)
+
+
+@cached
+def _flange_emit(offset: np.ndarray):
+    row3, _ = lane_helpers()
+    o = [[float(v) for v in row] for row in np.asarray(offset)[:3, :4]]
+    compose = _compose(row3)
+    rows = [VL(S(o[e // 3][e % 3])) for e in range(9)] + [VL(S(o[e][3])) for e in range(3)]
+
+    @wp.func
+    def emit(out: Any, i0: int, n: int, r: PL):
+        f = compose(r, wp.matrix_from_rows(
+            wp.static(rows[0]), wp.static(rows[1]), wp.static(rows[2]), wp.static(rows[3]), wp.static(rows[4]),
+            wp.static(rows[5]), wp.static(rows[6]), wp.static(rows[7]), wp.static(rows[8]), wp.static(rows[9]),
+            wp.static(rows[10]), wp.static(rows[11])))
+        for ln in range(wp.static(LANES)):
+            if i0 + ln < n:
+                out[i0 + ln] = to_mat44(lane_pose(f, ln))
+
+    return emit
+
+
+# -- the kernels ---------------------------------------------------------------------------------------
+
+
+@cached
+def lane_kernels(chain: Chain, flanges):
+    """The lane kernels of one chain (``lanes_fit``), one thread per ``LANES`` configurations:
+    ``all_links[rows]`` (rows 4 or 3) and ``flange[f]``, in a module of their own."""
+    # a module a kernel: Warp merges look-alike closures across the kernels of one module (two
+    # flanges' kernels got one's links)
+    module = module_name("fk_lanes", chain, flanges)
+    every = range(len(chain.parent))
+    all_links = {rows: _links_kernel(lane_fk(chain, every, _emit_links(rows)), rows, f"{module}_{rows}")
+                 for rows in (4, 3)}
+    flange = tuple(_flange_kernel(lane_fk(chain, [link], _emit_flange(m)), f"{module}_f{f}")
+                   for f, (link, m) in enumerate(flanges))
+    for kernel in (*all_links.values(), *flange):
+        _deep_slp(kernel.module)
+    return all_links, flange
+
+
+def _deep_slp(module) -> None:
+    """The module compiled with the SLP vectorizer looking deeper than Warp's default (4): the
+    lanes' sine and cosine are a deeper tree, and stayed scalar under it."""
+    flags = module.options.get("cpu_compiler_flags") or wp.config.cpu_compiler_flags or "-march=native"
+    if not flags.endswith(DEEP_SLP):
+        wp.set_module_options({"cpu_compiler_flags": f"{flags} {DEEP_SLP}"}, module=module)
+
+
+def _links_kernel(fk, rows: int, module: str):
+    M = M44 if rows == 4 else M34
+
+    @wp.kernel(enable_backward=False, module=module)
+    def all_links(
+        # In:
+        q: wp.array2d(dtype=S),
+        # Out:
+        poses_out: wp.array2d(dtype=M),
+    ):
+        fk(q, wp.tid() * wp.static(LANES), q.shape[0], poses_out)
+
+    return all_links
+
+
+def _flange_kernel(fk, module: str):
+    @wp.kernel(enable_backward=False, module=module)
+    def flange(
+        # In:
+        q: wp.array2d(dtype=S),
+        # Out:
+        flange_out: wp.array(dtype=M44),
+    ):
+        fk(q, wp.tid() * wp.static(LANES), q.shape[0], flange_out)
+
+    return flange

@@ -1,0 +1,76 @@
+"""FK eight configurations a thread (``kernels/fk_lanes``): the same poses as the float64 kernels,
+whatever a configuration's place in its block, the 3x4 form equal to the 4x4's top rows, and a huge
+angle or NaN handled as the one-a-thread kernels handle them."""
+
+import numpy as np
+import pytest
+
+import rswarp
+from rswarp import examples
+from rswarp.kernels import fk_lanes
+from rswarp.kinematics.kinematics import Kinematics
+
+from conftest import DATA
+
+
+@pytest.fixture(scope="module")
+def irb2600():
+    return Kinematics(rswarp.load(examples.IRB2600))
+
+
+def _q(kin, n, seed=0):
+    lo, hi = kin.mech.bounds()
+    return np.random.default_rng(seed).uniform(lo, hi, (n, kin.dof)).astype(np.float32)
+
+
+def test_arms_take_the_lanes_and_loops_do_not(irb2600):
+    assert irb2600._lanes() is not None
+    assert Kinematics(rswarp.load(DATA / "branching.rsxml"))._lanes() is not None  # a tree with a slider
+    loops = sorted((DATA / "loops").glob("*.rsxml"))
+    assert loops and all(not fk_lanes.lanes_fit(Kinematics(rswarp.load(p)).chain) for p in loops[:2])
+
+
+def test_poses_match_float64_within_a_micrometre(irb2600):
+    q = _q(irb2600, 1003)  # not a multiple of the lanes: the last block is partial
+    ref = irb2600.fk64(q.astype(np.float64))
+    for rows in (4, 3):
+        got = irb2600.fk(q, rows=rows)
+        assert got.shape == (1003, 7, rows, 4)
+        assert np.abs(got[..., :3, 3] - ref[..., :3, 3]).max() < 1e-6
+        assert np.abs(got[..., :3, :3] - ref[..., :3, :3]).max() < 1e-6
+    assert np.array_equal(irb2600.fk(q, rows=3), irb2600.fk(q)[:, :, :3])
+    link, m = irb2600.flange_frame()
+    assert np.abs(irb2600.flange(q) - (ref[:, link] @ m)).max() < 1e-6
+
+
+def test_a_pose_does_not_depend_on_its_lane(irb2600):
+    """Shifted by one, three and five, each configuration sits in another lane and block (and a
+    batch of one runs as a recorded launch): the poses stay the same, bit for bit."""
+    q = _q(irb2600, 200, seed=1)
+    whole = irb2600.fk(q)
+    for shift in (1, 3, 5):
+        assert np.array_equal(irb2600.fk(q[shift:]), whole[shift:])
+    assert np.array_equal(irb2600.fk(q[17:18]), whole[17:18])
+    assert np.array_equal(irb2600.flange(q[3:]), irb2600.flange(q)[3:])
+
+
+def test_huge_angles_and_nan(irb2600):
+    """An angle past the float32 reduction's range takes libm's sine and cosine for its block; a
+    NaN joint makes NaN every link it moves, and only those."""
+    q = _q(irb2600, 16, seed=2)
+    q[5, 5] = 1.0e5  # J6 turned 16 000 times: as float32 it is exactly 100000.0
+    q[9, 1] = np.nan
+    got = irb2600.fk(q)
+    ref = irb2600.fk64(q.astype(np.float64))
+    fine = np.ones(16, bool)
+    fine[9] = False
+    assert np.abs(got[fine, :, :3] - ref[fine, :, :3]).max() < 1e-6
+    moved = np.isnan(got[9]).any(axis=(1, 2))
+    assert moved.tolist() == np.isnan(ref[9]).any(axis=(1, 2)).tolist() == [False, False] + [True] * 5
+
+
+def test_bad_rows_are_refused(irb2600):
+    with pytest.raises(ValueError, match="rows must be 3 or 4"):
+        irb2600.fk(np.zeros((1, 6)), rows=2)
+    with pytest.raises(ValueError, match="out must be"):
+        irb2600.fk(np.zeros((2, 6)), rows=3, out=np.zeros((2, 7, 4, 4), np.float32))
