@@ -129,6 +129,22 @@ def per_pair(mech, bodies, q: np.ndarray) -> None:
         print(f"{'/'.join(names):<20} {(time.perf_counter() - t) / len(q) * 1e6:>9.2f} {hit.mean():>9.2%}")
 
 
+def print_stages(mech, bodies, q: np.ndarray, one: float) -> None:
+    """Where the time goes by stage, and the limit: the bytes a state moves beside a copy of them."""
+    from collision_stages import stage_table
+    from limits import limit_line
+
+    rows = stage_table(Checker(mech, bodies, threads=1), bodies, q)
+    print(f"\n{'stage (one core, cumulative)':<30} {'us/state':>9} {'stage us':>9} {'passes on':>10}")
+    before = 0.0
+    for name, us, share in rows:
+        print(f"{name:<30} {us:>9.2f} {us - before:>9.2f} {share:>10.2%}")
+        before = us
+    pairs = len(bodies.pairs)
+    print(limit_line(f"collisions, {pairs} pairs", one, 4 * q.shape[1] + pairs * 5, len(q) * 10, None)
+          + "; the work is the tree walks' (above), which varies with the state: no fixed count an item")
+
+
 def throughput(mech, bodies, args) -> tuple[list, dict, np.ndarray]:
     """Rows (checker, states, best seconds, setup seconds), the agreement counts per peer
     (same, peer only, ours only), and the states our checkers ran."""
@@ -188,6 +204,7 @@ def main() -> None:
     print_tables(rows, agree, args.repeats, min(args.peer_states, args.states), len(bodies.pairs))
     if args.per_pair:
         per_pair(mech, bodies, q[:args.per_pair])
+        print_stages(mech, bodies, q[:args.per_pair], rows[1][1] / rows[1][2])
     if args.matrix:
         t = time.perf_counter()
         c = collisions(mech, samples=args.matrix)

@@ -4,10 +4,10 @@ Same process, same 6-axis robot (the bundled IRB 2600-12/1.65), same joint confi
 Newton evaluates a model replicated into B worlds (B = min(N, 100 000), one configuration per
 world) in N/B batches, as one would to keep memory bounded; its build time is that of the
 replicated model. Timings are the median of 5 runs after a warm-up call (Warp compiles kernels on
-the first call). "all links" is every link's pose: ours as (N, 7, 4, 4) float32 matrices and as
-their top rows (N, 7, 3, 4), the compact form a caller may ask for (``fk(q, rows=3)``: 48 bytes a
-pose, against Newton's 28-byte body_q transforms); the JSON line's ratio is the 3x4 one, the 4x4
-one beside it. Ours is timed writing into a reused output buffer (as Newton writes into its
+the first call). "all links" is every link's pose: ours as (N, 7, 4, 4) float32 matrices, as
+their top rows (N, 7, 3, 4) (``fk(q, rows=3)``) and as position + quaternion (N, 7, 7)
+(``fk_transforms``), the form Newton's body_q holds (28 bytes a pose); the JSON line's ratio is
+that one's, the 3x4 and 4x4 ones beside it. Ours is timed writing into a reused output buffer (as Newton writes into its
 state), the flange too; the fresh-array figure, which adds first-touch page faults for the
 output, is shown too. Accuracy: the largest link-origin distance from Newton's (float32) and from
 pinocchio's (float64; its link frames differ from ours by a constant offset per link).
@@ -30,6 +30,7 @@ import statistics
 import time
 
 import numpy as np
+from limits import copy_rate
 
 
 def median_time(fn, repeats: int = 5) -> float:
@@ -42,15 +43,17 @@ def median_time(fn, repeats: int = 5) -> float:
     return statistics.median(times)
 
 
-def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float, float]:
-    """Configurations per second: all links as 4x4 and as 3x4 into reused buffers, 4x4 into a fresh
-    array, the flange."""
+def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float, float, float]:
+    """Configurations per second: all links as 4x4, as 3x4 and as position + quaternion into reused
+    buffers, 4x4 into a fresh array, the flange."""
     n = len(q)
     out = np.empty((n, len(kin.links), 4, 4), np.float32)
     out3 = np.empty((n, len(kin.links), 3, 4), np.float32)
+    out7 = np.empty((n, len(kin.links), 7), np.float32)
     fout = np.empty((n, 4, 4), np.float32)
     return (n / median_time(lambda: kin.fk(q, out=out)), n / median_time(lambda: kin.fk(q, out=out3, rows=3)),
-            n / median_time(lambda: kin.fk(q)), n / median_time(lambda: kin.flange(q, out=fout)))
+            n / median_time(lambda: kin.fk_transforms(q, out=out7)), n / median_time(lambda: kin.fk(q)),
+            n / median_time(lambda: kin.flange(q, out=fout)))
 
 
 def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, float, float]:
@@ -151,44 +154,35 @@ def flops_per_config(kin) -> int:
     return total
 
 
-def copy_rate(n: int, links: int, rows: int = 4) -> float:
-    """Configurations a second that a copy of the all-links output's bytes allows (one thread, a
-    copy between two buffers of N x links x rows x 4 floats): the memory's limit on writing poses."""
-    a = np.ones((n, links, rows, 4), np.float32)
-    b = np.empty_like(a)
-    return n / median_time(lambda: np.copyto(b, a))
-
-
-def print_limit(kin, n: int, one: float, one3: float) -> tuple[float, int]:
+def print_limit(kin, n: int, rates: dict) -> tuple[float, int]:
     """Our one-thread rates beside the copy's and as arithmetic a second: how near the limit."""
     flops = flops_per_config(kin)
-    copies = []
-    for rows, rate in ((4, one), (3, one3)):
-        copy = copy_rate(n, len(kin.links), rows)
-        copies.append(copy)
-        print(f"the limit, {rows}x4: writing {len(kin.links) * rows * 16} bytes a configuration, a copy of the same "
-              f"bytes runs {copy / 1e6:.1f} M/s (ours on one thread at {rate / copy:.0%} of it)")
+    copies = {}
+    for form, nbytes in (("4x4", 64), ("3x4", 48), ("position + quaternion", 28)):
+        copies[form] = copy_rate(len(kin.links) * nbytes, n)
+        print(f"the limit, {form}: writing {len(kin.links) * nbytes} bytes a configuration, a copy of the same "
+              f"bytes runs {copies[form] / 1e6:.1f} M/s (ours on one thread at {rates[form] / copies[form]:.0%} of it)")
     print(f"the arithmetic: {flops} floating-point operations a configuration (counted from the code), "
-          f"{one3 * flops / 1e9:.2f} GFLOP/s on one thread (3x4)")
-    return copies[1], flops
+          f"{rates['3x4'] * flops / 1e9:.2f} GFLOP/s on one thread (3x4)")
+    return copies["position + quaternion"], flops
 
 
 def print_table(rows: list[tuple], cores: int, limit: tuple = (None, None)) -> None:
-    head = ("N", "worlds", "ours 4x4, 1 thread", "ours 3x4, 1 thread", f"ours 4x4, {cores} threads",
-            "ours 4x4 (fresh array)", "ours flange", "Newton (1 thread)", "pinocchio (1 thread)",
-            "ratio 3x4, 1 thread", "ratio 4x4, 1 thread", f"ratio 4x4, ours on {cores}", "Newton build",
-            "max |dp| Newton m", "max |dp| pinocchio m")
+    head = ("N", "worlds", "ours 4x4, 1 thread", "ours 3x4, 1 thread", "ours pos+quat, 1 thread",
+            f"ours 4x4, {cores} threads", "ours 4x4 (fresh array)", "ours flange", "Newton (1 thread)",
+            "pinocchio (1 thread)", "ratio pos+quat", "ratio 3x4", "ratio 4x4", f"ratio 4x4, ours on {cores}",
+            "Newton build", "max |dp| Newton m", "max |dp| pinocchio m")
     print(" | ".join(head))
-    for n, worlds, one, one3, a, fr, fl, p, pin, nb, err, pin_err in rows:
-        print(" | ".join([f"{n}", f"{worlds}", f"{one / 1e6:.2f} M/s", f"{one3 / 1e6:.2f} M/s", f"{a / 1e6:.2f} M/s",
-                          f"{fr / 1e6:.2f} M/s", f"{fl / 1e6:.2f} M/s", f"{p / 1e6:.2f} M/s", f"{pin / 1e6:.3f} M/s",
-                          f"{one3 / p:.1f}x", f"{one / p:.1f}x", f"{a / p:.1f}x", f"{nb:.1f} s", f"{err:.1e}",
-                          f"{pin_err:.1e}"]))
-    n, _, one, one3, a, _, _, p, pin, _, _, pin_err = rows[-1]
-    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}_1_thread", "ours": round(one3), "peer": round(p),
-                      "peer_name": "Newton eval_fk (one thread)", "ratio": round(one3 / p, 2), "form": "3x4",
-                      "ours_4x4": round(one), "ratio_4x4": round(one / p, 2), "ours_all_cores_4x4": round(a),
-                      "ratio_all_cores_4x4": round(a / p, 2), "pinocchio": round(pin),
+    for n, worlds, one, one3, one7, a, fr, fl, p, pin, nb, err, pin_err in rows:
+        print(" | ".join([f"{n}", f"{worlds}", *(f"{x / 1e6:.2f} M/s" for x in (one, one3, one7, a, fr, fl, p)),
+                          f"{pin / 1e6:.3f} M/s", *(f"{x / p:.1f}x" for x in (one7, one3, one, a)), f"{nb:.1f} s",
+                          f"{err:.1e}", f"{pin_err:.1e}"]))
+    n, _, one, one3, one7, a, _, _, p, pin, _, _, pin_err = rows[-1]
+    print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}_1_thread", "ours": round(one7), "peer": round(p),
+                      "peer_name": "Newton eval_fk (one thread)", "ratio": round(one7 / p, 2),
+                      "form": "position + quaternion (Newton's body_q form)", "ours_3x4": round(one3),
+                      "ratio_3x4": round(one3 / p, 2), "ours_4x4": round(one), "ratio_4x4": round(one / p, 2),
+                      "ours_all_cores_4x4": round(a), "ratio_all_cores_4x4": round(a / p, 2), "pinocchio": round(pin),
                       "max_dp_pinocchio_m": pin_err, "copy_same_bytes": limit[0] and round(limit[0]),
                       "flops_per_config": limit[1]}))
 
@@ -225,18 +219,20 @@ def main() -> None:
     rows = []
     for n in (int(s) for s in args.sizes.split(",")):
         q = np.random.default_rng(n).uniform(*mech.bounds(), (n, mech.dof)).astype(np.float32)
-        all_links, _, fresh, flange = ours_rates(kin, q)
-        single, single3 = ours_rates(one, q)[:2]
+        all_links, _, _, fresh, flange = ours_rates(kin, q)
+        single, single3, single7 = ours_rates(one, q)[:3]
         worlds, peer, build, err = newton_rate(mech, kin, q, args.max_worlds)
         pin_rate, pin_err = pinocchio_rate(one, q)
-        rows.append((n, worlds, single, single3, all_links, fresh, flange, peer, pin_rate, build, err, pin_err))
+        rows.append((n, worlds, single, single3, single7, all_links, fresh, flange, peer, pin_rate, build, err,
+                     pin_err))
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
     first = "compiling into an empty cache" if args.cold_cache else \
         "building the kernels, compiled or loaded from Warp's cache"
     print(f"model build: ours {ours_build * 1e3:.1f} ms ({ours_first:.2f} s the first time in a process: "
           f"{first}); Newton per row below (replicated worlds)")
-    limit = print_limit(one, rows[-1][0], rows[-1][2], rows[-1][3])
+    last = rows[-1]
+    limit = print_limit(one, last[0], {"4x4": last[2], "3x4": last[3], "position + quaternion": last[4]})
     print_table(rows, os.cpu_count() or 1, limit)
 
 

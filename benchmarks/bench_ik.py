@@ -254,9 +254,21 @@ def one_per_call(kin: Kinematics, q: np.ndarray, targets: np.ndarray, eaik_peer=
     one = [targets[k:k + 1] for k in range(SMALL_CALLS)]
     qs = [q[k:k + 1] for k in range(SMALL_CALLS)]
     out = {}
-    for name, fn, args in (("ik64", kin.ik64, one), ("fk64", kin.fk64, qs), ("flange", kin.flange, qs)):
+    from rswarp.sim.bodies import collision_bodies
+    from rswarp.sim.collisions import Checker
+
+    checker = Checker(kin.mech, collision_bodies(kin.mech), threads=1)  # its trees and grids built before
+    calls = (("ik64", kin.ik64, one), ("fk64", kin.fk64, qs), ("flange", kin.flange, qs),
+             ("collisions", checker.verdicts, qs))
+    for name, fn, args in calls:
         fn(args[0])  # compiled and recorded before timing
         out[name] = SMALL_CALLS / best_of(lambda fn=fn, args=args: [fn(a) for a in args])
+    # a call's fixed cost: its time less an item's in a batch of all of them (one thread)
+    batch = {"ik64": lambda: kin.ik64(targets[:SMALL_CALLS]), "fk64": lambda: kin.fk64(q[:SMALL_CALLS]),
+             "flange": lambda: kin.flange(q[:SMALL_CALLS]), "collisions": lambda: checker.verdicts(q[:SMALL_CALLS])}
+    threads, kin.launcher.threads = kin.launcher.threads, 1
+    out["fixed"] = {k: 1e6 / out[k] - best_of(f) / SMALL_CALLS * 1e6 for k, f in batch.items()}
+    kin.launcher.threads = threads
     if eaik_peer is not None:
         robot, to_end = eaik_peer
         ends = [t[0] @ to_end for t in one]
@@ -310,6 +322,7 @@ def main() -> None:
     if ghz:
         print(f"rswarp f64 on one thread: {ns:.0f} ns a pose, {ns * ghz:.0f} cycles at the {ghz:.2f} GHz "
               "/proc/cpuinfo gives")
+    print(_limit(kin, rows["rswarp f64, 1 thread"]["rate"], n))
     finite = lambda x: x if np.isfinite(x) else None  # noqa: E731  (JSON has no NaN)
     _small_lines(small, finite)
     print(json.dumps({"metric": "IK poses per second, all branches, IRB 2600, float64", "ours": ours_all,
@@ -317,15 +330,29 @@ def main() -> None:
                       "ratio": finite(ours_all / peer), "ratio_1_thread": finite(one)}))
 
 
+def _limit(kin: Kinematics, rate: float, n: int) -> str:
+    """Our one-thread rate beside a copy of the same bytes (a pose in, eight branches' q, conf and
+    status out) and the kernel's arithmetic, counted in its generated code."""
+    from limits import kernel_flops, limit_line, module_dir
+
+    kernel = ikm.ik_kernel(kin._ik_form(), np.float64)
+    flops = kernel_flops(module_dir(kernel), "arm_ik_kernel__locals__ik")
+    return limit_line("IK f64 (both arms of its branches counted)", rate, 16 * 8 + 8 * (6 * 8 + 4 + 1), n, flops)
+
+
 def _small_lines(small: dict, finite) -> None:
     """The one-a-call rates, and their JSON line (ours over EAIK's single-pose call)."""
+    fixed = small.pop("fixed", {})
     print(f"one pose a call ({SMALL_CALLS} calls, one thread): " + ", ".join(
         f"{k} {v:,.0f}/s ({1e6 / v:.1f} us a call)" for k, v in small.items()))
+    print("a call's fixed cost (its time less an item's in one batch of them all): " + ", ".join(
+        f"{k} {v:.1f} us" for k, v in fixed.items()))
     peer = small.get("EAIK IK", float("nan"))
     print(json.dumps({"metric": "IK calls of one pose per second, all branches, IRB 2600, float64",
                       "ours": small["ik64"], "peer": finite(peer), "peer_name": "EAIK IK (one pose)", "threads": 1,
                       "ratio": finite(small["ik64"] / peer), "target": 100_000, "fk64_calls": small["fk64"],
-                      "flange_calls": small["flange"]}))
+                      "flange_calls": small["flange"], "collisions_calls": small["collisions"],
+                      "fixed_us": {k: round(v, 2) for k, v in fixed.items()}}))
 
 
 if __name__ == "__main__":

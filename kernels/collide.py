@@ -125,6 +125,11 @@ def pair_functions(scalar=wp.float32):
         if cell >= 0:
             if witness_hit(m, cell, r, t):
                 return S(0.0)
+        # a vertex of one inside the other: they collide, surfaces crossing or not; asked before the
+        # walk, it spares the walks that would end in a containment (a full walk finding nothing),
+        # and after a walk that finds nothing it would be asked all the same
+        if enclosed(m, a, b, r, t):
+            return S(-1.0)
         if m.padding <= S(0.0):
             if meshes_cross(m, a, b, r, t):
                 return S(0.0)
@@ -132,8 +137,6 @@ def pair_functions(scalar=wp.float32):
             d = mesh_distance(m, a, b, r, t, m.padding, m.padding)
             if d <= m.padding:
                 return d
-        if enclosed(m, a, b, r, t):
-            return S(-1.0)
         return wp.max(gap, m.padding + S(1.0e-9))
 
     @wp.func

@@ -28,6 +28,7 @@ LANES = 8  # configurations a thread: one AVX register of float32 (16 ran slower
 S = wp.float32
 VL = wp.types.vector(LANES, S)
 PL = wp.types.matrix((12, LANES), S)  # a pose, lane by lane: R row by row (rows 0-8), t (rows 9-11)
+PQ = wp.types.matrix((16, LANES), S)  # a pose and its quaternion (rows 12-15: x, y, z, w), lane by lane
 M34 = wp.types.matrix((3, 4), S)
 M44 = wp.types.matrix((4, 4), S)
 
@@ -166,32 +167,112 @@ def _slide(chain: Chain, k: int):
     return slide
 
 
-def lane_fk(chain: Chain, needed, emit):
+def _step_pose(chain: Chain, k: int, on_root: bool):
+    """As ``_step`` with the link's quaternion carried along (``PQ``): the joint's half-angle
+    sine and cosine give its quaternion."""
+    row3, _ = lane_helpers()
+    compose = _compose(row3)
+    col = int(chain.qidx[k])
+    ax, ay, az = (float(v) for v in chain.axis[k])
+    if int(chain.jtype[k]) == PRISMATIC:
+        slide = _slide(chain, k)
+
+        @wp.func
+        def slid(q: wp.array2d(dtype=S), i0: int, n: int, m: PQ) -> PQ:
+            r = slide(q, i0, n, wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9],
+                                                    m[10], m[11]))
+            return wp.matrix_from_rows(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11],
+                                       m[12], m[13], m[14], m[15])
+
+        return slid
+    core, exact = sincos32_funcs()
+    const, cos_coef, sin_coef = revolute_parts(chain.axis[k], chain.point[k])
+    e = [_entry(*(float(x) for x in terms)) for terms in zip(const, cos_coef, sin_coef)]
+
+    @wp.func
+    def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PQ) -> PQ:
+        sh = VL()
+        ch = VL()
+        s = VL()
+        c = VL()
+        for ln in range(wp.static(LANES)):  # vectorized: no branch inside
+            th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
+            v = core(S(0.5) * th)
+            sh[ln] = v[0]
+            ch[ln] = v[1]
+            v = core(th)  # not by the double-angle rules: they would double the rotation's rounding
+            s[ln] = v[0]
+            c[ln] = v[1]
+        largest = S(0.0)
+        for ln in range(wp.static(LANES)):
+            largest = wp.max(largest, wp.abs(q[wp.min(i0 + ln, n - 1), wp.static(col)]))
+        if not (largest < S(BIG32)):
+            for ln in range(wp.static(LANES)):
+                th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
+                v = exact(S(0.5) * th)
+                sh[ln] = v[0]
+                ch[ln] = v[1]
+                v = exact(th)
+                s[ln] = v[0]
+                c[ln] = v[1]
+        j = wp.matrix_from_rows(
+            wp.static(e[0])(c, s), wp.static(e[1])(c, s), wp.static(e[2])(c, s), wp.static(e[3])(c, s),
+            wp.static(e[4])(c, s), wp.static(e[5])(c, s), wp.static(e[6])(c, s), wp.static(e[7])(c, s),
+            wp.static(e[8])(c, s), wp.static(e[9])(c, s), wp.static(e[10])(c, s), wp.static(e[11])(c, s))
+        jx = S(ax) * sh
+        jy = S(ay) * sh
+        jz = S(az) * sh
+        if wp.static(on_root):
+            return wp.matrix_from_rows(j[0], j[1], j[2], j[3], j[4], j[5], j[6], j[7], j[8], j[9], j[10], j[11],
+                                       jx, jy, jz, ch)
+        r = compose(wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]), j)
+        px = m[12]
+        py = m[13]
+        pz = m[14]
+        pw = m[15]  # the parent's quaternion times the joint's (Hamilton, x y z w)
+        return wp.matrix_from_rows(
+            r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11],
+            wp.cw_mul(pw, jx) + wp.cw_mul(px, ch) + wp.cw_mul(py, jz) - wp.cw_mul(pz, jy),
+            wp.cw_mul(pw, jy) + wp.cw_mul(py, ch) + wp.cw_mul(pz, jx) - wp.cw_mul(px, jz),
+            wp.cw_mul(pw, jz) + wp.cw_mul(pz, ch) + wp.cw_mul(px, jy) - wp.cw_mul(py, jx),
+            wp.cw_mul(pw, ch) - wp.cw_mul(px, jx) - wp.cw_mul(py, jy) - wp.cw_mul(pz, jz))
+
+    return step
+
+
+def lane_fk(chain: Chain, needed, emit, quats: bool = False):
     """``fk(q, i0, n, out)``: the poses of configurations ``q[i0 : i0 + LANES]`` (rows past ``n``
-    repeat the last) for the links in ``needed``, each handed to ``emit(k)(out, i0, n, pose)``."""
+    repeat the last) for the links in ``needed``, each handed to ``emit(k)(out, i0, n, pose)``;
+    ``quats``: the pose a ``PQ``, with its quaternion."""
     needed = frozenset(int(k) for k in needed)
     keep = chain.ancestors(needed)
-    root = _visitor(chain, chain.root, keep, needed, emit)
+    root = _visitor(chain, chain.root, keep, needed, emit, quats)
     _, identity = lane_helpers()
 
     @wp.func
     def fk(q: wp.array2d(dtype=S), i0: int, n: int, out: Any):
-        wp.static(root)(q, i0, n, identity(), out)
+        m = identity()
+        if wp.static(quats):
+            zero = VL()
+            wp.static(root)(q, i0, n, wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                                                          m[9], m[10], m[11], zero, zero, zero, VL(S(1.0))), out)
+        else:
+            wp.static(root)(q, i0, n, m, out)
 
     return fk
 
 
-def _visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit):
-    kids = tuple(_visitor(chain, c, keep, needed, emit) for c in chain.children(k) if c in keep)
+def _visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, quats: bool):
+    kids = tuple(_visitor(chain, c, keep, needed, emit, quats) for c in chain.children(k) if c in keep)
     col = int(chain.qidx[k])
     moves = col >= 0 and int(chain.jtype[k]) in (REVOLUTE, PRISMATIC)
     on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0
-    step = _step(chain, k, on_root) if moves else None
+    step = (_step_pose if quats else _step)(chain, k, on_root) if moves else None
     emits = k in needed
     store = emit(k) if emits else None
 
     @wp.func
-    def visit(q: wp.array2d(dtype=S), i0: int, n: int, m: PL, out: Any):
+    def visit(q: wp.array2d(dtype=S), i0: int, n: int, m: Any, out: Any):
         r = m
         if wp.static(moves):
             r = wp.static(step)(q, i0, n, m)
@@ -269,18 +350,34 @@ def _flange_emit(offset: np.ndarray):
 @cached
 def lane_kernels(chain: Chain, flanges):
     """The lane kernels of one chain (``lanes_fit``), one thread per ``LANES`` configurations:
-    ``all_links[rows]`` (rows 4 or 3) and ``flange[f]``, in a module of their own."""
+    ``all_links[rows]`` (rows 4 or 3; 7: position and quaternion) and ``flange[f]``, each in a
+    module of its own."""
     # a module a kernel: Warp merges look-alike closures across the kernels of one module (two
     # flanges' kernels got one's links)
     module = module_name("fk_lanes", chain, flanges)
     every = range(len(chain.parent))
     all_links = {rows: _links_kernel(lane_fk(chain, every, _emit_links(rows)), rows, f"{module}_{rows}")
                  for rows in (4, 3)}
+    all_links[7] = _links_kernel(lane_fk(chain, every, _emit_pose, quats=True), 7, f"{module}_7")
     flange = tuple(_flange_kernel(lane_fk(chain, [link], _emit_flange(m)), f"{module}_f{f}")
                    for f, (link, m) in enumerate(flanges))
     for kernel in (*all_links.values(), *flange):
         _deep_slp(kernel.module)
     return all_links, flange
+
+
+@cached
+def _emit_pose(k: int):
+    """emit: ``out[i, k]`` = link k's position and quaternion (x, y, z, w), a ``wp.transformf``."""
+
+    @wp.func
+    def emit(out: Any, i0: int, n: int, r: PQ):
+        for ln in range(wp.static(LANES)):
+            if i0 + ln < n:
+                out[i0 + ln, wp.static(k)] = wp.transformf(wp.vec3f(r[9, ln], r[10, ln], r[11, ln]),
+                                                           wp.quatf(r[12, ln], r[13, ln], r[14, ln], r[15, ln]))
+
+    return emit
 
 
 def _deep_slp(module) -> None:
@@ -292,7 +389,7 @@ def _deep_slp(module) -> None:
 
 
 def _links_kernel(fk, rows: int, module: str):
-    M = M44 if rows == 4 else M34
+    M = M44 if rows == 4 else M34 if rows == 3 else wp.transformf
 
     @wp.kernel(enable_backward=False, module=module)
     def all_links(

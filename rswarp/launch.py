@@ -154,13 +154,18 @@ class Launcher:
             init_warp().load_module(kernel.module, device=self.device)
 
     def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence = (), outputs: Sequence = (),
-               scratch: int | Sequence[int] | None = None, lanes: int = 1) -> None:
+               scratch: int | Sequence[int] | None = None, lanes: int = 1, overwrites: bool = False) -> None:
         """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk), or once
-        per ``lanes`` items (``wp.tid() * lanes`` the first; the kernel bounds the last block)."""
+        per ``lanes`` items (``wp.tid() * lanes`` the first; the kernel bounds the last block).
+        ``overwrites``: the kernel writes its outputs whole and reads none of them (a small batch
+        then skips copying them in)."""
         stop_if_interrupted()
-        if 0 < n <= SMALL and self.device.is_cpu and _host(inputs, outputs):
+        key = _small_key(kernel, n, params, inputs, outputs, scratch, lanes) if 0 < n <= SMALL and \
+            self.device.is_cpu else None
+        if key is not None:
             with self._small:
-                return self._recorded(kernel, n, params, inputs, outputs, scratch, lanes).run(params, inputs, outputs)
+                recorded = self._recorded(key, kernel, n, params, inputs, outputs, scratch, lanes)
+                return recorded.run(params, inputs, outputs, overwrites)
         args = kernel.adj.args
         first = len(params)
         in_types = [args[first + k].type.dtype for k in range(len(inputs))]
@@ -183,11 +188,9 @@ class Launcher:
 
         self._spread(n, run)
 
-    def _recorded(self, kernel, n: int, params, inputs, outputs, scratch, lanes: int) -> "_Recorded":
+    def _recorded(self, key: tuple, kernel, n: int, params, inputs, outputs, scratch, lanes: int) -> "_Recorded":
         """The recorded launch of ``kernel`` over ``n`` items with arrays shaped as these, made once."""
         recorded = self._records
-        key = (kernel, n, len(params), _shapes(inputs), _shapes(outputs), scratch if scratch is None or
-               isinstance(scratch, int) else tuple(scratch))
         found = recorded.pop(key, None)  # and put back last: the most recently used
         if found is None:
             if len(recorded) >= RECORDED:
@@ -254,15 +257,18 @@ class Launcher:
             pass
 
 
-def _host(inputs, outputs) -> bool:
-    for a in (*inputs, *outputs):
-        if type(a) is not np.ndarray:
-            return False
-    return True
-
-
-def _shapes(arrays) -> tuple:
-    return tuple([(a.shape, a.dtype.num) for a in arrays])
+def _small_key(kernel, n: int, params, inputs, outputs, scratch, lanes: int) -> tuple | None:
+    """What a recorded launch is made for (the kernel, the count, the arrays' shapes and types), in
+    one pass; None where an input or output is not a host array (a Warp array: the usual launch)."""
+    key = [kernel, n, len(params), lanes, scratch if scratch is None or isinstance(scratch, int) else tuple(scratch)]
+    for group in (inputs, outputs):
+        key.append(len(group))
+        for a in group:
+            if type(a) is not np.ndarray:
+                return None
+            key.append(a.shape)
+            key.append(a.dtype.num)
+    return tuple(key)
 
 
 class _Recorded:
@@ -315,7 +321,7 @@ class _Recorded:
         self.fields = fields
         self.call = (hooks.forward, ctypes.byref(cmd.params[0]), ctypes.byref(self.args))
 
-    def run(self, params, inputs, outputs) -> None:
+    def run(self, params, inputs, outputs, overwrites: bool = False) -> None:
         for k, (was, now) in enumerate(zip(self.params, params)):
             if was is not now:  # another model object (or a number): set it, and keep it alive
                 self.cmd.set_param_at_index(k, now)
@@ -324,8 +330,9 @@ class _Recorded:
                     setattr(self.args, self.fields[k][0], self.cmd.params[1 + k])
         for view, host in zip(self.in_views, inputs):
             view[...] = host
-        for view, host in zip(self.out_views, outputs):  # as the caller's: a kernel may read what it updates
-            view[...] = host
+        if not overwrites:
+            for view, host in zip(self.out_views, outputs):  # as the caller's: a kernel may read what it updates
+                view[...] = host
         if self.call is None:
             self.cmd.launch()
         else:

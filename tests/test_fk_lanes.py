@@ -74,3 +74,21 @@ def test_bad_rows_are_refused(irb2600):
         irb2600.fk(np.zeros((1, 6)), rows=2)
     with pytest.raises(ValueError, match="out must be"):
         irb2600.fk(np.zeros((2, 6)), rows=3, out=np.zeros((2, 7, 4, 4), np.float32))
+
+
+def test_transforms_are_the_poses_as_position_and_quaternion(irb2600):
+    """``fk_transforms`` (Newton's body_q form): the position of each link and a unit quaternion
+    of its turn, against float64 matrices (scipy's conversion of the quaternion back)."""
+    from scipy.spatial.transform import Rotation
+
+    q = _q(irb2600, 203, seed=3)
+    got = irb2600.fk_transforms(q)
+    ref = irb2600.fk64(q.astype(np.float64))
+    assert got.shape == (203, 7, 7)
+    assert np.abs(got[..., :3] - ref[..., :3, 3]).max() < 1e-6
+    assert np.abs(np.linalg.norm(got[..., 3:], axis=-1) - 1).max() < 1e-6
+    turned = Rotation.from_quat(got[..., 3:].reshape(-1, 4).astype(np.float64)).as_matrix().reshape(203, 7, 3, 3)
+    assert np.abs(turned - ref[..., :3, :3]).max() < 1e-6
+    loops = Kinematics(rswarp.load(sorted((DATA / "loops").glob("*.rsxml"))[0]))  # no lanes: from the matrices
+    qs = np.zeros((2, loops.dof))
+    assert np.abs(loops.fk_transforms(qs)[..., :3] - loops.fk(qs)[..., :3, 3]).max() == 0

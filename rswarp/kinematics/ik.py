@@ -270,7 +270,7 @@ def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype, kernel=No
     q = np.empty((n, BRANCHES, 6), dtype)
     conf = np.empty((n, BRANCHES, CONF), np.int8)  # small codes: a quarter of the memory traffic
     status = np.empty((n, BRANCHES), np.int8)
-    launcher.launch(kernel, n, inputs=[poses], outputs=[q, conf, status])
+    launcher.launch(kernel, n, inputs=[poses], outputs=[q, conf, status], overwrites=True)
     return IKSolutions(q, conf, status)
 
 

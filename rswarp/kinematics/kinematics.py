@@ -6,6 +6,8 @@ active-joint values in SI (rad, m), in the file's order of active joints.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import InputError, model_error
@@ -50,6 +52,10 @@ def rigid_poses(poses, dtype, checked: bool = True, offset: int = 0, total: int 
     rotation scaled, sheared or mirrored, a bottom row other than [0, 0, 0, 1], a number not
     finite; counted from ``offset`` of ``total``). Not ``checked``, only the numbers are checked
     finite: the arm's IK kernel checks the rest on the device (``NOT_RIGID``), for free."""
+    if (not checked and dtype == np.float64 and type(poses) is np.ndarray and poses.dtype == np.float64
+            and poses.ndim in (2, 3) and poses.shape[-2:] == (4, 4) and poses.flags.c_contiguous
+            and math.isfinite(poses.sum())):  # a small call's usual pose: one pass (a NaN or inf makes the sum so)
+        return poses.reshape(-1, 4, 4)
     a = np.asarray(poses)
     if a.ndim not in (2, 3) or a.shape[-2:] != (4, 4):
         raise InputError(f"poses must have the shape (4, 4) or (N, 4, 4), not {a.shape}")
@@ -155,6 +161,22 @@ class Kinematics:
             return poses
         out = self._out(out, poses.shape[:2] + (3, 4), np.float32)
         out[...] = poses[:, :, :3]
+        return out
+
+    def fk_transforms(self, q, out: np.ndarray | None = None) -> np.ndarray:
+        """``(N, n_links, 7)`` float32 link poses as position and unit quaternion (x, y, z, w), as
+        Newton's ``body_q`` holds them: 28 bytes a pose where a 4x4 takes 64. A quaternion and its
+        negative are the same turn; which one comes is not promised."""
+        lanes = self._lanes()
+        if lanes is not None:
+            return self._launch_lanes(lanes[0][7], q, out, (len(self.links), 7))
+        from scipy.spatial.transform import Rotation
+
+        poses = self.fk(q)
+        out = self._out(out, poses.shape[:2] + (7,), np.float32)
+        out[..., :3] = poses[..., :3, 3]
+        turns = Rotation.from_matrix(poses[..., :3, :3].reshape(-1, 3, 3).astype(np.float64))
+        out[..., 3:] = turns.as_quat().reshape(poses.shape[:2] + (4,))
         return out
 
     @property
@@ -308,9 +330,8 @@ class Kinematics:
             if kernel is None:
                 kernel = self._kernels[key] = ik.ik_kernel(form, dtype)
             sol = ik.closed_form(self.launcher, form, poses, dtype, kernel)
-            bad = sol.status[:, 0] == NOT_RIGID  # the kernel refuses every branch of it
-            if bad.any():
-                k = int(np.argmax(bad))
+            if NOT_RIGID in sol.status[:, 0].tolist():  # the kernel refuses every branch of it
+                k = int(np.argmax(sol.status[:, 0] == NOT_RIGID))
                 rigid_poses(poses[k:k + 1], np.float64, offset=k, total=len(poses))  # says why
                 raise InputError(f"pose {k} of {len(poses)} is not a rigid transform")
             return sol
@@ -377,7 +398,7 @@ class Kinematics:
             self._loaded.add(kernel)
         q = self._q(q, np.float32)
         out = self._out(out, (q.shape[0], *shape), np.float32)
-        self.launcher.launch(kernel, q.shape[0], inputs=[q], outputs=[out], lanes=fk_lanes.LANES)
+        self.launcher.launch(kernel, q.shape[0], inputs=[q], outputs=[out], lanes=fk_lanes.LANES, overwrites=True)
         return out
 
     def _generic(self, dtype):
@@ -409,7 +430,7 @@ class Kinematics:
             return self._frames(q, [(k, np.eye(4)) for k in range(len(self.links))], out, dtype)
         q = self._q(q, dtype)
         out = self._out(out, (q.shape[0], len(self.links), 4, 4), dtype)
-        self.launcher.launch(self._kernels_for(dtype)[0], q.shape[0], inputs=[q], outputs=[out])
+        self.launcher.launch(self._kernels_for(dtype)[0], q.shape[0], inputs=[q], outputs=[out], overwrites=True)
         return out
 
     def _frames(self, q, outputs: list[tuple[int, np.ndarray]], out, dtype) -> np.ndarray:

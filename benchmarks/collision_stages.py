@@ -1,0 +1,104 @@
+"""Where a self-collision sweep's time goes, stage by stage: the sweep kernel rebuilt with its
+stages cut after each one (forward kinematics; bounding spheres; root boxes; witness cells; the
+walk for crossing triangles; containment), each timed on one thread over the same states. The
+difference between two rows is the later stage's cost; the fractions say how many pair tests
+reach each stage. For ``bench_collisions.py``."""
+
+
+import time
+
+import numpy as np
+
+STAGES = ("forward kinematics", "bounding spheres", "root boxes", "witness cells", "containment", "tree walks")
+
+
+def _kernel(checker, bodies, stage: int):
+    """The sweep kernel cut after ``stage``: hit 2 marks a pair test that reached the walk."""
+    from rswarp.kernels import collide
+    from rswarp.kernels.fk import emit_local, tree_fk
+    from rswarp.kernels.tree import crossing_walk, traversal_functions
+    from rswarp.kernels.types import bodies_struct, types_of
+    from rswarp.kernels.witness import witness_functions
+    from rswarp.launch import init_warp
+
+    wp = init_warp()
+    S, V3, _, M34, _ = types_of(wp.float32)
+    arrays = bodies_struct(wp.float32)
+    chain = checker.chain
+    fk = tree_fk(chain, set(int(k) for k in bodies.links), emit_local(wp.float32), wp.float32)
+    body_pose, body_centre = collide._body_pose(wp.float32)
+    rotation, relative = collide.pose_helpers(wp.float32)
+    node_gap, _ = traversal_functions(wp.float32)
+    meshes_cross = crossing_walk(wp.float32)
+    enclosed = collide.containment_functions(wp.float32)
+    witness_cell, witness_hit = witness_functions(wp.float32)
+    n = len(chain.parent)
+
+    @wp.kernel(enable_backward=False, module=f"bench_collision_stage_{stage}")
+    def staged(m: arrays, q: wp.array2d(dtype=S), hit_out: wp.array2d(dtype=wp.uint8)):
+        i = wp.tid()
+        poses = wp.zeros(shape=n, dtype=M34)
+        fk(q, i, poses)
+        for p in range(m.pair_a.shape[0]):
+            a = m.pair_a[p]
+            b = m.pair_b[p]
+            h = wp.uint8(0)
+            if wp.static(stage >= 1):
+                g = wp.length(body_centre(m, poses, a) - body_centre(m, poses, b)) - m.radius[a] - m.radius[b]
+                if g <= m.padding:
+                    h = wp.uint8(3)
+                    if wp.static(stage >= 2):
+                        rel = relative(body_pose(m, poses, a), body_pose(m, poses, b))
+                        r = rotation(rel)
+                        t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
+                        h = wp.uint8(0)
+                        if node_gap(m, m.root[a], m.root[b], r, t) <= m.padding:
+                            h = wp.uint8(2)
+                            if wp.static(stage >= 3):
+                                cell = witness_cell(m, p, q, i)
+                                if cell >= 0:
+                                    if witness_hit(m, cell, r, t):
+                                        h = wp.uint8(1)
+                            if wp.static(stage >= 4):
+                                if h == wp.uint8(2):
+                                    if enclosed(m, a, b, r, t):
+                                        h = wp.uint8(1)
+                            if wp.static(stage >= 5):
+                                if h == wp.uint8(2):
+                                    if meshes_cross(m, a, b, r, t):
+                                        h = wp.uint8(1)
+            hit_out[i, p] = h
+        if wp.static(stage == 0):  # the poses used, so the compiler keeps the forward kinematics
+            far = S(0.0)
+            for k in range(n):
+                far = far + wp.abs(poses[k][0, 3])
+            if far > S(1.0e30):
+                hit_out[i, 0] = wp.uint8(9)
+
+    return staged
+
+
+def stage_table(checker, bodies, q: np.ndarray, repeats: int = 3) -> list[tuple[str, float, float]]:
+    """Rows (stage, microseconds a state up to and with it, share of pair tests it passes on to the
+    next stage; at the last, the share that collide), one thread."""
+    from rswarp.launch import Launcher, init_warp
+
+    wp = init_warp()
+    launcher = Launcher("cpu", chunk=8192, threads=1)
+    q = np.ascontiguousarray(q, np.float32)
+    hit = np.empty((len(q), len(bodies.pairs)), np.uint8)
+    struct = checker._device.struct(wp.float32)
+    rows = []
+    for stage, name in enumerate(STAGES):
+        kernel = _kernel(checker, bodies, stage)
+        launcher.load(kernel)
+        launcher.launch(kernel, len(q), params=[struct], inputs=[q], outputs=[hit])
+        best = np.inf
+        for _ in range(repeats):
+            t = time.perf_counter()
+            launcher.launch(kernel, len(q), params=[struct], inputs=[q], outputs=[hit])
+            best = min(best, time.perf_counter() - t)
+        # the share of pair tests this stage leaves to the next (at the last: those that collide)
+        passed = hit == 3 if stage == 1 else hit == 1 if stage == len(STAGES) - 1 else hit == 2
+        rows.append((name, best / len(q) * 1e6, 1.0 if stage == 0 else float(passed.mean())))
+    return rows
