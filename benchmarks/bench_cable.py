@@ -359,6 +359,37 @@ def twisted(settle: float, timed: float, envs: int) -> list[tuple[str, dict]]:
     return [("rswarp", ours), ("PyElastica", {"cpu": cpu, "error": torque / want - 1})]
 
 
+def where_time_goes(settle: float, timed: float, envs: int = 256, segments: int = 20) -> None:
+    """The hanging hose of the ratio, run again with 1 and 0 Gauss-Newton iterations a substep
+    instead of the default: what an iteration costs, and what the rest of a substep does (the
+    prediction, the contact search, the measurements, the commit); then the limit line (the state
+    read and written a substep beside a copy of the same bytes)."""
+    from limits import copy_rate
+
+    points = (f'<ControlPoint attachedTo="Base" position="0, 0, {HEIGHT * 1000}"/>'
+              f'<ControlPoint attachedTo="Base" position="{SPAN * 1000}, 0, {HEIGHT * 1000}"/>')
+    solver = _rod(_cable("Hose", RADIUS, LENGTH / segments, E, points, LENGTH), damping=1.0, floor=None)
+    state = solver.state(envs)
+    _steps(solver, state, settle)
+    subs, default = solver.options.substeps, solver.options.iterations
+    print(f"\nwhere the time goes: {segments} segments, {envs} environments, {subs} substeps a frame")
+    cost = {}
+    for iterations in (default, 1, 0):
+        object.__setattr__(solver.options, "iterations", iterations)  # the same solver, run on
+        cost[iterations] = _steps(solver, state, timed) / timed / envs
+        print(f"  {iterations} iteration(s) a substep (at most): {cost[iterations]:.5f} CPU-s/sim-s/env, "
+              f"{cost[iterations] / (60 * subs) * 1e6:.2f} us an environment's substep")
+    object.__setattr__(solver.options, "iterations", default)
+    print(f"  the substep without its iterations: {cost[0] / cost[default]:.0%} of the default's time")
+    rate = 60 * subs / cost[default]  # environment-substeps a CPU-second
+    nbytes = solver.bodies * 16 * 8 * 2 + solver.links * 16 * 8
+    copy = copy_rate(nbytes, 100_000)
+    print(f"the limit: {nbytes} bytes an environment's substep (each body's state read and written, each link's "
+          f"pose read), a copy of the same bytes runs {copy:,.0f}/s (ours at {rate / copy:.2%} of it a CPU-second): "
+          "not memory: the bound is the arithmetic, the iterations' 6x6 blocks and, as much again, each "
+          "substep's measurements, prediction and commit")
+
+
 def whole_run(envs: int = 256, seconds: float = 10.0) -> None:
     """The issue's target on the bundled IRB 2600ID: ``simulate_cables`` for ``envs`` random
     trajectories of ``seconds`` (its kernel compiled first, by a one-frame run), wall and CPU time."""
@@ -422,6 +453,7 @@ def main() -> None:
     for s, e, n, r in rows:
         if n == "rswarp":
             print(f"  {s} segments, {e} envs: {best[(s, e)] / r['cpu']:.1f}x")
+    where_time_goes(settle, timed, envs=16 if args.quick else 256)
     whole_run(envs=16 if args.quick else 256, seconds=2.0 if args.quick else 10.0)
     ours_256 = next(r["cpu"] for s, e, n, r in rows if (s, e, n) == (20, 256, "rswarp"))
     print(json.dumps({"metric": "cable CPU-s per simulated s per env (20 segments, 256 envs)",
