@@ -65,13 +65,19 @@ def finite_math(kernel):
     """``kernel`` (the only one of its module) compiled for the CPU with ``FINITE_MATH``; its host
     checks the inputs finite and the kernel bounds them before any product. A Warp without
     per-module CPU flags compiles it as it is, slower."""
+    if "cpu_compiler_flags" in kernel.module.options:
+        cpu_flags(kernel.module, FINITE_MATH)
+    return kernel
+
+
+def cpu_flags(module, extra: str) -> None:
+    """The module compiled for the CPU with ``extra`` after its flags (once: setting them again
+    would reload it)."""
     import warp as wp
 
-    options = kernel.module.options
-    flags = options.get("cpu_compiler_flags") or wp.config.cpu_compiler_flags or "-march=native"
-    if "cpu_compiler_flags" in options and not flags.endswith(FINITE_MATH):  # setting them again reloads it
-        wp.set_module_options({"cpu_compiler_flags": f"{flags} {FINITE_MATH}"}, module=kernel.module)
-    return kernel
+    flags = module.options.get("cpu_compiler_flags") or wp.config.cpu_compiler_flags or "-march=native"
+    if not flags.endswith(extra):
+        wp.set_module_options({"cpu_compiler_flags": f"{flags} {extra}"}, module=module)
 
 
 def cached(factory: Callable) -> Callable:

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 import warp as wp
 
-from .cache import cached, module_name
+from .cache import cached, cpu_flags, module_name
 from .motion import revolute_parts
 from .trig import BIG32, sincos32_funcs
 from .types import PRISMATIC, REVOLUTE, Chain
@@ -362,7 +362,9 @@ def lane_kernels(chain: Chain, flanges):
     flange = tuple(_flange_kernel(lane_fk(chain, [link], _emit_flange(m)), f"{module}_f{f}")
                    for f, (link, m) in enumerate(flanges))
     for kernel in (*all_links.values(), *flange):
-        _deep_slp(kernel.module)
+        # the SLP vectorizer looking deeper than Warp's default (4): the lanes' sine and cosine
+        # are a deeper tree, and stayed scalar under it
+        cpu_flags(kernel.module, DEEP_SLP)
     return all_links, flange
 
 
@@ -380,37 +382,25 @@ def _emit_pose(k: int):
     return emit
 
 
-def _deep_slp(module) -> None:
-    """The module compiled with the SLP vectorizer looking deeper than Warp's default (4): the
-    lanes' sine and cosine are a deeper tree, and stayed scalar under it."""
-    flags = module.options.get("cpu_compiler_flags") or wp.config.cpu_compiler_flags or "-march=native"
-    if not flags.endswith(DEEP_SLP):
-        wp.set_module_options({"cpu_compiler_flags": f"{flags} {DEEP_SLP}"}, module=module)
-
-
 def _links_kernel(fk, rows: int, module: str):
     M = M44 if rows == 4 else M34 if rows == 3 else wp.transformf
-
-    @wp.kernel(enable_backward=False, module=module)
-    def all_links(
-        # In:
-        q: wp.array2d(dtype=S),
-        # Out:
-        poses_out: wp.array2d(dtype=M),
-    ):
-        fk(q, wp.tid() * wp.static(LANES), q.shape[0], poses_out)
-
-    return all_links
+    return _lanes_kernel(fk, wp.array2d(dtype=M), module)
 
 
 def _flange_kernel(fk, module: str):
+    return _lanes_kernel(fk, wp.array(dtype=M44), module)
+
+
+def _lanes_kernel(fk, out_type, module: str):
+    """The kernel of one ``lane_fk``: a thread a block of ``LANES`` configurations."""
+
     @wp.kernel(enable_backward=False, module=module)
-    def flange(
+    def lanes(
         # In:
         q: wp.array2d(dtype=S),
         # Out:
-        flange_out: wp.array(dtype=M44),
+        poses_out: out_type,
     ):
-        fk(q, wp.tid() * wp.static(LANES), q.shape[0], flange_out)
+        fk(q, wp.tid() * wp.static(LANES), q.shape[0], poses_out)
 
-    return flange
+    return lanes
