@@ -6,32 +6,75 @@ reach each stage. For ``bench_collisions.py``."""
 
 
 import time
+from typing import Any
 
 import numpy as np
 
 STAGES = ("forward kinematics", "bounding spheres", "root boxes", "witness cells", "containment", "tree walks")
 
 
-def _kernel(checker, bodies, stage: int):
-    """The sweep kernel cut after ``stage``: hit 2 marks a pair test that reached the walk."""
+def _pair_test(stage: int):
+    """``test(m, poses, q, i, p) -> uint8`` of pair p, the sweep's pair verdict cut after
+    ``stage``: 3 where it passed the spheres and was cut there, 2 where it reached the walk (and
+    was cut there or walked to nothing), 1 where it collides, 0 where a stage found it free."""
     from rswarp.kernels import collide
-    from rswarp.kernels.fk import emit_local, tree_fk
     from rswarp.kernels.tree import crossing_walk, traversal_functions
     from rswarp.kernels.types import bodies_struct, types_of
     from rswarp.kernels.witness import witness_functions
     from rswarp.launch import init_warp
 
     wp = init_warp()
-    S, V3, _, M34, _ = types_of(wp.float32)
+    S, V3, _, _, _ = types_of(wp.float32)
     arrays = bodies_struct(wp.float32)
-    chain = checker.chain
-    fk = tree_fk(chain, set(int(k) for k in bodies.links), emit_local(wp.float32), wp.float32)
     body_pose, body_centre = collide._body_pose(wp.float32)
     rotation, relative = collide.pose_helpers(wp.float32)
     node_gap, _ = traversal_functions(wp.float32)
     meshes_cross = crossing_walk(wp.float32)
     enclosed = collide.containment_functions(wp.float32)
     witness_cell, witness_hit = witness_functions(wp.float32)
+
+    @wp.func
+    def test(m: arrays, poses: Any, q: wp.array2d(dtype=S), i: int, p: int) -> wp.uint8:
+        a = m.pair_a[p]
+        b = m.pair_b[p]
+        if wp.static(stage < 1):
+            return wp.uint8(0)
+        if wp.length(body_centre(m, poses, a) - body_centre(m, poses, b)) - m.radius[a] - m.radius[b] > m.padding:
+            return wp.uint8(0)
+        if wp.static(stage < 2):
+            return wp.uint8(3)
+        rel = relative(body_pose(m, poses, a), body_pose(m, poses, b))
+        r = rotation(rel)
+        t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
+        if node_gap(m, m.root[a], m.root[b], r, t) > m.padding:
+            return wp.uint8(0)
+        if wp.static(stage >= 3):
+            cell = witness_cell(m, p, q, i)
+            if cell >= 0 and witness_hit(m, cell, r, t):
+                return wp.uint8(1)
+        if wp.static(stage >= 4):
+            if enclosed(m, a, b, r, t):
+                return wp.uint8(1)
+        if wp.static(stage >= 5):
+            if meshes_cross(m, a, b, r, t):
+                return wp.uint8(1)
+        return wp.uint8(2)
+
+    return test
+
+
+def _kernel(checker, bodies, stage: int):
+    """The sweep kernel cut after ``stage`` (``_pair_test``'s codes per pair)."""
+    from rswarp.kernels.fk import emit_local, tree_fk
+    from rswarp.kernels.types import bodies_struct, types_of
+    from rswarp.launch import init_warp
+
+    wp = init_warp()
+    S, _, _, M34, _ = types_of(wp.float32)
+    arrays = bodies_struct(wp.float32)
+    chain = checker.chain
+    fk = tree_fk(chain, set(int(k) for k in bodies.links), emit_local(wp.float32), wp.float32)
+    test = _pair_test(stage)
     n = len(chain.parent)
 
     @wp.kernel(enable_backward=False, module=f"bench_collision_stage_{stage}")
@@ -40,34 +83,7 @@ def _kernel(checker, bodies, stage: int):
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
         for p in range(m.pair_a.shape[0]):
-            a = m.pair_a[p]
-            b = m.pair_b[p]
-            h = wp.uint8(0)
-            if wp.static(stage >= 1):
-                g = wp.length(body_centre(m, poses, a) - body_centre(m, poses, b)) - m.radius[a] - m.radius[b]
-                if g <= m.padding:
-                    h = wp.uint8(3)
-                    if wp.static(stage >= 2):
-                        rel = relative(body_pose(m, poses, a), body_pose(m, poses, b))
-                        r = rotation(rel)
-                        t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
-                        h = wp.uint8(0)
-                        if node_gap(m, m.root[a], m.root[b], r, t) <= m.padding:
-                            h = wp.uint8(2)
-                            if wp.static(stage >= 3):
-                                cell = witness_cell(m, p, q, i)
-                                if cell >= 0:
-                                    if witness_hit(m, cell, r, t):
-                                        h = wp.uint8(1)
-                            if wp.static(stage >= 4):
-                                if h == wp.uint8(2):
-                                    if enclosed(m, a, b, r, t):
-                                        h = wp.uint8(1)
-                            if wp.static(stage >= 5):
-                                if h == wp.uint8(2):
-                                    if meshes_cross(m, a, b, r, t):
-                                        h = wp.uint8(1)
-            hit_out[i, p] = h
+            hit_out[i, p] = test(m, poses, q, i, p)
         if wp.static(stage == 0):  # the poses used, so the compiler keeps the forward kinematics
             far = S(0.0)
             for k in range(n):

@@ -24,10 +24,11 @@ from .trig import BIG32, sincos32_funcs
 from .types import PRISMATIC, REVOLUTE, Chain
 
 DEEP_SLP = "-mllvm=-slp-recursion-max-depth=12"
-LANES = 8  # configurations a thread: one AVX register of float32 (16 ran slower: register spills)
+LANES = 8  # configurations a thread: one AVX register of float32 (16 were slower in a trial)
 S = wp.float32
 VL = wp.types.vector(LANES, S)
 PL = wp.types.matrix((12, LANES), S)  # a pose, lane by lane: R row by row (rows 0-8), t (rows 9-11)
+SCH = wp.types.matrix((4, LANES), S)  # sines, cosines, and the half angles' (rows 2, 3), lane by lane
 PQ = wp.types.matrix((16, LANES), S)  # a pose and its quaternion (rows 12-15: x, y, z, w), lane by lane
 M34 = wp.types.matrix((3, 4), S)
 M44 = wp.types.matrix((4, 4), S)
@@ -107,38 +108,74 @@ def _entry(k0: float, kc: float, ks: float):
     return entry
 
 
-def _step(chain: Chain, k: int, on_root: bool):
-    """``step(q, i0, n, m) -> (12, LANES)``: the pose ``m`` after link k's joint motion at the
-    lanes' joint values (``m`` unread where the parent's pose is the identity)."""
-    if int(chain.jtype[k]) == PRISMATIC:
-        return _slide(chain, k)
+def _angles(col: int, halves: bool = False):
+    """``sincos(q, i0, n)``: the sine (row 0) and cosine (row 1) of column ``col`` of the lanes'
+    configurations, and with ``halves`` those of the half angles (rows 2 and 3): the vectorized
+    core, then libm for a block holding a huge angle or NaN (one test a block: one a lane would
+    break the vectors)."""
     core, exact = sincos32_funcs()
-    compose = _compose(lane_helpers()[0])
-    col = int(chain.qidx[k])
-    const, cos_coef, sin_coef = revolute_parts(chain.axis[k], chain.point[k])
-    e = [_entry(*(float(x) for x in terms)) for terms in zip(const, cos_coef, sin_coef)]
 
     @wp.func
-    def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
+    def sincos(q: wp.array2d(dtype=S), i0: int, n: int) -> SCH:
         s = VL()
         c = VL()
+        sh = VL()
+        ch = VL()
         for ln in range(wp.static(LANES)):  # vectorized: no branch inside
-            v = core(q[wp.min(i0 + ln, n - 1), wp.static(col)])
+            th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
+            v = core(th)
             s[ln] = v[0]
             c[ln] = v[1]
-        # libm for a block with a huge angle or NaN: one test a block (one a lane breaks the vectors)
+            if wp.static(halves):
+                v = core(S(0.5) * th)
+                sh[ln] = v[0]
+                ch[ln] = v[1]
         largest = S(0.0)
         for ln in range(wp.static(LANES)):
             largest = wp.max(largest, wp.abs(q[wp.min(i0 + ln, n - 1), wp.static(col)]))
         if not (largest < S(BIG32)):
             for ln in range(wp.static(LANES)):
-                v = exact(q[wp.min(i0 + ln, n - 1), wp.static(col)])
+                th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
+                v = exact(th)
                 s[ln] = v[0]
                 c[ln] = v[1]
-        j = wp.matrix_from_rows(
+                if wp.static(halves):
+                    v = exact(S(0.5) * th)
+                    sh[ln] = v[0]
+                    ch[ln] = v[1]
+        return wp.matrix_from_rows(s, c, sh, ch)  # without halves, rows 2 and 3 zero (and unread)
+
+    return sincos
+
+
+def _motion(chain: Chain, k: int):
+    """``motion(c, s) -> (12, LANES)``: revolute link k's joint motion at the lanes' cosines and
+    sines, its axis and point folded into constants."""
+    const, cos_coef, sin_coef = revolute_parts(chain.axis[k], chain.point[k])
+    e = [_entry(*(float(x) for x in terms)) for terms in zip(const, cos_coef, sin_coef)]
+
+    @wp.func
+    def motion(c: VL, s: VL) -> PL:
+        return wp.matrix_from_rows(
             wp.static(e[0])(c, s), wp.static(e[1])(c, s), wp.static(e[2])(c, s), wp.static(e[3])(c, s),
             wp.static(e[4])(c, s), wp.static(e[5])(c, s), wp.static(e[6])(c, s), wp.static(e[7])(c, s),
             wp.static(e[8])(c, s), wp.static(e[9])(c, s), wp.static(e[10])(c, s), wp.static(e[11])(c, s))
+
+    return motion
+
+
+def _step(chain: Chain, k: int, on_root: bool):
+    """``step(q, i0, n, m) -> (12, LANES)``: the pose ``m`` after link k's joint motion at the
+    lanes' joint values (``m`` unread where the parent's pose is the identity)."""
+    if int(chain.jtype[k]) == PRISMATIC:
+        return _slide(chain, k)
+    compose = _compose(lane_helpers()[0])
+    angles, motion = _angles(int(chain.qidx[k])), _motion(chain, k)
+
+    @wp.func
+    def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
+        sc = angles(q, i0, n)
+        j = motion(sc[1], sc[0])
         if wp.static(on_root):
             return j
         return compose(m, j)
@@ -167,75 +204,55 @@ def _slide(chain: Chain, k: int):
     return slide
 
 
+@wp.func
+def pose_of(m: PQ) -> PL:
+    """A ``PQ``'s pose rows."""
+    return wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11])
+
+
+@wp.func
+def with_turn(r: PL, x: VL, y: VL, z: VL, w: VL) -> PQ:
+    """Pose rows ``r`` and the quaternion (x, y, z, w) as one ``PQ``."""
+    return wp.matrix_from_rows(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], x, y, z, w)
+
+
+@wp.func
+def turned_by(m: PQ, r: PL, jx: VL, jy: VL, jz: VL, jw: VL) -> PQ:
+    """Pose rows ``r`` with ``m``'s quaternion times the joint's (jx, jy, jz, jw) (Hamilton, x y z w)."""
+    px = m[12]
+    py = m[13]
+    pz = m[14]
+    pw = m[15]
+    return with_turn(r, wp.cw_mul(pw, jx) + wp.cw_mul(px, jw) + wp.cw_mul(py, jz) - wp.cw_mul(pz, jy),
+                     wp.cw_mul(pw, jy) + wp.cw_mul(py, jw) + wp.cw_mul(pz, jx) - wp.cw_mul(px, jz),
+                     wp.cw_mul(pw, jz) + wp.cw_mul(pz, jw) + wp.cw_mul(px, jy) - wp.cw_mul(py, jx),
+                     wp.cw_mul(pw, jw) - wp.cw_mul(px, jx) - wp.cw_mul(py, jy) - wp.cw_mul(pz, jz))
+
+
 def _step_pose(chain: Chain, k: int, on_root: bool):
     """As ``_step`` with the link's quaternion carried along (``PQ``): the joint's half-angle
-    sine and cosine give its quaternion."""
-    row3, _ = lane_helpers()
-    compose = _compose(row3)
-    col = int(chain.qidx[k])
-    ax, ay, az = (float(v) for v in chain.axis[k])
+    sine and cosine give its quaternion; its rotation takes the whole angle's own (the
+    double-angle rules would double the rotation's rounding)."""
     if int(chain.jtype[k]) == PRISMATIC:
         slide = _slide(chain, k)
 
         @wp.func
         def slid(q: wp.array2d(dtype=S), i0: int, n: int, m: PQ) -> PQ:
-            r = slide(q, i0, n, wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9],
-                                                    m[10], m[11]))
-            return wp.matrix_from_rows(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11],
-                                       m[12], m[13], m[14], m[15])
+            return with_turn(slide(q, i0, n, pose_of(m)), m[12], m[13], m[14], m[15])
 
         return slid
-    core, exact = sincos32_funcs()
-    const, cos_coef, sin_coef = revolute_parts(chain.axis[k], chain.point[k])
-    e = [_entry(*(float(x) for x in terms)) for terms in zip(const, cos_coef, sin_coef)]
+    compose = _compose(lane_helpers()[0])
+    angles, motion = _angles(int(chain.qidx[k]), halves=True), _motion(chain, k)
+    ax, ay, az = (float(v) for v in chain.axis[k])
 
     @wp.func
     def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PQ) -> PQ:
-        sh = VL()
-        ch = VL()
-        s = VL()
-        c = VL()
-        for ln in range(wp.static(LANES)):  # vectorized: no branch inside
-            th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
-            v = core(S(0.5) * th)
-            sh[ln] = v[0]
-            ch[ln] = v[1]
-            v = core(th)  # not by the double-angle rules: they would double the rotation's rounding
-            s[ln] = v[0]
-            c[ln] = v[1]
-        largest = S(0.0)
-        for ln in range(wp.static(LANES)):
-            largest = wp.max(largest, wp.abs(q[wp.min(i0 + ln, n - 1), wp.static(col)]))
-        if not (largest < S(BIG32)):
-            for ln in range(wp.static(LANES)):
-                th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
-                v = exact(S(0.5) * th)
-                sh[ln] = v[0]
-                ch[ln] = v[1]
-                v = exact(th)
-                s[ln] = v[0]
-                c[ln] = v[1]
-        j = wp.matrix_from_rows(
-            wp.static(e[0])(c, s), wp.static(e[1])(c, s), wp.static(e[2])(c, s), wp.static(e[3])(c, s),
-            wp.static(e[4])(c, s), wp.static(e[5])(c, s), wp.static(e[6])(c, s), wp.static(e[7])(c, s),
-            wp.static(e[8])(c, s), wp.static(e[9])(c, s), wp.static(e[10])(c, s), wp.static(e[11])(c, s))
-        jx = S(ax) * sh
-        jy = S(ay) * sh
-        jz = S(az) * sh
+        sc = angles(q, i0, n)
+        j = motion(sc[1], sc[0])
+        sh = sc[2]
         if wp.static(on_root):
-            return wp.matrix_from_rows(j[0], j[1], j[2], j[3], j[4], j[5], j[6], j[7], j[8], j[9], j[10], j[11],
-                                       jx, jy, jz, ch)
-        r = compose(wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11]), j)
-        px = m[12]
-        py = m[13]
-        pz = m[14]
-        pw = m[15]  # the parent's quaternion times the joint's (Hamilton, x y z w)
-        return wp.matrix_from_rows(
-            r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11],
-            wp.cw_mul(pw, jx) + wp.cw_mul(px, ch) + wp.cw_mul(py, jz) - wp.cw_mul(pz, jy),
-            wp.cw_mul(pw, jy) + wp.cw_mul(py, ch) + wp.cw_mul(pz, jx) - wp.cw_mul(px, jz),
-            wp.cw_mul(pw, jz) + wp.cw_mul(pz, ch) + wp.cw_mul(px, jy) - wp.cw_mul(py, jx),
-            wp.cw_mul(pw, ch) - wp.cw_mul(px, jx) - wp.cw_mul(py, jy) - wp.cw_mul(pz, jz))
+            return with_turn(j, S(ax) * sh, S(ay) * sh, S(az) * sh, sc[3])
+        return turned_by(m, compose(pose_of(m), j), S(ax) * sh, S(ay) * sh, S(az) * sh, sc[3])
 
     return step
 
@@ -251,13 +268,11 @@ def lane_fk(chain: Chain, needed, emit, quats: bool = False):
 
     @wp.func
     def fk(q: wp.array2d(dtype=S), i0: int, n: int, out: Any):
-        m = identity()
         if wp.static(quats):
             zero = VL()
-            wp.static(root)(q, i0, n, wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
-                                                          m[9], m[10], m[11], zero, zero, zero, VL(S(1.0))), out)
+            wp.static(root)(q, i0, n, with_turn(identity(), zero, zero, zero, VL(S(1.0))), out)
         else:
-            wp.static(root)(q, i0, n, m, out)
+            wp.static(root)(q, i0, n, identity(), out)
 
     return fk
 

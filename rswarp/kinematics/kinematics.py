@@ -128,6 +128,7 @@ class Kinematics:
         self._wrist = self._wrist_constants()
         self._arm_links = tuple(self.graph.link_index(j.child) for j in self.graph.active)
         self._kernels: dict = {}
+        self._loaded: set = set()  # lanes kernels whose module is compiled (``_launch_lanes``)
         self._kernels_for(np.float32)  # compiled (or loaded from Warp's cache) now, not mid-batch
 
     # -- public ------------------------------------------------------------------------------------
@@ -387,7 +388,6 @@ class Kinematics:
         if "lanes" not in self._kernels:
             fits = self.unrolled and self.device.is_cpu and fk_lanes.lanes_fit(self.chain)
             self._kernels["lanes"] = fk_lanes.lane_kernels(self.chain, self._flanges) if fits else None
-            self._loaded = set()
         return self._kernels["lanes"]
 
     def _launch_lanes(self, kernel, q, out, shape: tuple) -> np.ndarray:
