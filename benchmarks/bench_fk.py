@@ -130,7 +130,16 @@ def pinocchio_rate(kin, q: np.ndarray) -> tuple[float, float]:
 
 
 SINCOS_FLOPS = 24  # the lanes' float32 sine and cosine: the reduction (7), the two polynomials (7 and 9), z (1)
-COMPOSE_FLOPS = 9 * 5 + 3 * 6  # a pose after a joint's motion, every product (``fk_lanes._compose``)
+
+
+def compose_flops(codes: tuple) -> int:
+    """A pose after a joint's motion (``fk_lanes._compose``): per entry a product a term whose
+    factor of the motion is neither zero nor one, and the sums between; the translation's terms
+    added onto the parent's."""
+    total = 0
+    for terms in ((codes[c], codes[3 + c], codes[6 + c]) for c in range(3)):
+        total += 3 * (sum(t == 2 for t in terms) + max(sum(t != 0 for t in terms) - 1, 0))
+    return total + 3 * (sum(t == 2 for t in codes[9:]) + sum(t != 0 for t in codes[9:]))
 
 
 def flops_per_config(kin) -> int:
@@ -138,6 +147,7 @@ def flops_per_config(kin) -> int:
     (``kernels/fk_lanes.py``): per revolute joint its sine and cosine, its motion's entries (a
     product and a sum per nonzero coefficient) and the composition after its parent's pose (none on
     the root); per prismatic joint its slide (21). A count of the code, not of the machine."""
+    from rswarp.kernels.fk_lanes import codes_of
     from rswarp.kernels.motion import revolute_parts
 
     total = 0
@@ -149,8 +159,9 @@ def flops_per_config(kin) -> int:
         if chain.jtype[k] != 0:  # prismatic
             total += 21
             continue
-        terms = sum(int(x != 0) for part in revolute_parts(chain.axis[k], chain.point[k])[1:] for x in part)
-        total += SINCOS_FLOPS + 2 * terms + (0 if on_root else COMPOSE_FLOPS)
+        parts = revolute_parts(chain.axis[k], chain.point[k])
+        terms = sum(int(x != 0) for part in parts[1:] for x in part)
+        total += SINCOS_FLOPS + 2 * terms + (0 if on_root else compose_flops(codes_of(*parts)))
     return total
 
 

@@ -40,29 +40,87 @@ def lanes_fit(chain: Chain) -> bool:
                 or np.any(chain.unknown >= 0))
 
 
+@wp.func
+def identity() -> PL:
+    """The identity pose, over lanes."""
+    one = VL(S(1.0))
+    zero = VL()
+    return wp.matrix_from_rows(one, zero, zero, zero, one, zero, zero, zero, one, zero, zero, zero)
+
+
+def codes_of(const: np.ndarray, cos_coef: np.ndarray, sin_coef: np.ndarray) -> tuple:
+    """Each entry of a joint's motion as 0 (zero at every angle), 1 (one at every angle) or 2."""
+    return tuple(0 if not (k or c or s) else 1 if (k == 1.0 and not c and not s) else 2
+                 for k, c, s in zip(const, cos_coef, sin_coef))
+
+
 @cached
-def lane_helpers():
-    """(row3 = a x + b y + c z over lanes, the identity pose)."""
+def _term(k: int, code: int):
+    """Term k of ``a x + b y + c z``: the factor of m alone where j's is one."""
 
     @wp.func
-    def row3(a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
-        return wp.cw_mul(a, x) + wp.cw_mul(b, y) + wp.cw_mul(c, z)
+    def term(a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
+        u = a
+        v = x
+        if wp.static(k == 1):
+            u = b
+            v = y
+        if wp.static(k == 2):
+            u = c
+            v = z
+        if wp.static(code == 1):
+            return u
+        return wp.cw_mul(u, v)
+
+    return term
+
+
+@cached
+def _dot(codes: tuple, base: bool):
+    """``t + a x + b y + c z`` over lanes (``t`` only with ``base``), each term's code (``codes_of``)
+    of j's factor: zero left out, one without its product. Joint axes along x, y or z make most of
+    a motion's entries zero or one."""
+    if not any(codes):
+        return _start(base)
+    k = max(i for i, code in enumerate(codes) if code)
+    term = _term(k, codes[k])
+    if not (base or any(codes[:k])):
+
+        @wp.func
+        def alone(t: VL, a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
+            return term(a, b, c, x, y, z)
+
+        return alone
+    head = _dot(codes[:k] + (0,) * (3 - k), base)
 
     @wp.func
-    def identity() -> PL:
-        one = VL(S(1.0))
-        zero = VL()
-        return wp.matrix_from_rows(one, zero, zero, zero, one, zero, zero, zero, one, zero, zero, zero)
+    def dot(t: VL, a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
+        return head(t, a, b, c, x, y, z) + term(a, b, c, x, y, z)
 
-    return row3, identity
+    return dot
 
 
-def _compose(row3):
-    """``m J``: a pose after the joint's motion J, both (12, LANES); every product computed (leaving
-    out the zero ones ran slower: the compiler loses the pattern)."""
+@cached
+def _start(base: bool):
+    @wp.func
+    def start(t: VL, a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
+        if wp.static(base):
+            return t
+        return VL()
+
+    return start
+
+
+@cached
+def _compose(codes: tuple):
+    """``m J``: a pose after a motion J whose entries' codes (``codes_of``) are known, both
+    (12, LANES); the products with J's zeros and ones left out."""
+    d0, d1, d2 = (_dot((codes[c], codes[3 + c], codes[6 + c]), False) for c in range(3))
+    dt = _dot(tuple(codes[9:12]), True)
 
     @wp.func
     def compose(m: PL, j: PL) -> PL:
+        zero = VL()
         a0 = m[0]
         a1 = m[1]
         a2 = m[2]
@@ -82,11 +140,11 @@ def _compose(row3):
         j7 = j[7]
         j8 = j[8]
         return wp.matrix_from_rows(
-            row3(a0, a1, a2, j0, j3, j6), row3(a0, a1, a2, j1, j4, j7), row3(a0, a1, a2, j2, j5, j8),
-            row3(a3, a4, a5, j0, j3, j6), row3(a3, a4, a5, j1, j4, j7), row3(a3, a4, a5, j2, j5, j8),
-            row3(a6, a7, a8, j0, j3, j6), row3(a6, a7, a8, j1, j4, j7), row3(a6, a7, a8, j2, j5, j8),
-            m[9] + row3(a0, a1, a2, j[9], j[10], j[11]), m[10] + row3(a3, a4, a5, j[9], j[10], j[11]),
-            m[11] + row3(a6, a7, a8, j[9], j[10], j[11]))
+            d0(zero, a0, a1, a2, j0, j3, j6), d1(zero, a0, a1, a2, j1, j4, j7), d2(zero, a0, a1, a2, j2, j5, j8),
+            d0(zero, a3, a4, a5, j0, j3, j6), d1(zero, a3, a4, a5, j1, j4, j7), d2(zero, a3, a4, a5, j2, j5, j8),
+            d0(zero, a6, a7, a8, j0, j3, j6), d1(zero, a6, a7, a8, j1, j4, j7), d2(zero, a6, a7, a8, j2, j5, j8),
+            dt(m[9], a0, a1, a2, j[9], j[10], j[11]), dt(m[10], a3, a4, a5, j[9], j[10], j[11]),
+            dt(m[11], a6, a7, a8, j[9], j[10], j[11]))
 
     return compose
 
@@ -108,12 +166,12 @@ def _entry(k0: float, kc: float, ks: float):
     return entry
 
 
-def _angles(col: int, halves: bool = False):
+def _angles(col: int, halves: bool = False, exact: bool = False):
     """``sincos(q, i0, n)``: the sine (row 0) and cosine (row 1) of column ``col`` of the lanes'
-    configurations, and with ``halves`` those of the half angles (rows 2 and 3): the vectorized
-    core, then libm for a block holding a huge angle or NaN (one test a block: one a lane would
-    break the vectors)."""
-    core, exact = sincos32_funcs()
+    configurations, and with ``halves`` those of the half angles (rows 2 and 3). The vectorized
+    core (|angle| under BIG32, no branch), or with ``exact`` libm's lane by lane (any angle)."""
+    core, libm = sincos32_funcs()
+    f = libm if exact else core
 
     @wp.func
     def sincos(q: wp.array2d(dtype=S), i0: int, n: int) -> SCH:
@@ -121,31 +179,32 @@ def _angles(col: int, halves: bool = False):
         c = VL()
         sh = VL()
         ch = VL()
-        for ln in range(wp.static(LANES)):  # vectorized: no branch inside
+        for ln in range(wp.static(LANES)):
             th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
-            v = core(th)
+            v = wp.static(f)(th)
             s[ln] = v[0]
             c[ln] = v[1]
             if wp.static(halves):
-                v = core(S(0.5) * th)
+                v = wp.static(f)(S(0.5) * th)
                 sh[ln] = v[0]
                 ch[ln] = v[1]
-        largest = S(0.0)
-        for ln in range(wp.static(LANES)):
-            largest = wp.max(largest, wp.abs(q[wp.min(i0 + ln, n - 1), wp.static(col)]))
-        if not (largest < S(BIG32)):
-            for ln in range(wp.static(LANES)):
-                th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
-                v = exact(th)
-                s[ln] = v[0]
-                c[ln] = v[1]
-                if wp.static(halves):
-                    v = exact(S(0.5) * th)
-                    sh[ln] = v[0]
-                    ch[ln] = v[1]
         return wp.matrix_from_rows(s, c, sh, ch)  # without halves, rows 2 and 3 zero (and unread)
 
     return sincos
+
+
+@wp.func
+def lanes_fine(q: wp.array2d(dtype=S), i0: int, n: int) -> bool:
+    """True where the block's joint values sum in magnitude under BIG32: none past it and none NaN,
+    so the vectorized sine and cosine hold for every lane (one test a block, taken before the walk:
+    a test inside it would merge its vectors lane by lane)."""
+    acc = VL()
+    for c in range(q.shape[1]):
+        t = VL()
+        for ln in range(wp.static(LANES)):
+            t[ln] = q[wp.min(i0 + ln, n - 1), c]
+        acc = acc + wp.abs(t)
+    return wp.dot(acc, VL(S(1.0))) < S(BIG32)
 
 
 def _motion(chain: Chain, k: int):
@@ -164,13 +223,13 @@ def _motion(chain: Chain, k: int):
     return motion
 
 
-def _step(chain: Chain, k: int, on_root: bool):
+def _step(chain: Chain, k: int, on_root: bool, exact: bool):
     """``step(q, i0, n, m) -> (12, LANES)``: the pose ``m`` after link k's joint motion at the
     lanes' joint values (``m`` unread where the parent's pose is the identity)."""
     if int(chain.jtype[k]) == PRISMATIC:
         return _slide(chain, k)
-    compose = _compose(lane_helpers()[0])
-    angles, motion = _angles(int(chain.qidx[k])), _motion(chain, k)
+    compose = _compose(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
+    angles, motion = _angles(int(chain.qidx[k]), exact=exact), _motion(chain, k)
 
     @wp.func
     def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
@@ -185,9 +244,9 @@ def _step(chain: Chain, k: int, on_root: bool):
 
 def _slide(chain: Chain, k: int):
     """A prismatic joint's step: the translation moved along the axis, turned by the parent."""
-    row3, _ = lane_helpers()
     col = int(chain.qidx[k])
     ax, ay, az = (VL(S(float(v))) for v in chain.axis[k])
+    dt = _dot(tuple(2 if v else 0 for v in chain.axis[k]), True)
 
     @wp.func
     def slide(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
@@ -198,8 +257,8 @@ def _slide(chain: Chain, k: int):
         y = wp.cw_mul(wp.static(ay), th)
         z = wp.cw_mul(wp.static(az), th)
         return wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
-                                   m[9] + row3(m[0], m[1], m[2], x, y, z), m[10] + row3(m[3], m[4], m[5], x, y, z),
-                                   m[11] + row3(m[6], m[7], m[8], x, y, z))
+                                   dt(m[9], m[0], m[1], m[2], x, y, z), dt(m[10], m[3], m[4], m[5], x, y, z),
+                                   dt(m[11], m[6], m[7], m[8], x, y, z))
 
     return slide
 
@@ -216,20 +275,46 @@ def with_turn(r: PL, x: VL, y: VL, z: VL, w: VL) -> PQ:
     return wp.matrix_from_rows(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], x, y, z, w)
 
 
-@wp.func
-def turned_by(m: PQ, r: PL, jx: VL, jy: VL, jz: VL, jw: VL) -> PQ:
-    """Pose rows ``r`` with ``m``'s quaternion times the joint's (jx, jy, jz, jw) (Hamilton, x y z w)."""
-    px = m[12]
-    py = m[13]
-    pz = m[14]
-    pw = m[15]
-    return with_turn(r, wp.cw_mul(pw, jx) + wp.cw_mul(px, jw) + wp.cw_mul(py, jz) - wp.cw_mul(pz, jy),
-                     wp.cw_mul(pw, jy) + wp.cw_mul(py, jw) + wp.cw_mul(pz, jx) - wp.cw_mul(px, jz),
-                     wp.cw_mul(pw, jz) + wp.cw_mul(pz, jw) + wp.cw_mul(px, jy) - wp.cw_mul(py, jx),
-                     wp.cw_mul(pw, jw) - wp.cw_mul(px, jx) - wp.cw_mul(py, jy) - wp.cw_mul(pz, jz))
+@cached
+def _turned_by(axis: tuple):
+    """``turned(m, r, sh, ch) -> PQ``: pose rows ``r`` with ``m``'s quaternion times the joint's
+    (``axis`` sh, ch) (Hamilton, x y z w), the terms of the axis's zero components left out."""
+    ax, ay, az = (float(v) for v in axis)
+
+    @wp.func
+    def turned(m: PQ, r: PL, sh: VL, ch: VL) -> PQ:
+        px = m[12]
+        py = m[13]
+        pz = m[14]
+        pw = m[15]
+        x = wp.cw_mul(px, ch)
+        y = wp.cw_mul(py, ch)
+        z = wp.cw_mul(pz, ch)
+        w = wp.cw_mul(pw, ch)
+        if wp.static(ax != 0.0):
+            jx = S(ax) * sh
+            x = x + wp.cw_mul(pw, jx)
+            y = y + wp.cw_mul(pz, jx)
+            z = z - wp.cw_mul(py, jx)
+            w = w - wp.cw_mul(px, jx)
+        if wp.static(ay != 0.0):
+            jy = S(ay) * sh
+            x = x - wp.cw_mul(pz, jy)
+            y = y + wp.cw_mul(pw, jy)
+            z = z + wp.cw_mul(px, jy)
+            w = w - wp.cw_mul(py, jy)
+        if wp.static(az != 0.0):
+            jz = S(az) * sh
+            x = x + wp.cw_mul(py, jz)
+            y = y - wp.cw_mul(px, jz)
+            z = z + wp.cw_mul(pw, jz)
+            w = w - wp.cw_mul(pz, jz)
+        return with_turn(r, x, y, z, w)
+
+    return turned
 
 
-def _step_pose(chain: Chain, k: int, on_root: bool):
+def _step_pose(chain: Chain, k: int, on_root: bool, exact: bool):
     """As ``_step`` with the link's quaternion carried along (``PQ``): the joint's half-angle
     sine and cosine give its quaternion; its rotation takes the whole angle's own (the
     double-angle rules would double the rotation's rounding)."""
@@ -241,8 +326,9 @@ def _step_pose(chain: Chain, k: int, on_root: bool):
             return with_turn(slide(q, i0, n, pose_of(m)), m[12], m[13], m[14], m[15])
 
         return slid
-    compose = _compose(lane_helpers()[0])
-    angles, motion = _angles(int(chain.qidx[k]), halves=True), _motion(chain, k)
+    compose = _compose(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
+    turned = _turned_by(tuple(float(v) for v in chain.axis[k]))
+    angles, motion = _angles(int(chain.qidx[k]), True, exact), _motion(chain, k)
     ax, ay, az = (float(v) for v in chain.axis[k])
 
     @wp.func
@@ -252,7 +338,7 @@ def _step_pose(chain: Chain, k: int, on_root: bool):
         sh = sc[2]
         if wp.static(on_root):
             return with_turn(j, S(ax) * sh, S(ay) * sh, S(az) * sh, sc[3])
-        return turned_by(m, compose(pose_of(m), j), S(ax) * sh, S(ay) * sh, S(az) * sh, sc[3])
+        return turned(m, compose(pose_of(m), j), sh, sc[3])
 
     return step
 
@@ -263,26 +349,33 @@ def lane_fk(chain: Chain, needed, emit, quats: bool = False):
     ``quats``: the pose a ``PQ``, with its quaternion."""
     needed = frozenset(int(k) for k in needed)
     keep = chain.ancestors(needed)
-    root = _visitor(chain, chain.root, keep, needed, emit, quats)
-    _, identity = lane_helpers()
+    fast, slow = (_visitor(chain, chain.root, keep, needed, emit, quats, exact) for exact in (False, True))
 
     @wp.func
     def fk(q: wp.array2d(dtype=S), i0: int, n: int, out: Any):
+        fine = lanes_fine(q, i0, n)
         if wp.static(quats):
             zero = VL()
-            wp.static(root)(q, i0, n, with_turn(identity(), zero, zero, zero, VL(S(1.0))), out)
+            m = with_turn(identity(), zero, zero, zero, VL(S(1.0)))
+            if fine:
+                wp.static(fast)(q, i0, n, m, out)
+            else:
+                wp.static(slow)(q, i0, n, m, out)
         else:
-            wp.static(root)(q, i0, n, identity(), out)
+            if fine:
+                wp.static(fast)(q, i0, n, identity(), out)
+            else:
+                wp.static(slow)(q, i0, n, identity(), out)
 
     return fk
 
 
-def _visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, quats: bool):
-    kids = tuple(_visitor(chain, c, keep, needed, emit, quats) for c in chain.children(k) if c in keep)
+def _visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, quats: bool, exact: bool):
+    kids = tuple(_visitor(chain, c, keep, needed, emit, quats, exact) for c in chain.children(k) if c in keep)
     col = int(chain.qidx[k])
     moves = col >= 0 and int(chain.jtype[k]) in (REVOLUTE, PRISMATIC)
     on_root = int(chain.parent[k]) >= 0 and int(chain.parent[int(chain.parent[k])]) < 0
-    step = (_step_pose if quats else _step)(chain, k, on_root) if moves else None
+    step = (_step_pose if quats else _step)(chain, k, on_root, exact) if moves else None
     emits = k in needed
     store = emit(k) if emits else None
 
@@ -341,10 +434,10 @@ def _emit_flange(offset: np.ndarray):
 
 @cached
 def _flange_emit(offset: np.ndarray):
-    row3, _ = lane_helpers()
     o = [[float(v) for v in row] for row in np.asarray(offset)[:3, :4]]
-    compose = _compose(row3)
-    rows = [VL(S(o[e // 3][e % 3])) for e in range(9)] + [VL(S(o[e][3])) for e in range(3)]
+    values = [o[e // 3][e % 3] for e in range(9)] + [o[e][3] for e in range(3)]
+    compose = _compose(codes_of(np.array(values), np.zeros(12), np.zeros(12)))
+    rows = [VL(S(v)) for v in values]
 
     @wp.func
     def emit(out: Any, i0: int, n: int, r: PL):
