@@ -13,7 +13,7 @@ speed, the least clearance to every slot, and each clamp's load; the wear map gr
 import warp as wp
 
 from .cache import cached, module_name
-from .rod_gather import capsule_pairs, surfaces, swept
+from .rod_gather import capsule_pairs, every_surface, swept
 from .rod_measure import frame_end, measure
 from .rod_step import commit, free_start, iterate, predict
 from .rod_types import (
@@ -74,10 +74,11 @@ def _contacts(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s
     """The substep's contacts at its start (pose rows s and s + 1 before and after it)."""
     for k in range(params.bodies[d]):
         count[row, k] = 0
-    for k in range(params.bodies[d]):
-        ahead = params.margin[d] + swept(params, d, work, x_s, q_s, e, row, k)
-        surfaces(params, d, poses, e, s, s + 1, k, x_s[e, k], q_s[e, k], ahead, 1, contacts, count, row, clear_out,
-                 at_out)
+        b = work[row, k]
+        b.sweep = swept(params, d, work, x_s, q_s, e, row, k)
+        work[row, k] = b
+    every_surface(params, d, poses, e, s, s + 1, x_s, q_s, work, params.margin[d], 1, contacts, count, row, clear_out,
+                  at_out)
     capsule_pairs(params, d, work, x_s, q_s, e, params.margin[d], 1, contacts, count, row, clear_out, at_out)
 
 
@@ -87,9 +88,7 @@ def _clearances(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int,
                 count: wp.array2d(dtype=wp.int32), row: int, clear_out: wp.array3d(dtype=F64),
                 at_out: wp.array3d(dtype=F64)):
     """The frame's end: every clearance within ``reach``."""
-    for k in range(params.bodies[d]):
-        surfaces(params, d, poses, e, s, s, k, x_s[e, k], q_s[e, k], params.reach, 0, contacts, count, row,
-                 clear_out, at_out)
+    every_surface(params, d, poses, e, s, s, x_s, q_s, work, params.reach, 0, contacts, count, row, clear_out, at_out)
     capsule_pairs(params, d, work, x_s, q_s, e, params.reach, 0, contacts, count, row, clear_out, at_out)
 
 

@@ -30,6 +30,22 @@ def swept(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x_s: wp.a
 
 
 @wp.func
+def every_surface(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_old: int, s_new: int,
+                  x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), work: wp.array2d(dtype=BodyWork), query: F64,
+                  make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
+                  clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
+    """Every body against the meshes and the floor (``surfaces``), within ``query`` (with ``make``,
+    plus the body's sweep). One call a substep: a call passes ``params`` by value, and one a body
+    copied it for each."""
+    for k in range(params.bodies[d]):
+        ahead = query
+        if make != 0:
+            ahead = query + work[row, k].sweep
+        surfaces(params, d, poses, e, s_old, s_new, k, x_s[e, k], q_s[e, k], ahead, make, contacts, count, row,
+                 clear_out, at_out)
+
+
+@wp.func
 def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_old: int, s_new: int, k: int, x: V3,
              q: Q, query: F64, make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
              row: int, clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
@@ -96,26 +112,71 @@ def capsule_pairs(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x
                   at_out: wp.array3d(dtype=F64)):
     """Every two capsules of the cables within ``query`` of each other (with ``make``, plus their
     sweeps), but for neighbours along one cable: a contact for each (each closes half the gap,
-    drawn to the pair's mean motion)."""
+    drawn to the pair's mean motion). A pair far apart skips the bodies after it along its cable
+    that cannot be near either (``_chain``)."""
     bodies = params.bodies[d]
+    reach = _chain(params, d, work, x_s, e, make, row)
     for i in range(bodies):
         xi = x_s[e, i]
         ri = params.radius[d, i]
         hi = params.half[d, i]
-        for j in range(i + 1, bodies):
+        own = hi + ri + query
+        if make != 0:
+            own = own + work[row, i].sweep
+        j = i + 1
+        while j < bodies:
             hj = params.half[d, j]
             rj = params.radius[d, j]
             if params.cable[d, i] == params.cable[d, j]:
                 if params.arc[d, j] - params.arc[d, i] - hi + hj < hi + hj + F64(NEIGHBOURS) * (ri + rj):
+                    j += 1
                     continue
             xj = x_s[e, j]
             ahead = query
             if make != 0:
-                ahead = query + swept(params, d, work, x_s, q_s, e, row, i) + \
-                    swept(params, d, work, x_s, q_s, e, row, j)
-            if wp.length(xj - xi) >= hi + hj + ri + rj + ahead:
+                ahead = query + work[row, i].sweep + work[row, j].sweep
+            dist = wp.length(xj - xi)
+            if dist >= hi + hj + ri + rj + ahead:
+                j = _past(params, d, work, row, j, dist - own - reach)
                 continue
             _pair(params, d, work, q_s, e, i, j, xi, xj, ahead, make, contacts, count, row, clear_out, at_out)
+            j += 1
+
+
+@wp.func
+def _chain(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x_s: wp.array2d(dtype=V3), e: int,
+           make: int, row: int) -> F64:
+    """Each body's distance along its cable's chain of centres (``BodyWork.along``): no two centres
+    of a cable are further apart than the difference of theirs. The most any body adds to a pair's
+    reach (its half length, radius and, with ``make``, sweep)."""
+    reach = F64(0.0)
+    along = F64(0.0)
+    for k in range(params.bodies[d]):
+        b = work[row, k]
+        if k > 0:
+            along = along + wp.length(x_s[e, k] - x_s[e, k - 1])
+            if params.cable[d, k] != params.cable[d, k - 1]:
+                along = F64(0.0)
+        b.along = along
+        work[row, k] = b
+        extra = params.half[d, k] + params.radius[d, k]
+        if make != 0:
+            extra = extra + b.sweep
+        reach = wp.max(reach, extra)
+    return reach
+
+
+@wp.func
+def _past(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), row: int, j: int, excess: F64) -> int:
+    """The first body after j that may be near a capsule ``excess`` beyond reach of body j: those
+    between along j's cable are no nearer to it than ``excess`` less their distance along from j."""
+    bodies = params.bodies[d]
+    k = j + 1
+    if excess > F64(TINY):
+        limit = work[row, j].along + excess - F64(TINY)
+        while k < bodies and params.cable[d, k] == params.cable[d, j] and work[row, k].along < limit:
+            k += 1
+    return k
 
 
 @wp.func

@@ -100,13 +100,17 @@ class RodParams:
 
 @wp.struct
 class BodyWork:
-    """One body in one substep: the iterate (position, orientation) and the predicted pose that
-    inertia and gravity draw it to."""
+    """One body in one substep: the iterate (position, orientation), the predicted pose that
+    inertia and gravity draw it to, how far its capsule may sweep (``rod_gather.swept``, once a
+    substep: every capsule pair asks it), and how far its centre is along its cable's chain of
+    centres (``rod_gather.capsule_pairs``)."""
 
     x: V3
     q: Q
     x_pred: V3
     q_pred: Q
+    sweep: F64
+    along: F64
 
 
 @wp.struct
