@@ -120,6 +120,9 @@ def capsule_pairs(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x
         xi = x_s[e, i]
         ri = params.radius[d, i]
         hi = params.half[d, i]
+        ci = params.cable[d, i]
+        ai = params.arc[d, i]
+        fold = F64(FOLD) * params.allowed[ci]
         own = hi + ri + query
         if make != 0:
             own = own + work[row, i].sweep
@@ -127,20 +130,31 @@ def capsule_pairs(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x
         while j < bodies:
             hj = params.half[d, j]
             rj = params.radius[d, j]
-            if params.cable[d, i] == params.cable[d, j]:
-                if params.arc[d, j] - params.arc[d, i] - hi + hj < hi + hj + F64(NEIGHBOURS) * (ri + rj):
+            if params.cable[d, j] == ci:
+                if _along_only(params.arc[d, j] - ai, hi, hj, ri, rj, fold, make):
                     j += 1
                     continue
-            xj = x_s[e, j]
             ahead = query
             if make != 0:
                 ahead = query + work[row, i].sweep + work[row, j].sweep
-            dist = wp.length(xj - xi)
-            if dist >= hi + hj + ri + rj + ahead:
-                j = _past(params, d, work, row, j, dist - own - reach)
+            xj = x_s[e, j]
+            apart = xj - xi
+            near = hi + hj + ri + rj + ahead
+            if wp.dot(apart, apart) >= near * near:
+                j = _past(params, d, work, row, j, wp.length(apart) - own - reach)
                 continue
             _pair(params, d, work, q_s, e, i, j, xi, xj, ahead, make, contacts, count, row, clear_out, at_out)
             j += 1
+
+
+@wp.func
+def _along_only(along: F64, hi: F64, hj: F64, ri: F64, rj: F64, fold: F64, make: int) -> bool:
+    """Whether two capsules of one cable, ``along`` apart (start to start), need no test:
+    neighbours (a straight cable's would touch), and, for clearances alone (no ``make``), those
+    within ``fold`` of each other along the cable, whose gap is never its clearance (``_pair``)."""
+    if along - hi + hj < hi + hj + F64(NEIGHBOURS) * (ri + rj):
+        return True
+    return make == 0 and along + F64(2.0) * hj < fold
 
 
 @wp.func
