@@ -103,20 +103,22 @@ def add_outer(m: M66, a: V6, k: F64) -> M66:
 
 @wp.func
 def cholesky(a: M66) -> M66:
-    """The lower factor L of a = L L^T (a symmetric positive definite; a pivot that is not, from a
-    body that nothing holds, is floored at TINY so the solve stays finite)."""
+    """The lower factor L of a = L L^T, its diagonal held as reciprocals (the solves multiply where
+    they would divide: the back substitution runs body after body, and a division's latency is
+    several products'). A pivot that is not positive, from a body that nothing holds, is floored at
+    TINY so the solve stays finite."""
     lo = M66()
     for j in range(6):
         s = a[j, j]
         for k in range(j):
             s = s - lo[j, k] * lo[j, k]
-        d = wp.sqrt(wp.max(s, F64(TINY)))
-        lo[j, j] = d
+        inv = F64(1.0) / wp.sqrt(wp.max(s, F64(TINY)))
+        lo[j, j] = inv
         for i in range(j + 1, 6):
             t = a[i, j]
             for k in range(j):
                 t = t - lo[i, k] * lo[j, k]
-            lo[i, j] = t / d
+            lo[i, j] = t * inv
     return lo
 
 
@@ -128,7 +130,7 @@ def forward(lo: M66, b: V6) -> V6:
         t = b[i]
         for k in range(i):
             t = t - lo[i, k] * y[k]
-        y[i] = t / lo[i, i]
+        y[i] = t * lo[i, i]
     return y
 
 
@@ -141,7 +143,7 @@ def backward(lo: M66, y: V6) -> V6:
         t = y[i]
         for k in range(i + 1, 6):
             t = t - lo[k, i] * x[k]
-        x[i] = t / lo[i, i]
+        x[i] = t * lo[i, i]
     return x
 
 
@@ -154,7 +156,7 @@ def forward_columns(lo: M66, b: M66) -> M66:
             t = b[i, c]
             for k in range(i):
                 t = t - lo[i, k] * out[k, c]
-            out[i, c] = t / lo[i, i]
+            out[i, c] = t * lo[i, i]
     return out
 
 
