@@ -509,6 +509,8 @@ def _lanes_kernel(fk, out_type, module: str):
         # Out:
         poses_out: out_type,
     ):
-        fk(q, wp.tid() * wp.static(LANES), q.shape[0], poses_out)
+        i0 = wp.tid() * wp.static(LANES)
+        if i0 >= 0:  # always: said so the compiler drops each store's test for a negative index
+            fk(q, i0, q.shape[0], poses_out)
 
     return lanes
