@@ -207,12 +207,14 @@ def commit(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), row: int
             return NOT_FINITE
         if speed > params.max_speed:
             return RUNAWAY
+        b.spin = w  # kept for the commit below: an atan2 a body
+        work[row, k] = b
     for k in range(params.bodies[d]):
         b = work[row, k]
         v = (b.x - x_s[e, k]) / h * keep
         a_s[e, k] = (v - v_s[e, k]) / h
         v_s[e, k] = v
-        w_s[e, k] = rotation_vector(b.q * wp.quat_inverse(q_s[e, k])) / h * keep
+        w_s[e, k] = b.spin * keep
         x_s[e, k] = b.x
         q_s[e, k] = b.q
     return RUNNING

@@ -102,8 +102,8 @@ class RodParams:
 class BodyWork:
     """One body in one substep: the iterate (position, orientation), the predicted pose that
     inertia and gravity draw it to, how far its capsule may sweep (``rod_gather.swept``, once a
-    substep: every capsule pair asks it), and how far its centre is along its cable's chain of
-    centres (``rod_gather.capsule_pairs``)."""
+    substep: every capsule pair asks it), how far its centre is along its cable's chain of
+    centres (``rod_gather.capsule_pairs``), and the angular velocity the step gives it (``commit``)."""
 
     x: V3
     q: Q
@@ -111,6 +111,7 @@ class BodyWork:
     q_pred: Q
     sweep: F64
     along: F64
+    spin: V3
 
 
 @wp.struct
