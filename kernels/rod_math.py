@@ -1,5 +1,5 @@
 """Small float64 algebra for the rod: rotations as quaternions and rotation vectors, 3x3 blocks of
-6x6 matrices, and the 6x6 Cholesky factorization and triangular solves the block-tridiagonal
+6x6 matrices, and the 6x6 L D L^T factorization and triangular solves the block-tridiagonal
 solve is made of."""
 
 import warp as wp
@@ -112,73 +112,97 @@ def add_outer(m: M66, a: V6, k: F64) -> M66:
 
 
 @wp.func
-def cholesky(a: M66) -> M66:
-    """The lower factor L of a = L L^T, its diagonal held as reciprocals (the solves multiply where
-    they would divide: the back substitution runs body after body, and a division's latency is
-    several products'). A pivot that is not positive, from a body that nothing holds, is floored at
-    TINY so the solve stays finite."""
+def ldl(a: M66) -> M66:
+    """a = L D L^T with L unit lower, in one matrix: L below the diagonal, 1/D on it. No square
+    root: the pivots are a chain (each body's factor waits on the one before), and a square root
+    is its longest link. A pivot that is not positive, from a body that nothing holds, is floored
+    at TINY so the solve stays finite."""
     lo = M66()
+    dd = V6()
     for j in range(6):
+        v = V6()  # L_jk D_k
         s = a[j, j]
         for k in range(j):
-            s = s - lo[j, k] * lo[j, k]
-        inv = F64(1.0) / wp.sqrt(wp.max(s, F64(TINY)))
+            v[k] = lo[j, k] * dd[k]
+            s = s - lo[j, k] * v[k]
+        dj = wp.max(s, F64(TINY))
+        dd[j] = dj
+        inv = F64(1.0) / dj
         lo[j, j] = inv
         for i in range(j + 1, 6):
             t = a[i, j]
             for k in range(j):
-                t = t - lo[i, k] * lo[j, k]
+                t = t - lo[i, k] * v[k]
             lo[i, j] = t * inv
     return lo
 
 
 @wp.func
-def forward(lo: M66, b: V6) -> V6:
-    """L^-1 b."""
+def unit_forward(lo: M66, b: V6) -> V6:
+    """L^-1 b (L unit lower, from ``ldl``)."""
     y = V6()
     for i in range(6):
         t = b[i]
         for k in range(i):
             t = t - lo[i, k] * y[k]
-        y[i] = t * lo[i, i]
+        y[i] = t
     return y
 
 
 @wp.func
-def backward(lo: M66, y: V6) -> V6:
-    """L^-T y."""
+def unit_backward(lo: M66, y: V6) -> V6:
+    """L^-T y (L unit lower, from ``ldl``)."""
     x = V6()
     for ii in range(6):
         i = 5 - ii
         t = y[i]
         for k in range(i + 1, 6):
             t = t - lo[k, i] * x[k]
-        x[i] = t * lo[i, i]
+        x[i] = t
     return x
 
 
 @wp.func
-def forward_columns(lo: M66, b: M66) -> M66:
-    """L^-1 B, column by column."""
+def unit_forward_columns(lo: M66, b: M66) -> M66:
+    """L^-1 B, column by column (L unit lower, from ``ldl``)."""
     out = M66()
     for c in range(6):
         for i in range(6):
             t = b[i, c]
             for k in range(i):
                 t = t - lo[i, k] * out[k, c]
-            out[i, c] = t * lo[i, i]
+            out[i, c] = t
     return out
 
 
 @wp.func
-def gram(w: M66) -> M66:
-    """W^T W (symmetric: each entry computed once)."""
+def over_pivots(lo: M66, b: M66) -> M66:
+    """D^-1 B (1/D on ``lo``'s diagonal, from ``ldl``)."""
+    out = M66()
+    for i in range(6):
+        for j in range(6):
+            out[i, j] = b[i, j] * lo[i, i]
+    return out
+
+
+@wp.func
+def over_pivots_v(lo: M66, y: V6) -> V6:
+    """D^-1 y (1/D on ``lo``'s diagonal, from ``ldl``)."""
+    out = V6()
+    for i in range(6):
+        out[i] = y[i] * lo[i, i]
+    return out
+
+
+@wp.func
+def gram(w: M66, v: M66) -> M66:
+    """W^T V for a product known symmetric (W^T D^-1 W, V = D^-1 W): each entry computed once."""
     out = M66()
     for i in range(6):
         for j in range(i, 6):
             t = F64(0.0)
             for k in range(6):
-                t = t + w[k, i] * w[k, j]
+                t = t + w[k, i] * v[k, j]
             out[i, j] = t
             out[j, i] = t
     return out

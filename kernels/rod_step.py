@@ -5,8 +5,8 @@ and the commit of the new positions and velocities.
 The iteration minimizes 1/2 |y - y_pred|^2_M / h^2 + E(y) over every segment's pose y, E the
 joints', clamps' and contacts' energy: the Hessian is block-tridiagonal along each cable (6x6
 blocks; a joint couples two consecutive segments, a clamp or a contact only its own), so one
-forward sweep assembles and factors it (block LDL^T, a Cholesky factor L_k per block, carried as
-W_k = L_k^-1 B_k so each step costs two triangular solves) and one backward sweep solves it, in
+forward sweep assembles and factors it (block LDL^T, each pivot block's own L D L^T, carried as
+D_k^-1 L_k^-1 B_k so each step costs two triangular solves) and one backward sweep solves it, in
 time linear in the segments: a direct solve, so stiff hoses converge in an iteration or two
 where Gauss-Seidel sweeps would not."""
 
@@ -16,19 +16,21 @@ from .rod_contact import contact_terms
 from .rod_joint import axis_of, joint_terms
 from .rod_math import (
     axial,
-    backward,
     blocks,
     bottom,
-    cholesky,
     diag3,
-    forward,
-    forward_columns,
     gram,
+    ldl,
+    over_pivots,
+    over_pivots_v,
     pair,
     rotation_vector,
     top,
     transposed_times,
     turned,
+    unit_backward,
+    unit_forward,
+    unit_forward_columns,
 )
 from .rod_types import (
     F64,
@@ -169,18 +171,19 @@ def iterate(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: 
             hess = hess + hc
             grad = grad + gc
         f = Factor()
-        f.lo = cholesky(hess - carry_d)
-        f.w = forward_columns(f.lo, couple)
-        f.y = forward(f.lo, -grad - carry_r)
+        f.lo = ldl(hess - carry_d)
+        w = unit_forward_columns(f.lo, couple)
+        f.w = over_pivots(f.lo, w)
+        f.y = over_pivots_v(f.lo, unit_forward(f.lo, -grad - carry_r))
         factor[row, k] = f
-        carry_d = gram(f.w)
-        carry_r = transposed_times(f.w, f.y)
+        carry_d = gram(w, f.w)
+        carry_r = transposed_times(w, f.y)
     delta = V6()
     moved = F64(0.0)
     for kk in range(bodies):
         k = bodies - 1 - kk
         f = factor[row, k]
-        delta = backward(f.lo, f.y - f.w * delta)
+        delta = unit_backward(f.lo, f.y - f.w * delta)
         reach = params.half[d, k] + params.radius[d, k]
         moved = wp.max(moved, wp.length(top(delta)) + wp.length(bottom(delta)) * reach)
         b = work[row, k]

@@ -116,8 +116,9 @@ class BodyWork:
 
 @wp.struct
 class Factor:
-    """One body's rows of the block-tridiagonal factorization: the Cholesky factor L_k of its
-    pivot block D_k, W_k = L_k^-1 B_k (B_k its coupling to the next body), and L_k^-1 y_k."""
+    """One body's rows of the block-tridiagonal factorization: its pivot block's L_k D_k L_k^T
+    (``rod_math.ldl``: L_k below the diagonal, 1/D_k on it), D_k^-1 L_k^-1 B_k (B_k its coupling to
+    the next body), and D_k^-1 L_k^-1 z_k (z_k its right-hand side carried down the sweep)."""
 
     lo: M66
     w: M66
