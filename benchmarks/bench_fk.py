@@ -133,7 +133,7 @@ SINCOS_FLOPS = 24  # the lanes' float32 sine and cosine: the reduction (7), the 
 
 
 def compose_flops(codes: tuple) -> int:
-    """A pose after a joint's motion (``fk_lanes._compose``): per entry a product a term whose
+    """A pose after a joint's motion (``lane_algebra.compose_after``): per entry a product a term whose
     factor of the motion is neither zero nor one, and the sums between; the translation's terms
     added onto the parent's."""
     total = 0
@@ -147,7 +147,7 @@ def flops_per_config(kin) -> int:
     (``kernels/fk_lanes.py``): per revolute joint its sine and cosine, its motion's entries (a
     product and a sum per nonzero coefficient) and the composition after its parent's pose (none on
     the root); per prismatic joint its slide (21). A count of the code, not of the machine."""
-    from rswarp.kernels.fk_lanes import codes_of
+    from rswarp.kernels.lane_algebra import codes_of
     from rswarp.kernels.motion import revolute_parts
 
     total = 0

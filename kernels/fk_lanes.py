@@ -4,8 +4,13 @@ Warp runs a CPU kernel one item after another, and its loop over items does not 
 item's index is a 32-bit int the compiler cannot bound). Here each item is a block of ``LANES``
 configurations whose every number is a ``LANES``-vector: a pose is a (12, LANES) matrix, rotation
 rows then translation, and each step of the chain is a vector product the compiler lays out in AVX
-registers. Only the stores go lane by lane, into the caller's (N, links, 4, 4) or (N, links, 3, 4)
+registers (``lane_algebra``: the products with a motion's zeros and ones left out). Only the
+stores go lane by lane, into the caller's (N, links, 4, 4), (N, links, 3, 4) or (N, links, 7)
 layout. The block of the last few configurations reads its last row again and stores only its own.
+
+Sines and cosines are the vectorized float32 core (``trig.sincos32_funcs``), good below BIG32 rad.
+One test a block, before the walk, sends a block holding a larger angle or a NaN down a second
+walk that takes libm's lane by lane: a test inside the walk merged its vectors lane by lane.
 
 For serial and tree chains of revolute and prismatic joints driven by their own columns (the
 arms); a chain with loops, mimics or closed forms takes ``fk.chain_kernels``. Each lane's arithmetic
@@ -19,17 +24,27 @@ import numpy as np
 import warp as wp
 
 from .cache import cached, cpu_flags, module_name
+from .lane_algebra import (
+    LANES,
+    PL,
+    PQ,
+    SCH,
+    VL,
+    S,
+    codes_of,
+    compose_after,
+    entry_of,
+    identity,
+    lane_dot,
+    pose_of,
+    turned_by,
+    with_turn,
+)
 from .motion import revolute_parts
 from .trig import BIG32, sincos32_funcs
 from .types import PRISMATIC, REVOLUTE, Chain
 
 DEEP_SLP = "-mllvm=-slp-recursion-max-depth=12"
-LANES = 8  # configurations a thread: one AVX register of float32 (16 were slower in a trial)
-S = wp.float32
-VL = wp.types.vector(LANES, S)
-PL = wp.types.matrix((12, LANES), S)  # a pose, lane by lane: R row by row (rows 0-8), t (rows 9-11)
-SCH = wp.types.matrix((4, LANES), S)  # sines, cosines, and the half angles' (rows 2, 3), lane by lane
-PQ = wp.types.matrix((16, LANES), S)  # a pose and its quaternion (rows 12-15: x, y, z, w), lane by lane
 M34 = wp.types.matrix((3, 4), S)
 M44 = wp.types.matrix((4, 4), S)
 
@@ -38,132 +53,6 @@ def lanes_fit(chain: Chain) -> bool:
     """True where every moving joint reads its own column of q: no loop, mimic or closed form."""
     return not (np.any(chain.mimic != 0.0) or np.any(chain.closed_form[:, 0] != 0.0)
                 or np.any(chain.unknown >= 0))
-
-
-@wp.func
-def identity() -> PL:
-    """The identity pose, over lanes."""
-    one = VL(S(1.0))
-    zero = VL()
-    return wp.matrix_from_rows(one, zero, zero, zero, one, zero, zero, zero, one, zero, zero, zero)
-
-
-def codes_of(const: np.ndarray, cos_coef: np.ndarray, sin_coef: np.ndarray) -> tuple:
-    """Each entry of a joint's motion as 0 (zero at every angle), 1 (one at every angle) or 2."""
-    return tuple(0 if not (k or c or s) else 1 if (k == 1.0 and not c and not s) else 2
-                 for k, c, s in zip(const, cos_coef, sin_coef))
-
-
-@cached
-def _term(k: int, code: int):
-    """Term k of ``a x + b y + c z``: the factor of m alone where j's is one."""
-
-    @wp.func
-    def term(a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
-        u = a
-        v = x
-        if wp.static(k == 1):
-            u = b
-            v = y
-        if wp.static(k == 2):
-            u = c
-            v = z
-        if wp.static(code == 1):
-            return u
-        return wp.cw_mul(u, v)
-
-    return term
-
-
-@cached
-def _dot(codes: tuple, base: bool):
-    """``t + a x + b y + c z`` over lanes (``t`` only with ``base``), each term's code (``codes_of``)
-    of j's factor: zero left out, one without its product. Joint axes along x, y or z make most of
-    a motion's entries zero or one."""
-    if not any(codes):
-        return _start(base)
-    k = max(i for i, code in enumerate(codes) if code)
-    term = _term(k, codes[k])
-    if not (base or any(codes[:k])):
-
-        @wp.func
-        def alone(t: VL, a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
-            return term(a, b, c, x, y, z)
-
-        return alone
-    head = _dot(codes[:k] + (0,) * (3 - k), base)
-
-    @wp.func
-    def dot(t: VL, a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
-        return head(t, a, b, c, x, y, z) + term(a, b, c, x, y, z)
-
-    return dot
-
-
-@cached
-def _start(base: bool):
-    @wp.func
-    def start(t: VL, a: VL, b: VL, c: VL, x: VL, y: VL, z: VL) -> VL:
-        if wp.static(base):
-            return t
-        return VL()
-
-    return start
-
-
-@cached
-def _compose(codes: tuple):
-    """``m J``: a pose after a motion J whose entries' codes (``codes_of``) are known, both
-    (12, LANES); the products with J's zeros and ones left out."""
-    d0, d1, d2 = (_dot((codes[c], codes[3 + c], codes[6 + c]), False) for c in range(3))
-    dt = _dot(tuple(codes[9:12]), True)
-
-    @wp.func
-    def compose(m: PL, j: PL) -> PL:
-        zero = VL()
-        a0 = m[0]
-        a1 = m[1]
-        a2 = m[2]
-        a3 = m[3]
-        a4 = m[4]
-        a5 = m[5]
-        a6 = m[6]
-        a7 = m[7]
-        a8 = m[8]
-        j0 = j[0]
-        j1 = j[1]
-        j2 = j[2]
-        j3 = j[3]
-        j4 = j[4]
-        j5 = j[5]
-        j6 = j[6]
-        j7 = j[7]
-        j8 = j[8]
-        return wp.matrix_from_rows(
-            d0(zero, a0, a1, a2, j0, j3, j6), d1(zero, a0, a1, a2, j1, j4, j7), d2(zero, a0, a1, a2, j2, j5, j8),
-            d0(zero, a3, a4, a5, j0, j3, j6), d1(zero, a3, a4, a5, j1, j4, j7), d2(zero, a3, a4, a5, j2, j5, j8),
-            d0(zero, a6, a7, a8, j0, j3, j6), d1(zero, a6, a7, a8, j1, j4, j7), d2(zero, a6, a7, a8, j2, j5, j8),
-            dt(m[9], a0, a1, a2, j[9], j[10], j[11]), dt(m[10], a3, a4, a5, j[9], j[10], j[11]),
-            dt(m[11], a6, a7, a8, j[9], j[10], j[11]))
-
-    return compose
-
-
-def _entry(k0: float, kc: float, ks: float):
-    """``k0 + kc c + ks s`` over lanes, the zero terms left out."""
-
-    @wp.func
-    def entry(c: VL, s: VL) -> VL:
-        v = VL()
-        if wp.static(k0 != 0.0):
-            v = VL(S(k0))
-        if wp.static(kc != 0.0):
-            v = v + S(kc) * c
-        if wp.static(ks != 0.0):
-            v = v + S(ks) * s
-        return v
-
-    return entry
 
 
 def _angles(col: int, halves: bool = False, exact: bool = False):
@@ -211,7 +100,7 @@ def _motion(chain: Chain, k: int):
     """``motion(c, s) -> (12, LANES)``: revolute link k's joint motion at the lanes' cosines and
     sines, its axis and point folded into constants."""
     const, cos_coef, sin_coef = revolute_parts(chain.axis[k], chain.point[k])
-    e = [_entry(*(float(x) for x in terms)) for terms in zip(const, cos_coef, sin_coef)]
+    e = [entry_of(*(float(x) for x in terms)) for terms in zip(const, cos_coef, sin_coef)]
 
     @wp.func
     def motion(c: VL, s: VL) -> PL:
@@ -228,7 +117,7 @@ def _step(chain: Chain, k: int, on_root: bool, exact: bool):
     lanes' joint values (``m`` unread where the parent's pose is the identity)."""
     if int(chain.jtype[k]) == PRISMATIC:
         return _slide(chain, k)
-    compose = _compose(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
+    compose = compose_after(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
     angles, motion = _angles(int(chain.qidx[k]), exact=exact), _motion(chain, k)
 
     @wp.func
@@ -246,7 +135,7 @@ def _slide(chain: Chain, k: int):
     """A prismatic joint's step: the translation moved along the axis, turned by the parent."""
     col = int(chain.qidx[k])
     ax, ay, az = (VL(S(float(v))) for v in chain.axis[k])
-    dt = _dot(tuple(2 if v else 0 for v in chain.axis[k]), True)
+    dt = lane_dot(tuple(2 if v else 0 for v in chain.axis[k]), True)
 
     @wp.func
     def slide(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
@@ -263,57 +152,6 @@ def _slide(chain: Chain, k: int):
     return slide
 
 
-@wp.func
-def pose_of(m: PQ) -> PL:
-    """A ``PQ``'s pose rows."""
-    return wp.matrix_from_rows(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11])
-
-
-@wp.func
-def with_turn(r: PL, x: VL, y: VL, z: VL, w: VL) -> PQ:
-    """Pose rows ``r`` and the quaternion (x, y, z, w) as one ``PQ``."""
-    return wp.matrix_from_rows(r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], x, y, z, w)
-
-
-@cached
-def _turned_by(axis: tuple):
-    """``turned(m, r, sh, ch) -> PQ``: pose rows ``r`` with ``m``'s quaternion times the joint's
-    (``axis`` sh, ch) (Hamilton, x y z w), the terms of the axis's zero components left out."""
-    ax, ay, az = (float(v) for v in axis)
-
-    @wp.func
-    def turned(m: PQ, r: PL, sh: VL, ch: VL) -> PQ:
-        px = m[12]
-        py = m[13]
-        pz = m[14]
-        pw = m[15]
-        x = wp.cw_mul(px, ch)
-        y = wp.cw_mul(py, ch)
-        z = wp.cw_mul(pz, ch)
-        w = wp.cw_mul(pw, ch)
-        if wp.static(ax != 0.0):
-            jx = S(ax) * sh
-            x = x + wp.cw_mul(pw, jx)
-            y = y + wp.cw_mul(pz, jx)
-            z = z - wp.cw_mul(py, jx)
-            w = w - wp.cw_mul(px, jx)
-        if wp.static(ay != 0.0):
-            jy = S(ay) * sh
-            x = x - wp.cw_mul(pz, jy)
-            y = y + wp.cw_mul(pw, jy)
-            z = z + wp.cw_mul(px, jy)
-            w = w - wp.cw_mul(py, jy)
-        if wp.static(az != 0.0):
-            jz = S(az) * sh
-            x = x + wp.cw_mul(py, jz)
-            y = y - wp.cw_mul(px, jz)
-            z = z + wp.cw_mul(pw, jz)
-            w = w - wp.cw_mul(pz, jz)
-        return with_turn(r, x, y, z, w)
-
-    return turned
-
-
 def _step_pose(chain: Chain, k: int, on_root: bool, exact: bool):
     """As ``_step`` with the link's quaternion carried along (``PQ``): the joint's half-angle
     sine and cosine give its quaternion; its rotation takes the whole angle's own (the
@@ -326,8 +164,8 @@ def _step_pose(chain: Chain, k: int, on_root: bool, exact: bool):
             return with_turn(slide(q, i0, n, pose_of(m)), m[12], m[13], m[14], m[15])
 
         return slid
-    compose = _compose(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
-    turned = _turned_by(tuple(float(v) for v in chain.axis[k]))
+    compose = compose_after(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
+    turned = turned_by(tuple(float(v) for v in chain.axis[k]))
     angles, motion = _angles(int(chain.qidx[k]), True, exact), _motion(chain, k)
     ax, ay, az = (float(v) for v in chain.axis[k])
 
@@ -436,7 +274,7 @@ def _emit_flange(offset: np.ndarray):
 def _flange_emit(offset: np.ndarray):
     o = [[float(v) for v in row] for row in np.asarray(offset)[:3, :4]]
     values = [o[e // 3][e % 3] for e in range(9)] + [o[e][3] for e in range(3)]
-    compose = _compose(codes_of(np.array(values), np.zeros(12), np.zeros(12)))
+    compose = compose_after(codes_of(np.array(values), np.zeros(12), np.zeros(12)))
     rows = [VL(S(v)) for v in values]
 
     @wp.func
