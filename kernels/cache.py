@@ -70,6 +70,12 @@ def finite_math(kernel):
     return kernel
 
 
+# a module's functions inlined whole into its kernels: a call left out of line takes its struct and
+# matrix arguments by value, a copy at each call (the rod's parameters, 1.7 kB; a lanes pose, 512
+# bytes); a second or two more to compile the first time
+INLINE_ALL = "-mllvm=-inline-threshold=60000"
+
+
 def cpu_flags(module, extra: str) -> None:
     """The module compiled for the CPU with ``extra`` after its flags (once: setting them again
     would reload it)."""

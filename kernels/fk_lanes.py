@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import warp as wp
 
-from .cache import cached, cpu_flags, module_name
+from .cache import INLINE_ALL, cached, cpu_flags, module_name
 from .lane_algebra import (
     LANES,
     PL,
@@ -309,8 +309,9 @@ def lane_kernels(chain: Chain, flanges):
                    for f, (link, m) in enumerate(flanges))
     for kernel in (*all_links.values(), *flange):
         # the SLP vectorizer looking deeper than Warp's default (4): the lanes' sine and cosine
-        # are a deeper tree, and stayed scalar under it
-        cpu_flags(kernel.module, DEEP_SLP)
+        # are a deeper tree, and stayed scalar under it; the all-links walks inlined whole (the
+        # flange's, one link's, is short)
+        cpu_flags(kernel.module, DEEP_SLP if kernel in flange else f"{DEEP_SLP} {INLINE_ALL}")
     return all_links, flange
 
 
