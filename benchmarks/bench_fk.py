@@ -3,14 +3,16 @@
 Same process, same 6-axis robot (the bundled IRB 2600-12/1.65), same joint configurations.
 Newton evaluates a model replicated into B worlds (B = min(N, 100 000), one configuration per
 world) in N/B batches, as one would to keep memory bounded; its build time is that of the
-replicated model. Timings are the median of 5 runs after a warm-up call (Warp compiles kernels on
-the first call). "all links" is every link's pose: ours as (N, 7, 4, 4) float32 matrices, as
-their top rows (N, 7, 3, 4) (``fk(q, rows=3)``) and as position + quaternion (N, 7, 7)
-(``fk_transforms``), the form Newton's body_q holds (28 bytes a pose); the JSON line's ratio is
-that one's, the 3x4 and 4x4 ones beside it. Ours is timed writing into a reused output buffer (as Newton writes into its
-state), the flange too; the fresh-array figure, which adds first-touch page faults for the
-output, is shown too. Accuracy: the largest link-origin distance from Newton's (float32) and from
-pinocchio's (float64; its link frames differ from ours by a constant offset per link).
+replicated model. Timings are the best of 7 runs after a warm-up call (Warp compiles kernels on
+the first call), ours and the peers alike, with the garbage collector held off as ``timeit`` does:
+on a shared machine the least disturbed run is the one that measures the code. "all links" is every link's pose: ours as
+(N, 7, 4, 4) float32 matrices, as their top rows (N, 7, 3, 4) (``fk(q, rows=3)``) and as
+position + quaternion (N, 7, 7) (``fk_transforms``), the form Newton's body_q holds (28 bytes a
+pose); the JSON line's ratio is that one's, the 3x4 and 4x4 ones beside it. Ours is timed writing
+into a reused output buffer (as Newton writes into its state), the flange too; the fresh-array
+figure, which adds first-touch page faults for the output, is shown too. Accuracy: the largest
+link-origin distance from Newton's (float32) and from pinocchio's (float64; its link frames differ
+from ours by a constant offset per link).
 
 Threads: Warp runs a CPU launch on one thread, so Newton's eval_fk uses one core; ours spreads its
 launches over every core. The ratio in the JSON line is at equal threads (ours on one thread
@@ -24,23 +26,31 @@ Run: python benchmarks/bench_fk.py [--sizes 10000,100000,1000000]
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import os
-import statistics
 import time
 
 import numpy as np
 from limits import copy_rate
 
 
-def median_time(fn, repeats: int = 5) -> float:
+def best_time(fn, repeats: int = 7) -> float:
+    """The best of ``repeats`` runs after a warm-up, Python's garbage collector held off while they
+    run, as ``timeit`` does (the millions of objects a replicated Newton model leaves are otherwise
+    collected in whichever timing comes next)."""
     fn()  # warm-up: compiles and touches memory
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
+    gc.collect()
+    gc.disable()
+    try:
+        times = []
+        for _ in range(repeats):
+            t = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t)
+    finally:
+        gc.enable()
+    return min(times)
 
 
 def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float, float, float]:
@@ -51,9 +61,9 @@ def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float, float, float]:
     out3 = np.empty((n, len(kin.links), 3, 4), np.float32)
     out7 = np.empty((n, len(kin.links), 7), np.float32)
     fout = np.empty((n, 4, 4), np.float32)
-    return (n / median_time(lambda: kin.fk(q, out=out)), n / median_time(lambda: kin.fk(q, out=out3, rows=3)),
-            n / median_time(lambda: kin.fk_transforms(q, out=out7)), n / median_time(lambda: kin.fk(q)),
-            n / median_time(lambda: kin.flange(q, out=fout)))
+    return (n / best_time(lambda: kin.fk(q, out=out)), n / best_time(lambda: kin.fk(q, out=out3, rows=3)),
+            n / best_time(lambda: kin.fk_transforms(q, out=out7)), n / best_time(lambda: kin.fk(q)),
+            n / best_time(lambda: kin.flange(q, out=fout)))
 
 
 def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, float, float]:
@@ -82,7 +92,7 @@ def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, 
             newton.eval_fk(model, joint_q, joint_qd, state)
         wp.synchronize()
 
-    rate = n / median_time(newton_fk)
+    rate = n / best_time(newton_fk)
     last = q[(len(batches) - 1) * worlds:]  # both give the same poses: check the last batch
     body_q = state.body_q.numpy().reshape(worlds, len(kin.links), 7)[: len(last)]
     return worlds, rate, build, float(np.abs(body_q[..., :3] - kin.fk(last)[..., :3, 3]).max())
@@ -111,7 +121,7 @@ def pinocchio_rate(kin, q: np.ndarray) -> tuple[float, float]:
         for c in rows:
             pin.forwardKinematics(model, data, c)
 
-    rate = len(rows) / median_time(run)
+    rate = len(rows) / best_time(run)
     frames = [(k, model.getFrameId(name)) for k, name in enumerate(kin.links) if model.existFrame(name)]
 
     def placements(c):
