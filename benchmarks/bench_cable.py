@@ -5,7 +5,8 @@ The hose: span 1 m, length 1.2 m, radius 2.5 cm, E 5e7 Pa, density 1200 kg/m^3, 
 at one height; 20 and 40 segments; 1, 64 and 256 environments. Figures:
 
 - CPU-seconds per simulated second per environment (process CPU time over the timed window, all
-  threads), after a settling run that is not timed;
+  threads, Python's garbage collector held off as ``timeit`` does, for every simulator), after a
+  settling run that is not timed;
 - sag error against the inextensible catenary, and shape error (RMS of the height along the arc,
   relative to the sag) against a converged reference: the inextensible elastica with pinned ends
   under its weight, solved by SciPy's ``solve_bvp``. With this stiffness (bending length
@@ -30,6 +31,8 @@ peer's CPU cost over ours at 20 segments and 256 environments.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import gc
 import json
 import tempfile
 import time
@@ -108,17 +111,30 @@ def _rod(xml: str, **options):
     return CosseratRod(mech, CableOptions(**options))
 
 
+@contextlib.contextmanager
+def held_gc():
+    """Python's garbage collector held off while a timing runs, as ``timeit`` does, for ours and
+    every peer alike: what the cases before left is otherwise collected inside the next timing."""
+    gc.collect()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.enable()
+
+
 def _steps(solver, state, seconds: float, joints=lambda t: ()) -> float:
     """Frames of ``seconds``; the CPU seconds they took."""
     from rswarp.sim.cable_solver import FRAME_RATE
 
     envs, subs, frame = state.x.shape[0], solver.options.substeps, 1 / FRAME_RATE
-    cpu = time.process_time()
-    for f in range(int(round(seconds * FRAME_RATE))):
-        t = (f + (np.arange(subs) + 1) / subs) * frame
-        q = np.array([[joints(u) for u in t]] * envs, np.float64).reshape(envs, subs, solver.dof)
-        solver.step(state, q, frame)
-    return time.process_time() - cpu
+    with held_gc():
+        cpu = time.process_time()
+        for f in range(int(round(seconds * FRAME_RATE))):
+            t = (f + (np.arange(subs) + 1) / subs) * frame
+            q = np.array([[joints(u) for u in t]] * envs, np.float64).reshape(envs, subs, solver.dof)
+            solver.step(state, q, frame)
+        return time.process_time() - cpu
 
 
 def _cable(name: str, radius: float, seg: float, youngs: float, points: str, length: float | None = None,
@@ -186,9 +202,10 @@ def newton_rod(segments: int, envs: int, settle: float, timed: float, ref, dt: f
             s0, s1 = s1, s0
 
     run(settle)
-    cpu = time.process_time()
-    run(timed)
-    cpu = time.process_time() - cpu
+    with held_gc():
+        cpu = time.process_time()
+        run(timed)
+        cpu = time.process_time() - cpu
     q = s0.body_q.numpy()[: len(bodies), :3]
     nodes = np.vstack([q, pts[-1]])  # body origins are segment starts; the last node is held
     sag, shape = accuracy(nodes, ref)
@@ -234,10 +251,11 @@ def mujoco_cable(segments: int, envs: int, settle: float, timed: float, ref) -> 
     steps = lambda seconds: int(round(seconds / model.opt.timestep))  # noqa: E731
     for d in datas:
         mujoco.mj_step(model, d, steps(settle))
-    cpu = time.process_time()
-    for d in datas:
-        mujoco.mj_step(model, d, steps(timed))
-    cpu = time.process_time() - cpu
+    with held_gc():
+        cpu = time.process_time()
+        for d in datas:
+            mujoco.mj_step(model, d, steps(timed))
+        cpu = time.process_time() - cpu
     d = datas[0]
     mujoco.mj_kinematics(model, d)
     names = ["cB_first", *(f"cB_{k}" for k in range(1, segments - 1)), "cB_last"]  # body k starts at vertex k
@@ -299,10 +317,11 @@ def elastica_rod(pts, radius, youngs, nu=0.5, pinned=True, clamp_start=False, cl
     t = 0.0
     for _ in range(int(settle / dt)):
         t = stepper.step(sim, t, dt)
-    cpu = time.process_time()
-    for _ in range(int(timed / dt)):
-        t = stepper.step(sim, t, dt)
-    cpu = time.process_time() - cpu
+    with held_gc():
+        cpu = time.process_time()
+        for _ in range(int(timed / dt)):
+            t = stepper.step(sim, t, dt)
+        cpu = time.process_time() - cpu
     return rod, cpu / timed, dt
 def elastica_hose(segments: int, envs: int, settle: float, timed: float, ref) -> dict:
     rod, cpu, dt = elastica_rod(initial_points(ref, segments), RADIUS, E, settle=settle, timed=timed)
