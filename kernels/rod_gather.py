@@ -35,8 +35,7 @@ def every_surface(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: in
                   make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
                   clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
     """Every body against the meshes and the floor (``surfaces``), within ``query`` (with ``make``,
-    plus the body's sweep). One call a substep: a call passes ``params`` by value, and one a body
-    copied it for each."""
+    plus the body's sweep)."""
     for k in range(params.bodies[d]):
         ahead = query
         if make != 0:
