@@ -31,14 +31,13 @@ peer's CPU cost over ours at 20 segments and 256 environments.
 from __future__ import annotations
 
 import argparse
-import contextlib
-import gc
 import json
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
+from limits import copy_rate, held_gc
 from scipy.integrate import solve_bvp
 from scipy.optimize import brentq
 
@@ -109,18 +108,6 @@ def _rod(xml: str, **options):
         path.write_text(xml)
         mech = rswarp.load(path)
     return CosseratRod(mech, CableOptions(**options))
-
-
-@contextlib.contextmanager
-def held_gc():
-    """Python's garbage collector held off while a timing runs, as ``timeit`` does, for ours and
-    every peer alike: what the cases before left is otherwise collected inside the next timing."""
-    gc.collect()
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.enable()
 
 
 def _steps(solver, state, seconds: float, joints=lambda t: ()) -> float:
@@ -383,8 +370,6 @@ def where_time_goes(settle: float, timed: float, envs: int = 256, segments: int 
     instead of the default: what an iteration costs, and what the rest of a substep does (the
     prediction, the contact search, the measurements, the commit); then the limit line (the state
     read and written a substep beside a copy of the same bytes)."""
-    from limits import copy_rate
-
     points = (f'<ControlPoint attachedTo="Base" position="0, 0, {HEIGHT * 1000}"/>'
               f'<ControlPoint attachedTo="Base" position="{SPAN * 1000}, 0, {HEIGHT * 1000}"/>')
     solver = _rod(_cable("Hose", RADIUS, LENGTH / segments, E, points, LENGTH), damping=1.0, floor=None)

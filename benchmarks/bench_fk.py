@@ -26,13 +26,12 @@ Run: python benchmarks/bench_fk.py [--sizes 10000,100000,1000000]
 from __future__ import annotations
 
 import argparse
-import gc
 import json
 import os
 import time
 
 import numpy as np
-from limits import copy_rate
+from limits import copy_rate, held_gc
 
 
 def best_time(fn, repeats: int = 7) -> float:
@@ -40,16 +39,12 @@ def best_time(fn, repeats: int = 7) -> float:
     run, as ``timeit`` does (the millions of objects a replicated Newton model leaves are otherwise
     collected in whichever timing comes next)."""
     fn()  # warm-up: compiles and touches memory
-    gc.collect()
-    gc.disable()
-    try:
-        times = []
+    times = []
+    with held_gc():
         for _ in range(repeats):
             t = time.perf_counter()
             fn()
             times.append(time.perf_counter() - t)
-    finally:
-        gc.enable()
     return min(times)
 
 
@@ -157,8 +152,7 @@ def flops_per_config(kin) -> int:
     (``kernels/fk_lanes.py``): per revolute joint its sine and cosine, its motion's entries (a
     product and a sum per nonzero coefficient) and the composition after its parent's pose (none on
     the root); per prismatic joint its slide (21). A count of the code, not of the machine."""
-    from rswarp.kernels.lane_algebra import codes_of
-    from rswarp.kernels.motion import revolute_parts
+    from rswarp.kernels.motion import codes_of, revolute_parts
 
     total = 0
     chain = kin.chain

@@ -1,6 +1,7 @@
 """The physical limit a benchmark prints beside its rate: what a copy of the same bytes runs at on
 this machine (the memory's limit), and the floating-point operations of one item, counted in the
-C++ Warp generated for the kernel (no hardware counters here: the machine is a VM).
+C++ Warp generated for the kernel (no hardware counters here: the machine is a VM). And
+``held_gc``, the quiet a timed window runs in.
 
 The count walks the kernel's generated function: each ``var = wp::op(...)`` costs what ``op``
 costs on its operands' types (a vec3 sum 3, a 3x3 times 3x3 product 45, a dot of vec3 5, a square
@@ -11,6 +12,8 @@ the work of an item."""
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import re
 import statistics
 import time
@@ -104,6 +107,19 @@ def module_dir(kernel) -> Path:
         return root / name
     matches = sorted(root.glob(f"wp_{module.name}_*"), key=lambda p: p.stat().st_mtime)
     return matches[-1]
+
+
+@contextlib.contextmanager
+def held_gc():
+    """Python's garbage collector held off while a timing runs, as ``timeit`` does, for ours and
+    every peer alike: what an earlier case left (a replicated Newton model's millions of objects)
+    is otherwise collected inside the next timing."""
+    gc.collect()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.enable()
 
 
 def copy_rate(bytes_per_item: int, items: int) -> float:

@@ -72,7 +72,7 @@ def finite_math(kernel):
 
 # a module's functions inlined whole into its kernels: a call left out of line takes its struct and
 # matrix arguments by value, a copy at each call (the rod's parameters, 1.7 kB; a lanes pose, 512
-# bytes); a second or two more to compile the first time
+# bytes); the first compile takes longer
 INLINE_ALL = "-mllvm=-inline-threshold=60000"
 
 

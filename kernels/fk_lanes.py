@@ -31,7 +31,6 @@ from .lane_algebra import (
     SCH,
     VL,
     S,
-    codes_of,
     compose_after,
     entry_of,
     identity,
@@ -40,7 +39,7 @@ from .lane_algebra import (
     turned_by,
     with_turn,
 )
-from .motion import revolute_parts
+from .motion import codes_of, revolute_parts
 from .trig import BIG32, sincos32_funcs
 from .types import PRISMATIC, REVOLUTE, Chain
 

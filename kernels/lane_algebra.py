@@ -3,7 +3,6 @@ a joint motion's entries, a pose composed after a motion whose zero and one entr
 joint axis along x, y or z makes most of them so, and their products are left out), and the
 quaternion carried beside a pose."""
 
-import numpy as np
 import warp as wp
 
 from .cache import cached
@@ -22,12 +21,6 @@ def identity() -> PL:
     one = VL(S(1.0))
     zero = VL()
     return wp.matrix_from_rows(one, zero, zero, zero, one, zero, zero, zero, one, zero, zero, zero)
-
-
-def codes_of(const: np.ndarray, cos_coef: np.ndarray, sin_coef: np.ndarray) -> tuple:
-    """Each entry of a joint's motion as 0 (zero at every angle), 1 (one at every angle) or 2."""
-    return tuple(0 if not (k or c or s) else 1 if (k == 1.0 and not c and not s) else 2
-                 for k, c, s in zip(const, cos_coef, sin_coef))
 
 
 @cached
@@ -53,7 +46,7 @@ def _term(k: int, code: int):
 
 @cached
 def lane_dot(codes: tuple, base: bool):
-    """``t + a x + b y + c z`` over lanes (``t`` only with ``base``), each term's code (``codes_of``)
+    """``t + a x + b y + c z`` over lanes (``t`` only with ``base``), each term's code (``motion.codes_of``)
     of j's factor: zero left out, one without its product. Joint axes along x, y or z make most of
     a motion's entries zero or one."""
     if not any(codes):
@@ -89,7 +82,7 @@ def _start(base: bool):
 
 @cached
 def compose_after(codes: tuple):
-    """``m J``: a pose after a motion J whose entries' codes (``codes_of``) are known, both
+    """``m J``: a pose after a motion J whose entries' codes (``motion.codes_of``) are known, both
     (12, LANES); the products with J's zeros and ones left out."""
     d0, d1, d2 = (lane_dot((codes[c], codes[3 + c], codes[6 + c]), False) for c in range(3))
     dt = lane_dot(tuple(codes[9:12]), True)

@@ -42,6 +42,13 @@ def revolute_parts(axis: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np.
             np.concatenate([skew.ravel(), -skew @ p]))
 
 
+def codes_of(const: np.ndarray, cos_coef: np.ndarray, sin_coef: np.ndarray) -> tuple:
+    """Each entry of a motion (``revolute_parts``' form, or constants with zero coefficients) as 0
+    (zero at every angle), 1 (one at every angle) or 2: the products a composition can leave out."""
+    return tuple(0 if not (k or c or s) else 1 if (k == 1.0 and not c and not s) else 2
+                 for k, c, s in zip(const, cos_coef, sin_coef))
+
+
 def revolute_motion(axis: np.ndarray, point: np.ndarray, T):
     """Rotation and translation of a revolute joint as functions of (cos, sin) (``revolute_parts``).
     ``T``: the types of one precision."""
@@ -57,12 +64,9 @@ def revolute_after(axis: np.ndarray, point: np.ndarray, T):
     angle left out (an axis along x, y or z makes R five numbers and one, t two or none)."""
     S, M33, V3 = T.scalar, T.mat33, T.vec3
     rot, tra = revolute_motion(axis, point, T)
-    a, p = np.asarray(axis, float), np.asarray(point, float)
-    outer = np.outer(a, a)
-    ortho = np.eye(3) - outer
-    skew = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    nz = [bool(v) for v in np.ravel((outer != 0) | (ortho != 0) | (skew != 0))]  # R's entries, row by row
-    tz = [bool(v) for v in ((p - outer @ p != 0) | (ortho @ p != 0) | (skew @ p != 0))]
+    codes = codes_of(*revolute_parts(axis, point))
+    nz = [c != 0 for c in codes[:9]]  # R's entries, row by row
+    tz = [c != 0 for c in codes[9:]]
 
     @wp.func
     def rot_after(rp: M33, c: S, s: S) -> M33:
