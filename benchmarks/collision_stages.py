@@ -18,7 +18,8 @@ def _pair_test(stage: int):
     ``stage``: 3 where it passed the spheres and was cut there, 2 where it reached the walk (and
     was cut there or walked to nothing), 1 where it collides, 0 where a stage found it free."""
     from rswarp.kernels import collide
-    from rswarp.kernels.tree import crossing_walk, traversal_functions
+    from rswarp.kernels.quad import quad_walk
+    from rswarp.kernels.tree import traversal_functions
     from rswarp.kernels.types import bodies_struct, types_of
     from rswarp.kernels.witness import witness_functions
     from rswarp.launch import init_warp
@@ -29,7 +30,7 @@ def _pair_test(stage: int):
     body_pose, body_centre = collide._body_pose(wp.float32)
     rotation, relative = collide.pose_helpers(wp.float32)
     node_gap, _ = traversal_functions(wp.float32)
-    meshes_cross = crossing_walk(wp.float32)
+    meshes_cross = quad_walk(wp.float32)
     enclosed = collide.containment_functions(wp.float32)
     witness_cell, witness_hit = witness_functions(wp.float32)
 
@@ -65,6 +66,7 @@ def _pair_test(stage: int):
 
 def _kernel(checker, bodies, stage: int):
     """The sweep kernel cut after ``stage`` (``_pair_test``'s codes per pair)."""
+    from rswarp.kernels.cache import INLINE_ALL, cpu_flags
     from rswarp.kernels.fk import emit_local, tree_fk
     from rswarp.kernels.types import bodies_struct, types_of
     from rswarp.launch import init_warp
@@ -91,6 +93,7 @@ def _kernel(checker, bodies, stage: int):
             if far > S(1.0e30):
                 hit_out[i, 0] = wp.uint8(9)
 
+    cpu_flags(staged.module, INLINE_ALL)  # as the sweep's kernel is compiled
     return staged
 
 

@@ -14,10 +14,11 @@ from typing import Any
 
 import warp as wp
 
-from .cache import cached, module_name
+from .cache import INLINE_ALL, cached, cpu_flags, module_name
 from .fk import emit_local, pose_functions, tree_fk
 from .geometry import FAR
-from .tree import crossing_walk, sampling_functions, traversal_functions
+from .quad import quad_walk
+from .tree import sampling_functions, traversal_functions
 from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
 from .witness import witness_functions
 
@@ -103,7 +104,7 @@ def pair_functions(scalar=wp.float32):
     """(pair_verdict, pair_distance) over a ``BodyArrays`` struct."""
     S, V3, M33, M34, M44 = types_of(scalar)
     node_gap, mesh_distance = traversal_functions(scalar)
-    meshes_cross = crossing_walk(scalar)
+    meshes_cross = quad_walk(scalar)
     rotation, relative = pose_helpers(scalar)
     enclosed = containment_functions(scalar)
     _, witness_hit = witness_functions(scalar)
@@ -191,7 +192,9 @@ def _body_pose(scalar):
 def _make_kernels(module: str, chain: Chain, links, scalar):
     fk = tree_fk(chain, set(int(k) for k in links) or {chain.root}, emit_local(scalar), scalar)
     body = _body_pose(scalar)  # one per module: collide and the pair kernels share it
-    return (_sweep_kernel(module, chain, fk, body, scalar), *_pair_kernels(module, chain, fk, body, scalar))
+    sweep = _sweep_kernel(module, chain, fk, body, scalar)
+    cpu_flags(sweep.module, INLINE_ALL)  # a pair's verdict inlined: no copy of the bodies' struct a call
+    return (sweep, *_pair_kernels(module, chain, fk, body, scalar))
 
 
 def _sweep_kernel(module: str, chain: Chain, fk, body, scalar):

@@ -60,6 +60,7 @@ class Chain(NamedTuple):
 
 PIECE_POINTS = 7  # points per connected piece of a body (the host's component_points)
 WITNESSES = 8  # crossing triangle pairs kept per cell of a pair's witness grid
+QUAD = 4  # boxes the crossing walk tests at once: those two levels below a node, lane by lane
 witness_vec = wp.types.vector(length=2 * WITNESSES, dtype=wp.int32)  # (A's, B's) triangle, pair after pair
 
 
@@ -83,6 +84,7 @@ def types_of(scalar) -> Scalar:
 def bodies_struct(scalar=wp.float32):
     """The struct of everything the collision kernels read about bodies and pairs (one precision)."""
     _, V3, M33, M34, M44 = types_of(scalar)
+    V4 = wp.types.vector(QUAD, scalar)
 
     @wp.struct
     class BodyArrays:
@@ -101,6 +103,13 @@ def bodies_struct(scalar=wp.float32):
         node_half: wp.array(dtype=V3)
         node_left: wp.array(dtype=wp.int32)
         node_right: wp.array(dtype=wp.int32)
+        # the boxes two levels below each inner node (a child that is a leaf stands for itself),
+        # QUAD of them lane by lane, for the crossing walk (``quad``)
+        quad: wp.array(dtype=wp.int32)  # each node's record, -1: a leaf
+        quad_slot: wp.array(dtype=wp.types.vector(QUAD, wp.int32))  # the record's nodes, -1: none
+        quad_center: wp.array2d(dtype=V4)  # (records, 3): x, y, z of each box's centre
+        quad_axes: wp.array2d(dtype=V4)  # (records, 9): entry 3 r + c of each box's axes
+        quad_half: wp.array2d(dtype=V4)  # (records, 3); an empty slot's are -FAR (apart from all)
         triangles: wp.array(dtype=V3)  # three vertices per triangle, leaf order
         pair_a: wp.array(dtype=wp.int32)
         pair_b: wp.array(dtype=wp.int32)

@@ -14,7 +14,7 @@ import pytest
 
 import rswarp
 from rswarp.cli import main
-from rswarp.geometry.bvh import PIECE_POINTS, build_bvh, component_points
+from rswarp.geometry.bvh import PIECE_POINTS, build_bvh, component_points, quad_slots
 from rswarp.kernels import types as kernel_types
 from rswarp.kinematics.chain import chain_of
 from rswarp.sim.bodies import collision_bodies
@@ -239,6 +239,31 @@ def test_oriented_boxes_hold_their_triangles():
         assert (np.abs(local) <= tree.half[k] + 1e-12).all()
     assert PIECE_POINTS == kernel_types.PIECE_POINTS
     assert component_points(mesh.vertices, mesh.faces).shape == (1, PIECE_POINTS, 3)
+
+
+def test_quad_slots_cover_each_node_two_levels_down():
+    """The crossing walk's four boxes of a node are the nodes two levels below it (a leaf above that
+    stands for itself): each appears once, and together they hold exactly the node's triangles."""
+    import trimesh
+
+    mesh = trimesh.load(str(IRB.parent / "link_3.stl"))
+    tree = build_bvh(mesh.vertices, mesh.faces)
+    record, slots = quad_slots(tree.left, tree.right, kernel_types.QUAD)
+    inner = np.flatnonzero(tree.left >= 0)
+    assert (record[inner] == np.arange(len(inner))).all() and (record[tree.left < 0] == -1).all()
+
+    def below(k, levels):
+        if tree.left[k] < 0 or levels == 0:
+            return [k]
+        return below(tree.left[k], levels - 1) + below(tree.right[k], levels - 1)
+
+    def leaves(k):
+        return [k] if tree.left[k] < 0 else leaves(tree.left[k]) + leaves(tree.right[k])
+
+    for k in inner:
+        got = [s for s in slots[record[k]] if s >= 0]
+        assert sorted(got) == sorted(below(k, 2))
+        assert sorted(sum((leaves(s) for s in got), [])) == sorted(leaves(k))
 
 
 def test_pair_columns_are_the_joints_between_the_bodies(irb):

@@ -134,6 +134,23 @@ def join(trees: list[Bvh]) -> tuple[Bvh, np.ndarray]:
     return joined, np.asarray(roots, np.int32)
 
 
+def quad_slots(left: np.ndarray, right: np.ndarray, lanes: int) -> tuple[np.ndarray, np.ndarray]:
+    """For each inner node, the nodes log2(lanes) levels below it (a node that is a leaf above
+    that stands for itself): the boxes a walk tests at once. Returns (each node's record, -1 for a
+    leaf; (records, lanes) nodes, -1 where fewer)."""
+    inner = np.flatnonzero(left >= 0)
+    record = np.full(len(left), -1, np.int32)
+    record[inner] = np.arange(len(inner))
+    slots = inner[:, None]
+    while slots.shape[1] < lanes:
+        nodes = np.where(slots >= 0, slots, 0)
+        opens = (slots >= 0) & (left[nodes] >= 0)
+        first = np.where(opens, left[nodes], slots)
+        second = np.where(opens, right[nodes], -1)
+        slots = np.stack([first, second], axis=2).reshape(len(inner), -1)
+    return record, slots.astype(np.int32)
+
+
 def component_points(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(pieces, PIECE_POINTS, 3): for each connected piece of a mesh, one of its vertices, then its
     vertices of least and greatest x, y and z. If no surfaces cross, a piece lies inside another

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, MeshNotFoundError
-from ..geometry.bvh import MAX_DEPTH, build_bvh, component_points, join
+from ..geometry.bvh import MAX_DEPTH, build_bvh, component_points, join, quad_slots
 from ..geometry.meshes import file_mesh, link_mesh
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
@@ -255,11 +255,31 @@ class DeviceBodies:
         s.node_axes = arr(tree.axes, M33)
         s.node_left, s.node_right = arr(tree.left, wp.int32), arr(tree.right, wp.int32)
         s.triangles = arr(tree.triangles.reshape(-1, 3), V3)
+        self._set_quads(s, scalar, tree.half * (1 + 1e-6) + grow)
         pairs = np.array(self.bodies.pairs, np.int32).reshape(-1, 2)
         s.pair_a, s.pair_b = arr(pairs[:, 0], wp.int32), arr(pairs[:, 1], wp.int32)
         s.padding = S(self.padding)
         self._set_witnesses(s, scalar, None)
         return s
+
+    def _set_quads(self, s, scalar, half: np.ndarray) -> None:
+        """The boxes two levels below each inner node, four lane by lane (``quad_slots``); an
+        empty slot's half-sizes are -FAR, so it is apart from every box."""
+        import warp as wp
+
+        from ..kernels.geometry import FAR
+        from ..kernels.types import QUAD
+
+        record, slots = quad_slots(self.tree.left, self.tree.right, QUAD)
+        lanes = lambda a: np.where(slots[:, None, :] >= 0, a[slots].transpose(0, 2, 1), 0.0)  # noqa: E731
+        halves = np.where(slots[:, None, :] >= 0, half[slots].transpose(0, 2, 1), -FAR)
+        V4 = wp.types.vector(QUAD, scalar)
+        arr = lambda a: wp.array(np.ascontiguousarray(a), dtype=V4, device=self.device)  # noqa: E731
+        s.quad = wp.array(record, dtype=wp.int32, device=self.device)
+        s.quad_slot = wp.array(slots, dtype=wp.types.vector(QUAD, wp.int32), device=self.device)
+        s.quad_center = arr(lanes(self.tree.center))
+        s.quad_axes = arr(lanes(self.tree.axes.reshape(-1, 9)))
+        s.quad_half = arr(halves)
 
     def set_witnesses(self, grid, scalar) -> None:
         """Give the struct of one precision its witness grids (``rswarp.sim.witness``)."""
