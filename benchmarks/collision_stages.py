@@ -1,6 +1,6 @@
 """Where a self-collision sweep's time goes, stage by stage: the sweep kernel rebuilt with its
-stages cut after each one (forward kinematics; bounding spheres; root boxes; witness cells; the
-walk for crossing triangles; containment), each timed on one thread over the same states. The
+stages cut after each one (forward kinematics; bounding spheres; witness cells; root boxes;
+containment; the walk for crossing triangles), each timed on one thread over the same states. The
 difference between two rows is the later stage's cost; the fractions say how many pair tests
 reach each stage. For ``bench_collisions.py``."""
 
@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-STAGES = ("forward kinematics", "bounding spheres", "root boxes", "witness cells", "containment", "tree walks")
+STAGES = ("forward kinematics", "bounding spheres", "witness cells", "root boxes", "containment", "tree walks")
 
 
 def _pair_test(stage: int):
@@ -35,24 +35,24 @@ def _pair_test(stage: int):
     witness_cell, witness_hit = witness_functions(wp.float32)
 
     @wp.func
-    def test(m: arrays, poses: Any, q: wp.array2d(dtype=S), i: int, p: int) -> wp.uint8:
+    def test(m: arrays, poses: Any, centres: Any, q: wp.array2d(dtype=S), i: int, p: int) -> wp.uint8:
         a = m.pair_a[p]
         b = m.pair_b[p]
         if wp.static(stage < 1):
             return wp.uint8(0)
-        if wp.length(body_centre(m, poses, a) - body_centre(m, poses, b)) - m.radius[a] - m.radius[b] > m.padding:
+        if wp.length(centres[a] - centres[b]) - m.radius[a] - m.radius[b] > m.padding:
             return wp.uint8(0)
         if wp.static(stage < 2):
             return wp.uint8(3)
         rel = relative(body_pose(m, poses, a), body_pose(m, poses, b))
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
-        if node_gap(m, m.root[a], m.root[b], r, t) > m.padding:
-            return wp.uint8(0)
+        cell = witness_cell(m, p, q, i)
+        if cell >= 0 and witness_hit(m, cell, r, t):
+            return wp.uint8(1)
         if wp.static(stage >= 3):
-            cell = witness_cell(m, p, q, i)
-            if cell >= 0 and witness_hit(m, cell, r, t):
-                return wp.uint8(1)
+            if node_gap(m, m.root[a], m.root[b], r, t) > m.padding:
+                return wp.uint8(0)
         if wp.static(stage >= 4):
             if enclosed(m, a, b, r, t):
                 return wp.uint8(1)
@@ -66,7 +66,9 @@ def _pair_test(stage: int):
 
 def _kernel(checker, bodies, stage: int):
     """The sweep kernel cut after ``stage`` (``_pair_test``'s codes per pair)."""
-    from rswarp.kernels.cache import INLINE_ALL, cpu_flags
+    from rswarp.kernels import collide
+    from rswarp.kernels.cache import cpu_flags
+    from rswarp.kernels.collide import SWEEP_FLAGS
     from rswarp.kernels.fk import emit_local, tree_fk
     from rswarp.kernels.types import bodies_struct, types_of
     from rswarp.launch import init_warp
@@ -77,15 +79,21 @@ def _kernel(checker, bodies, stage: int):
     chain = checker.chain
     fk = tree_fk(chain, set(int(k) for k in bodies.links), emit_local(wp.float32), wp.float32)
     test = _pair_test(stage)
+    body_pose, body_centre = collide._body_pose(wp.float32)
     n = len(chain.parent)
+    nb = len(bodies.bodies)
 
     @wp.kernel(enable_backward=False, module=f"bench_collision_stage_{stage}")
     def staged(m: arrays, q: wp.array2d(dtype=S), hit_out: wp.array2d(dtype=wp.uint8)):
         i = wp.tid()
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
+        centres = wp.zeros(shape=nb, dtype=wp.vec3)
+        if wp.static(stage > 0):
+            for k in range(nb):
+                centres[k] = body_centre(m, poses, k)
         for p in range(m.pair_a.shape[0]):
-            hit_out[i, p] = test(m, poses, q, i, p)
+            hit_out[i, p] = test(m, poses, centres, q, i, p)
         if wp.static(stage == 0):  # the poses used, so the compiler keeps the forward kinematics
             far = S(0.0)
             for k in range(n):
@@ -93,7 +101,7 @@ def _kernel(checker, bodies, stage: int):
             if far > S(1.0e30):
                 hit_out[i, 0] = wp.uint8(9)
 
-    cpu_flags(staged.module, INLINE_ALL)  # as the sweep's kernel is compiled
+    cpu_flags(staged.module, SWEEP_FLAGS)  # as the sweep's kernel is compiled
     return staged
 
 

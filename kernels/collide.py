@@ -14,13 +14,15 @@ from typing import Any
 
 import warp as wp
 
-from .cache import INLINE_ALL, cached, cpu_flags, module_name
+from .cache import FUSED, INLINE_ALL, cached, cpu_flags, module_name
 from .fk import emit_local, pose_functions, tree_fk
 from .geometry import FAR
 from .quad import quad_walk
 from .tree import sampling_functions, traversal_functions
 from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
 from .witness import witness_functions
+
+SWEEP_FLAGS = f"{FUSED} {INLINE_ALL}"  # the sweep's module, compiled for the CPU
 
 
 @cached
@@ -31,8 +33,8 @@ def containment_functions(scalar=wp.float32):
 
     @wp.func
     def in_box(m: BodyArrays, node: int, p: V3) -> bool:
-        o = wp.transpose(m.node_axes[node]) * (p - m.node_center[node])
-        h = m.node_half[node]
+        o = wp.transpose(m.nodes[node].axes) * (p - m.nodes[node].center)
+        h = m.nodes[node].half
         return wp.abs(o[0]) <= h[0] and wp.abs(o[1]) <= h[1] and wp.abs(o[2]) <= h[2]
 
     @wp.func
@@ -43,14 +45,11 @@ def containment_functions(scalar=wp.float32):
         if m.watertight[body] == 0:
             q = wp.mesh_query_point_sign_winding_number(m.mesh[body], p, wp.float32(FAR))
             return q.result and q.sign < wp.float32(0.0)
-        votes = int(0)
-        for k in range(3):
-            d = wp.vec3(0.5257311, 0.8506508, 0.0)  # three directions off every axis and plane
-            if k == 1:
-                d = wp.vec3(0.0, 0.5257311, 0.8506508)
-            elif k == 2:
-                d = wp.vec3(0.8506508, 0.0, 0.5257311)
-            votes += wp.mesh_query_ray_count_intersections(m.mesh[body], p, d) % 2
+        # three directions off every axis and plane; the third asked only when the first two differ
+        votes = wp.mesh_query_ray_count_intersections(m.mesh[body], p, wp.vec3(0.5257311, 0.8506508, 0.0)) % 2
+        votes += wp.mesh_query_ray_count_intersections(m.mesh[body], p, wp.vec3(0.0, 0.5257311, 0.8506508)) % 2
+        if votes == 1:
+            votes += wp.mesh_query_ray_count_intersections(m.mesh[body], p, wp.vec3(0.8506508, 0.0, 0.5257311)) % 2
         return votes >= 2
 
     @wp.func
@@ -116,16 +115,16 @@ def pair_functions(scalar=wp.float32):
         most the padding): at most the padding if they collide (-1 if one contains the other),
         else a lower bound of their distance above the padding (from their spheres and root
         boxes). ``cell``: the pair's witness cell, -1 for none."""
-        gap = sphere_gap
         rel = relative(pa, pb)
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
-        gap = wp.max(gap, node_gap(m, m.root[a], m.root[b], r, t))
-        if gap > m.padding:
-            return gap
+        # the cell's witnesses crossed at its centre: tried first, they mostly cross here too
         if cell >= 0:
             if witness_hit(m, cell, r, t):
                 return S(0.0)
+        gap = wp.max(sphere_gap, node_gap(m, m.root[a], m.root[b], r, t))
+        if gap > m.padding:
+            return gap
         # a vertex of one inside the other: they collide, surfaces crossing or not; asked before the
         # walk, it spares the walks that would end in a containment (a full walk finding nothing),
         # and after a walk that finds nothing it would be asked all the same
@@ -155,15 +154,15 @@ def pair_functions(scalar=wp.float32):
 
 
 @cached
-def collision_kernels(chain: Chain, links, scalar=wp.float32):
-    """(collide, distance, witness) for bodies riding on chain ``links``:
+def collision_kernels(chain: Chain, links, bodies: int, scalar=wp.float32):
+    """(collide, distance, witness) for ``bodies`` bodies, those that move riding on chain ``links``:
 
     ``collide(bodies, q, hit_out, gap_out)``: for configuration ``q[i]``, each pair's verdict
     ``hit_out[i, p]`` (1: collides) and ``gap_out[i, p]``, a lower bound of the pair's distance when
     it is free. ``distance(bodies, q, pair, distance_out)``: the exact distance of pair ``pair[i]``
     at ``q[i]``. ``witness(bodies, q, pair, witness_out)``: crossing triangle pairs of pair
     ``pair[i]`` at ``q[i]``, spread over all that cross (``witness_vec``, -1 where fewer cross)."""
-    return _make_kernels(module_name("collide", chain, links, scalar), chain, links, scalar)
+    return _make_kernels(module_name("collide", chain, links, bodies, scalar), chain, links, bodies, scalar)
 
 
 def _body_pose(scalar):
@@ -189,15 +188,16 @@ def _body_pose(scalar):
     return body_pose, body_centre
 
 
-def _make_kernels(module: str, chain: Chain, links, scalar):
+def _make_kernels(module: str, chain: Chain, links, bodies: int, scalar):
     fk = tree_fk(chain, set(int(k) for k in links) or {chain.root}, emit_local(scalar), scalar)
     body = _body_pose(scalar)  # one per module: collide and the pair kernels share it
-    sweep = _sweep_kernel(module, chain, fk, body, scalar)
-    cpu_flags(sweep.module, INLINE_ALL)  # a pair's verdict inlined: no copy of the bodies' struct a call
+    sweep = _sweep_kernel(module, chain, fk, body, bodies, scalar)
+    if scalar == wp.float32:  # the sweep's: a pair's verdict inlined (no copy of the bodies' struct a call)
+        cpu_flags(sweep.module, SWEEP_FLAGS)
     return (sweep, *_pair_kernels(module, chain, fk, body, scalar))
 
 
-def _sweep_kernel(module: str, chain: Chain, fk, body, scalar):
+def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
     """The sweep's kernel: every pair's verdict and gap at each configuration."""
     S, V3, M33, M34, M44 = types_of(scalar)
     BodyArrays = bodies_struct(scalar)
@@ -205,6 +205,7 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, scalar):
     witness_cell, _ = witness_functions(scalar)
     body_pose, body_centre = body
     n = max(len(chain.parent), 1)
+    nb = max(bodies, 1)
 
     @wp.kernel(enable_backward=False, module=module)
     def collide(
@@ -219,10 +220,13 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, scalar):
         i = wp.tid()
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
+        centres = wp.zeros(shape=nb, dtype=V3)  # each body's sphere once, not once per pair
+        for k in range(wp.static(bodies)):
+            centres[k] = body_centre(m, poses, k)
         for p in range(m.pair_a.shape[0]):
             a = m.pair_a[p]
             b = m.pair_b[p]
-            g = wp.length(body_centre(m, poses, a) - body_centre(m, poses, b)) - m.radius[a] - m.radius[b]
+            g = wp.length(centres[a] - centres[b]) - m.radius[a] - m.radius[b]
             if g <= m.padding:
                 g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i), g)
             if g <= m.padding:

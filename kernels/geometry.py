@@ -104,11 +104,11 @@ def crossing_function(scalar=wp.float32):
         return wp.dot(wp.cross(b - a, c - a), d - a)
 
     @wp.func
-    def segment_hits_triangle(p: V3, q: V3, a: V3, b: V3, c: V3) -> bool:
-        """Whether segment pq meets triangle abc (touching counts): its ends are not both on one side
-        of the plane, and its line passes inside the three edges (signs of signed volumes only)."""
-        dp = orient(a, b, c, p)
-        dq = orient(a, b, c, q)
+    def edge_meets(dp: S, dq: S, p: V3, q: V3, a: V3, b: V3, c: V3) -> bool:
+        """Whether segment pq meets triangle abc (touching counts), given ``dp`` and ``dq``, the
+        signed volumes ``orient(a, b, c, p)`` and ``orient(a, b, c, q)``: its ends are not both on
+        one side of the plane, and its line passes inside the three edges (signs of signed volumes
+        only)."""
         if (dp > S(0.0) and dq > S(0.0)) or (dp < S(0.0) and dq < S(0.0)) or (dp == S(0.0) and dq == S(0.0)):
             return False
         s1 = orient(p, q, a, b)
@@ -121,7 +121,8 @@ def crossing_function(scalar=wp.float32):
         """Whether two triangles meet. Two triangles not in one plane meet exactly where an edge of
         one meets the other; every test is a sign, free of the absolute tolerances that make Moller's
         test (``wp.intersect_tri_tri``) call small, distant triangles coplanar and crossing.
-        Coplanar triangles are left to the distance tests."""
+        Coplanar triangles are left to the distance tests. Each vertex's side of the other plane is
+        computed once, for the plane test and the edge tests alike."""
         n = wp.cross(a1 - a0, a2 - a0)
         d0 = wp.dot(n, b0 - a0)
         d1 = wp.dot(n, b1 - a0)
@@ -134,9 +135,9 @@ def crossing_function(scalar=wp.float32):
         e2 = wp.dot(m, a2 - b0)
         if (e0 > S(0.0) and e1 > S(0.0) and e2 > S(0.0)) or (e0 < S(0.0) and e1 < S(0.0) and e2 < S(0.0)):
             return False
-        return (segment_hits_triangle(a0, a1, b0, b1, b2) or segment_hits_triangle(a1, a2, b0, b1, b2)
-                or segment_hits_triangle(a2, a0, b0, b1, b2) or segment_hits_triangle(b0, b1, a0, a1, a2)
-                or segment_hits_triangle(b1, b2, a0, a1, a2) or segment_hits_triangle(b2, b0, a0, a1, a2))
+        return (edge_meets(e0, e1, a0, a1, b0, b1, b2) or edge_meets(e1, e2, a1, a2, b0, b1, b2)
+                or edge_meets(e2, e0, a2, a0, b0, b1, b2) or edge_meets(d0, d1, b0, b1, a0, a1, a2)
+                or edge_meets(d1, d2, b1, b2, a0, a1, a2) or edge_meets(d2, d0, b2, b0, a0, a1, a2))
 
     return triangles_cross
 

@@ -23,63 +23,72 @@ def lane_types(scalar=wp.float32):
 def quad_gap_function(scalar=wp.float32):
     """quad_gaps(m, k, rq, cq, hq): record k's four boxes against one box."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    V4, L3, L9 = lane_types(scalar)
+    V4, L3, _ = lane_types(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def carried(m: BodyArrays, k: int, rq: M33, cq: V3) -> L9:
-        """The other box's axes in each box's frame (rows 3 i + j: box axis i against its axis j)."""
-        rr = L9()
-        for i in range(3):
-            x = m.quad_axes[k, i]
-            y = m.quad_axes[k, 3 + i]
-            z = m.quad_axes[k, 6 + i]
-            for j in range(3):
-                rr[3 * i + j] = x * rq[0, j] + y * rq[1, j] + z * rq[2, j]
-        return rr
+    def along(x: V4, y: V4, z: V4, u: V3) -> V4:
+        """x u0 + y u1 + z u2: a vector's component along each box's axis (x, y, z its lanes)."""
+        return x * u[0] + y * u[1] + z * u[2]
 
     @wp.func
-    def offset(m: BodyArrays, k: int, cq: V3) -> L3:
-        """The other box's centre in each box's frame."""
-        c0 = V4(cq[0]) - m.quad_center[k, 0]
-        c1 = V4(cq[1]) - m.quad_center[k, 1]
-        c2 = V4(cq[2]) - m.quad_center[k, 2]
-        d = L3()
-        for i in range(3):
-            d[i] = wp.cw_mul(m.quad_axes[k, i], c0) + wp.cw_mul(m.quad_axes[k, 3 + i], c1) + wp.cw_mul(
-                m.quad_axes[k, 6 + i], c2)
-        return d
+    def spread(x: V4) -> V4:
+        """|x| + eps, as ``box_gap`` takes it: parallel edges never part boxes that touch."""
+        return wp.abs(x) + V4(S(EPS_AXIS))
+
+    @wp.func
+    def edge_axis(da: V4, ra: V4, db: V4, rb: V4, ea: V4, aa: V4, eb: V4, ab: V4, h1: S, a1: V4, h2: S, a2: V4,
+                  rij: V4) -> V4:
+        """Positive where the axis A_i x B_j parts the boxes (``cross_gap``'s test, its terms passed
+        in) and is not degenerate (|A_i x B_j|^2 > 1e-6)."""
+        g = wp.abs(wp.cw_mul(da, ra) - wp.cw_mul(db, rb)) - wp.cw_mul(ea, aa) - wp.cw_mul(eb, ab) - a1 * h1 - a2 * h2
+        return wp.min(g, V4(S(1.0 - 1.0e-6)) - wp.cw_mul(rij, rij))
 
     @wp.func
     def quad_gaps(m: BodyArrays, k: int, rq: M33, cq: V3, hq: V3) -> L3:
         """Record k's four boxes against one box (axes ``rq`` as columns, centre ``cq``, half-sizes
         ``hq``, in the four's body frame). Row 0: the face axes' gap of each (as ``box_gap`` gives
-        it: it orders overlapping pairs); row 1: positive where one of the fifteen axes parts them."""
-        rr = carried(m, k, rq, cq)
-        d = offset(m, k, cq)
-        e = wp.matrix_from_rows(m.quad_half[k, 0], m.quad_half[k, 1], m.quad_half[k, 2])
-        ar = L9()
-        for n in range(9):
-            ar[n] = wp.abs(rr[n]) + V4(S(EPS_AXIS))
-        worst = V4(S(-1.0e30))
-        for i in range(3):
-            ga = wp.abs(d[i]) - e[i] - (ar[3 * i] * hq[0] + ar[3 * i + 1] * hq[1] + ar[3 * i + 2] * hq[2])
-            db = wp.cw_mul(rr[i], d[0]) + wp.cw_mul(rr[3 + i], d[1]) + wp.cw_mul(rr[6 + i], d[2])
-            fa = wp.cw_mul(ar[i], e[0]) + wp.cw_mul(ar[3 + i], e[1]) + wp.cw_mul(ar[6 + i], e[2])
-            worst = wp.max(worst, wp.max(ga, wp.abs(db) - fa - V4(hq[i])))
-        apart = worst
-        for i in range(3):
-            i1 = (i + 1) % 3
-            i2 = (i + 2) % 3
-            for j in range(3):
-                j1 = (j + 1) % 3
-                j2 = (j + 2) % 3
-                ra = wp.cw_mul(e[i1], ar[3 * i2 + j]) + wp.cw_mul(e[i2], ar[3 * i1 + j])
-                rb = ar[3 * i + j2] * hq[j1] + ar[3 * i + j1] * hq[j2]
-                g = wp.abs(wp.cw_mul(d[i2], rr[3 * i1 + j]) - wp.cw_mul(d[i1], rr[3 * i2 + j])) - ra - rb
-                # the axis A_i x B_j parts them where g > 0 and it is not degenerate (|A_i x B_j|^2 > 1e-6)
-                n2 = V4(S(1.0 - 1.0e-6)) - wp.cw_mul(rr[3 * i + j], rr[3 * i + j])
-                apart = wp.max(apart, wp.min(g, n2))
+        it: it orders overlapping pairs); row 1: positive where one of the fifteen axes parts them.
+        Written out lane vector by lane vector (r01: the other box's axis 1 along each box's axis 0)."""
+        x0, y0, z0 = m.quad_axes[k, 0], m.quad_axes[k, 3], m.quad_axes[k, 6]
+        x1, y1, z1 = m.quad_axes[k, 1], m.quad_axes[k, 4], m.quad_axes[k, 7]
+        x2, y2, z2 = m.quad_axes[k, 2], m.quad_axes[k, 5], m.quad_axes[k, 8]
+        c0 = V4(cq[0]) - m.quad_center[k, 0]
+        c1 = V4(cq[1]) - m.quad_center[k, 1]
+        c2 = V4(cq[2]) - m.quad_center[k, 2]
+        d0 = wp.cw_mul(x0, c0) + wp.cw_mul(y0, c1) + wp.cw_mul(z0, c2)
+        d1 = wp.cw_mul(x1, c0) + wp.cw_mul(y1, c1) + wp.cw_mul(z1, c2)
+        d2 = wp.cw_mul(x2, c0) + wp.cw_mul(y2, c1) + wp.cw_mul(z2, c2)
+        u0 = V3(rq[0, 0], rq[1, 0], rq[2, 0])
+        u1 = V3(rq[0, 1], rq[1, 1], rq[2, 1])
+        u2 = V3(rq[0, 2], rq[1, 2], rq[2, 2])
+        r00, r01, r02 = along(x0, y0, z0, u0), along(x0, y0, z0, u1), along(x0, y0, z0, u2)
+        r10, r11, r12 = along(x1, y1, z1, u0), along(x1, y1, z1, u1), along(x1, y1, z1, u2)
+        r20, r21, r22 = along(x2, y2, z2, u0), along(x2, y2, z2, u1), along(x2, y2, z2, u2)
+        a00, a01, a02 = spread(r00), spread(r01), spread(r02)
+        a10, a11, a12 = spread(r10), spread(r11), spread(r12)
+        a20, a21, a22 = spread(r20), spread(r21), spread(r22)
+        e0, e1, e2 = m.quad_half[k, 0], m.quad_half[k, 1], m.quad_half[k, 2]
+        # the six face axes: each box's, then the other box's
+        worst = wp.max(wp.max(wp.abs(d0) - e0 - along(a00, a01, a02, hq), wp.abs(d1) - e1 - along(a10, a11, a12, hq)),
+                       wp.abs(d2) - e2 - along(a20, a21, a22, hq))
+        fb0 = wp.abs(wp.cw_mul(r00, d0) + wp.cw_mul(r10, d1) + wp.cw_mul(r20, d2)) - V4(hq[0]) - (
+            wp.cw_mul(a00, e0) + wp.cw_mul(a10, e1) + wp.cw_mul(a20, e2))
+        fb1 = wp.abs(wp.cw_mul(r01, d0) + wp.cw_mul(r11, d1) + wp.cw_mul(r21, d2)) - V4(hq[1]) - (
+            wp.cw_mul(a01, e0) + wp.cw_mul(a11, e1) + wp.cw_mul(a21, e2))
+        fb2 = wp.abs(wp.cw_mul(r02, d0) + wp.cw_mul(r12, d1) + wp.cw_mul(r22, d2)) - V4(hq[2]) - (
+            wp.cw_mul(a02, e0) + wp.cw_mul(a12, e1) + wp.cw_mul(a22, e2))
+        worst = wp.max(worst, wp.max(fb0, wp.max(fb1, fb2)))
+        # the nine edge axes A_i x B_j
+        apart = wp.max(worst, edge_axis(d2, r10, d1, r20, e1, a20, e2, a10, hq[1], a02, hq[2], a01, r00))
+        apart = wp.max(apart, edge_axis(d2, r11, d1, r21, e1, a21, e2, a11, hq[2], a00, hq[0], a02, r01))
+        apart = wp.max(apart, edge_axis(d2, r12, d1, r22, e1, a22, e2, a12, hq[0], a01, hq[1], a00, r02))
+        apart = wp.max(apart, edge_axis(d0, r20, d2, r00, e2, a00, e0, a20, hq[1], a12, hq[2], a11, r10))
+        apart = wp.max(apart, edge_axis(d0, r21, d2, r01, e2, a01, e0, a21, hq[2], a10, hq[0], a12, r11))
+        apart = wp.max(apart, edge_axis(d0, r22, d2, r02, e2, a02, e0, a22, hq[0], a11, hq[1], a10, r12))
+        apart = wp.max(apart, edge_axis(d1, r00, d0, r10, e0, a10, e1, a00, hq[1], a22, hq[2], a21, r20))
+        apart = wp.max(apart, edge_axis(d1, r01, d0, r11, e0, a11, e1, a01, hq[2], a20, hq[0], a22, r21))
+        apart = wp.max(apart, edge_axis(d1, r02, d0, r12, e0, a12, e1, a02, hq[0], a21, hq[1], a20, r22))
         return wp.matrix_from_rows(worst, apart, V4())
 
     return quad_gaps
@@ -99,9 +108,9 @@ def quad_walk(scalar=wp.float32):
     @wp.func
     def opens_a(m: BodyArrays, na: int, nb: int) -> bool:
         """Whether the walk opens A's node (the larger, unless it is a leaf) rather than B's."""
-        ha = m.node_half[na]
-        hb = m.node_half[nb]
-        return m.node_left[nb] < 0 or (m.node_left[na] >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2])
+        ha = m.nodes[na].half
+        hb = m.nodes[nb].half
+        return m.nodes[nb].left < 0 or (m.nodes[na].left >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2])
 
     @wp.func
     def pushed(stack: Any, top: int, g: L3, slots: SL, na: int, nb: int, on_a: bool) -> int:
@@ -111,9 +120,8 @@ def quad_walk(scalar=wp.float32):
         live = SL()
         count = int(0)
         for j in range(QUAD):
-            if g[1][j] <= S(0.0) and slots[j] >= 0:
-                live[j] = 1
-                count += 1
+            live[j] = wp.where(g[1][j] <= S(0.0), 1, 0) * wp.where(slots[j] >= 0, 1, 0)
+            count += live[j]
         for n in range(count):
             best = int(-1)
             for j in range(QUAD):
@@ -141,7 +149,7 @@ def quad_walk(scalar=wp.float32):
             top -= 1
             na = stack[2 * top]
             nb = stack[2 * top + 1]
-            if m.node_left[na] < 0 and m.node_left[nb] < 0:
+            if m.nodes[na].left < 0 and m.nodes[nb].left < 0:
                 if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
                     return True
                 continue
@@ -151,11 +159,11 @@ def quad_walk(scalar=wp.float32):
             g = L3()
             k = int(0)
             if on_a:  # B's box carried into A's frame, against A's four
-                k = m.quad[na]
-                g = quad_gaps(m, k, r * m.node_axes[nb], r * m.node_center[nb] + t, m.node_half[nb])
+                k = m.nodes[na].quad
+                g = quad_gaps(m, k, r * m.nodes[nb].axes, r * m.nodes[nb].center + t, m.nodes[nb].half)
             else:  # A's box carried into B's frame
-                k = m.quad[nb]
-                g = quad_gaps(m, k, rt * m.node_axes[na], rt * (m.node_center[na] - t), m.node_half[na])
+                k = m.nodes[nb].quad
+                g = quad_gaps(m, k, rt * m.nodes[na].axes, rt * (m.nodes[na].center - t), m.nodes[na].half)
             top = pushed(stack, top, g, m.quad_slot[k], na, nb, on_a)
         return False
 

@@ -26,13 +26,13 @@ def leaf_function(scalar=wp.float32):
         """The distance between the triangles of two leaves; with ``overlap_only``, 0 if two cross
         and huge otherwise."""
         best = S(FAR)
-        fa = -1 - m.node_left[na]
-        fb = -1 - m.node_left[nb]
-        for kb in range(fb, fb + m.node_right[nb]):
+        fa = -1 - m.nodes[na].left
+        fb = -1 - m.nodes[nb].left
+        for kb in range(fb, fb + m.nodes[nb].right):
             b0 = r * m.triangles[3 * kb] + t
             b1 = r * m.triangles[3 * kb + 1] + t
             b2 = r * m.triangles[3 * kb + 2] + t
-            for ka in range(fa, fa + m.node_right[na]):
+            for ka in range(fa, fa + m.nodes[na].right):
                 a0 = m.triangles[3 * ka]
                 a1 = m.triangles[3 * ka + 1]
                 a2 = m.triangles[3 * ka + 2]
@@ -58,10 +58,10 @@ def node_functions(scalar=wp.float32):
     def node_gap(m: BodyArrays, na: int, nb: int, r: M33, t: V3) -> S:
         """A lower bound of the distance between the boxes of nodes na (body A) and nb (body B),
         x_A = r x_B + t: B's box is carried into the frame of A's."""
-        at = wp.transpose(m.node_axes[na])
-        rr = at * (r * m.node_axes[nb])
-        d = at * (r * m.node_center[nb] + t - m.node_center[na])
-        return box_gap(m.node_half[na], m.node_half[nb], rr, abs_rotation(rr), d, True)
+        at = wp.transpose(m.nodes[na].axes)
+        rr = at * (r * m.nodes[nb].axes)
+        d = at * (r * m.nodes[nb].center + t - m.nodes[na].center)
+        return box_gap(m.nodes[na].half, m.nodes[nb].half, rr, abs_rotation(rr), d, True)
 
     @wp.func
     def child_gaps(m: BodyArrays, c: wp.vec4i, r: M33, t: V3, bound: bool) -> V2:
@@ -70,32 +70,32 @@ def node_functions(scalar=wp.float32):
         ``bound``, a pair apart only gets some positive value."""
         g = V2()
         if c[1] == c[3]:  # A's node was split
-            rb = r * m.node_axes[c[1]]
-            cb = r * m.node_center[c[1]] + t
+            rb = r * m.nodes[c[1]].axes
+            cb = r * m.nodes[c[1]].center + t
             for k in range(2):
-                at = wp.transpose(m.node_axes[c[2 * k]])
+                at = wp.transpose(m.nodes[c[2 * k]].axes)
                 rr = at * rb
-                g[k] = box_gap(m.node_half[c[2 * k]], m.node_half[c[1]], rr, abs_rotation(rr),
-                               at * (cb - m.node_center[c[2 * k]]), bound)
+                g[k] = box_gap(m.nodes[c[2 * k]].half, m.nodes[c[1]].half, rr, abs_rotation(rr),
+                               at * (cb - m.nodes[c[2 * k]].center), bound)
             return g
-        at = wp.transpose(m.node_axes[c[0]])
+        at = wp.transpose(m.nodes[c[0]].axes)
         ar = at * r
-        d0 = at * (t - m.node_center[c[0]])
+        d0 = at * (t - m.nodes[c[0]].center)
         for k in range(2):
-            rr = ar * m.node_axes[c[2 * k + 1]]
-            g[k] = box_gap(m.node_half[c[0]], m.node_half[c[2 * k + 1]], rr, abs_rotation(rr),
-                           ar * m.node_center[c[2 * k + 1]] + d0, bound)
+            rr = ar * m.nodes[c[2 * k + 1]].axes
+            g[k] = box_gap(m.nodes[c[0]].half, m.nodes[c[2 * k + 1]].half, rr, abs_rotation(rr),
+                           ar * m.nodes[c[2 * k + 1]].center + d0, bound)
         return g
 
     @wp.func
     def split(m: BodyArrays, na: int, nb: int) -> wp.vec4i:
         """The two node pairs (a1, b1, a2, b2) that (na, nb) opens into: the larger node's children
         (the one that is not a leaf)."""
-        ha = m.node_half[na]
-        hb = m.node_half[nb]
-        if m.node_left[nb] < 0 or (m.node_left[na] >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2]):
-            return wp.vec4i(m.node_left[na], nb, m.node_right[na], nb)
-        return wp.vec4i(na, m.node_left[nb], na, m.node_right[nb])
+        ha = m.nodes[na].half
+        hb = m.nodes[nb].half
+        if m.nodes[nb].left < 0 or (m.nodes[na].left >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2]):
+            return wp.vec4i(m.nodes[na].left, nb, m.nodes[na].right, nb)
+        return wp.vec4i(na, m.nodes[nb].left, na, m.nodes[nb].right)
 
     return node_gap, child_gaps, split
 
@@ -133,7 +133,7 @@ def traversal_functions(scalar=wp.float32):
             nb = stack[2 * top + 1]
             if gaps[top] > wp.min(best, limit):  # a nearer pair was found since this one was pushed
                 continue
-            if m.node_left[na] < 0 and m.node_left[nb] < 0:
+            if m.nodes[na].left < 0 and m.nodes[nb].left < 0:
                 best = wp.min(best, leaf_distance(m, na, nb, r, t, overlap_only))
                 if best <= stop:
                     return best
@@ -183,7 +183,7 @@ def crossing_walk(scalar=wp.float32):
             top -= 1
             na = stack[2 * top]
             nb = stack[2 * top + 1]
-            if m.node_left[na] < 0 and m.node_left[nb] < 0:
+            if m.nodes[na].left < 0 and m.nodes[nb].left < 0:
                 if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
                     return True
                 continue
@@ -274,7 +274,7 @@ def sampling_functions(scalar=wp.float32):
             top -= 1
             na = stack[2 * top]
             nb = stack[2 * top + 1]
-            if m.node_left[na] >= 0 or m.node_left[nb] >= 0:
+            if m.nodes[na].left >= 0 or m.nodes[nb].left >= 0:
                 c = split(m, na, nb)
                 gs = child_gaps(m, c, r, t, False)
                 for j in range(2):
@@ -283,10 +283,10 @@ def sampling_functions(scalar=wp.float32):
                         stack[2 * top + 1] = c[2 * j + 1]
                         top += 1
                 continue
-            fa = -1 - m.node_left[na]
-            fb = -1 - m.node_left[nb]
-            for ka in range(fa, fa + m.node_right[na]):
-                for kb in range(fb, fb + m.node_right[nb]):
+            fa = -1 - m.nodes[na].left
+            fb = -1 - m.nodes[nb].left
+            for ka in range(fa, fa + m.nodes[na].right):
+                for kb in range(fb, fb + m.nodes[nb].right):
                     if triangles_cross(m.triangles[3 * ka], m.triangles[3 * ka + 1], m.triangles[3 * ka + 2],
                                        r * m.triangles[3 * kb] + t, r * m.triangles[3 * kb + 1] + t,
                                        r * m.triangles[3 * kb + 2] + t):

@@ -81,6 +81,23 @@ def types_of(scalar) -> Scalar:
 
 
 @cached
+def node_struct(scalar=wp.float32):
+    """A node of a box tree, its fields side by side: a walk's step reads one node, not six arrays."""
+    _, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.struct
+    class Node:
+        axes: M33  # the box's axes (columns) in its body's frame
+        center: V3
+        half: V3  # along the axes
+        left: wp.int32  # an inner node's children, left and right; a leaf: -1 - first triangle and
+        right: wp.int32  # its triangle count
+        quad: wp.int32  # an inner node's record of the QUAD boxes below it, -1: a leaf
+
+    return Node
+
+
+@cached
 def bodies_struct(scalar=wp.float32):
     """The struct of everything the collision kernels read about bodies and pairs (one precision)."""
     _, V3, M33, M34, M44 = types_of(scalar)
@@ -98,14 +115,9 @@ def bodies_struct(scalar=wp.float32):
         point_start: wp.array(dtype=wp.int32)  # first connected piece (containment)
         point_count: wp.array(dtype=wp.int32)  # pieces
         points: wp.array(dtype=V3)  # PIECE_POINTS per piece
-        node_center: wp.array(dtype=V3)  # oriented box trees, all bodies joined
-        node_axes: wp.array(dtype=M33)  # each box's axes (columns) in its body's frame
-        node_half: wp.array(dtype=V3)
-        node_left: wp.array(dtype=wp.int32)
-        node_right: wp.array(dtype=wp.int32)
+        nodes: wp.array(dtype=node_struct(scalar))  # oriented box trees, all bodies joined
         # the boxes two levels below each inner node (a child that is a leaf stands for itself),
         # QUAD of them lane by lane, for the crossing walk (``quad``)
-        quad: wp.array(dtype=wp.int32)  # each node's record, -1: a leaf
         quad_slot: wp.array(dtype=wp.types.vector(QUAD, wp.int32))  # the record's nodes, -1: none
         quad_center: wp.array2d(dtype=V4)  # (records, 3): x, y, z of each box's centre
         quad_axes: wp.array2d(dtype=V4)  # (records, 9): entry 3 r + c of each box's axes
@@ -121,6 +133,7 @@ def bodies_struct(scalar=wp.float32):
         cell_lo: wp.array(dtype=scalar)  # two per pair: the axis' lower limit
         cell_scale: wp.array(dtype=scalar)  # two per pair: cells per unit of q
         cell_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
-        witness: wp.array(dtype=wp.vec2i)  # WITNESSES per cell: (A's, B's) triangle, -1: none
+        cell_count: wp.array(dtype=wp.int32)  # witnesses in each cell, at most WITNESSES
+        witness: wp.array(dtype=V3)  # WITNESSES per cell, six vertices each: A's triangle, then B's
 
     return BodyArrays

@@ -37,13 +37,9 @@ def witness_functions(scalar=wp.float32):
 
     @wp.func
     def witness_hit(m: BodyArrays, cell: int, r: M33, t: V3) -> bool:
-        for k in range(WITNESSES * cell, WITNESSES * cell + WITNESSES):
-            w = m.witness[k]
-            if w[0] < 0:
-                return False
-            if triangles_cross(m.triangles[3 * w[0]], m.triangles[3 * w[0] + 1], m.triangles[3 * w[0] + 2],
-                               r * m.triangles[3 * w[1]] + t, r * m.triangles[3 * w[1] + 1] + t,
-                               r * m.triangles[3 * w[1] + 2] + t):
+        for k in range(6 * WITNESSES * cell, 6 * WITNESSES * cell + 6 * m.cell_count[cell], 6):
+            if triangles_cross(m.witness[k], m.witness[k + 1], m.witness[k + 2], r * m.witness[k + 3] + t,
+                               r * m.witness[k + 4] + t, r * m.witness[k + 5] + t):
                 return True
         return False
 

@@ -251,20 +251,30 @@ class DeviceBodies:
         s.point_start = arr(np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int32), wp.int32)
         s.point_count = arr(counts, wp.int32)
         s.points = arr(np.concatenate(self.points).reshape(-1, 3), V3)
-        s.node_center, s.node_half = arr(tree.center, V3), arr(tree.half * (1 + 1e-6) + grow, V3)
-        s.node_axes = arr(tree.axes, M33)
-        s.node_left, s.node_right = arr(tree.left, wp.int32), arr(tree.right, wp.int32)
+        half = tree.half * (1 + 1e-6) + grow
+        s.nodes = self._nodes(scalar, half, self._set_quads(s, scalar, half))
         s.triangles = arr(tree.triangles.reshape(-1, 3), V3)
-        self._set_quads(s, scalar, tree.half * (1 + 1e-6) + grow)
         pairs = np.array(self.bodies.pairs, np.int32).reshape(-1, 2)
         s.pair_a, s.pair_b = arr(pairs[:, 0], wp.int32), arr(pairs[:, 1], wp.int32)
         s.padding = S(self.padding)
         self._set_witnesses(s, scalar, None)
         return s
 
-    def _set_quads(self, s, scalar, half: np.ndarray) -> None:
+    def _nodes(self, scalar, half: np.ndarray, record: np.ndarray):
+        """The tree's nodes as one array of ``node_struct``s."""
+        import warp as wp
+
+        from ..kernels.types import node_struct
+
+        node = node_struct(scalar)
+        nodes = np.zeros(len(self.tree.left), node.numpy_dtype())
+        nodes["axes"], nodes["center"], nodes["half"] = self.tree.axes, self.tree.center, half
+        nodes["left"], nodes["right"], nodes["quad"] = self.tree.left, self.tree.right, record
+        return wp.array(nodes, dtype=node, device=self.device)
+
+    def _set_quads(self, s, scalar, half: np.ndarray) -> np.ndarray:
         """The boxes two levels below each inner node, four lane by lane (``quad_slots``); an
-        empty slot's half-sizes are -FAR, so it is apart from every box."""
+        empty slot's half-sizes are -FAR, so it is apart from every box. Returns each node's record."""
         import warp as wp
 
         from ..kernels.geometry import FAR
@@ -275,11 +285,11 @@ class DeviceBodies:
         halves = np.where(slots[:, None, :] >= 0, half[slots].transpose(0, 2, 1), -FAR)
         V4 = wp.types.vector(QUAD, scalar)
         arr = lambda a: wp.array(np.ascontiguousarray(a), dtype=V4, device=self.device)  # noqa: E731
-        s.quad = wp.array(record, dtype=wp.int32, device=self.device)
         s.quad_slot = wp.array(slots, dtype=wp.types.vector(QUAD, wp.int32), device=self.device)
         s.quad_center = arr(lanes(self.tree.center))
         s.quad_axes = arr(lanes(self.tree.axes.reshape(-1, 9)))
         s.quad_half = arr(halves)
+        return record
 
     def set_witnesses(self, grid, scalar) -> None:
         """Give the struct of one precision its witness grids (``rswarp.sim.witness``)."""
@@ -288,21 +298,24 @@ class DeviceBodies:
     def _set_witnesses(self, s, scalar, grid) -> None:
         import warp as wp
 
+        from ..kernels.types import WITNESSES, types_of
+
         pairs = len(self.bodies.pairs)
         arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
         if grid is None:
-            from ..kernels.types import WITNESSES
-
             s.cell_start = arr(np.full(pairs, -1, np.int32), wp.int32)
             s.cell_col = arr(np.full(2 * pairs, -1, np.int32), wp.int32)
             s.cell_res = arr(np.ones(2 * pairs, np.int32), wp.int32)
-            s.witness = arr(np.full((WITNESSES, 2), -1, np.int32), wp.vec2i)
+            index = np.full((WITNESSES, 2), -1, np.int32)
             lo = scale = np.zeros(2 * pairs)
         else:
             s.cell_start, s.cell_col = arr(grid.start, wp.int32), arr(grid.col, wp.int32)
-            s.cell_res, s.witness = arr(grid.res, wp.int32), arr(grid.witness, wp.vec2i)
+            s.cell_res, index = arr(grid.res, wp.int32), grid.witness
             lo, scale = grid.lo, grid.scale
         s.cell_lo, s.cell_scale = arr(lo, scalar), arr(scale, scalar)
+        # each witness's two triangles beside its cell's others: one read, not an index and two triangles
+        s.cell_count = arr((index[:, 0] >= 0).reshape(-1, WITNESSES).sum(axis=1).astype(np.int32), wp.int32)
+        s.witness = arr(self.tree.triangles[np.maximum(index, 0)].reshape(-1, 3), types_of(scalar)[1])
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:

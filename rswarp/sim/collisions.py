@@ -124,8 +124,8 @@ class Checker:
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
-        self._collide, _, self._witness = collision_kernels(chain, bodies.links, wp.float32)
-        self._distance = collision_kernels(chain, bodies.links, wp.float64)[1]
+        self._collide, _, self._witness = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float32)
+        self._distance = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float64)[1]
         self.launcher.load(self._collide)
         self.witnesses = None
         if witnesses:
