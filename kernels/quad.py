@@ -1,7 +1,9 @@
 """The crossing walk four boxes at a time, as device code: a node pair opens the larger node two
-levels down (``BodyArrays.quad``), and the other node's box is tested against those four at once,
-lane by lane (Gottschalk's fifteen axes each), where the binary walk took two pops and up to six
-tests one at a time. The leaves decide, as in ``tree``: the boxes only skip work."""
+levels down (its record, ``Node.quad``), and the other node's box is tested against those four at
+once, lane by lane (Gottschalk's fifteen axes each), where a binary walk takes two pops and up to
+six tests one at a time. The boxes that overlap are walked nearest centres first: there crossing
+triangles are likeliest, and a walk that finds one stops. The leaves decide, as in ``tree``: the
+boxes only skip work."""
 
 from typing import Any
 
@@ -15,15 +17,15 @@ from .types import QUAD, bodies_struct, types_of
 
 @cached
 def lane_types(scalar=wp.float32):
-    """(V4, M34L, M94L): four lanes of one number, of a vector, of a 3 x 3 matrix (row after row)."""
-    return (wp.types.vector(QUAD, scalar), wp.types.matrix((3, QUAD), scalar), wp.types.matrix((9, QUAD), scalar))
+    """(V4, L2): four lanes of one number; of two (a key and a gap per box)."""
+    return wp.types.vector(QUAD, scalar), wp.types.matrix((2, QUAD), scalar)
 
 
 @cached
 def quad_gap_function(scalar=wp.float32):
     """quad_gaps(m, k, rq, cq, hq): record k's four boxes against one box."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    V4, L3, _ = lane_types(scalar)
+    V4, L2 = lane_types(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
@@ -45,10 +47,10 @@ def quad_gap_function(scalar=wp.float32):
         return wp.min(g, V4(S(1.0 - 1.0e-6)) - wp.cw_mul(rij, rij))
 
     @wp.func
-    def quad_gaps(m: BodyArrays, k: int, rq: M33, cq: V3, hq: V3) -> L3:
+    def quad_gaps(m: BodyArrays, k: int, rq: M33, cq: V3, hq: V3) -> L2:
         """Record k's four boxes against one box (axes ``rq`` as columns, centre ``cq``, half-sizes
-        ``hq``, in the four's body frame). Row 0: the face axes' gap of each (as ``box_gap`` gives
-        it: it orders overlapping pairs); row 1: positive where one of the fifteen axes parts them.
+        ``hq``, in the four's body frame). Row 0: the squared distance of the centres (the order of
+        the walk); row 1: positive where one of the fifteen axes parts them (``box_gap``'s test).
         Written out lane vector by lane vector (r01: the other box's axis 1 along each box's axis 0)."""
         x0, y0, z0 = m.quad_axes[k, 0], m.quad_axes[k, 3], m.quad_axes[k, 6]
         x1, y1, z1 = m.quad_axes[k, 1], m.quad_axes[k, 4], m.quad_axes[k, 7]
@@ -89,7 +91,7 @@ def quad_gap_function(scalar=wp.float32):
         apart = wp.max(apart, edge_axis(d1, r00, d0, r10, e0, a10, e1, a00, hq[1], a22, hq[2], a21, r20))
         apart = wp.max(apart, edge_axis(d1, r01, d0, r11, e0, a11, e1, a01, hq[2], a20, hq[0], a22, r21))
         apart = wp.max(apart, edge_axis(d1, r02, d0, r12, e0, a12, e1, a02, hq[0], a21, hq[1], a20, r22))
-        return wp.matrix_from_rows(worst, apart, V4())
+        return wp.matrix_from_rows(wp.cw_mul(d0, d0) + wp.cw_mul(d1, d1) + wp.cw_mul(d2, d2), apart)
 
     return quad_gaps
 
@@ -99,7 +101,7 @@ def quad_walk(scalar=wp.float32):
     """meshes_cross(m, a, b, r, t): whether the surfaces of bodies a and b cross (x_A = r x_B + t),
     the boxes four at a time."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    V4, L3, _ = lane_types(scalar)
+    V4, L2 = lane_types(scalar)
     SL = wp.types.vector(QUAD, wp.int32)
     quad_gaps = quad_gap_function(scalar)
     leaf_distance = leaf_function(scalar)
@@ -113,9 +115,10 @@ def quad_walk(scalar=wp.float32):
         return m.nodes[nb].left < 0 or (m.nodes[na].left >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2])
 
     @wp.func
-    def pushed(stack: Any, top: int, g: L3, slots: SL, na: int, nb: int, on_a: bool) -> int:
-        """The overlapping boxes' node pairs pushed, the most overlapping last (on top); returns
-        the new top."""
+    def pushed(stack: Any, top: int, g: L2, slots: SL, na: int, nb: int, on_a: bool) -> int:
+        """The overlapping boxes' node pairs pushed, the nearest last (on top); returns the new top.
+        (Kept as a selection: ranks computed without branches, each pair stored where its rank puts
+        it, ran slower in a trial.)"""
         key = g[0]
         live = SL()
         count = int(0)
@@ -138,8 +141,7 @@ def quad_walk(scalar=wp.float32):
 
     @wp.func
     def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
-        """Depth first, the more overlapping boxes first; the boxes of the roots are known to
-        overlap."""
+        """Depth first, the nearer boxes first; the boxes of the roots are known to overlap."""
         stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
         stack[0] = m.root[a]
         stack[1] = m.root[b]
@@ -156,7 +158,7 @@ def quad_walk(scalar=wp.float32):
             if top + QUAD > STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
                 return True
             on_a = opens_a(m, na, nb)
-            g = L3()
+            g = L2()
             k = int(0)
             if on_a:  # B's box carried into A's frame, against A's four
                 k = m.nodes[na].quad

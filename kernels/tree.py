@@ -1,6 +1,6 @@
 """Walking two bodies' box trees (``rswarp.geometry.bvh``) together, as device code: the node-pair
-test, the split, the leaves' triangles, and the walks built on them (nearest or crossing triangles;
-a spread sample of all crossing triangle pairs)."""
+test, the split, the leaves' triangles, and the walks built on them (nearest triangles; a spread
+sample of all crossing triangle pairs). The sweep's walk for crossing triangles is ``quad``'s."""
 
 from typing import Any
 
@@ -160,49 +160,6 @@ def traversal_functions(scalar=wp.float32):
         return best
 
     return node_gap, mesh_distance
-
-
-@cached
-def crossing_walk(scalar=wp.float32):
-    """meshes_cross(m, a, b, r, t): the dual walk that only looks for two crossing triangles (the
-    verdict at padding 0: no distances, no square roots)."""
-    S, V3, M33, M34, M44 = types_of(scalar)
-    leaf_distance = leaf_function(scalar)
-    _, child_gaps, split = node_functions(scalar)
-    BodyArrays = bodies_struct(scalar)
-
-    @wp.func
-    def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
-        """Whether the surfaces of bodies a and b cross (x_A = r x_B + t). Depth first, the more
-        overlapping children first; the boxes of the roots are known to overlap."""
-        stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
-        stack[0] = m.root[a]
-        stack[1] = m.root[b]
-        top = int(1)
-        while top > 0:
-            top -= 1
-            na = stack[2 * top]
-            nb = stack[2 * top + 1]
-            if m.nodes[na].left < 0 and m.nodes[nb].left < 0:
-                if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
-                    return True
-                continue
-            if top + 2 > STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
-                return True
-            c = split(m, na, nb)
-            gs = child_gaps(m, c, r, t, False)
-            first = int(0)  # the more overlapping pair goes on top
-            if gs[0] < gs[1]:
-                first = 1
-            for k in range(2):
-                j = first if k == 0 else 1 - first
-                if gs[j] <= S(0.0):
-                    stack[2 * top] = c[2 * j]
-                    stack[2 * top + 1] = c[2 * j + 1]
-                    top += 1
-        return False
-
-    return meshes_cross
 
 
 @cached

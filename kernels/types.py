@@ -134,6 +134,6 @@ def bodies_struct(scalar=wp.float32):
         cell_scale: wp.array(dtype=scalar)  # two per pair: cells per unit of q
         cell_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
         cell_count: wp.array(dtype=wp.int32)  # witnesses in each cell, at most WITNESSES
-        witness: wp.array(dtype=V3)  # WITNESSES per cell, six vertices each: A's triangle, then B's
+        witness: wp.array(dtype=V3)  # (WITNESSES, cells, 6): each cell's, six vertices each (A's, B's)
 
     return BodyArrays

@@ -11,7 +11,7 @@ import warp as wp
 
 from .cache import cached
 from .geometry import triangle_functions
-from .types import WITNESSES, bodies_struct, types_of
+from .types import bodies_struct, types_of
 
 
 @cached
@@ -37,7 +37,9 @@ def witness_functions(scalar=wp.float32):
 
     @wp.func
     def witness_hit(m: BodyArrays, cell: int, r: M33, t: V3) -> bool:
-        for k in range(6 * WITNESSES * cell, 6 * WITNESSES * cell + 6 * m.cell_count[cell], 6):
+        cells = m.cell_count.shape[0]
+        for w in range(m.cell_count[cell]):
+            k = 6 * (w * cells + cell)
             if triangles_cross(m.witness[k], m.witness[k + 1], m.witness[k + 2], r * m.witness[k + 3] + t,
                                r * m.witness[k + 4] + t, r * m.witness[k + 5] + t):
                 return True

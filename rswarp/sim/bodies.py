@@ -313,9 +313,12 @@ class DeviceBodies:
             s.cell_res, index = arr(grid.res, wp.int32), grid.witness
             lo, scale = grid.lo, grid.scale
         s.cell_lo, s.cell_scale = arr(lo, scalar), arr(scale, scalar)
-        # each witness's two triangles beside its cell's others: one read, not an index and two triangles
-        s.cell_count = arr((index[:, 0] >= 0).reshape(-1, WITNESSES).sum(axis=1).astype(np.int32), wp.int32)
-        s.witness = arr(self.tree.triangles[np.maximum(index, 0)].reshape(-1, 3), types_of(scalar)[1])
+        # each witness's two triangles stored whole (one read, not an index and two triangles), every
+        # cell's first witness before any second: the first, which mostly crosses, stays in cache
+        index = index.reshape(-1, WITNESSES, 2)
+        s.cell_count = arr((index[:, :, 0] >= 0).sum(axis=1).astype(np.int32), wp.int32)
+        tri = self.tree.triangles[np.maximum(index, 0)]  # (cells, WITNESSES, 2, 3, 3)
+        s.witness = arr(tri.transpose(1, 0, 2, 3, 4).reshape(-1, 3), types_of(scalar)[1])
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:
