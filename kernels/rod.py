@@ -12,7 +12,7 @@ speed, the least clearance to every slot, and each clamp's load; the wear map gr
 
 import warp as wp
 
-from .cache import INLINE_ALL, cached, cpu_flags, module_name
+from .cache import FUSED, INLINE_ALL, cached, cpu_flags, module_name
 from .rod_gather import capsule_pairs, every_surface, swept
 from .rod_measure import frame_end, measure
 from .rod_step import commit, free_start, iterate, predict
@@ -177,5 +177,5 @@ def rod_kernel():
         frame_end(params, d, poses, e, substeps, x_out, q_out, stats_out)
         _clearances(params, d, poses, e, substeps, x_out, q_out, work, contacts, count, row, clear_out, at_out)
 
-    cpu_flags(step.module, INLINE_ALL)  # the substep and the surfaces inlined: no copy of params a call
+    cpu_flags(step.module, f"{FUSED} {INLINE_ALL}")  # the substep and the surfaces inlined: no copy of params a call
     return step
