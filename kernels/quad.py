@@ -11,8 +11,12 @@ import warp as wp
 
 from .cache import cached
 from .geometry import EPS_AXIS
-from .tree import STACK, leaf_function
+from .tree import leaf_function
 from .types import QUAD, bodies_struct, types_of
+
+# node pairs the walk keeps pending: each step goes two levels down one tree and leaves at most three
+# more, so two balanced trees of depth 40 need at most 1 + 3 * 40
+QUAD_STACK = 124
 
 
 @cached
@@ -142,7 +146,7 @@ def quad_walk(scalar=wp.float32):
     @wp.func
     def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
         """Depth first, the nearer boxes first; the boxes of the roots are known to overlap."""
-        stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)
+        stack = wp.zeros(shape=wp.static(2 * QUAD_STACK), dtype=wp.int32)
         stack[0] = m.root[a]
         stack[1] = m.root[b]
         top = int(1)
@@ -155,7 +159,7 @@ def quad_walk(scalar=wp.float32):
                 if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
                     return True
                 continue
-            if top + QUAD > STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
+            if top + QUAD > QUAD_STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
                 return True
             on_a = opens_a(m, na, nb)
             g = L2()
