@@ -26,11 +26,10 @@ def lane_types(scalar=wp.float32):
 
 
 @cached
-def quad_gap_function(scalar=wp.float32):
-    """quad_gaps(m, k, rq, cq, hq): record k's four boxes against one box."""
+def lane_functions(scalar=wp.float32):
+    """(along, spread, edge_axis): the box test's steps, four lanes at a time."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    V4, L2 = lane_types(scalar)
-    BodyArrays = bodies_struct(scalar)
+    V4, _ = lane_types(scalar)
 
     @wp.func
     def along(x: V4, y: V4, z: V4, u: V3) -> V4:
@@ -49,6 +48,17 @@ def quad_gap_function(scalar=wp.float32):
         in) and is not degenerate (|A_i x B_j|^2 > 1e-6)."""
         g = wp.abs(wp.cw_mul(da, ra) - wp.cw_mul(db, rb)) - wp.cw_mul(ea, aa) - wp.cw_mul(eb, ab) - a1 * h1 - a2 * h2
         return wp.min(g, V4(S(1.0 - 1.0e-6)) - wp.cw_mul(rij, rij))
+
+    return along, spread, edge_axis
+
+
+@cached
+def quad_gap_function(scalar=wp.float32):
+    """quad_gaps(m, k, rq, cq, hq): record k's four boxes against one box."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    V4, L2 = lane_types(scalar)
+    along, spread, edge_axis = lane_functions(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
     def quad_gaps(m: BodyArrays, k: int, rq: M33, cq: V3, hq: V3) -> L2:
@@ -101,14 +111,11 @@ def quad_gap_function(scalar=wp.float32):
 
 
 @cached
-def quad_walk(scalar=wp.float32):
-    """meshes_cross(m, a, b, r, t): whether the surfaces of bodies a and b cross (x_A = r x_B + t),
-    the boxes four at a time."""
+def step_functions(scalar=wp.float32):
+    """(opens_a, pushed): which node a step of the walk opens, and the pairs it leaves pending."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    V4, L2 = lane_types(scalar)
+    _, L2 = lane_types(scalar)
     SL = wp.types.vector(QUAD, wp.int32)
-    quad_gaps = quad_gap_function(scalar)
-    leaf_distance = leaf_function(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
@@ -142,6 +149,20 @@ def quad_walk(scalar=wp.float32):
                 stack[2 * (top + n)] = na
                 stack[2 * (top + n) + 1] = slots[best]
         return top + count
+
+    return opens_a, pushed
+
+
+@cached
+def quad_walk(scalar=wp.float32):
+    """meshes_cross(m, a, b, r, t): whether the surfaces of bodies a and b cross (x_A = r x_B + t),
+    the boxes four at a time."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    _, L2 = lane_types(scalar)
+    quad_gaps = quad_gap_function(scalar)
+    opens_a, pushed = step_functions(scalar)
+    leaf_distance = leaf_function(scalar)
+    BodyArrays = bodies_struct(scalar)
 
     @wp.func
     def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:

@@ -301,6 +301,26 @@ def test_same_numbers_on_one_core_or_many(irb):
     assert one == many
 
 
+def test_a_configuration_without_a_pose_is_never_cleared(irb):
+    """A row with a NaN or an infinity is reported colliding in every pair (gaps NaN), the other
+    rows as they are without it; a q of the wrong shape is refused before any launch."""
+    mech, bodies, checker = irb
+    lower, upper = mech.bounds()
+    q = lower + (upper - lower) * np.random.default_rng(5).random((9, len(lower)))
+    hit, gap = checker.verdicts(q)
+    bad = q.copy()
+    bad[2, 3], bad[6, 0] = np.nan, np.inf
+    bad_hit, bad_gap = checker.verdicts(bad)
+    assert bad_hit[[2, 6]].all() and np.isnan(bad_gap[[2, 6]]).all()
+    keep = [0, 1, 3, 4, 5, 7, 8]
+    np.testing.assert_array_equal(bad_hit[keep], hit[keep])
+    np.testing.assert_array_equal(bad_gap[keep], gap[keep])
+    np.testing.assert_array_equal(checker.verdicts(q[4])[0], hit[4:5])  # one configuration, one row
+    for shape in ((3, len(lower) - 1), (3, len(lower) + 1), (2, 3, len(lower))):
+        with pytest.raises(ValueError, match="q must have shape"):
+            checker.verdicts(np.zeros(shape))
+
+
 def test_memory_is_bounded():
     mech = load("fold.rsxml")
 

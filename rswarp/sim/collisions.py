@@ -14,6 +14,7 @@ the chunk's index, so a sweep gives the same numbers on one core or many, and me
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import partial
 from typing import Callable
@@ -117,6 +118,7 @@ class Checker:
         from ..kernels.collide import collision_kernels
 
         self.bodies = bodies
+        self.dof = len(mech.graph.active)  # the columns of a configuration
         self.chain = chain = mechanism_chain(mech)
         # the per-configuration flag of closed loops: on the host, or the device for Newton-solved ones
         self.loops_close = Kinematics(mech, device).loops_close if len(chain.newton_rows) else \
@@ -145,16 +147,26 @@ class Checker:
         return out
 
     def verdicts(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(hit, gap)``: (N, pairs) booleans, and float32 lower bounds of free pairs' distances."""
-        q = np.ascontiguousarray(q, np.float32)
+        """``(hit, gap)``: (N, pairs) booleans, and float32 lower bounds of free pairs' distances.
+        A row holding a NaN or an infinity has no pose: every pair is reported colliding there (a
+        verdict never clears what it could not check), its gaps NaN."""
+        q = np.ascontiguousarray(np.atleast_2d(q), np.float32)
+        if q.ndim != 2 or q.shape[1] != self.dof:
+            raise ValueError(f"q must have shape (N, {self.dof}), got {q.shape}")
         hit = np.empty((len(q), self.pair_count), np.uint8)
         gap = np.empty((len(q), self.pair_count), np.float32)
         self.launcher.launch(self._collide, len(q), params=[self._device.struct(init_warp().float32)], inputs=[q],
                              outputs=[hit, gap])
-        return hit.astype(bool), gap
+        hit = hit.astype(bool)
+        if not math.isfinite(float(q.sum(dtype=np.float64))):  # one pass; the rows only when some number is not finite
+            bad = ~np.isfinite(q).all(axis=1)
+            hit[bad], gap[bad] = True, np.nan
+        return hit, gap
 
     def distances(self, q: np.ndarray, pairs: np.ndarray) -> np.ndarray:
         """Exact distances (float64) of pair ``pairs[i]`` at ``q[i]``; -1 where one body contains the other."""
+        if np.ndim(q) != 2 or np.shape(q)[1] != self.dof or len(q) != len(pairs):
+            raise ValueError(f"q must have shape (N, {self.dof}) and pairs (N,), got {np.shape(q)}, {np.shape(pairs)}")
         out = np.empty(len(q), np.float64)
         self.launcher.launch(self._distance, len(q), params=[self._device.struct(init_warp().float64)],
                              inputs=[np.ascontiguousarray(q, np.float64), np.ascontiguousarray(pairs, np.int32)],
