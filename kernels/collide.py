@@ -197,12 +197,27 @@ def _make_kernels(module: str, chain: Chain, links, bodies: int, scalar):
     return (sweep, *_pair_kernels(module, chain, fk, body, scalar))
 
 
+@cached
+def finite_function(scalar=wp.float32):
+    """finite_row(q, i): whether configuration q[i] is all finite numbers."""
+
+    @wp.func
+    def finite_row(q: wp.array2d(dtype=scalar), i: int) -> bool:
+        ok = bool(True)
+        for c in range(q.shape[1]):
+            ok = ok and wp.isfinite(q[i, c])
+        return ok
+
+    return finite_row
+
+
 def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
     """The sweep's kernel: every pair's verdict and gap at each configuration."""
     S, V3, M33, M34, M44 = types_of(scalar)
     BodyArrays = bodies_struct(scalar)
     pair_verdict, _ = pair_functions(scalar)
     witness_cell, _ = witness_functions(scalar)
+    finite_row = finite_function(scalar)
     body_pose, body_centre = body
     n = max(len(chain.parent), 1)
     nb = max(bodies, 1)
@@ -218,6 +233,11 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
         gap_out: wp.array2d(dtype=S),
     ):
         i = wp.tid()
+        if not finite_row(q, i):  # no pose: every pair colliding (never cleared unchecked), no gap
+            for p in range(m.pair_a.shape[0]):
+                hit_out[i, p] = wp.uint8(1)
+                gap_out[i, p] = S(wp.nan)
+            return
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
         centres = wp.zeros(shape=nb, dtype=V3)  # each body's sphere once, not once per pair
