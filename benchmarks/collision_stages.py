@@ -105,7 +105,7 @@ def _kernel(checker, bodies, stage: int):
     return staged
 
 
-def stage_table(checker, bodies, q: np.ndarray, repeats: int = 3) -> list[tuple[str, float, float]]:
+def stage_table(checker, bodies, q: np.ndarray, repeats: int = 5) -> list[tuple[str, float, float]]:
     """Rows (stage, microseconds a state up to and with it, share of pair tests it passes on to the
     next stage; at the last, the share that collide), one thread."""
     from rswarp.launch import Launcher, init_warp
