@@ -17,7 +17,7 @@ from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
 from ..sim.bodies import placed_environments
-from ..sim.collisions import REASONS, Collisions, collisions
+from ..sim.collisions import CANDIDATES, REASONS, Collisions, collisions
 from ..sim.engine import cluster_for
 from ..sim.tool import load_tool
 from .cell_program import robot_of, tool_spec
@@ -147,8 +147,8 @@ def collisions_text(c: Collisions, mech: Mechanism, files: dict) -> str:
         name = f"{p.body1} / {p.body2}"
         clear = ""
         if p.clearance is not None:
-            clear = (f"closest sampled {length(p.clearance)} (exact); no sample under "
-                     f"{length(max(p.clearance_floor, 0.0))} (bounding volumes)")
+            clear = (f"{length(p.clearance)} (exact) at the nearest of the {CANDIDATES} samples closest by "
+                     f"bounding volumes; no sample under {length(max(p.clearance_floor, 0.0))}")
         lines.append(f"{name:<28} {p.collisions / max(c.samples, 1):>9.3%}  {p.reason or 'checked':<9} {clear}")
     lines.append("disabled: " + ", ".join(f"{v} {k.lower()}" for k, v in c.reason_counts().items())
                  + f" ({c.always_rounds} round(s) of 200 for 'always')")
