@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from limits import held_gc
+from limits import best_time
 
 import rswarp
 from rswarp.report.collisions import collisions_text
@@ -63,18 +63,15 @@ def peer_verdicts(lib, bodies, poses: np.ndarray, repeats: int) -> tuple[np.ndar
     out = np.zeros((len(poses), len(bodies.pairs)), bool)
     transform = _transforms(lib)
     request = lib.CollisionRequest()
-    best = np.inf
-    with held_gc():
-        for _ in range(repeats):
-            t = time.perf_counter()
-            for i in range(len(poses)):
-                for obj, b in zip(objs, bodies.bodies):
-                    obj.setTransform(transform(poses[i, b.link]))
-                for p, (a, b) in enumerate(bodies.pairs):
-                    result = lib.CollisionResult()
-                    out[i, p] = lib.collide(objs[a], objs[b], request, result) > 0
-            best = min(best, time.perf_counter() - t)
-    return out, best, setup
+
+    def run():
+        for i in range(len(poses)):
+            for obj, b in zip(objs, bodies.bodies):
+                obj.setTransform(transform(poses[i, b.link]))
+            for p, (a, b) in enumerate(bodies.pairs):
+                out[i, p] = lib.collide(objs[a], objs[b], request, lib.CollisionResult()) > 0
+
+    return out, best_time(run, repeats, warm=False), setup
 
 
 def _transforms(lib):
@@ -91,36 +88,29 @@ def manager_verdicts(lib, bodies, poses: np.ndarray, repeats: int) -> tuple[np.n
     manager.setup()
     transform, request = _transforms(lib), lib.CollisionRequest()
     out = np.zeros((len(poses), len(bodies.pairs)), bool)
-    best = np.inf
-    with held_gc():
-        for _ in range(repeats):
-            out[:] = False
-            t = time.perf_counter()
-            for i in range(len(poses)):
-                for obj, b in zip(objs, bodies.bodies):
-                    obj.setTransform(transform(poses[i, b.link]))
-                    obj.computeAABB()
-                manager.update()
-                found = lib.CollisionCallBackCollect(len(objs) ** 2)
-                manager.collide(found)
-                for p, (a, b) in enumerate(bodies.pairs):  # the pair is kept in the tree's order: ask both
-                    if found.exist(objs[a], objs[b]) or found.exist(objs[b], objs[a]):
-                        out[i, p] = lib.collide(objs[a], objs[b], request, lib.CollisionResult()) > 0
-            best = min(best, time.perf_counter() - t)
-    return out, best
+
+    def run():
+        out[:] = False
+        for i in range(len(poses)):
+            for obj, b in zip(objs, bodies.bodies):
+                obj.setTransform(transform(poses[i, b.link]))
+                obj.computeAABB()
+            manager.update()
+            found = lib.CollisionCallBackCollect(len(objs) ** 2)
+            manager.collide(found)
+            for p, (a, b) in enumerate(bodies.pairs):  # the pair is kept in the tree's order: ask both
+                if found.exist(objs[a], objs[b]) or found.exist(objs[b], objs[a]):
+                    out[i, p] = lib.collide(objs[a], objs[b], request, lib.CollisionResult()) > 0
+
+    return out, best_time(run, repeats, warm=False)
 
 
 def our_verdicts(checker: Checker, q: np.ndarray, repeats: int) -> tuple[np.ndarray, float]:
     """Verdicts and the best of ``repeats`` timings (the machine is shared: the best is the least
     disturbed; the peers are timed the same way, the garbage collector held off for all)."""
     checker.verdicts(q[:1024])  # warm-up (compiled already, pages touched)
-    best = np.inf
-    with held_gc():
-        for _ in range(repeats):
-            t = time.perf_counter()
-            hit, _ = checker.verdicts(q)
-            best = min(best, time.perf_counter() - t)
-    return hit, best
+    best = best_time(lambda: checker.verdicts(q), repeats, warm=False)
+    return checker.verdicts(q)[0], best
 
 
 def per_pair(mech, bodies, q: np.ndarray) -> None:

@@ -31,21 +31,7 @@ import os
 import time
 
 import numpy as np
-from limits import copy_rate, held_gc
-
-
-def best_time(fn, repeats: int = 7) -> float:
-    """The best of ``repeats`` runs after a warm-up, Python's garbage collector held off while they
-    run, as ``timeit`` does (the millions of objects a replicated Newton model leaves are otherwise
-    collected in whichever timing comes next)."""
-    fn()  # warm-up: compiles and touches memory
-    times = []
-    with held_gc():
-        for _ in range(repeats):
-            t = time.perf_counter()
-            fn()
-            times.append(time.perf_counter() - t)
-    return min(times)
+from limits import best_time, copy_rate
 
 
 def ours_rates(kin, q: np.ndarray) -> tuple[float, float, float, float, float]:

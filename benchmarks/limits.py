@@ -122,6 +122,21 @@ def held_gc():
         gc.enable()
 
 
+def best_time(fn, repeats: int = 7, warm: bool = True) -> float:
+    """The best of ``repeats`` timed runs of ``fn`` (after an untimed one with ``warm``: Warp compiles
+    on the first call), the collector held off (``held_gc``): on a shared machine the least
+    disturbed run is the one that measures the code."""
+    if warm:
+        fn()
+    times = []
+    with held_gc():
+        for _ in range(repeats):
+            t = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t)
+    return min(times)
+
+
 def copy_rate(bytes_per_item: int, items: int) -> float:
     """Items a second that a copy of ``items`` x ``bytes_per_item`` bytes between two buffers allows
     on one thread (the median of five copies after one that touches the pages)."""

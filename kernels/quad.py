@@ -11,7 +11,7 @@ import warp as wp
 
 from .cache import cached
 from .geometry import EPS_AXIS
-from .tree import leaf_function
+from .tree import leaf_function, opening_function
 from .types import QUAD, bodies_struct, types_of
 
 # node pairs the walk keeps pending: each step goes two levels down one tree and leaves at most three
@@ -111,19 +111,11 @@ def quad_gap_function(scalar=wp.float32):
 
 
 @cached
-def step_functions(scalar=wp.float32):
-    """(opens_a, pushed): which node a step of the walk opens, and the pairs it leaves pending."""
-    S, V3, M33, M34, M44 = types_of(scalar)
+def push_function(scalar=wp.float32):
+    """pushed(stack, top, g, slots, na, nb, on_a): the pairs a step of the walk leaves pending."""
+    S = scalar
     _, L2 = lane_types(scalar)
     SL = wp.types.vector(QUAD, wp.int32)
-    BodyArrays = bodies_struct(scalar)
-
-    @wp.func
-    def opens_a(m: BodyArrays, na: int, nb: int) -> bool:
-        """Whether the walk opens A's node (the larger, unless it is a leaf) rather than B's."""
-        ha = m.nodes[na].half
-        hb = m.nodes[nb].half
-        return m.nodes[nb].left < 0 or (m.nodes[na].left >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2])
 
     @wp.func
     def pushed(stack: Any, top: int, g: L2, slots: SL, na: int, nb: int, on_a: bool) -> int:
@@ -150,7 +142,7 @@ def step_functions(scalar=wp.float32):
                 stack[2 * (top + n) + 1] = slots[best]
         return top + count
 
-    return opens_a, pushed
+    return pushed
 
 
 @cached
@@ -160,7 +152,8 @@ def quad_walk(scalar=wp.float32):
     S, V3, M33, M34, M44 = types_of(scalar)
     _, L2 = lane_types(scalar)
     quad_gaps = quad_gap_function(scalar)
-    opens_a, pushed = step_functions(scalar)
+    opens_a = opening_function(scalar)
+    pushed = push_function(scalar)
     leaf_distance = leaf_function(scalar)
     BodyArrays = bodies_struct(scalar)
 

@@ -177,5 +177,6 @@ def rod_kernel():
         frame_end(params, d, poses, e, substeps, x_out, q_out, stats_out)
         _clearances(params, d, poses, e, substeps, x_out, q_out, work, contacts, count, row, clear_out, at_out)
 
-    cpu_flags(step.module, f"{FUSED} {INLINE_ALL}")  # the substep and the surfaces inlined: no copy of params a call
+    # multiply-adds fused; the substep and the surfaces inlined: no copy of params a call
+    cpu_flags(step.module, f"{FUSED} {INLINE_ALL}")
     return step

@@ -47,11 +47,27 @@ def leaf_function(scalar=wp.float32):
 
 
 @cached
+def opening_function(scalar=wp.float32):
+    """opens_a(m, na, nb): whether a walk opens A's node (the larger, unless it is a leaf) rather
+    than B's; every walk of two trees opens by this rule."""
+    BodyArrays = bodies_struct(scalar)
+
+    @wp.func
+    def opens_a(m: BodyArrays, na: int, nb: int) -> bool:
+        ha = m.nodes[na].half
+        hb = m.nodes[nb].half
+        return m.nodes[nb].left < 0 or (m.nodes[na].left >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2])
+
+    return opens_a
+
+
+@cached
 def node_functions(scalar=wp.float32):
     """(node_gap, child_gaps, split): what the tree walk does with one pair of boxes."""
     S, V3, M33, M34, M44 = types_of(scalar)
     V2 = wp.types.vector(2, scalar)
     abs_rotation, box_gap = box_functions(scalar)
+    opens_a = opening_function(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
@@ -89,11 +105,9 @@ def node_functions(scalar=wp.float32):
 
     @wp.func
     def split(m: BodyArrays, na: int, nb: int) -> wp.vec4i:
-        """The two node pairs (a1, b1, a2, b2) that (na, nb) opens into: the larger node's children
-        (the one that is not a leaf)."""
-        ha = m.nodes[na].half
-        hb = m.nodes[nb].half
-        if m.nodes[nb].left < 0 or (m.nodes[na].left >= 0 and ha[0] + ha[1] + ha[2] >= hb[0] + hb[1] + hb[2]):
+        """The two node pairs (a1, b1, a2, b2) that (na, nb) opens into: the children of the node
+        ``opens_a`` picks."""
+        if opens_a(m, na, nb):
             return wp.vec4i(m.nodes[na].left, nb, m.nodes[na].right, nb)
         return wp.vec4i(na, m.nodes[nb].left, na, m.nodes[nb].right)
 
