@@ -100,8 +100,8 @@ def initial_points(ref, segments: int) -> np.ndarray:
 def _rod(xml: str, **options):
     """Our Cosserat rod solver for one RSXML text (``CableOptions`` given)."""
     import rswarp
-    from rswarp.sim.cable_rod import CosseratRod
-    from rswarp.sim.cable_solver import CableOptions
+    from rswarp.sim.cable.rod import CosseratRod
+    from rswarp.sim.cable.solver import CableOptions
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "bench.rsxml"
@@ -112,7 +112,7 @@ def _rod(xml: str, **options):
 
 def _steps(solver, state, seconds: float, joints=lambda t: ()) -> float:
     """Frames of ``seconds``; the CPU seconds they took."""
-    from rswarp.sim.cable_solver import FRAME_RATE
+    from rswarp.config import FRAME_RATE
 
     envs, subs, frame = state.x.shape[0], solver.options.substeps, 1 / FRAME_RATE
     with held_gc():

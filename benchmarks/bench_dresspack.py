@@ -23,9 +23,9 @@ import time
 
 from rswarp import examples
 from rswarp.kinematics.trajectory import Trajectory
-from rswarp.report.program import program_plan
+from rswarp.motion.plan import program_plan
 from rswarp.rsxml.documents import load_mechanism
-from rswarp.sim.cable_solver import CableOptions
+from rswarp.sim.cable.solver import CableOptions
 from rswarp.sim.cables import SWING_AFTER, simulate_cables
 from rswarp.sim.designs import DesignSet, parse_vary, sample
 
@@ -42,7 +42,7 @@ def main() -> None:
     mech, _ = load_mechanism(path)
     variables = parse_vary(VARY, mech.cables[0])
     designs = DesignSet(0, variables, sample(variables, args.designs, seed=0))
-    _, plan = program_plan(path, [str(examples.IRB2600_PROGRAM)], "main")
+    _, plan = program_plan(path, [str(examples.IRB2600_PROGRAM)], routine="main")
     traj = [Trajectory("pick_place", plan.times, plan.q)]
     options = CableOptions(device=args.device)
     simulate_cables(mech, traj, 1, 0.1, options)  # compile and warm, untimed

@@ -33,7 +33,7 @@ from pathlib import Path
 import rswarp
 from rswarp.examples import IRB2600
 from rswarp.kinematics.kinematics import Kinematics
-from rswarp.kinematics.program import Planner
+from rswarp.motion.planner import Planner
 from rswarp.rapid.interpret import Interpreter
 from rswarp.rapid.task import load_task
 

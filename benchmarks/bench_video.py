@@ -20,7 +20,7 @@ import numpy as np
 
 from rswarp.examples import IRB2600, IRB2600_PROGRAM
 from rswarp.kinematics.kinematics import Kinematics
-from rswarp.report.program import program_plan
+from rswarp.motion.plan import program_plan
 from rswarp.sim.preview import View, camera
 from rswarp.sim.video import SAMPLES, _Scene, render_frames
 

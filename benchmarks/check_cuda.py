@@ -64,7 +64,7 @@ def compare_devices(res: dict) -> None:
 
 def frame_times(hose, device: str, envs_list=(256, 4096), frames: int = 120) -> None:
     """Seconds per frame of one cable's solver stepping ``envs`` environments, after a warm-up."""
-    from rswarp.sim.cable_models import make_solver
+    from rswarp.sim.cable.models import make_solver
 
     solver = make_solver(hose, hose.cables[0], CableOptions(device=device), None)
     for envs in envs_list:

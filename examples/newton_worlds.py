@@ -24,7 +24,7 @@ def main() -> None:
     import warp as wp
 
     import rswarp
-    from rswarp.export.frames import link_origins
+    from rswarp.geometry.frames import link_origins
 
     mech = rswarp.load(args.file)
     usd = Path(args.out) if args.out else Path(tempfile.mkdtemp()) / f"{mech.name}.usdc"

@@ -47,12 +47,13 @@ def content_digest(*args) -> str:
 
 @functools.lru_cache(maxsize=1)
 def _source_digest() -> str:
-    """A hash of this package's source: Warp's own module hash can miss a change inside a closure
-    reached through ``wp.static`` (seen with the FK lanes), and would load the old compiled code."""
+    """A hash of this package's source, its subpackages' included (``rod``): Warp's own module hash
+    can miss a change inside a closure reached through ``wp.static`` (seen with the FK lanes), and
+    would load the old compiled code."""
     from pathlib import Path
 
     h = hashlib.sha256()
-    for path in sorted(Path(__file__).parent.glob("*.py")):
+    for path in sorted(Path(__file__).parent.rglob("*.py")):
         h.update(path.read_bytes())
     return h.hexdigest()[:8]
 

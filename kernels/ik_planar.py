@@ -7,7 +7,7 @@ import numpy as np
 import warp as wp
 
 from .cache import cached, module_name
-from .ik import NO_REACH, OK, angle_funcs, shoulder_func
+from .ik_common import NO_REACH, OK, angle_funcs, shoulder_func
 from .types import types_of
 
 BRANCHES = 4

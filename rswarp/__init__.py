@@ -1,8 +1,10 @@
 """rswarp: ABB RobotStudio RSXML robot descriptions for OpenUSD, Newton and batched Warp kernels.
 
-Layers, imports pointing down only: ``rsxml`` (the format) -> ``geometry`` (meshes, mass) ->
-``sim`` (Warp work on the host side) and ``export`` (USD, URDF, Newton) -> ``report`` (what people
-read) -> ``cli``. Device code lives in ``rswarp.kernels``.
+Layers, imports pointing down only: ``rsxml`` (the format) and ``rapid`` (RAPID programs) ->
+``geometry`` (meshes, mass) -> ``kinematics`` (forward and inverse, batched on Warp) -> ``motion``
+(the planner: RAPID motions to timed, checked trajectories) -> ``sim`` (Warp work on the host side)
+and ``export`` (USD, URDF, Newton) -> ``report`` (what people read) -> ``cli``. Device code lives
+in ``rswarp.kernels``.
 """
 
 from . import files as files  # first: in the rswarp command a Ctrl-C while it loads waits for main
@@ -33,9 +35,9 @@ _LAZY = {
     "workspace": ("sim.workspace", "workspace"),
     "collisions": ("sim.collisions", "collisions"),
     "simulate_cables": ("sim.cables", "simulate_cables"),
-    "Cluster": ("sim.cluster", "Cluster"),
+    "Cluster": ("sim.engine", "Cluster"),
     "build_library": ("report.library", "build_library"),
-    "program": ("report.program", "program_plan"),
+    "program": ("motion.plan", "program_plan"),
     "to_usd": ("export.usd_layout", "to_usd"),
     "to_newton": ("export.newton", "to_newton"),
     "to_urdf": ("export.urdf", "to_urdf"),

@@ -1,11 +1,12 @@
 """The ``rswarp`` command line: each command parses its arguments, calls one library function
-(``rswarp.report``'s ``run_*``, whose keyword names the options' destinations match) and prints
+(``rswarp.report``'s ``run_*``), its options gathered into the typed objects of ``rswarp.config`` and prints
 its ``Output``. Bad input (``InputError``) ends with one ``file:line: message`` line per problem
 and exit 1; anything else is an internal error, exit 2, with its traceback under ``--debug``."""
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import importlib
 import inspect
 import os
@@ -78,8 +79,8 @@ COMMANDS = {
 }
 
 
-# Commands that run a RAPID task and take --payload, a load carried on top of the tools' for the
-# whole run (cable and dresspack join once their run functions take ``payload``).
+# Commands that run a RAPID task and take --payload (``TaskOptions.payload``), a load carried on top
+# of the tools' for the whole run.
 PAYLOAD_COMMANDS = ("program", "cable", "dresspack")
 
 
@@ -112,13 +113,48 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _call(args) -> int:
-    """The command's library function with the options it names, then its output printed."""
+# A library entry's parameters that take a whole options object (``rswarp.config``), by name.
+OPTION_PARAMETERS = {"task": "TaskOptions", "hose": "HoseOptions", "design": "DesignOptions", "batch": "BatchOptions",
+                     "video": "VideoOptions"}
+# What the command line itself uses of the parsed arguments, not the library.
+META = frozenset({"command", "entry", "unit", "debug", "max_file_size", "json"})
+
+
+def entry_of(args):
+    """The library function a parsed command names (``report.<module>:<function>``)."""
     module, function = args.entry.split(":")
-    fn = getattr(importlib.import_module(f".report.{module}", __package__), function)
+    return getattr(importlib.import_module(f".report.{module}", __package__), function)
+
+
+def library_arguments(fn, values: dict) -> tuple[dict, set]:
+    """(keyword arguments, the options they leave unused) of ``fn`` from a command's parsed
+    options: an options parameter (``OPTION_PARAMETERS``) gets its object built from them once,
+    any other parameter the option of its name."""
+    from . import config
+
+    kwargs, used = {}, set(META)
+    for name in inspect.signature(fn).parameters:
+        if name in OPTION_PARAMETERS:
+            kind = getattr(config, OPTION_PARAMETERS[name])
+            kwargs[name] = config.from_namespace(kind, values)
+            used |= {f.name for f in dataclasses.fields(kind)}
+        elif name in values:
+            kwargs[name] = values[name]
+            used.add(name)
+    return kwargs, set(values) - used
+
+
+def _call(args) -> int:
+    """The command's library function with its options, then its output printed. An option that
+    reaches no parameter is rswarp's bug (exit 2), never dropped silently."""
+    fn = entry_of(args)
     names = inspect.signature(fn).parameters
-    kwargs = {k: v for k, v in vars(args).items() if k in names}
+    kwargs, unused = library_arguments(fn, vars(args))
+    if unused:
+        raise RuntimeError(f"rswarp {args.command}: options that reach no library parameter: {sorted(unused)}")
     quiet = getattr(args, "json", False)
+    if "json" in names:
+        kwargs["json"] = quiet
     if "warn" in names:
         kwargs["warn"] = (lambda line: None) if quiet and args.command == "check" else _stderr
     if "say" in names:

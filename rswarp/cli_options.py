@@ -1,15 +1,16 @@
 """The options of each ``rswarp`` command, beside those every command of a kind shares (``cli``'s
-parent parsers). Each option's destination is the keyword of the library function it goes to;
-numbers are parsed and bounded by ``rswarp.options``."""
+parent parsers). Each option's destination is the keyword of the library function it goes to,
+or a field of the ``rswarp.config`` options object it is gathered into; numbers are parsed and
+bounded by ``rswarp.options``."""
 
 from __future__ import annotations
 
 import argparse
 
+from .config import DENSITY, FRAME_RATE, FRICTION, MAX_STRAIN, MAX_TORSION_DEG, POISSON, SUBSTEPS
 from .export.physics import DRIVE_HZ
 from .geometry.mass import DEFAULT_DENSITY
 from .options import argument
-from .sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
 
 LENGTH = "in the file's length unit"
 
@@ -172,7 +173,7 @@ def cable(p: argparse.ArgumentParser) -> None:
                    help="also write playback.usdc: environment 0's robot and cables over time, for usdview")
     _hose(p)
     p.add_argument("--cable-model", default="rod", metavar="MODEL",
-                   help="how the cables are simulated: a model of rswarp.sim.cable_models (default rod: "
+                   help="how the cables are simulated: a model of rswarp.sim.cable.models (default rod: "
                         "discrete Cosserat rods)")
 
 
@@ -208,10 +209,12 @@ def _hose(p: argparse.ArgumentParser) -> None:
     p.add_argument("--static-bend-radius", type=argument("static-bend-radius"), metavar="R",
                    help=f"the hose's static bend radius {LENGTH}: tighter is a kink (default five times the "
                         "diameter)")
-    p.add_argument("--max-strain", type=argument("max-strain"), default=0.005, metavar="STRAIN",
-                   help="axial strain past which the hose is pulled taut, not hanging (default 0.005: 0.5 %%)")
-    p.add_argument("--max-torsion", type=argument("max-torsion"), default=180.0, metavar="DEG_PER_M",
-                   help="twist a metre the hose is rated for (default 180, a torsion-rated robot hose)")
+    p.add_argument("--max-strain", type=argument("max-strain"), default=MAX_STRAIN, metavar="STRAIN",
+                   help=f"axial strain past which the hose is pulled taut, not hanging (default {MAX_STRAIN:g}: "
+                        f"{MAX_STRAIN * 100:g} %%)")
+    p.add_argument("--max-torsion", type=argument("max-torsion"), default=MAX_TORSION_DEG, metavar="DEG_PER_M",
+                   help=f"twist a metre the hose is rated for (default {MAX_TORSION_DEG:g}, a torsion-rated robot "
+                        "hose)")
     p.add_argument("--max-contact-force", type=argument("max-contact-force"), metavar="N",
                    help="a contact harder than this fails (default: contact is a warning)")
     p.add_argument("--max-clamp-load", type=argument("max-clamp-load"), metavar="N",

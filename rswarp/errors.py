@@ -6,6 +6,13 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from typing import Callable
+
+Warn = Callable[[str], None]  # one line for people, on stderr at the command line
+
+
+def ignore(text: str) -> None:
+    """A ``warn`` that drops the line (library callers read the results instead)."""
 
 
 @dataclass(frozen=True)

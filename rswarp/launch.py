@@ -21,6 +21,7 @@ import signal
 import sys
 import tempfile
 import threading
+import weakref
 from concurrent.futures import ThreadPoolExecutor, wait
 from typing import Sequence
 
@@ -135,7 +136,8 @@ class Launcher:
 
     A kernel's parameters are, in order: ``params`` (model constants, passed as given), then the
     batch ``inputs`` and ``outputs`` whose first axis is the batch, each cut per chunk: host NumPy
-    arrays (typed as the kernel declares) or Warp arrays on the launcher's device. Per-item
+    arrays (typed as the kernel declares), Warp arrays on the launcher's device, or a Warp struct
+    of such Warp arrays (a group, as a cable model's state: each array cut alike). Per-item
     ``scratch`` arrays go between them when the kernel needs them (``scratch`` is a width, or one
     per array; their types are the kernel's)."""
 
@@ -147,6 +149,8 @@ class Launcher:
         self._local = threading.local()
         self._records: dict = {}  # the small batches' recorded launches (``_Recorded``), oldest first
         self._small = threading.Lock()  # one small call at a time: a recorded launch's arrays are shared
+        self._chunks = weakref.WeakKeyDictionary()  # a struct batch -> its chunks' structs (``_rows``)
+        self._chunks_lock = threading.Lock()
 
     def load(self, kernel) -> None:
         """Compile (or load from Warp's cache) the kernel's module before any thread launches it."""
@@ -168,15 +172,15 @@ class Launcher:
                 return recorded.run(params, inputs, outputs, overwrites)
         args = kernel.adj.args
         first = len(params)
-        in_types = [args[first + k].type.dtype for k in range(len(inputs))]
+        in_types = [_dtype(args[first + k]) for k in range(len(inputs))]
         widths = () if scratch is None else (scratch,) if isinstance(scratch, int) else tuple(scratch)
         last = first + len(inputs) + len(widths)
         scratch_types = [args[first + len(inputs) + k].type.dtype for k in range(len(widths))]
-        out_types = [args[last + k].type.dtype for k in range(len(outputs))]
+        out_types = [_dtype(args[last + k]) for k in range(len(outputs))]
 
         def run(lo: int, hi: int) -> None:
-            ins = [self._view(a[lo:hi], t) for a, t in zip(inputs, in_types)]
-            outs = [self._target(a[lo:hi], t) for a, t in zip(outputs, out_types)]
+            ins = [self._view(self._rows(a, lo, hi, n), t) for a, t in zip(inputs, in_types)]
+            outs = [self._target(self._rows(a, lo, hi, n), t) for a, t in zip(outputs, out_types)]
             extra = [self._scratch(hi - lo, w, t, k) for k, (w, t) in enumerate(zip(widths, scratch_types))]
             with signals_held():
                 init_warp().launch(kernel, dim=-(-(hi - lo) // lanes), inputs=[*params, *ins, *extra], outputs=outs,
@@ -199,11 +203,34 @@ class Launcher:
         recorded[key] = found
         return found
 
+    def _rows(self, batch, lo: int, hi: int, n: int):
+        """Items ``lo`` to ``hi`` of a batch of ``n``: an array's rows, or a Warp struct whose every
+        array has the batch first, as a struct of their rows (the struct itself for the whole
+        batch). A struct's chunks are made once while its fields stay the same objects (a cable
+        model's state, launched frame after frame), and go with it."""
+        struct = getattr(batch, "_cls", None)  # a Warp struct instance's type
+        if struct is None:
+            return batch[lo:hi]
+        if lo == 0 and hi == n:
+            return batch
+        fields = [getattr(batch, name) for name in struct.vars]
+        with self._chunks_lock:
+            chunks = self._chunks.setdefault(batch, {})
+            found = chunks.get((lo, hi))
+        if found is not None and all(a is b for a, b in zip(found[0], fields)):
+            return found[1]
+        part = struct()
+        for name, value in zip(struct.vars, fields):
+            setattr(part, name, value[lo:hi] if hasattr(value, "shape") else value)
+        with self._chunks_lock:
+            chunks[(lo, hi)] = (fields, part)
+        return part
+
     def _view(self, host, dtype):
         """A zero-copy Warp view of a host array on the CPU, a device copy on a GPU; a Warp array
-        (a chunk of one on this device) as it is."""
+        (a chunk of one on this device), or a struct of them, as it is."""
         wp = init_warp()
-        if isinstance(host, wp.array):
+        if isinstance(host, wp.array) or dtype is None:
             return host
         return wp.array(host, dtype=dtype, device=self.device, copy=not self.device.is_cpu)
 
@@ -255,6 +282,11 @@ class Launcher:
             self.close()
         except Exception:
             pass
+
+
+def _dtype(arg):
+    """The element type of a kernel's array parameter; None for a struct (a group of arrays)."""
+    return getattr(arg.type, "dtype", None)
 
 
 def _small_key(kernel, n: int, params, inputs, outputs, scratch, lanes: int) -> tuple | None:

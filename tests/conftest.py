@@ -37,3 +37,23 @@ def demo_run(tmp_path_factory):
     with contextlib.redirect_stdout(printed):
         code = main(["demo", "--out", str(folder)])
     return folder, code, printed.getvalue()
+
+
+@pytest.fixture(scope="session")
+def local_ray():
+    """One local Ray instance of 2 CPUs for the whole session, shared by every test that asks for
+    it (tests/test_ray.py, tests/test_api.py); its workers keep their kernels. Those tests run
+    last (``pytest_collection_modifyitems``), so Ray starts once and lives only while they run."""
+    ray = pytest.importorskip("ray")
+    from rswarp.sim import engine
+
+    engine.connect(engine.Cluster(cpus=2))
+    yield
+    ray.shutdown()
+
+
+def pytest_collection_modifyitems(items):
+    """The tests on the local Ray instance moved to the end, in their order: one start of Ray."""
+    on_ray = [item for item in items if "local_ray" in getattr(item, "fixturenames", ())]
+    if on_ray:
+        items[:] = [item for item in items if "local_ray" not in getattr(item, "fixturenames", ())] + on_ray

@@ -7,8 +7,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 import rswarp
-from rswarp.sim.cable_rod import CosseratRod
-from rswarp.sim.cable_solver import CableOptions, contact_meshes
+from rswarp.sim.cable.rod import CosseratRod
+from rswarp.sim.cable.solver import CableOptions, contact_meshes
 
 from conftest import DATA
 
@@ -79,7 +79,7 @@ def ribbon_link(nodes: np.ndarray, d1: np.ndarray, axis: np.ndarray, width: floa
 
 def energy(solver, state, env: int = 0) -> float:
     """The rods' kinetic, gravitational and elastic energy (J), from the joints' stiffness as the
-    model states it (``rswarp.kernels.rod_joint``: 1/2 k gap^2 and 1/2 k (2 Im(a* b))^2)."""
+    model states it (``rswarp.kernels.rod.joint``: 1/2 k gap^2 and 1/2 k (2 Im(a* b))^2)."""
     lay = solver.layout
     x, q, v, w = (a.numpy()[env] for a in (state.x, state.q, state.v, state.w))
     rot = Rotation.from_quat(q)

@@ -12,7 +12,7 @@ import pytest
 import rswarp
 from rswarp import examples
 from rswarp.kinematics.trajectory import Trajectory, minimum_jerk
-from rswarp.sim.cable_solver import CableOptions
+from rswarp.sim.cable.solver import CableOptions
 from rswarp.sim.cables import simulate_cables
 
 TRAVEL, MOVE, RUN = 1.2, 1.2, 3.0  # m the carriage goes, s it takes (minimum jerk), s the run lasts

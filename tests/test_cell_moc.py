@@ -78,7 +78,7 @@ def test_a_missing_backup_and_a_linear_axis_on_a_turning_joint_are_errors_at_the
 
 
 def test_a_program_over_the_backups_cell_keeps_the_track_within_the_controllers_bounds(tmp_path):
-    from rswarp.report.program import program_plan
+    from rswarp.motion.plan import program_plan
 
     module = tmp_path / "far.mod"
     module.write_text("MODULE Far\n  CONST jointtarget jFar := [[0, 0, 0, 0, 30, 0], [3900, 0, 0, 9E9, 9E9, 9E9]];\n"

@@ -19,7 +19,8 @@ from scipy.spatial.transform import Rotation
 
 from rswarp.kinematics.kinematics import Kinematics
 from rswarp.kinematics.trajectory import read_trajectory
-from rswarp.report.program import program_plan, run_program
+from rswarp.motion.plan import program_plan
+from rswarp.report.program import run_program
 
 from conftest import DATA
 

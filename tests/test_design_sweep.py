@@ -18,7 +18,7 @@ from rswarp.kinematics.trajectory import read_trajectory
 from rswarp.report.cables import run_cables
 from rswarp.report.dresspack import run_dresspack
 from rswarp.rsxml.documents import load_mechanism
-from rswarp.sim.cable_solver import CableOptions
+from rswarp.sim.cable.solver import CableOptions
 from rswarp.sim.cables import design_runs, simulate_cables
 from rswarp.sim.designs import DesignSet, parse_vary, sample
 
@@ -50,7 +50,7 @@ def test_the_sweep_writes_the_shortest_passing_design_and_cable_gives_its_verdic
     """Over pull_hold.mod the short hoses are pulled taut; the chosen one is the shortest row that
     passes, and run alone from best.rsxml it passes with the same least bend radius."""
     out = tmp_path / "sweep"
-    doc = run_dresspack(str(RIGS / "taut.rsxml"), [str(RIGS / "pull_hold.mod")], str(out), ["length=1.0:1.25"],
+    doc = run_dresspack(str(RIGS / "taut.rsxml"), [str(RIGS / "pull_hold.mod")], str(out), vary=["length=1.0:1.25"],
                         designs=8, min_bend_radius=150.0).doc
     rows = list(csv.DictReader((out / "designs.csv").open()))
     assert len(rows) == 8
@@ -153,7 +153,7 @@ def test_the_sweep_gives_each_columns_unit_and_keeps_the_margin_asked_for(tmp_pa
     command that repeats it names an output folder (rswarp cable needs one)."""
     out = tmp_path / "sweep"
     result = run_dresspack(str(RIGS / "taut.rsxml"), [str(RIGS / "pull_hold.mod")], str(out),
-                           ["length=1.15:1.25", "Slide.pitch=-10:10"], designs=4, min_bend_radius=150.0,
+                           vary=["length=1.15:1.25", "Slide.pitch=-10:10"], designs=4, min_bend_radius=150.0,
                            min_margin=99.0, rated_cycles="1e7@300")
     rows = list(csv.DictReader((out / "designs.csv").open()))
     assert {"length_m", "Slide.pitch_deg", "stopped"} <= set(rows[0])

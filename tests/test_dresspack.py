@@ -12,8 +12,8 @@ import pytest
 import rswarp
 from rswarp.examples import IRB2600_DRESSPACK, IRB2600_PROGRAM
 from rswarp.kinematics.kinematics import Kinematics
+from rswarp.motion.plan import program_plan
 from rswarp.report.cables import run_cables
-from rswarp.report.program import program_plan
 
 G = 9.81
 

@@ -11,8 +11,8 @@ import numpy as np
 
 import rswarp
 from rswarp.cli import main
-from rswarp.sim import cable_models
-from rswarp.sim.cable_rod import CosseratRod
+from rswarp.sim.cable import models as cable_models
+from rswarp.sim.cable.rod import CosseratRod
 from rswarp.sim.engine import Job, run_batch, spans
 
 from conftest import DATA

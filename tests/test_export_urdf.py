@@ -48,8 +48,8 @@ def test_pinocchio_gives_the_same_flange_poses(path, tmp_path):
 def test_meshes_are_written_beside_in_metres(tmp_path):
     """Each part's mesh is written to meshes/<stem>/ in metres in its link's frame (an OBJ of a
     millimetre file included), named by absolute path by default and relative on request."""
-    from rswarp.export.frames import link_origins
     from rswarp.geometry import part_mesh
+    from rswarp.geometry.frames import link_origins
 
     mech = rswarp.load(DATA / "meshes" / "Cell.rsxml")
     urdf = tmp_path / "cell.urdf"

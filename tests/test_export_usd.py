@@ -8,8 +8,8 @@ from scipy.spatial.transform import Rotation
 
 import rswarp
 from rswarp import examples
-from rswarp.export.frames import link_origins
 from rswarp.export.usd_layout import to_usd
+from rswarp.geometry.frames import link_origins
 from rswarp.kinematics.kinematics import Kinematics
 
 from conftest import DATA

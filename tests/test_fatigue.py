@@ -12,7 +12,7 @@ import pytest
 
 from rswarp.examples import IRB2600_DRESSPACK, IRB2600_PROGRAM
 from rswarp.report.cables import run_cables
-from rswarp.sim.rainflow import Rainflow, count, miner_passes
+from rswarp.sim.cable.rainflow import Rainflow, count, miner_passes
 
 
 def test_astm_e1049_worked_example():

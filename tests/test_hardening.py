@@ -329,8 +329,8 @@ def _robtarget(kin, q: np.ndarray) -> np.ndarray:
 def _reached(kin, q: np.ndarray, q_now: np.ndarray) -> None:
     """The robtarget of ``q``, with ``q``'s own confdata, is reached as the program reaches it: to
     within the target's rounding, with that confdata."""
-    from rswarp.kinematics import targets as tg
     from rswarp.kinematics.ik import conf_matches, quadrant_axes, wrist_axis
+    from rswarp.motion import targets as tg
 
     pose, conf = _robtarget(kin, q)[None], kin.confdata(q[None])[0]
     sol = kin.solutions64(pose)
@@ -397,7 +397,7 @@ def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confd
     it turns), q1 anywhere, the robot at zero."""
     from scipy.optimize import brentq
 
-    from rswarp.kinematics.targets import _straight
+    from rswarp.motion.targets import _straight
 
     kin = irb2600_kinematics
 
@@ -416,7 +416,7 @@ def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confd
 def test_the_no_solution_message_prints_plain_numbers(irb2600_kinematics):
     """A target refused its confdata says the confdata and the ones it has as plain numbers, not
     NumPy's reprs ("[np.int32(0), ...]"), whatever the confdata was given as."""
-    from rswarp.kinematics import targets as tg
+    from rswarp.motion import targets as tg
 
     kin = irb2600_kinematics
     q = np.radians([20.0, 10.0, 5.0, 35.0, 40.0, 25.0])

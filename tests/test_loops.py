@@ -232,7 +232,7 @@ def test_newton_with_our_passive_values_agrees_on_the_palletizer(tmp_path):
     import warp as wp
     from scipy.spatial.transform import Rotation
 
-    from rswarp.export.frames import link_origins
+    from rswarp.geometry.frames import link_origins
 
     mech = rswarp.load(examples.PALLETIZER)
     rswarp.to_usd(mech, tmp_path / "pal.usda")
@@ -313,7 +313,7 @@ def test_palletizer_urdf_mimics_its_active_joints(tmp_path):
     import xml.etree.ElementTree as ET
 
     yourdfpy = pytest.importorskip("yourdfpy")
-    from rswarp.export.frames import link_origins
+    from rswarp.geometry.frames import link_origins
 
     mech, path = palletizer_urdf(tmp_path)
     joints = {j.get("name"): j for j in ET.parse(path).getroot().iter("joint")}
@@ -341,7 +341,7 @@ def test_newton_reads_the_palletizer_urdf_mimics(tmp_path):
     newton = pytest.importorskip("newton")
     import warp as wp
 
-    from rswarp.export.frames import link_origins
+    from rswarp.geometry.frames import link_origins
 
     mech, path = palletizer_urdf(tmp_path)
     builder = newton.ModelBuilder()
@@ -388,8 +388,8 @@ def test_newton_model_of_the_palletizer_keeps_its_loops_closed_while_it_moves():
     import warp as wp
     from scipy.spatial.transform import Rotation
 
-    from rswarp.export.frames import link_origins
     from rswarp.export.newton import newton_q_columns, to_newton
+    from rswarp.geometry.frames import link_origins
 
     mech = rswarp.load(examples.PALLETIZER)
     builder = to_newton(mech)
@@ -546,7 +546,7 @@ def test_loops_start_closed_at_a_home_away_from_zero(tmp_path):
     from_usd = newton.ModelBuilder()
     from_usd.add_usd(str(tmp_path / "pal.usda"))
     g = mech.graph
-    usd_origins = rswarp.export.frames.link_origins(mech)  # USD bodies sit on their links' origins
+    usd_origins = rswarp.geometry.frames.link_origins(mech)  # USD bodies sit on their links' origins
     for builder, origins in ((from_usd, usd_origins), (to_newton(mech), dict.fromkeys(usd_origins, np.zeros(3)))):
         model = builder.finalize(device="cpu")
         state = model.state()

@@ -12,9 +12,9 @@ import pytest
 from rswarp.errors import InputError
 from rswarp.examples import IRB2600, IRB2600_DRESSPACK, IRB2600_PROGRAM
 from rswarp.export.physics import PhysicsOptions, robot_physics
+from rswarp.motion.payload import read_payload
 from rswarp.report.cables import run_cables
 from rswarp.report.exports import run_export
-from rswarp.report.payload import read_payload
 from rswarp.rsxml.documents import load_mechanism
 from rswarp.rsxml.robot_data import Payload
 from rswarp.transforms import quat_matrix

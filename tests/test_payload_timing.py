@@ -12,14 +12,16 @@ from generated import mechanism
 
 from rswarp import examples
 from rswarp.cli import main
-from rswarp.export.physics import _combined, robot_physics
+from rswarp.export.physics import robot_physics
 from rswarp.geometry import DEFAULT_DENSITY
+from rswarp.geometry.inertia import combined as _combined
+from rswarp.motion.payload import NO_MASSES, LoadFactors, load_factors, load_scale
+from rswarp.motion.plan import program_plan
 from rswarp.rapid import data as rd
 from rswarp.rapid.interpret import Interpreter
 from rswarp.rapid.task import load_task
 from rswarp.report.exports import data_physics
-from rswarp.report.payload import NO_MASSES, LoadFactors, load_factors, load_scale
-from rswarp.report.program import program_plan, run_program
+from rswarp.report.program import run_program
 from rswarp.rsxml.documents import load_mechanism
 from rswarp.rsxml.robot_data import Payload
 from rswarp.transforms import matrix_quat

@@ -38,7 +38,7 @@ def test_fk_says_what_it_prints_and_its_numbers_are_the_kinematics_frames(capsys
     the frame ``kin.fk`` moves: its rotation, its origin (on its joint's axis) moved with it."""
     import rswarp
     from rswarp.examples import IRB2600
-    from rswarp.export.frames import link_origins
+    from rswarp.geometry.frames import link_origins
     from rswarp.transforms import quat_matrix
 
     values = [10.0, 20.0, -30.0, 40.0, 50.0, 60.0]

@@ -17,9 +17,10 @@ from rswarp.cli import main
 from rswarp.errors import InputError, RsxmlError
 from rswarp.examples import IRB2600, IRB2600_PROGRAM
 from rswarp.kinematics.kinematics import Kinematics
-from rswarp.kinematics.tcp import frames
 from rswarp.kinematics.trajectory import read_trajectory
-from rswarp.report.program import program_plan, run_program
+from rswarp.motion.plan import program_plan
+from rswarp.motion.tcp import frames
+from rswarp.report.program import run_program
 
 from conftest import DATA
 
@@ -329,7 +330,7 @@ def test_clocks_read_the_time_of_the_moves_too():
 def test_a_t_shorter_than_the_axes_allow_takes_their_time_with_a_warning():
     """``t_too_short.mod``: \\T:=0.1 s over 600 mm is beyond the IRB 2600's axes: the move takes
     what they need (more than 0.3 s), said once at its line; \\T:=5 s is kept to the sample."""
-    from rswarp.report.program import program_plan
+    from rswarp.motion.plan import program_plan
 
     said = []
     p = program_plan(str(IRB2600), [str(RAPID / "t_too_short.mod")], warn=said.append)[1]

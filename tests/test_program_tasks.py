@@ -18,8 +18,9 @@ from rswarp.cli import main
 from rswarp.errors import RsxmlError
 from rswarp.examples import IRB2600, IRB2600_CELL
 from rswarp.kinematics.kinematics import Kinematics
-from rswarp.kinematics.tcp import frames
-from rswarp.report.program import program_plan, run_program
+from rswarp.motion.plan import program_plan
+from rswarp.motion.tcp import frames
+from rswarp.report.program import run_program
 
 from conftest import DATA
 

@@ -38,12 +38,7 @@ FOLD = DATA / "collisions" / "fold.rsxml"
 DRAPED = DATA / "cables" / "draped.rsxml"
 
 
-@pytest.fixture(scope="module")
-def local_ray():
-    """One local Ray instance of 2 CPUs for the module; its workers keep their kernels."""
-    engine.connect(Cluster(cpus=2))
-    yield
-    ray.shutdown()
+# local_ray (conftest.py): one local Ray instance of 2 CPUs for the session, shared with test_api.py
 
 
 @pytest.fixture

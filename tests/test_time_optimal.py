@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rswarp.kinematics import scurve
-from rswarp.kinematics.topp import path_times
+from rswarp.motion import scurve
+from rswarp.motion.topp import path_times
 
 
 def _ruckig(d, v, a, j) -> float:

@@ -18,8 +18,8 @@ from rswarp.cli import main
 from rswarp.errors import RsxmlError
 from rswarp.examples import IRB2600
 from rswarp.kinematics.kinematics import Kinematics
+from rswarp.motion.plan import program_plan
 from rswarp.rapid.predefined import ZONES
-from rswarp.report.program import program_plan
 from rswarp.rsxml.documents import load_mechanism
 from rswarp.rsxml.robot_data import axis_limits, read_limits
 
@@ -215,7 +215,7 @@ def test_moves_timed_together_are_timed_as_each_alone(task, monkeypatch):
     """The batch (``timing_batch``, ``zone_batch``) times, samples and blends every move to the bit
     as the one-move functions do (``timing.path_move``, ``joint_move``, ``zones.overlap``, ``blend``),
     which time a move past the batch's samples."""
-    from rswarp.kinematics import timing_batch
+    from rswarp.motion import timing_batch
 
     together = program_plan(str(IRB2600), [str(RAPID / task)], strict=False)[1]
     monkeypatch.setattr(timing_batch, "BATCH_SAMPLES", 0)

@@ -139,7 +139,7 @@ def test_the_hose_counts_as_moving_until_the_robot_has_been_still_a_second():
     second); only then is it at rest, where the same bend is a warning."""
     from rswarp.kinematics.trajectory import Trajectory
     from rswarp.report.verdicts import moments
-    from rswarp.sim.cable_solver import CableOptions
+    from rswarp.sim.cable.solver import CableOptions
     from rswarp.sim.cables import SWING_AFTER, _trajectory_seconds
 
     times = np.linspace(0.0, 3.0, 31)

@@ -182,6 +182,7 @@ def test_the_design_sweep_renders_its_chosen_design(tmp_path, monkeypatch):
     """``rswarp dresspack --video``: the chosen design's run, its legend naming the design; the
     command line takes the option (it was "unrecognized arguments")."""
     from rswarp.cli import build_parser
+    from rswarp.config import VideoOptions
     from rswarp.report import videos
     from rswarp.report.dresspack import run_dresspack
 
@@ -195,8 +196,8 @@ def test_the_design_sweep_renders_its_chosen_design(tmp_path, monkeypatch):
     monkeypatch.setattr(videos, "render_frames", lambda *a, **k: legends.append(k["legend"]) or render(*a, **k))
     with videos.frame_rate(5.0):
         done = run_dresspack(str(rigs / "taut.rsxml"), [str(rigs / "pull_hold.mod")], str(tmp_path / "sweep"),
-                             ["length=1.15:1.25"], designs=2, min_bend_radius=150.0, video=str(tmp_path / "best.gif"),
-                             video_size=64)
+                             vary=["length=1.15:1.25"], designs=2, min_bend_radius=150.0,
+                             video=VideoOptions(str(tmp_path / "best.gif"), video_size=64))
     best = done.doc["best"]["design"]
     assert done.doc["video"]["design"] == best and done.doc["video"]["path"] == str(tmp_path / "best.gif")
     assert f"video: {tmp_path / 'best.gif'} (design {best}, " in done.text

@@ -28,10 +28,11 @@ import pytest
 
 from rswarp.errors import RsxmlError
 from rswarp.examples import IRB2600
+from rswarp.motion.plan import program_plan
 from rswarp.rapid.interpret import Interpreter
 from rswarp.rapid.task import load_task
 from rswarp.rapid.values import Arr, Rec
-from rswarp.report.program import program_plan, run_program
+from rswarp.report.program import run_program
 
 from conftest import DATA
 

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.inertia import BodyPhysics
 from ..rsxml.model import Mechanism
 from ..transforms import matrix_quat
 from .frames import home_passive
-from .physics import BodyPhysics, JointPhysics, PhysicsOptions, RobotPhysics, robot_physics
+from .physics import JointPhysics, PhysicsOptions, RobotPhysics, robot_physics
 
 
 def to_newton(mech: Mechanism, builder=None, *, base_pose: np.ndarray | None = None, shapes: bool = True,

@@ -11,22 +11,31 @@ values here are SI, per radian for revolute joints. The exports convert them to 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, MeshNotFoundError
-from ..geometry import DEFAULT_DENSITY, mass_properties, part_mesh
-from ..geometry.convex import METHODS, Convex, convex_pieces, halfspaces, overlap
+from ..errors import InputError
+from ..geometry import DEFAULT_DENSITY
+from ..geometry.convex import METHODS, halfspaces, overlap
+from ..geometry.frames import link_poses
+from ..geometry.inertia import (
+    BodyPhysics,
+    axis_inertia,
+    default_armature,
+    joint_axes,
+    link_bodies,
+    link_geometry,
+    subtrees,
+    with_payload,
+)
 from ..options import checked
 from ..rsxml.model import Mechanism
 from ..rsxml.robot_data import Payload
 from ..rsxml.units import JOINT_VELOCITY
-from .frames import link_origins, link_poses
 
 DRIVE_HZ = 10.0  # drive bandwidth: stiff enough to hold a pose within a fraction of a degree
 LIMIT_HZ = 100.0  # limit spring bandwidth: holds the limit under gravity, stable at dt = 1 ms
-ARMATURE_SCALE = 1e-3  # default armature: 1e-3 x total mass x reach^2 (kg m^2), or x total mass (kg)
 EFFORT_MARGIN = 2.0  # default effort: twice the largest gravity load the joint can ever carry,
 ACCELERATION = 10.0  # plus what accelerates its inertia at 10 rad/s^2 (10 m/s^2)
 VELOCITY = JOINT_VELOCITY  # default velocity limit: 90 deg/s, 0.5 m/s
@@ -62,27 +71,6 @@ class PhysicsOptions:
             raise InputError(f"drive_hz must be > 0 (None: no drives), not {self.drive_hz:g}")
         for name in ("density", "mass", "drive_hz", "armature", "effort", "velocity"):
             checked(name.replace("_", "-"), getattr(self, name))
-
-
-@dataclass(frozen=True)
-class PartGeometry:
-    """A part's mesh and its convex collision pieces, world coordinates at the zero position."""
-
-    name: str
-    mesh: object  # trimesh.Trimesh
-    pieces: tuple[Convex, ...]
-
-
-@dataclass(frozen=True)
-class BodyPhysics:
-    """A link's frame origin (world-aligned at zero), geometry, and mass properties in that frame."""
-
-    link: str
-    origin: np.ndarray
-    parts: tuple[PartGeometry, ...]
-    mass: float = 0.0
-    com: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about the centre of mass
 
 
 @dataclass(frozen=True)
@@ -123,10 +111,10 @@ def robot_physics(mech: Mechanism, options: PhysicsOptions | None = None, *, geo
     """Everything the exports author to make ``mech`` simulate (``geometry=False``: no meshes)."""
     options = options or PhysicsOptions()
     warnings: list[str] = []
-    parts = _geometry(mech, options.collision, warnings) if geometry else {}
-    bodies, density = _bodies(mech, parts, options, warnings)
+    parts = link_geometry(mech, options.collision, warnings) if geometry else {}
+    bodies, density = link_bodies(mech, parts, warnings, options.density, options.mass, options.mass_source)
     if options.payload is not None:
-        bodies = _with_payload(mech, bodies, options.payload)
+        bodies = with_payload(mech, bodies, options.payload)
     poses = link_poses(mech)  # home, asked once by the gains and by the contact filter
     joints = _joints(mech, bodies, poses, options)
     filtered = _filtered(mech, bodies, poses, options.disabled)
@@ -143,122 +131,16 @@ def _sized_for(options: PhysicsOptions) -> str:
     return ""
 
 
-def _with_payload(mech: Mechanism, bodies: dict[str, BodyPhysics], payload: Payload) -> dict[str, BodyPhysics]:
-    """The payload added to the mass properties of the link the first flange is on."""
-    if not mech.flanges:
-        raise InputError(f"--payload: '{mech.name}' has no flange to carry a payload")
-    flange = mech.flanges[0]
-    at = flange.pose.matrix()
-    body = bodies[flange.link]
-    com = at[:3, :3] @ np.asarray(payload.cog) + at[:3, 3] - body.origin
-    inertia = at[:3, :3] @ payload.inertia_matrix() @ at[:3, :3].T
-    mass, com, inertia = _combined((body.mass, body.com, body.inertia), (payload.mass, com, inertia))
-    return {**bodies, flange.link: replace(body, mass=mass, com=com, inertia=inertia)}
-
-
-def _combined(a, b) -> tuple[float, np.ndarray, np.ndarray]:
-    """Two masses (mass, centre, inertia about it; one frame) as one: parallel-axis theorem."""
-    mass = a[0] + b[0]
-    if not mass > 0:
-        return 0.0, np.zeros(3), np.zeros((3, 3))
-    com = (a[0] * np.asarray(a[1]) + b[0] * np.asarray(b[1])) / mass
-    inertia = np.zeros((3, 3))
-    for m, c, i in (a, b):
-        d = np.asarray(c) - com
-        inertia += np.asarray(i) + m * (float(d @ d) * np.eye(3) - np.outer(d, d))
-    return mass, com, inertia
-
-
-def _geometry(mech: Mechanism, collision: str, warnings: list[str]) -> dict[str, tuple[PartGeometry, ...]]:
-    """Each link's parts that have a mesh; one warning when no part has one."""
-    out, missing = {}, []
-    for link in mech.link_names:
-        found = []
-        for part, transform in mech.parts(link):
-            if not part.source:
-                continue
-            try:
-                mesh = part_mesh(mech, part, transform)
-            except MeshNotFoundError as exc:
-                missing.append(str(exc))
-                continue
-            found.append(PartGeometry(part.name, mesh, tuple(convex_pieces(mesh.vertices, mesh.faces, collision))))
-        out[link] = tuple(found)
-    if not any(out.values()):
-        missing = [f"{mech.path or mech.name}: warning: no mesh beside the file for any part (looked for "
-                   "<source stem>.stl/.obj/.ply/.glb/.gltf/.off): exported kinematics only, bodies and "
-                   "joints without geometry or mass"]
-    warnings += missing
-    return out
-
-
-def _bodies(mech: Mechanism, parts: dict, options: PhysicsOptions, warnings: list[str]):
-    """Mass properties per link at the given density, or scaled so the robot weighs ``mass``."""
-    origins = link_origins(mech)
-    unit = {}
-    for link in [mech.graph.links[k] for k in mech.graph.order]:
-        geo = parts.get(link, ())
-        if not geo:
-            unit[link] = None
-            continue
-        mass, com, inertia, watertight = mass_properties([p.mesh for p in geo], origins[link], 1.0)
-        if not watertight:
-            warnings.append(f"link '{link}': mesh is not watertight; mass from its convex hull")
-        if not mass > 0:
-            warnings.append(f"link '{link}': mesh has no volume; no mass authored")
-        unit[link] = (mass, com, inertia)
-    density = options.density
-    volume = sum(u[0] for u in unit.values() if u is not None and u[0] > 0)
-    if options.mass is not None and not volume > 0:
-        if options.mass_source in ("", "--mass"):
-            raise InputError("--mass needs link meshes with volume; this model has none")
-        warnings.append(f"{options.mass_source}: the robot's {options.mass:g} kg not authored: no link mesh with "
-                        "volume to give it to")
-    elif options.mass is not None:
-        density = options.mass / volume
-    bodies = {}
-    for link, u in unit.items():
-        props = {} if u is None or not u[0] > 0 else dict(mass=u[0] * density, com=u[1], inertia=u[2] * density)
-        bodies[link] = BodyPhysics(link, origins[link], parts.get(link, ()), **props)
-    return bodies, density
-
-
-def _world_inertia(body: BodyPhysics, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The body's centre of mass and inertia (about it) in the world, with the link at ``pose``."""
-    r = pose[:3, :3]
-    return pose[:3, :3] @ (body.origin + body.com) + pose[:3, 3], r @ body.inertia @ r.T
-
-
-def _subtrees(mech: Mechanism) -> dict[str, list[str]]:
-    """Each reached link and the links it carries (itself first)."""
-    graph = mech.graph
-    carried = {graph.links[k]: [graph.links[k]] for k in graph.order}
-    for k in reversed(graph.order):
-        p = graph.parent[k]
-        if p >= 0:
-            carried[graph.links[p]] += carried[graph.links[k]]
-    return carried
-
-
 def _joints(mech: Mechanism, bodies: dict[str, BodyPhysics], poses: dict,
             options: PhysicsOptions) -> dict[str, JointPhysics]:
-    graph, carried = mech.graph, _subtrees(mech)
-    total = sum(b.mass for b in bodies.values())
-    reach = max([float(np.linalg.norm(p[:3, 3] - poses[graph.base][:3, 3])) for p in poses.values()]
-                + [float(np.linalg.norm(fl.pose.matrix()[:3, 3])) for fl in mech.flanges] + [0.1])
+    carried, rated_bodies = subtrees(mech), _rated(mech, bodies, options)
     out = {}
-    for k, j in graph.tree_order:
-        if graph.column(j.name) < 0:
-            continue
-        link = graph.links[k]
+    for j, link, axis, point in joint_axes(mech, poses):
         moved = [bodies[c] for c in carried[link] if c in bodies and bodies[c].mass > 0]
-        rated = [b for b in _rated(mech, bodies, options) if b.link in carried[link]]
-        parent = poses[graph.links[graph.parent[k]]]
-        axis, point = parent[:3, :3] @ j.axis, parent[:3, :3] @ np.asarray(j.point1, float) + parent[:3, 3]
-        default_armature = ARMATURE_SCALE * max(total, 1.0) * (reach ** 2 if j.revolute else 1.0)
-        armature = default_armature if options.armature is None else options.armature
-        inertia = _axis_inertia(moved, poses, axis, point, j.revolute) + armature
-        sizing = inertia + _axis_inertia(rated, poses, axis, point, j.revolute)
+        rated = [b for b in rated_bodies if b.link in carried[link]]
+        armature = default_armature(mech, bodies, poses, j.revolute) if options.armature is None else options.armature
+        inertia = axis_inertia(moved, poses, axis, point, j.revolute) + armature
+        sizing = inertia + axis_inertia(rated, poses, axis, point, j.revolute)
         out[j.name] = _joint_physics(j, inertia, armature, _gravity_load(mech, j, moved + rated), options, sizing)
     return out
 
@@ -271,18 +153,6 @@ def _rated(mech: Mechanism, bodies: dict[str, BodyPhysics], options: PhysicsOpti
     flange = mech.flanges[0]
     origin = bodies[flange.link].origin
     return [BodyPhysics(flange.link, origin, (), float(options.rated_payload), flange.pose.matrix()[:3, 3] - origin)]
-
-
-def _axis_inertia(moved, poses, axis: np.ndarray, point: np.ndarray, revolute: bool) -> float:
-    if not revolute:
-        return float(sum(b.mass for b in moved))
-    total = 0.0
-    for b in moved:
-        com, inertia = _world_inertia(b, poses[b.link])
-        r = com - point
-        r_perp = r - axis * float(r @ axis)
-        total += float(axis @ inertia @ axis) + b.mass * float(r_perp @ r_perp)
-    return total
 
 
 def _gravity_load(mech: Mechanism, j, moved) -> float:

@@ -33,12 +33,13 @@ import numpy as np
 
 from ..errors import InputError, model_error
 from ..files import cleanup_on_terminate, commit, new_folders
+from ..geometry.frames import link_origins
+from ..geometry.inertia import BodyPhysics
 from ..kinematics.loops import UnsolvedLoop, loops, passive_map
 from ..outputs import merge_folder
 from ..rsxml.model import Mechanism
 from ..transforms import matrix_euler_zyx
-from .frames import link_origins
-from .physics import BodyPhysics, PhysicsOptions, RobotPhysics, robot_physics
+from .physics import PhysicsOptions, RobotPhysics, robot_physics
 from .srdf import EXPORT_REASONS, srdf_text
 
 SRDF_MARK = "written by rswarp export"

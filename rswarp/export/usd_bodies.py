@@ -7,10 +7,11 @@ from __future__ import annotations
 import numpy as np
 from pxr import Gf, UsdGeom, UsdPhysics, Vt
 
+from ..geometry.inertia import BodyPhysics
 from ..geometry.meshes import GRAPHITE_WHITE, mesh_color
 from ..transforms import matrix_quat
 from .names import PrimNames
-from .physics import BodyPhysics, RobotPhysics
+from .physics import RobotPhysics
 
 VISUALS, COLLISIONS = "visuals", "collisions"  # the scopes under each link
 

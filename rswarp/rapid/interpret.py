@@ -6,7 +6,8 @@ run, and every move or wait becomes a ``Motion`` with its file, line and call ch
 
 Nothing runs without end: a loop whose condition reads nothing that its pass changed can never
 end (``WHILE TRUE``, a wait for a signal that stays 0): one with moves is the task's main loop and
-runs ``cycles`` passes, one without is taken as ended after a pass; both are reported. A task
+runs ``cycles`` passes, one without is taken as ended after a pass; both are reported (the loops,
+branches and labels run in ``flow``). A task
 that runs ``MAX_STATEMENTS`` statements, or calls deeper than ``MAX_DEPTH``, stops with a
 ``file:line`` error."""
 
@@ -17,13 +18,13 @@ import sys
 
 from ..errors import Diagnostic, Diagnostics, nearest
 from ..files import no_cyclic_gc
-from . import handlers
+from . import flow, handlers
 from . import nodes as n
 from .binding import bind
 from .check import check_task
 from .errors import RapidError, fail
 from .expressions import Evaluator
-from .flow import ExitCycle, ExitTask, Goto, Returned
+from .flow import MAX_CYCLES, ExitCycle, ExitTask, Goto, Returned
 from .functions import call_function
 from .instructions import clock_read, run_instruction
 from .live import Inputs, Live, LiveValue, NeedsInput, input_value
@@ -36,7 +37,6 @@ from .values import Arr, Mismatch
 MAX_STATEMENTS = 5_000_000  # statements one run executes
 MAX_MOTIONS = 1_000_000  # moves and waits of one run
 MAX_DEPTH = 100  # routine calls nested
-MAX_CYCLES = 1000
 
 
 class Interpreter(Evaluator):
@@ -216,7 +216,7 @@ class Interpreter(Evaluator):
                     raise
                 if s.__class__ is n.Goto and target < k:  # an unconditional jump back: a loop that cannot end
                     starts = self.loop_passes.setdefault(id(s), [self.label_at.get(id(stmts[target]), self.mark())])
-                    if self._endless_pass(s, starts):
+                    if flow.endless_pass(self, s, starts):
                         k += 1
                         continue
                     starts.append(self.mark())
@@ -297,102 +297,9 @@ class Interpreter(Evaluator):
             path.append(k)
         return cell, tuple(path), type_
 
-    def _if(self, s: n.If, frame: Frame) -> None:
-        for condition, body in s.branches:
-            if self.boolean(condition, frame):
-                self.body(body, frame)
-                return
-        if s.otherwise is not None:
-            self.body(s.otherwise, frame)
-
-    def _for(self, s: n.For, frame: Frame) -> None:
-        start = self.number(s.start, frame, "FOR's start")
-        stop = self.number(s.stop, frame, "FOR's end")
-        step = self.number(s.step, frame, "FOR's STEP") if s.step is not None else (1.0 if start <= stop else -1.0)
-        if step == 0:
-            fail(self.path, s.line, "FOR with a STEP of 0 never ends")
-        saved = frame.cells.get(s.key)
-        cell = frame.cells[s.key] = Cell(start, "num", "loop", self.path, s.line, s.var)
-        try:
-            i = start
-            while (i <= stop) if step > 0 else (i >= stop):
-                cell.set(i)
-                self.body(s.body, frame)
-                i += step
-        finally:
-            if saved is None:
-                frame.cells.pop(s.key, None)
-            else:
-                frame.cells[s.key] = saved
-
-    def _while(self, s: n.While, frame: Frame) -> None:
-        before, starts = None, None
-        while True:
-            reads, value = self._reading(s.condition, frame)
-            if not value:
-                return
-            seen = tuple((c, c.stamp) for c in reads)
-            if before is not None and seen == before and self._endless_pass(s, starts, reads):
-                return
-            before = seen
-            if starts is None:
-                starts = self.loop_passes[id(s)] = []
-            starts.append(self.mark())
-            self.body(s.body, frame)
-
-    def _reading(self, condition, frame):
-        """(cells read, value) of a loop's condition; a condition that asks the clock or the robot
-        reads a fresh cell, so it is never taken as unchanging."""
-        outer, self.reads = self.reads, []
-        try:
-            value = self.boolean(condition, frame)
-            reads = self.reads
-        finally:
-            self.reads = outer
-        if outer is not None:
-            outer.extend(reads)
-        return reads, value
-
     def mark(self) -> tuple[int, int]:
         """(motions, moves) so far: where a loop's pass starts."""
         return len(self.motions), self.moves
-
-    def _endless_pass(self, node, starts: list, reads=()) -> bool:
-        """A pass of a loop that cannot end is over: whether to leave the loop now (a loop whose
-        pass made no move at once, the main loop after its cycles)."""
-        if self.moves == starts[-1][1]:
-            names = sorted({c.name for c in reads if c.name})
-            what = f"it reads {', '.join(names[:3])}, which nothing in the task sets" if names else "it reads nothing"
-            self.warn(node.line, f"a loop whose condition never changes ({what}): taken as ended after one pass")
-            return True
-        if self.main_loop is None or self.main_loop[0] is node:
-            self.main_loop = (node, self.path, starts)
-            if len(starts) >= self.cycles and (not self.inputs.pending() or len(starts) >= MAX_CYCLES):
-                ran = len(starts)
-                why = "(--cycles)" if ran == self.cycles else f"(--cycles {self.cycles}, and on while --input values " \
-                                                             "were left)"
-                self.warn(node.line, f"the main loop never ends: ran {ran} pass{'es' if ran > 1 else ''} {why}")
-                return True
-            self.pass_index = len(starts)
-            return False
-        return True
-
-    def _test(self, s: n.Test, frame: Frame) -> None:
-        value = self.ev(s.expr, frame)
-        if value.__class__ is Live:
-            raise LiveValue(value)
-        for values, body in s.cases:
-            if any(self.operate("=", value, self.ev(v, frame), s.line) for v in values):
-                self.body(body, frame)
-                return
-        if s.default is not None:
-            self.body(s.default, frame)
-
-    def _goto(self, s: n.Goto, frame: Frame) -> None:
-        raise Goto(s.label.lower(), s.line)
-
-    def _label(self, s: n.Label, frame: Frame) -> None:
-        self.label_at[id(s)] = self.mark()
 
     def _return(self, s: n.Return, frame: Frame) -> None:
         raise Returned(self.ev(s.expr, frame) if s.expr is not None else None)
@@ -507,12 +414,12 @@ _RUN = {
     n.Assign: Interpreter._assign,
     n.ProcCall: Interpreter._proc_call,
     n.LateCall: Interpreter._late_call,
-    n.If: Interpreter._if,
-    n.For: Interpreter._for,
-    n.While: Interpreter._while,
-    n.Test: Interpreter._test,
-    n.Goto: Interpreter._goto,
-    n.Label: Interpreter._label,
+    n.If: flow.run_if,
+    n.For: flow.run_for,
+    n.While: flow.run_while,
+    n.Test: flow.run_test,
+    n.Goto: flow.run_goto,
+    n.Label: flow.run_label,
     n.Return: Interpreter._return,
     n.Jump: Interpreter._jump,
     n.Connect: lambda self, s, frame: self.warn(s.line, f"interrupts are not modelled: TRAP '{s.trap}' never runs"),

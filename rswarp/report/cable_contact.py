@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sim.cable_results import CableResult, worst_wear
+from ..sim.cable.results import CableResult, worst_wear
 
 
 def _f(x) -> float | None:

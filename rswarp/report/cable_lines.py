@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sim.cable_results import CableResult
-from ..sim.cable_solver import FATIGUE_EXPONENT
-from ..sim.rainflow import miner_passes
+from ..sim.cable.rainflow import miner_passes
+from ..sim.cable.results import CableResult
+from ..sim.cable.solver import FATIGUE_EXPONENT
 from .cable_contact import run_worst
 
 

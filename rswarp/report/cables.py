@@ -5,94 +5,88 @@ long enough, twist and torque, what each clamp holds, the wear map, final points
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
+from ..config import BatchOptions, HoseOptions, TaskOptions, VideoOptions, routed
 from ..errors import InputError
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..kinematics.trajectory import RANDOM_SECONDS, Trajectory, run_trajectories
+from ..motion.cells import base_offsets, carried, floor_in_robot, is_cell
+from ..motion.payload import task_payload
 from ..options import checked
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.cell import read_cell
 from ..rsxml.documents import load_mechanism
 from ..rsxml.model import Mechanism
-from ..sim.cable_results import CableResult
-from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS, CableOptions, contact_meshes
+from ..sim.cable.results import CableResult
+from ..sim.cable.solver import CableOptions, contact_meshes
 from ..sim.cables import CableRun, run_frames, simulate_cables
 from ..sim.engine import cluster_for
 from .cable_contact import contact, run_worst, shown_slots
 from .cable_lines import cable_lines, pinched
 from .cable_plots import cable_plots
-from .cell_program import base_offsets, carried, floor_in_robot, is_cell
-from .dresspack_options import SweepOptions, cable_options, ratings_of
+from .dresspack_options import cable_options, ratings_of
 from .output import Output, Warn, ignore, json_bytes, json_safe
-from .payload import task_payload
-from .verdicts import MAX_STRAIN, MAX_TORSION, Ratings, cable_findings, moments, verdict, verdict_lines
+from .verdicts import Ratings, cable_findings, moments, verdict, verdict_lines
 
 TAUT = 0.999  # attachments this share of the cable length apart: pulled straight, no slack left
 
 
-def run_cables(path: str, out: str, envs: int | None = None, trajectory: list[str] | None = None, random: bool = False,
-               seconds: float | None = None, seed: int = 0, usd: bool = False, min_bend_radius: float | None = None,
-               floor: float | None = 0.0, density: float = DENSITY, poisson: float = POISSON,
-               friction: float = FRICTION, environment: list[str] | None = None, frame_rate: float = FRAME_RATE,
-               substeps: int = SUBSTEPS, cable_model: str = "rod", device: str = "cpu", ray: str | None = None,
-               program: list[str] | None = None, routine: str = "main", io: list[str] | None = None,
-               cycles: int = 1, external_axes: str = "auto", limits: str | None = None, video: str | None = None,
-               video_env: int | None = None, video_color: str = "bend", video_size: int = 512,
-               tool: str | None = None, max_strain: float = MAX_STRAIN, static_bend_radius: float | None = None,
-               max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
-               max_clamp_load: float | None = None, rated_cycles: str | None = None,
-               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore,
-               inputs: list[str] | None = None, payload: str | None = None) -> Output:
+def run_cables(path: str, out: str, task: TaskOptions | None = None, hose: HoseOptions | None = None,
+               batch: BatchOptions | None = None, video: VideoOptions | None = None, *, envs: int | None = None,
+               trajectory: list[str] | None = None, random: bool = False, seconds: float | None = None,
+               usd: bool = False, program: list[str] | None = None,
+               progress: Callable[[float, float], None] | None = None, warn: Warn = ignore, **changes) -> Output:
     """``rswarp cable``: every cable of ``path`` over the ``trajectory`` CSV files (or ``random``
-    ones, or a RAPID ``program``'s ``routine``), written into ``out``; ``min_bend_radius``,
-    ``floor`` (None: none) and the ``environment`` meshes' places (MESH@x,y,z) in the file's length
-    unit."""
+    ones, or a RAPID ``program``'s routine, run as ``task`` says), written into ``out``; the hose
+    held to ``hose``'s ratings; ``task``'s floor (None: none) and environment meshes' places
+    (MESH@x,y,z) and ``hose``'s bend radii in the file's length unit. ``changes`` replace fields of
+    the options (``frame_rate=30.0``, ``tool="gripper.stl"``, ``seed=4``)."""
+    o = routed(changes, task=task or TaskOptions(), hose=hose or HoseOptions(), batch=batch or BatchOptions(),
+               video=video or VideoOptions())
+    task, hose, batch, video = o["task"], o["hose"], o["batch"], o["video"]
     envs = default_envs(envs, program)
     cell = read_cell(path) if is_cell(path) else None
     mech, report = load_mechanism(cell.robot.rsxml if cell is not None else path)
     _say_no_slack(report, warn)
-    floor = floor_in_robot(cell, mech, floor)
-    hose = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
-                        static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
-                        poisson, friction, frame_rate, substeps)
+    placed = replace(task, floor=floor_in_robot(cell, mech, task.floor))  # the floor in the robot's frame
     ratings = ratings_of(mech, hose)
-    rated = rated_fatigue(rated_cycles, mech)
+    rated = rated_fatigue(hose.rated_cycles, mech)
     check_cable_folder(out)
-    check_video_options(video, video_env, video_color, envs, out)
-    options = cable_options(mech, hose, device, cable_model, record=0 if usd else -1)
+    check_video_options(video.video, video.video_env, video.video_color, envs, out)
+    options = cable_options(mech, placed, hose, batch.device, record=0 if usd else -1)
     checked("envs", envs)
     if not mech.cables:  # before any trajectory is made
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
     if program is not None:
-        from .program import input_values, moved_before_stop, program_plan, signal_values
+        from ..motion.plan import moved_before_stop, program_plan
 
-        _, plan = program_plan(path, program, routine, io=signal_values(io), cycles=cycles,
-                                external_axes=external_axes, warn=warn, limits=limits, inputs=input_values(inputs),
-                                payload=payload)
+        _, plan = program_plan(path, program, task, warn=warn)
         moved_before_stop(plan)
     else:
         plan = None
-    trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, seed, warn,
+    trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, batch.seed, warn,
                                  base_offsets(cell, plan) if plan is not None else None)
     trajectories = [carried(cell, t) for t in trajectories]  # a CSV's external axes carry the robot
     run = simulate_cables(mech, trajectories, envs, seconds, options, progress=progress,
-                          cluster=cluster_for(ray, device))
+                          cluster=cluster_for(batch.ray, batch.device))
     for w in run.warnings:
         warn(w)
     doc, text = _reported(run, mech, out, usd, trajectories, plan, ratings, rated)
-    if video is not None:
+    if video.video is not None:
         from .videos import cable_video
 
         moves = plan.moves if plan is not None else None
-        doc["video"] = cable_video(mech, run, trajectories, video, video_env, video_color, video_size, moves)
-        text += f"\nvideo: {video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
+        doc["video"] = cable_video(mech, run, trajectories, video.video, video.video_env, video.video_color,
+                                   video.video_size, moves)
+        text += f"\nvideo: {video.video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
     return Output(doc, text)
 
 

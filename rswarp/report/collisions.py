@@ -13,6 +13,7 @@ import numpy as np
 from ..export.srdf import srdf_text
 from ..files import atomic_write
 from ..launch import driver_device
+from ..motion.cells import robot_of, tool_spec
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
@@ -20,7 +21,6 @@ from ..sim.bodies import placed_environments
 from ..sim.collisions import CANDIDATES, REASONS, Collisions, collisions
 from ..sim.engine import cluster_for
 from ..sim.tool import load_tool
-from .cell_program import robot_of, tool_spec
 from .cell_sweeps import cell_collisions, cell_collisions_text
 from .output import Output, Warn, ignore, json_bytes, json_safe
 

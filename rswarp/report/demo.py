@@ -89,6 +89,7 @@ def demo_dresspack(out: Path, say: Callable[[str], None]) -> dict:
     """The IRB 2600's upper-arm dress pack over its pick-and-place program, then over random
     programs: the answers a dress-pack engineer asks for."""
     from .. import examples
+    from ..config import VideoOptions
     from .cables import run_cables
 
     path, program = str(examples.IRB2600_DRESSPACK), str(examples.IRB2600_PROGRAM)
@@ -97,10 +98,11 @@ def demo_dresspack(out: Path, say: Callable[[str], None]) -> dict:
     runs = {}
     for label, folder, kwargs in (
             (f"over {examples.IRB2600_PROGRAM.name} (rswarp cable --program --video)", "dresspack-program",
-             {"envs": 1, "program": program, "video": str(out / "dresspack-program.gif"), "video_size": DEMO_VIDEO}),
+             {"envs": 1, "program": program,
+              "video": VideoOptions(str(out / "dresspack-program.gif"), video_size=DEMO_VIDEO)}),
             (f"over {DEMO_CABLE_ENVS} random programs of {DEMO_CABLE_SECONDS:g} s (rswarp cable --random --video)",
              "dresspack-random", {"envs": DEMO_CABLE_ENVS, "random": True, "seconds": DEMO_CABLE_SECONDS,
-                                  "video": str(out / "dresspack-random.gif"), "video_size": DEMO_VIDEO})):
+                                  "video": VideoOptions(str(out / "dresspack-random.gif"), video_size=DEMO_VIDEO)})):
         done = run_cables(path, str(out / folder), **kwargs)
         runs[folder] = done.doc
         lines = [line for line in done.text.splitlines()[2:] if not line.split(":")[0].endswith(("plot", "report"))]
@@ -117,7 +119,7 @@ def _sweep(path: str, program: str, out: Path, say: Callable[[str], None]) -> di
     from .dresspack import run_dresspack
 
     vary = [f"{k}={low:g}:{high:g}" for k, (low, high) in DEMO_SWEEP.items()]
-    done = run_dresspack(path, [program], str(out / "dresspack-sweep"), vary, designs=DEMO_DESIGNS)
+    done = run_dresspack(path, [program], str(out / "dresspack-sweep"), vary=vary, designs=DEMO_DESIGNS)
     say("\n".join([f"   design sweep (rswarp dresspack --vary {' --vary '.join(vary)} --designs {DEMO_DESIGNS}) -> "
                    f"{out / 'dresspack-sweep'}", *(f"   {line}" for line in done.text.splitlines())]) + "\n")
     return done.doc
@@ -270,11 +272,12 @@ def _purpose(module: Path) -> list[str]:
 
 def _program(mech: Mechanism, out: Path, paths: list[Path], csv: Path, video: Path | None, warn=None,
              tool: str | None = None):
+    from ..config import VideoOptions
     from .program import run_program
 
     srdf = out / f"{mech.name}-collisions" / "collision_matrix.srdf"
     return run_program(str(mech.path), [str(p) for p in paths], csv=str(csv),
-                       video=None if video is None else str(video), video_size=DEMO_VIDEO,
+                       video=VideoOptions(None if video is None else str(video), video_size=DEMO_VIDEO),
                        collision_matrix=str(srdf) if srdf.exists() else None, tool=tool,
                        **({"warn": warn} if warn is not None else {}))
 

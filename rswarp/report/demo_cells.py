@@ -14,6 +14,7 @@ HOSE_CELL = ("track_dresspack_cell.toml", "track_transfer.mod")  # the dress pac
 def demo_cells(out: Path, say: Callable[[str], None], video_size: int) -> list[dict]:
     """Each bundled cell's program run over the cell, with its video; what it found."""
     from .. import examples
+    from ..config import VideoOptions
     from .program import run_program
 
     out.mkdir(parents=True, exist_ok=True)
@@ -23,8 +24,8 @@ def demo_cells(out: Path, say: Callable[[str], None], video_size: int) -> list[d
         stem = Path(cell_name).stem
         csv, video = out / f"{stem}-{Path(module).stem}.csv", out / f"{stem}-{Path(module).stem}.gif"
         said: list[str] = []
-        result = run_program(str(cell), [str(program)], csv=str(csv), video=str(video), video_size=video_size,
-                             warn=said.append)
+        result = run_program(str(cell), [str(program)], csv=str(csv),
+                             video=VideoOptions(str(video), video_size=video_size), warn=said.append)
         lines = [f"== cell {cell_name}: {module} over the robot and its external axes (rswarp program {cell_name}), "
                  f"trajectory -> {csv}:"]
         lines += [f"     {line}" for line in result.text.splitlines() if not line.startswith("trajectory:")]

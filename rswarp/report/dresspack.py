@@ -12,33 +12,33 @@ import io
 import math
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
+from ..config import BatchOptions, DesignOptions, HoseOptions, TaskOptions, VideoOptions, routed
 from ..errors import InputError
 from ..files import atomic_write, read_regular
 from ..kinematics.trajectory import Trajectory
+from ..motion.cells import base_offsets, floor_in_robot, is_cell
 from ..outputs import atomic_folder
 from ..rsxml.cable_spans import LENGTH_TOLERANCE, MAX_CABLE_SEGMENTS, cable_spans
 from ..rsxml.cell import read_cell
 from ..rsxml.documents import load_mechanism
 from ..rsxml.robot_data import data_file
 from ..rsxml.write import to_rsxml
-from ..sim.cable_results import CableResult
-from ..sim.cable_solver import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
+from ..sim.cable.results import CableResult
 from ..sim.cables import SWING_AFTER, design_runs, simulate_cables
 from ..sim.designs import DesignSet, Variable, design, inside_links, parse_vary, sample
 from ..sim.engine import cluster_for
 from .cable_lines import fatigue_line
 from .cables import check_cable_folder, check_video_options, rated_fatigue, run_findings
-from .cell_program import base_offsets, floor_in_robot, is_cell
-from .dresspack_options import SweepOptions, cable_options, ratings_of, repeat_command
+from .dresspack_options import cable_options, ratings_of, repeat_command
 from .figures import figure_png
 from .output import Output, Warn, ignore, json_bytes, json_safe
-from .verdicts import FAIL, MAX_STRAIN, MAX_TORSION, Ratings, verdict, verdict_lines
+from .verdicts import FAIL, Ratings, verdict, verdict_lines
 
 MARGINS = ("bend", "taut", "torsion", "rub", "clamp")  # the ratings a design's margin is taken against
 SLIM_MARGIN = 0.05  # a chosen design's least margin under this is said to be slim
@@ -66,57 +66,50 @@ class DesignRow:
         return self.result is not None and not math.isfinite(self.least)
 
 
-def run_dresspack(path: str, programs: list[str], out: str, vary: list[str], designs: int = 64,
-                  cable: str | None = None, seed: int = 0, device: str = "cpu", ray: str | None = None,
-                  routine: str = "main", io: list[str] | None = None, cycles: int = 1, external_axes: str = "auto",
-                  limits: str | None = None, floor: float | None = 0.0, environment: list[str] | None = None,
-                  tool: str | None = None, min_bend_radius: float | None = None,
-                  static_bend_radius: float | None = None, max_strain: float = MAX_STRAIN,
-                  max_torsion: float = float(np.degrees(MAX_TORSION)), max_contact_force: float | None = None,
-                  max_clamp_load: float | None = None, rated_cycles: str | None = None,
-                  density: float = DENSITY, poisson: float = POISSON,
-                  friction: float = FRICTION, frame_rate: float = FRAME_RATE, substeps: int = SUBSTEPS,
-                  min_margin: float = 0.0, progress: Callable[[float, float], None] | None = None,
-                  warn: Warn = ignore, inputs: list[str] | None = None, video: str | None = None,
-                  video_color: str = "bend", video_size: int = 512, payload: str | None = None) -> Output:
-    """``rswarp dresspack``: ``designs`` designs of ``cable`` (``vary``: specs, or one TOML file of
-    them) over the RAPID task ``programs``, ranked, written into ``out``: the chosen design is the
-    shortest hose that passes with ``min_margin`` % to every rating; the other options as
-    ``rswarp cable --program`` takes them (the robot file's length unit); ``video``: the chosen
-    design's run rendered there, as ``rswarp cable --video`` renders one."""
+def run_dresspack(path: str, programs: list[str], out: str, task: TaskOptions | None = None,
+                  hose: HoseOptions | None = None, design: DesignOptions | None = None,
+                  batch: BatchOptions | None = None, video: VideoOptions | None = None, *,
+                  progress: Callable[[float, float], None] | None = None, warn: Warn = ignore,
+                  **changes) -> Output:
+    """``rswarp dresspack``: ``design.designs`` designs of ``design.cable`` (``design.vary``: specs,
+    or one TOML file of them) over the RAPID task ``programs`` run as ``task`` says, ranked, written
+    into ``out``: the chosen design is the shortest hose that passes with ``design.min_margin`` % to
+    every rating of ``hose``; the options as ``rswarp cable --program`` takes them (the robot file's
+    length unit); ``video``: the chosen design's run rendered there, as ``rswarp cable --video``
+    renders one. ``changes`` replace fields of the options (``vary=["length=1:2"]``, ``designs=8``)."""
+    o = routed(changes, task=task or TaskOptions(), hose=hose or HoseOptions(), design=design or DesignOptions(),
+               batch=batch or BatchOptions(), video=video or VideoOptions())
+    task, hose, sweep, batch, video = o["task"], o["hose"], o["design"], o["batch"], o["video"]
     cell = read_cell(path) if is_cell(path) else None
     mech, _ = load_mechanism(cell.robot.rsxml if cell is not None else path)
-    floor = floor_in_robot(cell, mech, floor)
-    opts = SweepOptions(routine, io, cycles, external_axes, limits, floor, environment or [], tool, min_bend_radius,
-                        static_bend_radius, max_strain, max_torsion, max_contact_force, max_clamp_load, density,
-                        poisson, friction, frame_rate, substeps, inputs, rated_cycles, payload)
-    rated = rated_fatigue(rated_cycles, mech)
-    drawn, short = _drawn(mech, cable, vary, designs, seed)
+    placed = replace(task, floor=floor_in_robot(cell, mech, task.floor))  # the floor in the robot's frame
+    rated = rated_fatigue(hose.rated_cycles, mech)
+    drawn, short = _drawn(mech, sweep.cable, sweep.vary, sweep.designs, batch.seed)
     k = drawn.cable
     run_set = DesignSet(k, drawn.variables, np.delete(drawn.values, list(short), axis=0))
-    ratings = ratings_of(mech, opts)
+    ratings = ratings_of(mech, hose)
     check_cable_folder(out)
-    check_video_options(video, None, video_color, 1, out)
-    options = cable_options(mech, opts, device)
-    plan = _task_plan(path, programs, opts, warn)
+    check_video_options(video.video, None, video.video_color, 1, out)
+    options = cable_options(mech, placed, hose, batch.device)
+    plan = _task_plan(path, programs, task, warn)
     trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q, base=base_offsets(cell, plan))]
     start = time.perf_counter()
     run = simulate_cables(mech, trajectories, len(run_set), None, options, progress=progress,
-                          cluster=cluster_for(ray, device), designs=run_set)
+                          cluster=cluster_for(batch.ray, batch.device), designs=run_set)
     seconds = time.perf_counter() - start
     kept = [i for i in range(len(drawn)) if i not in short]
     runs = design_runs(run)
     rows = [_row(kept[i], run_set.values[i], r, k, trajectories, plan.moves, ratings) for i, r in enumerate(runs)]
     rows = sorted(rows + [_short_row(i, drawn.values[i], why) for i, why in short.items()], key=lambda r: r.index)
-    keep = min_margin / 100.0
+    keep = sweep.min_margin / 100.0
     best = _best(rows, keep)
-    command = repeat_command(out, programs, opts, best.verdict == "PASS")
+    command = repeat_command(out, programs, placed, hose, best.verdict == "PASS")
     doc = _doc(mech, drawn, rows, best, seconds, command, ratings) | {"min_margin": keep}
     _write(out, mech, drawn, rows, best, doc)
     text = _text(mech, drawn, rows, best, seconds, plan, command, keep, rated)
-    if video is not None:
+    if video.video is not None:
         text += _video(mech, drawn, best, runs[kept.index(best.index)] if best.result is not None else None,
-                       trajectories, plan, doc, video, video_color, video_size)
+                       trajectories, plan, doc, video.video, video.video_color, video.video_size)
     return Output(doc, text)
 
 
@@ -135,13 +128,11 @@ def _drawn(mech, cable: str | None, vary: list[str], designs: int, seed: int) ->
     return drawn, short
 
 
-def _task_plan(path: str, programs: list[str], opts: SweepOptions, warn: Warn):
+def _task_plan(path: str, programs: list[str], task: TaskOptions, warn: Warn):
     """The RAPID task's plan the designs run over; an error where it stops before its first move."""
-    from .program import input_values, moved_before_stop, program_plan, signal_values
+    from ..motion.plan import moved_before_stop, program_plan
 
-    _, plan = program_plan(path, programs, opts.routine, io=signal_values(opts.io), cycles=opts.cycles,
-                           external_axes=opts.external_axes, warn=warn, limits=opts.limits,
-                           inputs=input_values(opts.inputs), payload=opts.payload)
+    _, plan = program_plan(path, programs, task, warn=warn)
     moved_before_stop(plan)
     return plan
 

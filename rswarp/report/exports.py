@@ -15,11 +15,11 @@ from ..export.frames import mechanism_of
 from ..export.physics import DRIVE_HZ, PhysicsOptions
 from ..export.srdf import collision_matrix
 from ..geometry.mass import DEFAULT_DENSITY
+from ..motion.payload import read_payload
 from ..rsxml.documents import checked
 from ..rsxml.model import Mechanism
 from ..rsxml.robot_data import data_file, read_limits, read_robot_data
 from .output import Output, Warn, ignore
-from .payload import read_payload
 from .poses import rounded
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..findings import FAIL, Finding, at_time
-from ..kinematics.misses import declared_words
+from ..motion.misses import declared_words
 from ..sim.program_check import SINGULAR, lowest_body
 from ..sim.tool import TCP_GAP, tcp_gap
 

@@ -7,15 +7,11 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
-Warn = Callable[[str], None]  # one line for people, on stderr at the command line
-
-
-def ignore(text: str) -> None:
-    """A ``warn`` that drops the line (library callers read the results instead)."""
+from ..errors import Warn, ignore  # noqa: F401  (the commands' warn callbacks, re-exported for report/)
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ FRAMES = ("a link's frame has its origin on the axis of the joint that moves it 
 def link_frames(mech: Mechanism, names, displacements: np.ndarray) -> np.ndarray:
     """(links, 4, 4): each link's frame at the joint values whose displacements ``kin.fk`` gave
     (``displacements[k]`` takes a point of link k at the zero position to where it is now)."""
-    from ..export.frames import link_origins
+    from ..geometry.frames import link_origins
 
     origins = link_origins(mech)
     out = np.array(displacements, np.float64)

@@ -1,33 +1,22 @@
 """``rswarp program``: a RAPID task run through the robot model. Its modules read and run as the
-controller runs them (``rswarp.rapid``), every target resolved, the trajectory built
-(``kinematics.program``) and checked in one batch, a table of the moves with their findings, and
+controller runs them (``rswarp.rapid``), planned (``motion.plan``: every target resolved, the
+trajectory built and timed) and checked in one batch, a table of the moves with their findings, and
 the trajectory as the CSV that ``rswarp cable --trajectory`` reads."""
 
 from __future__ import annotations
 
 import io as _io
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import Diagnostic, InputError, RsxmlError
+from ..config import BatchOptions, TaskOptions, VideoOptions, routed
 from ..files import atomic_write
-from ..kinematics import timing
 from ..kinematics.kinematics import Kinematics
-from ..kinematics.program import Plan, Planner
-from ..kinematics.targets import joint_values
-from ..kinematics.tcp import frames
-from ..options import checked
-from ..outputs import claim, record
-from ..rapid.interpret import MAX_CYCLES, Interpreter
-from ..rapid.task import load_task
-from ..rsxml.robot_data import axis_limits, robot_data
-from ..sim.bodies import placed_environments
-from ..sim.program_check import check_program
-from ..sim.tool import load_tool
-from .cell_program import (
+from ..motion import timing
+from ..motion.cells import (
     cell_floor,
-    cell_planner,
     csv_columns,
     external_values,
     robot_of,
@@ -35,149 +24,69 @@ from .cell_program import (
     with_cell_pairs,
     with_meshes,
 )
+from ..motion.payload import carried_loads, load_scale, read_payload
+from ..motion.plan import program_plan
+from ..motion.planner import Plan
+from ..motion.targets import joint_values
+from ..motion.tcp import frames
+from ..options import checked
+from ..outputs import claim, record
+from ..sim.bodies import placed_environments
+from ..sim.program_check import check_program
+from ..sim.tool import load_tool
 from .findings import grouped, move_findings, skipped_finding, tool_findings
 from .output import Output, Warn, ignore, json_safe
-from .payload import carried_loads, load_factors, load_scale, read_payload
 from .program_text import program_text
 
-EXTERNAL_AXES = ("auto", "error", "ignore")
 
-
-def signal_values(pairs: list[str] | None) -> dict[str, float]:
-    """``--io NAME=VALUE`` options as a dict; an InputError for one that is not."""
-    out = {}
-    for pair in pairs or []:
-        name, sep, value = pair.partition("=")
-        try:
-            number = float(value)
-        except ValueError:
-            number = float("nan")
-        if not sep or not name.strip().replace("_", "a").isalnum() or not np.isfinite(number):
-            raise InputError(f"--io takes NAME=VALUE (a signal and a number), not '{pair}'")
-        out[name.strip()] = number
-    return out
-
-
-def input_values(pairs: list[str] | None) -> dict[str, list[str]]:
-    """``--input NAME=VALUE`` options as each name's values in order; an InputError for one that
-    is not NAME=VALUE."""
-    out: dict[str, list[str]] = {}
-    for pair in pairs or []:
-        name, sep, value = pair.partition("=")
-        if not sep or not name.strip().replace("_", "a").isalnum():
-            raise InputError(f"--input takes NAME=VALUE (the data a live read stores into, and its value), not "
-                             f"'{pair}'")
-        out.setdefault(name.strip(), []).append(value)
-    return out
-
-
-def program_plan(path: str, programs, routine: str = "main", device: str = "cpu", io: dict | None = None,
-                 cycles: int = 1, external_axes: str = "auto", warn: Warn = ignore, strict: bool = True,
-                 limits: str | None = None, inputs: dict | None = None, payload=None):
-    """(mechanism, plan) of ``routine`` of the RAPID task in ``programs`` (module files, folders,
-    .pgf files) on the robot at ``path``; with ``strict`` an RsxmlError lists every target the
-    robot cannot take. ``payload`` (``--payload``'s text, or a ``Payload``) is carried on top of
-    each move's tool and GripLoad loads, which lower the accelerations (docs/payload-timing.md)."""
-    if external_axes not in EXTERNAL_AXES:
-        raise InputError(f"--external-axes must be one of {', '.join(EXTERNAL_AXES)}")
-    if not 1 <= int(cycles) <= MAX_CYCLES:
-        raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {cycles}")
-    mech, cell = robot_of(path)
-    load = read_payload(payload, mech) if isinstance(payload, str) else payload
-    task = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
-    if cell is not None:
-        for w in cell.warnings:
-            warn(w)
-        planner = cell_planner(cell, device, external_axes, axis_limits(mech, limits), load_scale(mech, load))
-    else:
-        planner = Planner(Kinematics(mech, device), external_axes=external_axes, limits=axis_limits(mech, limits),
-                          load_scale=load_scale(mech, load))
-    run = Interpreter(task, planner, io, int(cycles), inputs).run(routine)
-    plan = planner.finish(run)
-    for w in (*run.warnings, *planner.notes):
-        warn(str(w))
-    carried = carried_loads(mech, plan, load)
-    if carried and load_factors(mech).arm is None:
-        warn(load_factors(mech).warning)
-    _over_rated(mech, carried, warn)
-    if run.stopped is not None:
-        warn(str(run.stopped))
-    if strict and plan.errors:
-        raise RsxmlError(list(plan.errors))
-    return mech, plan
-
-
-def _over_rated(mech, carried: list[dict], warn: Warn) -> None:
-    """A warning for each load heavier than the robot data's rated payload: the timing takes it,
-    the robot is not made for it."""
-    data = robot_data(mech)
-    rated = data.payload if data is not None else None
-    for found in carried:
-        if rated is not None and found["mass"] > rated * (1 + 1e-9):
-            warn(f"{mech.path or mech.name}: warning: a load of {found['mass']:g} kg ({found['source']}) is over the "
-                 f"robot's rated {rated:g} kg ({Path(data.path).name}): timed as given, beyond what the robot is "
-                 "made to carry")
-
-
-def moved_before_stop(plan) -> None:
-    """An InputError where a task stopped for a live input before it made any move: a hose run
-    or a design sweep over it would run over nothing; the stop line says what to give."""
-    stopped = plan.run.stopped
-    if stopped is not None and not float(plan.times[-1]) > 0:
-        raise RsxmlError(Diagnostic(stopped.file, stopped.line, f"{stopped.message} (the task stops before its first "
-                                                                "move: nothing to run the hoses over)"))
-
-
-def run_program(path: str, programs: list[str], routine: str = "main", csv: str | None = None,
-                io: list[str] | None = None, cycles: int = 1, external_axes: str = "auto",
-                environment: list[str] | None = None, collision_matrix: str | None = None, floor: float = 0.0,
-                video: str | None = None, video_size: int = 512, device: str = "cpu", ray: str | None = None,
-                limits: str | None = None, tool: str | None = None, progress=None, warn: Warn = ignore,
-                inputs: list[str] | None = None, payload: str | None = None) -> Output:
+def run_program(path: str, programs: list[str], task: TaskOptions | None = None, batch: BatchOptions | None = None,
+                video: VideoOptions | None = None, *, csv: str | None = None, progress=None, warn: Warn = ignore,
+                **changes) -> Output:
     """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory;
-    ``payload`` (``--payload``) is carried on top of the tools' loads. Targets the robot cannot
-    take are all reported (exit 1), with the rest of the report."""
+    ``changes`` replace fields of the options (``cycles=3``, ``tool="gripper.stl"``). Targets the
+    robot cannot take are all reported (exit 1), with the rest of the report."""
     from ..export.srdf import read_srdf
     from ..sim.engine import cluster_for
 
+    o = routed(changes, task=task or TaskOptions(), batch=batch or BatchOptions(), video=video or VideoOptions())
+    task, batch, video = o["task"], o["batch"], o["video"]
     if csv is not None:
         claim(Path(csv))  # a file of the user's is never replaced: refused before any work
-    if video is not None:
+    if video.video is not None:
         from .videos import claim_video
 
-        claim_video(video)
-    signals, given = signal_values(io), input_values(inputs)
+        claim_video(video.video)
     robot, cell = robot_of(path)  # every option and input checked before any work
-    tool = tool_spec(cell, tool)
-    world_floor = checked("floor", robot.si_length(floor))
+    tool = tool_spec(cell, task.tool)
+    world_floor = checked("floor", robot.si_length(task.floor or 0.0))
     floor = world_floor - (cell_floor(cell) if cell is not None else 0.0)  # in the robot's frame
-    env = placed_environments(robot, environment or [])
+    env = placed_environments(robot, task.environment)
     if cell is not None and env:  # --env meshes stand in the cell's world, checked with its own
         cell, env = with_meshes(cell, env), ()
     mounted = load_tool(robot, tool)
-    load = read_payload(payload, robot)
-    disabled = read_srdf(collision_matrix, robot.link_names) if collision_matrix else ()
-    mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, routine, device, signals,
-                           cycles, external_axes, warn, strict=False, limits=limits, inputs=given, payload=load)
+    load = read_payload(task.payload, robot) if isinstance(task.payload, str) else task.payload
+    disabled = read_srdf(task.collision_matrix, robot.link_names) if task.collision_matrix else ()
+    mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, replace(task, payload=load),
+                           device=batch.device, warn=warn, strict=False)
     if p.errors:
-        if csv is not None or video is not None:
+        if csv is not None or video.video is not None:
             warn(f"{'--csv' if csv is not None else '--video'}: nothing written, the task has targets the robot "
                  "cannot take (below)")
         doc = _document(mech, p, None, [], None, csv=None, payload=load)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
-    tally, tools, tested = check_program(mech, p.q, env, disabled, device, cluster=cluster_for(ray, device),
-                                         progress=progress, tool=mounted)
+    tally, tools, tested = check_program(mech, p.q, env, disabled, batch.device,
+                                         cluster=cluster_for(batch.ray, batch.device), progress=progress, tool=mounted)
     names = tools.checker.bodies.pair_names() if tools.checker is not None else []
     if cell is not None:  # the robot against the units' links and the cell's meshes, where the axes put them
-        tally, names, tested = with_cell_pairs(cell, p, tally, names, tested, mounted, device)
+        tally, names, tested = with_cell_pairs(cell, p, tally, names, tested, mounted, batch.device)
     if csv is not None:
         atomic_write(csv, trajectory_csv(mech, p).encode())
         record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])
     doc = _document(mech, p, tally, names, tested, csv, floor, tools, mounted, load)
-    if video is not None:
+    if video.video is not None:
         from .videos import program_video
 
-        doc["video"] = program_video(mech, p, tally, names, video, video_size, tool=mounted, cell=cell,
+        doc["video"] = program_video(mech, p, tally, names, video.video, video.video_size, tool=mounted, cell=cell,
                                      floor=world_floor)
     return Output(json_safe(doc), program_text(mech, doc))
 

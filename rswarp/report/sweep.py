@@ -13,12 +13,12 @@ import numpy as np
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..launch import driver_device
+from ..motion.cells import robot_of
 from ..outputs import atomic_folder, check_replaceable
 from ..rsxml.model import Mechanism
 from ..rsxml.units import format_number
 from ..sim.engine import cluster_for
 from ..sim.workspace import Workspace, workspace
-from .cell_program import robot_of
 from .cell_sweeps import cell_reach, cell_reach_text, flange_box
 from .output import Output, Warn, ignore, json_bytes, json_safe
 

@@ -11,13 +11,13 @@ from typing import Callable
 
 import numpy as np
 
+from ..config import MAX_STRAIN, MAX_TORSION_DEG
 from ..findings import FAIL, WARN, Finding
-from ..sim.cable_results import CableResult
+from ..sim.cable.results import CableResult
 from .cable_contact import rubs
 
 STATIC_DIAMETERS = 5.0  # a hose's static (permanent-damage) bend radius: 5 diameters, as hose makers rate it
-MAX_STRAIN = 0.005  # axial strain of a hose that hangs rather than pulls
-MAX_TORSION = np.pi  # rad/m: 180 deg/m, the usual rating of a torsion-rated robot hose
+MAX_TORSION = math.radians(MAX_TORSION_DEG)  # rad/m: config's deg/m rating (180 deg/m: pi, exactly)
 AT_REST = 1e-3  # rad/s (m/s): every joint slower than this is the robot at rest
 STILL_FOR = 1.0  # s: the robot at rest this long is a hose at rest; until then its swing goes on
 ORDER = ("crush", "pinch", "kink", "taut", "bend", "torsion", "clamp", "rub")  # the verdict's lines, worst kind first

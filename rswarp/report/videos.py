@@ -165,7 +165,7 @@ def program_video(mech, plan, tally, names, path: str, size: int = VIDEO_SIZE, f
     poses = Kinematics(mech).fk64(plan.q[rows])
     extra = ()
     if cell is not None:
-        from .cell_program import cell_bodies
+        from ..motion.cells import cell_bodies
 
         poses, extra = cell_bodies(cell, plan, rows, poses)
     marked = []

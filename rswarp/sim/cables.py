@@ -23,14 +23,14 @@ from ..kinematics.trajectory import Stacked, Trajectory, assign, minimum_jerk
 from ..options import BOUNDS, checked
 from ..rsxml.model import Mechanism
 from .bodies import Environment
-from .cable_extremes import RunningExtremes
-from .cable_models import cable_model, make_solver
-from .cable_results import CableResult, one_env
-from .cable_solver import FATIGUE_EXPONENT, FATIGUE_FLOOR, GRAVITY, CableOptions, CableSolver, contact_meshes
-from .cable_tally import MAX_VALUES_BYTES, CablePiece, CableTally, values_bytes
+from .cable.extremes import RunningExtremes
+from .cable.models import cable_model, make_solver
+from .cable.rainflow import Rainflow
+from .cable.results import CableResult, one_env
+from .cable.solver import FATIGUE_EXPONENT, FATIGUE_FLOOR, GRAVITY, CableOptions, CableSolver, contact_meshes
+from .cable.tally import MAX_VALUES_BYTES, CablePiece, CableTally, values_bytes
 from .designs import DesignSet
 from .engine import Job, run_batch
-from .rainflow import Rainflow
 
 SETTLE_MOVE, SETTLE_HOLD, SETTLE_DAMPING = 0.5, 0.5, 10.0  # s, s, 1/s
 # s a run goes on past the trajectory's end, the robot still at its last point, when no --seconds

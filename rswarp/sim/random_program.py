@@ -14,7 +14,7 @@ from ..errors import InputError
 from ..kinematics.trajectory import WAYPOINT_SPAN, Trajectory, joint_speed_limits
 from ..options import checked
 from .bodies import hose_leads
-from .cable_solver import CableOptions, allowed_bend_radius
+from .cable.solver import CableOptions, allowed_bend_radius
 from .program_check import ProgramTools, checked_pairs, lowest, program_tools
 
 CANDIDATES = 8  # waypoints drawn at once; the first whose move is free is taken

@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import InputError
 from ..files import cleanup_on_terminate, commit, output_error, usual_mode
 from ..launch import Launcher, init_warp
-from .cable_solver import contact_meshes
+from .cable.solver import contact_meshes
 from .preview import MARGIN, View, camera
 
 RING = 8  # vertices around a tube

@@ -1,4 +1,4 @@
-"""What the rod reports, as device functions for ``rswarp.kernels.rod``: after each substep, the
+"""What the rod reports, as device functions for the step kernel (``kernel``): after each substep, the
 greatest axial force (E A times the stretch at each joint, in newtons) and where, the least bend
 radius and where, the twist rate and the torque the rod carries, each clamp's load, and the
 contacts' normal forces and sliding, summed into the wear map (time in contact, peak normal force,
@@ -9,13 +9,13 @@ attachments."""
 
 import warp as wp
 
-from .rod_contact import contact_outcome
-from .rod_joint import axis_of, joint_forces, joint_strain, twist_angle
-from .rod_step import attachment_pose
-from .rod_types import (
+from .contact import contact_outcome
+from .joint import axis_of, joint_forces, joint_strain, twist_angle
+from .slots import BIG
+from .step import attachment_pose
+from .types import (
     BEND,
     BEND_AT,
-    BIG,
     CONTACT_AT,
     F64,
     FORCE,
@@ -44,7 +44,9 @@ from .rod_types import (
     Contact,
     Forces,
     Q,
+    RodFrame,
     RodParams,
+    RodWear,
 )
 
 
@@ -126,8 +128,7 @@ def _attachments(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int
 @wp.func
 def _wear(params: RodParams, d: int, k: int, b: BodyWork, contacts: wp.array2d(dtype=Contact),
           count: wp.array2d(dtype=wp.int32), row: int, h: F64, e: int, stats_out: wp.array3d(dtype=F64),
-          wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
-          wear_out: wp.array3d(dtype=F64)):
+          wear_out: RodWear):
     """Body k's contacts at the step's end: normal force and sliding into the wear map. The slot a
     contact is crushed into, or -1, and each contact's normal force."""
     c = params.cable[d, k]
@@ -142,14 +143,14 @@ def _wear(params: RodParams, d: int, k: int, b: BodyWork, contacts: wp.array2d(d
             crushed = ct.slot
         if force > F64(0.0):
             total = total + force
-            wear_out[e, k, ct.slot] = wear_out[e, k, ct.slot] + force * slide
+            wear_out.wear[e, k, ct.slot] = wear_out.wear[e, k, ct.slot] + force * slide
             stats_out[e, c, SLIDING] = wp.max(stats_out[e, c, SLIDING], slide / h)
             if force > stats_out[e, c, NORMAL]:
                 stats_out[e, c, NORMAL] = force
                 stats_out[e, c, CONTACT_AT] = ct.arc
     if total > F64(0.0):
-        wear_time_out[e, k] = wear_time_out[e, k] + h
-        wear_peak_out[e, k] = wp.max(wear_peak_out[e, k], total)
+        wear_out.time[e, k] = wear_out.time[e, k] + h
+        wear_out.peak[e, k] = wp.max(wear_out.peak[e, k], total)
     return crushed, forces
 
 
@@ -174,15 +175,30 @@ def _pinch(params: RodParams, d: int, k: int, forces: Forces, contacts: wp.array
 
 
 @wp.func
-def measure(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, h: F64,
-            work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
-            row: int, stats_out: wp.array3d(dtype=F64), load_out: wp.array3d(dtype=F64),
-            wear_time_out: wp.array2d(dtype=F64), wear_peak_out: wp.array2d(dtype=F64),
-            wear_out: wp.array3d(dtype=F64), bend_out: wp.array2d(dtype=F64),
-            cycles_out: wp.array2d(dtype=wp.int32)) -> int:
+def measure(
+    # In:
+    params: RodParams,
+    d: int,
+    poses: wp.array3d(dtype=M44),
+    e: int,
+    s: int,
+    h: F64,
+    # Scratch (the substep's bodies and contacts, read):
+    work: wp.array2d(dtype=BodyWork),
+    contacts: wp.array2d(dtype=Contact),
+    count: wp.array2d(dtype=wp.int32),
+    row: int,
+    # Out (the frame's extremes, and the wear map accumulated in place):
+    frame_out: RodFrame,
+    wear_out: RodWear,
+) -> int:
     """The substep's strains, loads and contacts at its end, into the frame's extremes and the wear
     map; a body's curvature (its tighter joint); crossing back above the allowed radius is a cycle. The
     slot a cable was crushed into, or -1."""
+    stats_out = frame_out.stats
+    load_out = frame_out.load
+    bend_out = wear_out.bend
+    cycles_out = wear_out.cycles
     bodies = params.bodies[d]
     crushed = int(-1)
     before = F64(BIG)  # the bend radius at the current body's start joint
@@ -202,8 +218,7 @@ def measure(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: 
         if bend_out[e, k] * params.allowed[c] > F64(1.0) and least >= params.allowed[c]:
             cycles_out[e, k] = cycles_out[e, k] + 1
         bend_out[e, k] = bend
-        slot, forces = _wear(params, d, k, b, contacts, count, row, h, e, stats_out, wear_time_out, wear_peak_out,
-                             wear_out)
+        slot, forces = _wear(params, d, k, b, contacts, count, row, h, e, stats_out, wear_out)
         _pinch(params, d, k, forces, contacts, count, row, e, stats_out)
         if slot >= 0:
             crushed = slot

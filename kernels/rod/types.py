@@ -1,7 +1,8 @@
 """The Cosserat rod's types, declared once: the model struct the rod kernel reads (``RodParams``),
-the per-body and per-contact work records it keeps in scratch, and the column layouts of what it
-writes out. Everything is float64: a stiff rod's tension is a strain of 1e-4 on positions of
-metres, which float32 cannot hold to a percent."""
+the groups of arrays it updates (``RodBodies``, ``RodWear``, ``RodFrame``), the per-body and
+per-contact work records it keeps in scratch, and the column layouts of what it writes out (the
+slots and statuses: ``slots``). Everything is float64: a stiff rod's tension is a strain of 1e-4
+on positions of metres, which float32 cannot hold to a percent."""
 
 import warp as wp
 
@@ -13,13 +14,9 @@ M44 = wp.mat44d  # a link's pose
 M66 = wp.types.matrix((6, 6), F64)
 V6 = wp.types.vector(6, F64)
 
-BIG = 1.0e30  # "nothing within reach"
 TINY = 1.0e-12
 MAX_CONTACTS = 4  # per body and substep: the deepest are kept
 Forces = wp.types.vector(MAX_CONTACTS, wp.float64)  # a body's contacts' normal forces, N
-
-# an environment's state; CRUSHED + slot: the robot pressed a cable into that slot half its radius deep
-RUNNING, NOT_FINITE, RUNAWAY, CRUSHED = 0, 1, 2, 3
 
 # the columns of a cable's statistics per frame (``stats_out[e, cable, :]``); PINCH_A and PINCH_B
 # are the slots that pinch the cable hardest, -1 where nothing does
@@ -99,11 +96,51 @@ class RodParams:
 
 
 @wp.struct
+class RodBodies:
+    """Every environment's bodies, read and updated in place by each step: each segment's centre,
+    orientation, velocity, angular velocity and last acceleration (envs, bodies), and the
+    environment's status (envs,): RUNNING, or why it stopped (``slots``), frozen since."""
+
+    x: wp.array2d(dtype=V3)
+    q: wp.array2d(dtype=Q)
+    v: wp.array2d(dtype=V3)
+    w: wp.array2d(dtype=V3)
+    a: wp.array2d(dtype=V3)
+    status: wp.array(dtype=wp.int32)
+
+
+@wp.struct
+class RodWear:
+    """The wear map, accumulated in place over the steps (envs, bodies): each body's time in
+    contact, peak normal force, normal force times sliding distance per slot (envs, bodies,
+    slots), curvature (1/m, its tighter joint) at the last substep's end, and bending cycles
+    below its cable's allowed radius."""
+
+    time: wp.array2d(dtype=F64)
+    peak: wp.array2d(dtype=F64)
+    wear: wp.array3d(dtype=F64)
+    bend: wp.array2d(dtype=F64)
+    cycles: wp.array2d(dtype=wp.int32)
+
+
+@wp.struct
+class RodFrame:
+    """A frame's statistics, written whole by each step: per cable its STATS columns (envs,
+    cables, STATS), its least clearance to each slot and the arc where (envs, cables, slots), and
+    each attachment's LOADS columns (envs, attachments, LOADS)."""
+
+    stats: wp.array3d(dtype=F64)
+    clear: wp.array3d(dtype=F64)
+    at: wp.array3d(dtype=F64)
+    load: wp.array3d(dtype=F64)
+
+
+@wp.struct
 class BodyWork:
     """One body in one substep: the iterate (position, orientation), the predicted pose that
-    inertia and gravity draw it to, how far its capsule may sweep (``rod_gather.swept``, once a
+    inertia and gravity draw it to, how far its capsule may sweep (``gather.swept``, once a
     substep: every capsule pair asks it), how far its centre is along its cable's chain of
-    centres (``rod_gather.capsule_pairs``), and the angular velocity the step gives it (``commit``)."""
+    centres (``gather.capsule_pairs``), and the angular velocity the step gives it (``commit``)."""
 
     x: V3
     q: Q
@@ -117,7 +154,7 @@ class BodyWork:
 @wp.struct
 class Factor:
     """One body's rows of the block-tridiagonal factorization: its pivot block's L_k D_k L_k^T
-    (``rod_math.ldl``: L_k below the diagonal, 1/D_k on it), D_k^-1 L_k^-1 B_k (B_k its coupling to
+    (``algebra.ldl``: L_k below the diagonal, 1/D_k on it), D_k^-1 L_k^-1 B_k (B_k its coupling to
     the next body), and D_k^-1 L_k^-1 z_k (z_k its right-hand side carried down the sweep)."""
 
     lo: M66

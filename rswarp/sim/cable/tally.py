@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .cable_results import PER_ENV, SERIES, VALUE, CableResult, Series, spread
+from .results import PER_ENV, SERIES, VALUE, CableResult, Series, spread
 
 MAX_VALUES_BYTES = 16 << 30  # a cut run's per-frame values, kept in a file: 16 GiB at most
 FRAME_BLOCK = 1024  # frames read back at a time to take their spread

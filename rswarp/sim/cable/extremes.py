@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cable_results import MAX_RECORDED, SERIES, VALUE, CableResult, Series, spread
-from .cable_solver import RUNNING, CableInfo
+from .results import MAX_RECORDED, SERIES, VALUE, CableResult, Series, spread
+from .solver import RUNNING, CableInfo
 
 
 class RunningExtremes:

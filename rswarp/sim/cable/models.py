@@ -3,10 +3,10 @@
 
 from __future__ import annotations
 
-from ..errors import InputError
-from ..rsxml.model import Mechanism
-from .cable_rod import CosseratRod
-from .cable_solver import CableOptions, CableSolver, ContactMeshes
+from ...errors import InputError
+from ...rsxml.model import Mechanism
+from .rod import CosseratRod
+from .solver import CableOptions, CableSolver, ContactMeshes
 
 CABLE_MODELS: dict[str, type[CableSolver]] = {CosseratRod.kind: CosseratRod}
 

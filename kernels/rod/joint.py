@@ -10,8 +10,8 @@ twist^2) / l. Perturbations are world-frame: (dx, dtheta) per body."""
 
 import warp as wp
 
-from .rod_math import axial, blocks, diag3, pair, relative, skew
-from .rod_types import F64, M66, V3, V6, Q
+from .algebra import axial, blocks, diag3, pair, relative, skew
+from .types import F64, M66, V3, V6, Q
 
 
 @wp.func

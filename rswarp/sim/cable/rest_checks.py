@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import model_error
-from ..rsxml.model import Mechanism
-from .rod_layout import RodLayout
+from ...errors import model_error
+from ...rsxml.model import Mechanism
+from .layout import RodLayout
 
 ALONG = np.array([0.25, 0.5, 0.75])  # where along each segment its centre line is tested
 
@@ -31,7 +31,7 @@ def outside_links(mech: Mechanism, layout: RodLayout) -> None:
     whose contact judges them by winding number."""
     import trimesh
 
-    from ..geometry.meshes import closed_link_meshes
+    from ...geometry.meshes import closed_link_meshes
 
     for j, name, closed in closed_link_meshes(mech):
         for c, cable in zip(layout.cables, mech.cables):

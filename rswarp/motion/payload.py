@@ -4,8 +4,8 @@ planned task moves with; and how much a load lowers each axis's acceleration and
 
 The timing rule (docs/payload-timing.md): the robot data's accelerations and jerks hold for the
 arm with no load. A load lowers axis i's by J_arm,i / (J_arm,i + J_load,i), both moments of
-inertia about axis i at the home pose (masses for a prismatic axis), as ``export.physics`` computes
-them for the exports: the arm's with its armature, the load's its mass at its centre of gravity
+inertia about axis i at the home pose (masses for a prismatic axis), from the mass model the exports
+author too (``geometry.inertia``): the arm's with its armature, the load's its mass at its centre of gravity
 plus its own inertia. Loads carried together add up (inertias about one axis add: the parallel-axis
 theorem of their rigid union)."""
 
@@ -16,7 +16,16 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..export.physics import PhysicsOptions, robot_physics
+from ..geometry.frames import link_poses
+from ..geometry.inertia import (
+    axis_inertia,
+    default_armature,
+    joint_axes,
+    link_bodies,
+    link_geometry,
+    subtrees,
+    with_payload,
+)
 from ..rapid import data as rd
 from ..rapid.loaded import declared
 from ..rapid.moves import NO_LOAD_KG
@@ -131,9 +140,8 @@ class LoadFactors:
         key = _key(load)
         if key not in self._loads:
             payload = Payload(load.mass, tuple(load.cog), tuple(load.inertia), tuple(load.aom))
-            physics = robot_physics(self.mech, PhysicsOptions(payload=payload, armature=0.0, drive_hz=None),
-                                    geometry=False)  # no link masses, no armature: the load's alone
-            self._loads[key] = _per_axis(self.mech, physics)
+            massless, _ = link_bodies(self.mech, {}, [])
+            self._loads[key] = _axis_inertias(self.mech, with_payload(self.mech, massless, payload), armature=False)
         return self._loads[key]
 
     def __call__(self, *loads) -> np.ndarray:
@@ -177,24 +185,32 @@ def load_scale(mech, payload: Payload | None = None):
 
 
 def _arm_inertias(mech) -> np.ndarray | None:
-    """Each active axis's inertia of the arm alone (``JointPhysics.inertia``), the links weighing
-    the robot data's mass where it gives one; None where no link has a mesh with volume."""
+    """Each active axis's inertia of the arm alone, armature included, the links weighing the robot
+    data's mass where it gives one; None where no link has a mesh with volume."""
     data = robot_data(mech)
     mass = data.mass if data is not None else None
     try:
-        physics = robot_physics(mech, PhysicsOptions(mass=mass, drive_hz=None))
+        bodies, _ = link_bodies(mech, link_geometry(mech, None, []), [], mass=mass)
     except InputError:  # a mass to share and no mesh volume to share it over: no masses
         if mass is None:
             raise
         return None
-    return _per_axis(mech, physics) if physics.total_mass > 0 else None
+    if not sum(b.mass for b in bodies.values()) > 0:
+        return None
+    return _axis_inertias(mech, bodies, armature=True)
 
 
-def _per_axis(mech, physics) -> np.ndarray:
-    """The joints' inertias in the order of the active axes; 0 for one physics has not (outside the
-    tree: its factor stays 1)."""
-    return np.array([physics.joints[j.name].inertia if j.name in physics.joints else 0.0
-                     for j in mech.graph.active], float)
+def _axis_inertias(mech, bodies: dict, armature: bool) -> np.ndarray:
+    """What each active axis moves at home (``geometry.inertia.axis_inertia``), with the default
+    armature or none, in the order of the active axes; 0 for one outside the tree (its factor
+    stays 1)."""
+    poses, carried = link_poses(mech), subtrees(mech)
+    found = {}
+    for j, link, axis, point in joint_axes(mech, poses):
+        moved = [bodies[c] for c in carried[link] if c in bodies and bodies[c].mass > 0]
+        extra = default_armature(mech, bodies, poses, j.revolute) if armature else 0.0
+        found[j.name] = axis_inertia(moved, poses, axis, point, j.revolute) + extra
+    return np.array([found.get(j.name, 0.0) for j in mech.graph.active], float)
 
 
 def _weighs(load) -> bool:

@@ -20,10 +20,10 @@ import numpy as np
 
 from ..findings import FAIL, at_time
 from ..kernels.ik import OK
+from ..kinematics.ik import IKSolutions
 from . import targets as tg
 from . import timing, timing_batch, zone_batch
 from .follow import follow
-from .ik import IKSolutions
 from .paths import lines, path, poses_along
 from .tcp import Frames, frames
 

@@ -4,7 +4,7 @@ solve is made of."""
 
 import warp as wp
 
-from .rod_types import F64, M33, M66, TINY, V3, V6, Q
+from .types import F64, M33, M66, TINY, V3, V6, Q
 
 
 @wp.func

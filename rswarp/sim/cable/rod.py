@@ -11,10 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kinematics.kinematics import Kinematics
-from ..launch import Launcher, init_warp
-from ..rsxml.model import Mechanism
-from .cable_solver import (
+from ...kernels.rod.slots import BIG, CABLES_NAME, CRUSHED, FLOOR_NAME, slot_names
+from ...kinematics.kinematics import Kinematics
+from ...launch import Launcher, init_warp
+from ...rsxml.model import Mechanism
+from .layout import RodLayout, rod_layout
+from .rest_checks import above_floor, outside_links
+from .solver import (
     FAILURES,
     GRAVITY,
     MAX_SPEED,
@@ -26,12 +29,8 @@ from .cable_solver import (
     ContactMeshes,
     allowed_bend_radius,
 )
-from .rest_checks import above_floor, outside_links
-from .rod_layout import RodLayout, rod_layout
 
-CRUSHED = 3  # the kernel's status CRUSHED + slot (``rswarp.kernels.rod_types``)
 NO_FLOOR = -1.0e6  # m: the floor's height where there is none
-UNMEASURED = 1.0e29  # the kernel's "nothing within reach" (BIG) reads as +inf
 CHUNK = 64  # environments per CPU launch: each one's scratch stays in cache
 
 
@@ -40,7 +39,9 @@ class RodState:
     """Many environments of every cable, as Warp arrays on the solver's device: each segment's
     centre, orientation, velocity, angular velocity and last acceleration (envs, bodies), status
     (envs,), the wear map (``wear_*``, ``bend``: each body's curvature, ``cycles``), the last
-    frame's statistics; and on the host, the joints at the end of the last frame (envs, dof)."""
+    frame's statistics; and on the host, the joints at the end of the last frame (envs, dof). The
+    kernel takes the device arrays in its groups (``groups``: ``rswarp.kernels.rod.types``'
+    ``RodBodies``, ``RodWear`` and ``RodFrame`` of these same arrays)."""
 
     x: object
     q: object
@@ -61,6 +62,7 @@ class RodState:
     design: object  # (envs,) each environment's design, on the device
     designs: np.ndarray  # the same on the host
     base: np.ndarray | None = None  # (envs, 3) the robot's base moved from its start, at the end of the last frame
+    groups: tuple = ()  # the kernel's structs of the arrays above, made with the state (``_groups``)
 
 
 class CosseratRod(CableSolver):
@@ -73,7 +75,7 @@ class CosseratRod(CableSolver):
                  designs: tuple[Mechanism, ...] = ()):
         """``designs``: mechanisms alike but for their cables' lengths and control points; environment
         e then runs design e modulo their number (``designs[0]`` as ``mech`` itself by default)."""
-        from ..kernels.rod import rod_kernel
+        from ...kernels.rod.kernel import rod_kernel
 
         self.layouts = tuple(rod_layout(m, options.density, options.poisson) for m in (designs or (mech,)))
         self.layout = self.layouts[0]
@@ -82,8 +84,9 @@ class CosseratRod(CableSolver):
             above_floor(m, lay, options.floor)
         self.options, self.dof = options, mech.dof
         meshes = meshes or ContactMeshes((None,) * len(mech.graph.links))
-        self.slots = (*mech.graph.links, *(m[0] for m in meshes.environment), *(m[0] for m in meshes.tool), "floor",
-                      "cables")
+        # the kernel's slots (``rswarp.kernels.rod.slots``): its meshes as ``_mesh_arrays`` lists them, then
+        # the floor and the cables
+        self.slots = slot_names((*mech.graph.links, *(m[0] for m in meshes.environment), *(m[0] for m in meshes.tool)))
         self.designs = tuple(_infos(lay, m, options) for lay, m in zip(self.layouts, designs or (mech,)))
         self.cables = self.designs[0]
         self.failures = FAILURES | {CRUSHED + j: f"the robot pressed a cable into {_what(name)} half its radius "
@@ -120,7 +123,7 @@ class CosseratRod(CableSolver):
     def _params(self, meshes: ContactMeshes, options: CableOptions):
         """The kernel's model: every design's per-body and per-attachment arrays as a row each,
         padded to the most bodies (a padded body is never read)."""
-        from ..kernels.rod_types import RodParams
+        from ...kernels.rod.types import RodParams
 
         wp = init_warp()
         dev = self.launcher.device
@@ -158,8 +161,8 @@ class CosseratRod(CableSolver):
         return p
 
     def _mesh_arrays(self, p, meshes: ContactMeshes) -> None:
-        """The link meshes (when ``contact``), then the environment's, as Warp meshes with bounding
-        spheres in their own frames."""
+        """The link meshes (when ``contact``), then the environment's, then the tool's, as Warp meshes
+        with bounding spheres in their own frames: the kernel's mesh slots, in order."""
         wp = init_warp()
         dev = self.launcher.device
         links = meshes.links if self.options.contact else (None,) * len(meshes.links)
@@ -184,7 +187,7 @@ class CosseratRod(CableSolver):
                                dtype=wp.mat44d, device=dev)
 
     def state(self, envs: int) -> RodState:
-        from ..kernels.rod_types import LOADS, STATS
+        from ...kernels.rod.types import LOADS, STATS
 
         wp = init_warp()
         dev = self.launcher.device
@@ -194,18 +197,20 @@ class CosseratRod(CableSolver):
         zeros = lambda shape, dtype=wp.float64: wp.zeros(shape, dtype=dtype, device=dev)  # noqa: E731
         b, c, slots = self.bodies, len(self.layout.cables), len(self.slots)
         vec = lambda: zeros((envs, b), wp.vec3d)  # noqa: E731
-        return RodState(start(lambda lay: lay.x, 0.0, wp.vec3d), start(lambda lay: lay.q, 1.0, wp.quatd), vec(),
-                        vec(), vec(), zeros(envs, wp.int32),
-                        zeros((envs, b)), zeros((envs, b)), zeros((envs, b, slots)), zeros((envs, b)),
-                        zeros((envs, b), wp.int32), zeros((envs, c, STATS)), zeros((envs, c, slots)),
-                        zeros((envs, c, slots)), zeros((envs, max(len(self.layout.attach_body), 1), LOADS)),
-                        np.zeros((envs, self.dof)), wp.array(design, dtype=wp.int32, device=dev), design)
+        state = RodState(start(lambda lay: lay.x, 0.0, wp.vec3d), start(lambda lay: lay.q, 1.0, wp.quatd), vec(),
+                         vec(), vec(), zeros(envs, wp.int32),
+                         zeros((envs, b)), zeros((envs, b)), zeros((envs, b, slots)), zeros((envs, b)),
+                         zeros((envs, b), wp.int32), zeros((envs, c, STATS)), zeros((envs, c, slots)),
+                         zeros((envs, c, slots)), zeros((envs, max(len(self.layout.attach_body), 1), LOADS)),
+                         np.zeros((envs, self.dof)), wp.array(design, dtype=wp.int32, device=dev), design)
+        state.groups = _groups(state)
+        return state
 
     def set_damping(self, damping: float) -> None:
         self.params.damping = float(damping)
 
     def step(self, state: RodState, qs: np.ndarray, dt: float, base: np.ndarray | None = None) -> None:
-        from ..kernels.rod_types import MAX_CONTACTS
+        from ...kernels.rod.types import MAX_CONTACTS
 
         envs = state.x.shape[0]
         qs = np.asarray(qs, np.float64)
@@ -219,9 +224,7 @@ class CosseratRod(CableSolver):
         bodies = self.bodies
         self.launcher.launch(self.kernel, envs, params=[self.params, float(dt), int(self.options.iterations)],
                              inputs=[poses, state.design], scratch=(bodies, bodies, bodies * MAX_CONTACTS, bodies),
-                             outputs=[state.x, state.q, state.v, state.w, state.a, state.status, state.wear_time,
-                                      state.wear_peak, state.wear, state.bend, state.cycles, state.stats,
-                                      state.clear, state.clear_at, state.load])
+                             outputs=list(state.groups))
         state.joints = qs[:, -1].copy()
 
     def _poses(self, start: np.ndarray, qs: np.ndarray) -> np.ndarray:
@@ -234,7 +237,7 @@ class CosseratRod(CableSolver):
         return self.kinematics.fk64(q).reshape(envs, subs + 1, self.links, 4, 4)
 
     def statistics(self, state: RodState) -> list[dict[str, np.ndarray]]:
-        from ..kernels import rod_types as t
+        from ...kernels.rod import types as t
 
         stats, clear, at, load = (a.numpy() for a in (state.stats, state.clear, state.clear_at, state.load))
         status = state.status.numpy().copy()
@@ -313,8 +316,22 @@ class CosseratRod(CableSolver):
         return state.x[env].numpy()[own], _matrices(state.q[env].numpy()[own])
 
 
+def _groups(state: RodState) -> tuple:
+    """The kernel's groups of ``state``'s device arrays: its bodies and status, its wear map, its
+    frame's statistics (``rswarp.kernels.rod.types``)."""
+    from ...kernels.rod.types import RodBodies, RodFrame, RodWear
+
+    bodies, wear, frame = RodBodies(), RodWear(), RodFrame()
+    bodies.x, bodies.q, bodies.v, bodies.w, bodies.a, bodies.status = (state.x, state.q, state.v, state.w, state.a,
+                                                                       state.status)
+    wear.time, wear.peak, wear.wear, wear.bend, wear.cycles = (state.wear_time, state.wear_peak, state.wear,
+                                                               state.bend, state.cycles)
+    frame.stats, frame.clear, frame.at, frame.load = state.stats, state.clear, state.clear_at, state.load
+    return bodies, wear, frame
+
+
 def _what(slot: str) -> str:
-    return {"floor": "the floor", "cables": "a cable"}.get(slot, f"'{slot}'")
+    return {FLOOR_NAME: "the floor", CABLES_NAME: "a cable"}.get(slot, f"'{slot}'")
 
 
 def _rows(arrays: list[np.ndarray], fill: float) -> np.ndarray:
@@ -356,7 +373,8 @@ def _axes(q: np.ndarray) -> np.ndarray:
 
 
 def _far(a: np.ndarray) -> np.ndarray:
-    return np.where(a > UNMEASURED, np.inf, a)
+    """The kernel's "nothing within reach" (BIG) as +inf."""
+    return np.where(a >= BIG, np.inf, a)
 
 
 def _at(a: np.ndarray) -> np.ndarray:

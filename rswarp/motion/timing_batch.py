@@ -1,15 +1,15 @@
-"""A batch's moves timed together: ``timing.path_move`` and ``timing.joint_move`` row by row in
-a few array operations over many moves at once, the same arithmetic in the same order, so the
-same times and joints, for a fraction of the per-move cost of NumPy on small arrays.
+"""A batch's moves timed together: ``path_moves`` and ``joint_moves`` time many moves at once in a
+few array operations (the per-move primitives of ``timing``, ``topp`` and ``zones`` applied row by
+row), so a task of thousands of moves pays a fraction of NumPy's per-call cost on small arrays;
+``path_move`` and ``joint_move`` time one step the same way.
 
 Linear and circular moves are padded to a common number of probes per bucket (at most an eighth
 more than their own): a padded probe repeats the last one and is kept out of the speed curve's
 passes. Samples of all moves are laid end to end; each lookup ``np.interp`` and
 ``np.searchsorted`` would make is found from an estimate set right by exact comparisons. Each
-result is ``(t, q, share)`` as the one-move function returns it (and the ramps a zone's blend
-reads), or the ``TooLong`` it raises; moves with ``\\T`` (the time given) are left to the
-one-move functions, and so are moves past ``BATCH_SAMPLES`` samples in all (memory stays bounded
-where a trajectory would be refused as too long)."""
+result is ``(t, q, share)`` (and the ramps a zone's blend reads), or the ``TooLong`` it raises;
+moves with ``\\T`` (the time given) and moves past ``BATCH_SAMPLES`` samples in all are timed one
+by one (memory stays bounded where a trajectory would be refused as too long)."""
 
 from __future__ import annotations
 

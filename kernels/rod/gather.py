@@ -1,15 +1,17 @@
 """Finding a rod's contacts at the start of a substep (and its clearances at a frame's end): each
 segment's capsule against every mesh it may touch and the floor (``surfaces``), and every two
 capsules of the mechanism's cables that are not neighbours along one cable (``capsule_pairs``).
-Each gap found lowers its cable's least clearance to that slot; with ``make``, gaps under the
-query distance become contacts of the substep."""
+Each gap found lowers its cable's least clearance to that slot (``slots``: a mesh's own, the
+floor's or the cables'); with ``make``, gaps under the query distance become contacts of the
+substep."""
 
 import warp as wp
 
-from .rod_contact import closest_on_segments, contact, from_frame, keep, mesh_pose, note, segment_mesh, to_frame, turn
-from .rod_joint import axis_of
-from .rod_math import rotation_vector
-from .rod_types import F64, M44, TINY, V3, BodyWork, Contact, Q, RodParams
+from .algebra import rotation_vector
+from .contact import closest_on_segments, contact, from_frame, keep, mesh_pose, note, segment_mesh, to_frame, turn
+from .joint import axis_of
+from .slots import CABLES, FLOOR
+from .types import F64, M44, TINY, V3, BodyWork, Contact, Q, RodParams
 
 # two segments of one cable closer than this along it (beyond their half lengths, in radii) never
 # touch: a straight cable's neighbours would
@@ -87,7 +89,7 @@ def _floor(params: RodParams, d: int, e: int, k: int, x: V3, q: Q, a: V3, b: V3,
            contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
            clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
     """Both ends of body k's capsule against the floor (a capsule lying on it rests on both)."""
-    slot = params.mesh.shape[0]
+    slot = params.mesh.shape[0] + FLOOR
     r = params.radius[d, k]
     up = V3(F64(0.0), F64(0.0), F64(1.0))
     for end in range(2):
@@ -208,7 +210,7 @@ def _pair(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), q_s: wp.a
     gap = dist - params.radius[d, i] - params.radius[d, j]
     arc_i = params.arc[d, i] + s * F64(2.0) * params.half[d, i]
     arc_j = params.arc[d, j] + t * F64(2.0) * params.half[d, j]
-    slot = params.mesh.shape[0] + 1
+    slot = params.mesh.shape[0] + CABLES
     # a hose cannot meet its own segments within pi allowed bend radii along it without folding
     # tighter than allowed: those are contacts, never its clearance to itself
     ci = params.cable[d, i]

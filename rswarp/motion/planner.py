@@ -12,13 +12,13 @@ import numpy as np
 
 from ..errors import Diagnostic
 from ..findings import FAIL, Finding, at_time
+from ..kinematics.ik import ArmConstants
 from ..rapid import data as rd
 from ..rapid.errors import fail
 from ..rapid.motion import Motion, Run
 from ..rsxml.robot_data import AxisLimits, axis_limits
 from . import misses, plan_steps, timing, timing_batch, zones
 from . import targets as tg
-from .ik import ArmConstants
 from .shortfall import Shortfall
 from .tcp import Frames, frames, pose_of
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..kernels.ik import NO_LIMITS, OK
-from .ik import ArmConstants
+from ..kinematics.ik import ArmConstants
 
 REACH, INNER, LIMIT = "reach", "inner", "limit"
 

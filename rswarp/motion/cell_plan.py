@@ -18,11 +18,11 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..kinematics.cell import CellKinematics, rapid_factor
 from ..rapid.motion import Motion, Run
 from ..rsxml.robot_data import AxisLimits, axis_limits
 from . import plan_steps, timing
-from .cell import CellKinematics, rapid_factor
-from .program import Plan, Planner
+from .planner import Plan, Planner
 from .tcp import Frames
 
 LEVER = 1.0  # m of travel a radian of a rotating external axis counts as, for the probes' spacing

@@ -1,4 +1,4 @@
-"""One implicit step of the rod, as device functions for ``rswarp.kernels.rod``: the prediction
+"""One implicit step of the rod, as device functions for the step kernel (``kernel``): the prediction
 (inertia and gravity), one Gauss-Newton iteration of implicit Euler on all its bodies at once,
 and the commit of the new positions and velocities.
 
@@ -12,9 +12,7 @@ where Gauss-Seidel sweeps would not."""
 
 import warp as wp
 
-from .rod_contact import contact_terms
-from .rod_joint import axis_of, joint_terms
-from .rod_math import (
+from .algebra import (
     axial,
     blocks,
     bottom,
@@ -32,14 +30,14 @@ from .rod_math import (
     unit_forward,
     unit_forward_columns,
 )
-from .rod_types import (
+from .contact import contact_terms
+from .joint import axis_of, joint_terms
+from .slots import NOT_FINITE, RUNAWAY, RUNNING
+from .types import (
     F64,
     M44,
     M66,
     MAX_CONTACTS,
-    NOT_FINITE,
-    RUNAWAY,
-    RUNNING,
     V3,
     V6,
     BodyWork,

@@ -3,7 +3,7 @@ implements ``CableSolver``: its state (many environments of every cable, kept on
 cables can meet each other), its step (one frame of substeps, the robot's joints given per
 substep), its per-frame statistics per cable by name, and its totals (the wear map), as host
 arrays in SI units. Runs, results, reports, playback and Ray read only this interface; a model is
-chosen by ``CableOptions.cable_model`` from the registry in ``cable_models``.
+chosen by ``CableOptions.cable_model`` from the registry in ``models``.
 """
 
 from __future__ import annotations
@@ -15,26 +15,24 @@ from typing import Any, ClassVar, Mapping
 
 import numpy as np
 
-from ..errors import InputError, MeshNotFoundError
-from ..geometry.meshes import link_mesh
-from ..options import checked
-from ..rsxml.model import Cable, Mechanism
-from .bodies import Environment, environment_body
+from ...config import DENSITY, FRAME_RATE, FRICTION, POISSON, SUBSTEPS
+from ...errors import InputError, MeshNotFoundError
+from ...geometry.meshes import link_mesh
+from ...kernels.rod.slots import NOT_FINITE, RUNAWAY
+from ...kernels.rod.slots import RUNNING as RUNNING  # the seam's: a status every model writes
+from ...options import checked
+from ...rsxml.model import Cable, Mechanism
+from ..bodies import Environment, environment_body
 
-DENSITY = 1200.0  # kg/m^3: a hose
-POISSON = 0.5  # rubber: incompressible, so G = E / 3
-FRICTION = 0.4  # Coulomb's coefficient of a rubber hose on painted metal, dry (0.3 to 0.6)
 SLIP = 1.0e-3  # m/s: a contact sliding slower than this grips (the static regime)
 GRAVITY = (0.0, 0.0, -9.81)
 MAX_SPEED = 100.0  # m/s: a point of a robot's hose faster than this has blown up
 REACH = 0.25  # m: clearances are measured up to this far; farther reads as +inf
-FRAME_RATE = 60.0  # frames per second: results are sampled per frame, substeps between
-SUBSTEPS = 4  # per frame: 4.2 ms steps
 ITERATIONS = 2  # Gauss-Newton iterations per substep
 BEND_FACTOR = 10.0  # the least allowed bend radius, in diameters, unless given
 
-# An environment's status: running, or why it stopped (a model may add codes of its own).
-RUNNING, NOT_FINITE, RUNAWAY = 0, 1, 2
+# An environment's status: RUNNING, or why it stopped, NOT_FINITE or RUNAWAY (the codes as the rod
+# kernel writes them, ``rswarp.kernels.rod.slots``; a model may add codes of its own).
 FAILURES = {NOT_FINITE: "positions became NaN or infinite",
             RUNAWAY: f"a point passed {MAX_SPEED:g} m/s (runaway energy)"}
 
@@ -95,7 +93,7 @@ class CableOptions:
     max_strain: float = 0.005  # axial strain past which a cable is taut: when it first is, is noted
     tool: object = None  # a sim.tool.Tool on the flange, which the cables touch and the videos draw
     record: int = -1  # the environment whose shapes are kept for playback (--usd); -1: none
-    cable_model: str = "rod"  # the model of ``cable_models.CABLE_MODELS``
+    cable_model: str = "rod"  # the model of ``models.CABLE_MODELS``
     device: str = "cpu"
     threads: int | None = None
 
@@ -145,7 +143,7 @@ def contact_meshes(mech: Mechanism, environment: tuple[Environment, ...] = (), t
         placed.append((body.name, body.vertices, body.faces, body.pose))
     mounted = ()
     if tool is not None:
-        from .tool import tool_body
+        from ..tool import tool_body
 
         body = tool_body(mech, tool)
         mounted = ((body.name, body.link, body.vertices, body.faces),)

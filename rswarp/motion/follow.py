@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernels.ik import OK
-from .ik import ArmConstants
+from ..kinematics.ik import ArmConstants
 
 JUMP = 0.5  # rad: an axis moving more between two probes has left its branch
 FLIP = 0.5  # rad of axes 1 to 3 between probes: a change of configuration, which a path cannot follow

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry.cable import cable_rest
-from ..rsxml.model import Cable, Mechanism, iter_parts
+from ...geometry.cable import cable_rest
+from ...rsxml.model import Cable, Mechanism, iter_parts
 
 ATTACHED_FREE = 4.0  # radii (plus a segment) of cable beside an attachment that may lie on its link
 SQUASH = 1.0e-3  # a segment's own weight presses its contact in by at most this share of its radius

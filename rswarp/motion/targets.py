@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernels.ik import NO_LIMITS, OK, SHOULDER
+from ..kinematics.ik import INSIDE, QUADRANT_SLACK, ArmConstants, conf_matches, quadrant_axes, with_conf, wrist_axis
+from ..kinematics.ik_numeric import flange64, jacobian, pose_error
 from ..rapid import data as rd
-from .ik import INSIDE, QUADRANT_SLACK, ArmConstants, conf_matches, quadrant_axes, with_conf, wrist_axis
-from .ik_numeric import flange64, jacobian, pose_error
 from .shortfall import arm_reach
 
 EXTERNAL = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")

@@ -6,13 +6,14 @@ the implicit step it is a stiff spring along its normal (the hose's own squash s
 Coulomb friction with a static regime (below a slip speed the contact grips), the friction
 bounded by mu times the normal force at the substep's start. A contact pressed as deep as the
 cable's radius gives way (``squash``): only a robot driving the cable through something gets it
-there, and the push stays bounded. Slots: the meshes (links, then the
-environment's), then the floor, then the cables."""
+there, and the push stays bounded. Each contact and clearance names its slot (``slots``: the
+meshes, then the floor, then the cables)."""
 
 import warp as wp
 
-from .rod_math import add_outer, pair
-from .rod_types import BIG, F64, M44, M66, MAX_CONTACTS, TINY, V3, V6, Contact, Q, RodParams
+from .algebra import add_outer, pair
+from .slots import BIG
+from .types import F64, M44, M66, MAX_CONTACTS, TINY, V3, V6, Contact, Q, RodParams
 
 
 @wp.func

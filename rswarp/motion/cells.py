@@ -1,5 +1,5 @@
 """A cell file wherever a command takes a robot: the robot it places, the planner that drives its
-external axes with the robot's (``kinematics.cell_plan``), and the external axes in what the
+external axes with the robot's (``motion.cell_plan``), and the external axes in what the
 commands write (a move's values by logical axis in the JSON, a column per axis in the CSV)."""
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ def cell_planner(cell: Cell, device: str, external_axes: str, limits, load_scale
     """The planner of a task over ``cell`` (its robot's axis ``limits``, each unit's from its
     robot-data file)."""
     from ..kinematics.cell import CellKinematics
-    from ..kinematics.cell_plan import CellPlanner
+    from .cell_plan import CellPlanner
 
     return CellPlanner(CellKinematics(cell, device), external_axes=external_axes, limits=limits,
                        load_scale=load_scale)
