@@ -169,10 +169,6 @@ def topp_kernel(dof: int):
         # every path's probes, flat
         u: wp.array(dtype=wp.float64),
         q: wp.array2d(dtype=wp.float64),
-        # work: the fastest x a probe can still stop from
-        reach: wp.array(dtype=wp.float64),
-        # out: the time at each probe from the path's start
-        t_out: wp.array(dtype=wp.float64),
         # per path: where its probes are, its speed cap (du/dt), its axes' speeds and accelerations
         first: wp.array(dtype=wp.int32),
         count: wp.array(dtype=wp.int32),
@@ -182,6 +178,10 @@ def topp_kernel(dof: int):
         # per path: the share up to which it speeds up into a zone and from which it slows into one
         head: wp.array(dtype=wp.float64),
         tail: wp.array(dtype=wp.float64),
+        # work, per probe: the fastest x a probe can still stop from
+        reach: wp.array(dtype=wp.float64),
+        # out, per probe: the time at each probe from its path's start
+        t_out: wp.array(dtype=wp.float64),
     ):
         m = wp.tid()
         lo = first[m]

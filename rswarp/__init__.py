@@ -1,13 +1,15 @@
 """rswarp: ABB RobotStudio RSXML robot descriptions for OpenUSD, Newton and batched Warp kernels.
 
-Layers, imports pointing down only: ``rsxml`` (the format) and ``rapid`` (RAPID programs) ->
-``geometry`` (meshes, mass) -> ``kinematics`` (forward and inverse, batched on Warp) -> ``motion``
-(the planner: RAPID motions to timed, checked trajectories) -> ``sim`` (Warp work on the host side)
-and ``export`` (USD, URDF, Newton) -> ``report`` (what people read) -> ``cli``. Device code lives
-in ``rswarp.kernels``.
+Layers, imports pointing down only (docs/layout.md, kept true by tests/test_layout.py): ``rsxml`` (the
+format) -> ``rapid`` (RAPID programs) -> ``geometry`` (meshes, the mass model) -> ``kinematics``
+(forward and inverse, batched on Warp) -> ``sim`` (the batch engine and its sweeps and cable runs)
+-> ``export`` (USD, URDF, Newton) -> ``motion`` (the planner: RAPID motions to timed, checked
+trajectories) -> ``report`` (what people read) -> ``cli``. A run's options are the typed objects
+of ``config``. Device code lives in ``rswarp.kernels``.
 """
 
 from . import files as files  # first: in the rswarp command a Ctrl-C while it loads waits for main
+from .config import BatchOptions, DesignOptions, HoseOptions, TaskOptions, VideoOptions
 from .errors import Diagnostic, InputError, MeshError, MeshNotFoundError, RsxmlError
 from .rsxml.documents import Report, RsxmlWarning, check, load, load_library
 from .rsxml.graph import LinkGraph
@@ -63,5 +65,5 @@ __all__ = [
     "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
     "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton",
-    "to_urdf", "program",
+    "to_urdf", "program", "TaskOptions", "HoseOptions", "DesignOptions", "BatchOptions", "VideoOptions",
 ]

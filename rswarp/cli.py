@@ -133,7 +133,8 @@ def library_arguments(fn, values: dict) -> tuple[dict, set]:
     from . import config
 
     kwargs, used = {}, set(META)
-    for name in inspect.signature(fn).parameters:
+    parameters = inspect.signature(fn).parameters
+    for name in parameters:
         if name in OPTION_PARAMETERS:
             kind = getattr(config, OPTION_PARAMETERS[name])
             kwargs[name] = config.from_namespace(kind, values)
@@ -141,6 +142,10 @@ def library_arguments(fn, values: dict) -> tuple[dict, set]:
         elif name in values:
             kwargs[name] = values[name]
             used.add(name)
+    takes_any = any(p.kind is p.VAR_KEYWORD for p in parameters.values())
+    if takes_any and not set(parameters) & set(OPTION_PARAMETERS):  # a plain **kwargs entry: every option
+        kwargs |= {k: v for k, v in values.items() if k not in used}
+        used = set(values)
     return kwargs, set(values) - used
 
 

@@ -4,7 +4,7 @@ arguments, a Python caller by hand) and passed down whole: how a RAPID task runs
 (``DesignOptions``), where a batch runs (``BatchOptions``) and a ``--video`` (``VideoOptions``).
 Values are as the user gives them: lengths in the robot file's unit, angles in degrees; the
 library converts them where it knows the file. Each field is the command-line option of its name
-(``max_bend`` is ``--max-bend``)."""
+(``min_bend_radius`` is ``--min-bend-radius``)."""
 
 from __future__ import annotations
 

@@ -158,14 +158,16 @@ class Launcher:
             init_warp().load_module(kernel.module, device=self.device)
 
     def launch(self, kernel, n: int, params: Sequence = (), inputs: Sequence = (), outputs: Sequence = (),
-               scratch: int | Sequence[int] | None = None, lanes: int = 1, overwrites: bool = False) -> None:
+               scratch: int | Sequence[int] | None = None, lanes: int = 1, overwrites: bool = False,
+               whole: Sequence = ()) -> None:
         """Run ``kernel`` once per item (``wp.tid()`` is the item's index within its chunk), or once
         per ``lanes`` items (``wp.tid() * lanes`` the first; the kernel bounds the last block).
         ``overwrites``: the kernel writes its outputs whole and reads none of them (a small batch
-        then skips copying them in)."""
+        then skips copying them in). ``whole``: Warp arrays the kernel writes at places it finds
+        itself (not an item's row), passed as they are after the scratch and before the outputs."""
         stop_if_interrupted()
         key = _small_key(kernel, n, params, inputs, outputs, scratch, lanes) if 0 < n <= SMALL and \
-            self.device.is_cpu else None
+            self.device.is_cpu and not whole else None
         if key is not None:
             with self._small:
                 recorded = self._recorded(key, kernel, n, params, inputs, outputs, scratch, lanes)
@@ -174,7 +176,7 @@ class Launcher:
         first = len(params)
         in_types = [_dtype(args[first + k]) for k in range(len(inputs))]
         widths = () if scratch is None else (scratch,) if isinstance(scratch, int) else tuple(scratch)
-        last = first + len(inputs) + len(widths)
+        last = first + len(inputs) + len(widths) + len(whole)
         scratch_types = [args[first + len(inputs) + k].type.dtype for k in range(len(widths))]
         out_types = [_dtype(args[last + k]) for k in range(len(outputs))]
 
@@ -183,8 +185,8 @@ class Launcher:
             outs = [self._target(self._rows(a, lo, hi, n), t) for a, t in zip(outputs, out_types)]
             extra = [self._scratch(hi - lo, w, t, k) for k, (w, t) in enumerate(zip(widths, scratch_types))]
             with signals_held():
-                init_warp().launch(kernel, dim=-(-(hi - lo) // lanes), inputs=[*params, *ins, *extra], outputs=outs,
-                                   device=self.device)
+                init_warp().launch(kernel, dim=-(-(hi - lo) // lanes), inputs=[*params, *ins, *extra, *whole],
+                                   outputs=outs, device=self.device)
             if not self.device.is_cpu:
                 for host, dev in zip(outputs, outs):
                     if isinstance(host, np.ndarray):

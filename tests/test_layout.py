@@ -118,3 +118,19 @@ def test_modules_and_functions_stay_small(path):
             count = len(a.args) + len(a.kwonlyargs) + len(a.posonlyargs)
             assert node.end_lineno - node.lineno + 1 <= 60, f"{path}:{node.lineno} {node.name} is over 60 lines"
             assert count <= 16, f"{path}:{node.lineno} {node.name} takes {count} parameters"
+
+
+def test_every_package_is_installed():
+    """pyproject's package list names every folder of the two trees (a non-editable install copies
+    only those)."""
+    try:
+        import tomllib
+    except ImportError:  # Python 3.10
+        import tomli as tomllib
+
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    for tree in TREES:
+        for init in (ROOT / tree).rglob("__init__.py"):
+            parts = init.parent.relative_to(ROOT).parts
+            name = ".".join(("rswarp", *parts) if parts[0] == "kernels" else parts)
+            assert name in listed, f"pyproject.toml's packages lack {name}"

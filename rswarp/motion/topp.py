@@ -37,9 +37,10 @@ def path_times(u: np.ndarray, q: np.ndarray, count: np.ndarray, cap: np.ndarray,
     kernel = topp_kernel(q.shape[1])
     run = launcher()
     run.load(kernel)
-    params = [wp.array(a, dtype=wp.float64, device="cpu", copy=False) for a in (u, q, reach, t)]
-    run.launch(kernel, len(count), params=params,
+    probes, written = ([wp.array(a, dtype=wp.float64, device="cpu", copy=False) for a in group]
+                       for group in ((u, q), (reach, t)))
+    run.launch(kernel, len(count), params=probes,
                inputs=[first, count, np.ascontiguousarray(cap, np.float64), np.ascontiguousarray(vel, np.float64),
                        np.ascontiguousarray(acc, np.float64), np.ascontiguousarray(head, np.float64),
-                       np.ascontiguousarray(tail, np.float64)])
+                       np.ascontiguousarray(tail, np.float64)], whole=written)
     return t
