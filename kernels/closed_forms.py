@@ -11,7 +11,7 @@ from .specs import ANGLE, DEAD_TOLERANCE, FOUR_BAR, SPEC
 @cached
 def slider_function(scalar=wp.float32):
     """slider_value(spec, theta): a balance cylinder's pivot angle (kind ANGLE) or piston stroke
-    (kind STROKE) for the arm angle ``theta`` (``rswarp.rsxml.slider``: the pin turns about the arm
+    (kind STROKE) for the arm angle ``theta`` (``rswarp.kinematics.slider``: the pin turns about the arm
     joint O from A0; the cylinder runs from the pivot P to the pin)."""
     S = scalar
     V = wp.types.vector(SPEC, scalar)

@@ -15,6 +15,7 @@ import sys
 import time
 import traceback
 
+from .config import OPTION_KINDS, from_namespace
 from .errors import InputError, RsxmlError, one_line
 from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit, interrupted, note_interrupts
 from .options import argument
@@ -113,9 +114,8 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-# A library entry's parameters that take a whole options object (``rswarp.config``), by name.
-OPTION_PARAMETERS = {"task": "TaskOptions", "hose": "HoseOptions", "design": "DesignOptions", "batch": "BatchOptions",
-                     "video": "VideoOptions"}
+# A library entry's parameters that take a whole options object, by name (``config.OPTION_KINDS``).
+OPTION_PARAMETERS = OPTION_KINDS
 # What the command line itself uses of the parsed arguments, not the library.
 META = frozenset({"command", "entry", "unit", "debug", "max_file_size", "json"})
 
@@ -130,14 +130,12 @@ def library_arguments(fn, values: dict) -> tuple[dict, set]:
     """(keyword arguments, the options they leave unused) of ``fn`` from a command's parsed
     options: an options parameter (``OPTION_PARAMETERS``) gets its object built from them once,
     any other parameter the option of its name."""
-    from . import config
-
     kwargs, used = {}, set(META)
     parameters = inspect.signature(fn).parameters
     for name in parameters:
         if name in OPTION_PARAMETERS:
-            kind = getattr(config, OPTION_PARAMETERS[name])
-            kwargs[name] = config.from_namespace(kind, values)
+            kind = OPTION_PARAMETERS[name]
+            kwargs[name] = from_namespace(kind, values)
             used |= {f.name for f in dataclasses.fields(kind)}
         elif name in values:
             kwargs[name] = values[name]

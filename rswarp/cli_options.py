@@ -110,8 +110,11 @@ def program(p: argparse.ArgumentParser) -> None:
                    help=f"a mesh placed in the world ({LENGTH}), checked against every link; repeat for more")
     p.add_argument("--collision-matrix", metavar="SRDF",
                    help="skip the link pairs this SRDF disables (rswarp collisions writes one)")
-    p.add_argument("--floor", type=argument("floor"), default=0.0,
-                   help=f"height of the floor {LENGTH} (the robot file's, not RAPID's mm; default 0)")
+    floor = p.add_mutually_exclusive_group()
+    floor.add_argument("--floor", type=argument("floor"), default=0.0,
+                       help=f"height of the floor {LENGTH} (the robot file's, not RAPID's mm; default 0)")
+    floor.add_argument("--no-floor", dest="floor", action="store_const", const=None,
+                       help="no floor to check the links against")
     p.add_argument("--video", metavar="FILE", help="also render the motion as a .gif or .mp4, links in collision red")
     _tool(p)
 

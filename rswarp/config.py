@@ -4,7 +4,8 @@ arguments, a Python caller by hand) and passed down whole: how a RAPID task runs
 (``DesignOptions``), where a batch runs (``BatchOptions``) and a ``--video`` (``VideoOptions``).
 Values are as the user gives them: lengths in the robot file's unit, angles in degrees; the
 library converts them where it knows the file. Each field is the command-line option of its name
-(``min_bend_radius`` is ``--min-bend-radius``)."""
+(``min_bend_radius`` is ``--min-bend-radius``), the few others the destination their option
+names (``--input`` gives ``inputs``, ``--env`` ``environment``)."""
 
 from __future__ import annotations
 
@@ -78,10 +79,43 @@ class TaskOptions:
     def __post_init__(self):
         if self.external_axes not in EXTERNAL_AXES:
             raise InputError(f"--external-axes must be one of {', '.join(EXTERNAL_AXES)}")
-        object.__setattr__(self, "environment", tuple(self.environment or ()))
-        object.__setattr__(self, "io", dict(self.io or {}))
-        object.__setattr__(self, "inputs", {k: tuple(v) if not isinstance(v, str) else (v,)
-                                            for k, v in (self.inputs or {}).items()})
+        if isinstance(self.cycles, bool) or not float(self.cycles).is_integer():
+            raise InputError(f"--cycles takes a whole number of passes, not {self.cycles!r}")
+        set_ = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
+        set_("cycles", int(self.cycles))
+        set_("environment", _strings(self.environment))
+        set_("io", _signals(self.io))
+        set_("inputs", _inputs(self.inputs))
+        if isinstance(self.payload, (int, float)) and not isinstance(self.payload, bool):
+            set_("payload", f"{self.payload:g}")  # a mass in kg, as --payload KG
+
+
+def _strings(value) -> tuple[str, ...]:
+    """One string or several as a tuple of strings (``environment="mesh.stl@0,0,0"`` is one mesh)."""
+    return (value,) if isinstance(value, str) else tuple(value or ())
+
+
+def _signals(io) -> dict[str, float]:
+    """Signal values from a dict or from NAME=VALUE texts, each a finite number."""
+    if not isinstance(io, Mapping):
+        return signal_values(_strings(io))
+    out = {}
+    for name, value in io.items():
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            number = math.nan
+        if not _name_ok(str(name)) or not math.isfinite(number):
+            raise InputError(f"io: a signal's name and a finite number, not {name!r}: {value!r}")
+        out[str(name)] = number
+    return out
+
+
+def _inputs(inputs) -> dict[str, tuple[str, ...]]:
+    """Live inputs from a dict (a value or values a name) or from NAME=VALUE texts."""
+    if not isinstance(inputs, Mapping):
+        return input_values(_strings(inputs))
+    return {str(k): tuple(str(x) for x in (v if isinstance(v, (list, tuple)) else (v,))) for k, v in inputs.items()}
 
 
 @dataclass(frozen=True)
@@ -116,7 +150,7 @@ class DesignOptions:
     min_margin: float = 0.0
 
     def __post_init__(self):
-        object.__setattr__(self, "vary", tuple(self.vary or ()))
+        object.__setattr__(self, "vary", _strings(self.vary))
 
 
 @dataclass(frozen=True)
@@ -140,27 +174,15 @@ class VideoOptions:
     video_size: int = 512
 
 
-OPTION_TYPES = (TaskOptions, HoseOptions, DesignOptions, BatchOptions, VideoOptions)
-_PARSED = {"io": signal_values, "inputs": input_values}  # fields given on the command line as NAME=VALUE lists
+# the parameter name each kind travels under, in the library and in ``cli.OPTION_PARAMETERS``
+OPTION_KINDS = {"task": TaskOptions, "hose": HoseOptions, "design": DesignOptions, "batch": BatchOptions,
+          "video": VideoOptions}
 
 
 def from_namespace(kind: type, values: Mapping[str, Any]):
     """An options object of ``kind`` from a command's parsed arguments (``vars(args)``): each field
     its option's value where the command has it, else the default."""
-    given = {f.name: values[f.name] for f in fields(kind) if f.name in values}
-    for name, parse in _PARSED.items():
-        if name in given and not isinstance(given[name], Mapping):
-            given[name] = parse(given[name])
-    for name in ("environment", "vary"):
-        if name in given and given[name] is None:
-            given[name] = ()
-    return kind(**given)
-
-
-def with_fields(options, **changes):
-    """``options`` with ``changes`` (field names of its kind; ``io`` and ``inputs`` as dicts or as
-    NAME=VALUE lists); a TypeError naming a field its kind lacks."""
-    return routed(changes, options=options)["options"]
+    return kind(**{f.name: values[f.name] for f in fields(kind) if f.name in values})
 
 
 def routed(changes: Mapping[str, Any], **objects) -> dict:
@@ -170,11 +192,12 @@ def routed(changes: Mapping[str, Any], **objects) -> dict:
     out = dict(objects)
     left = dict(changes)
     for key, options in objects.items():
+        kind = OPTION_KINDS.get(key)
+        if kind is not None and not isinstance(options, kind):
+            raise TypeError(f"{key} must be a {kind.__name__}, not {type(options).__name__} {options!r:.60} (give a "
+                            f"field as a keyword: routine='main', cycles=2)")
         names = {f.name for f in fields(options)}
         mine = {k: left.pop(k) for k in list(left) if k in names}
-        for name, parse in _PARSED.items():
-            if name in mine and not isinstance(mine[name], Mapping):
-                mine[name] = parse(mine[name])
         if mine:
             out[key] = replace(options, **mine)
     if left:

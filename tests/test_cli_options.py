@@ -57,7 +57,7 @@ def test_every_option_of_a_command_reaches_its_library_function(name):
     params = inspect.signature(fn).parameters
     for key, kind in OPTION_PARAMETERS.items():
         if key in params:
-            assert type(kwargs[key]).__name__ == kind
+            assert type(kwargs[key]) is kind
     required = {p for p, v in params.items() if v.default is inspect.Parameter.empty
                 and v.kind not in (v.VAR_KEYWORD, v.VAR_POSITIONAL)}
     assert required <= set(kwargs) | GIVEN_BY_CLI, f"rswarp {name}: {sorted(required - set(kwargs))} never given"
@@ -140,9 +140,10 @@ def test_an_option_that_reaches_no_parameter_is_an_internal_error(monkeypatch, c
 
 
 def test_a_keyword_no_options_object_has_is_a_type_error(tmp_path):
+    from rswarp.motion.plan import program_plan
     from rswarp.report.cables import run_cables
     from rswarp.report.dresspack import run_dresspack
-    from rswarp.report.program import program_plan, run_program
+    from rswarp.report.program import run_program
 
     missing = str(tmp_path / "missing.rsxml")
     with pytest.raises(TypeError, match="bogus"):
@@ -181,3 +182,33 @@ def test_the_hose_defaults_are_defined_once():
     hose = HoseOptions()
     for name in ("max_strain", "max_torsion", "density", "poisson", "friction", "frame_rate", "substeps"):
         assert values[name] == getattr(hose, name), name
+
+
+def test_task_options_a_cable_run_without_a_program_ignores_are_said():
+    """``rswarp cable --random --cycles 3``: the cycles reach nothing a run reads, and one warning says so."""
+    from rswarp.config import TaskOptions
+    from rswarp.report.cables import _say_unused
+
+    said = []
+    _say_unused(TaskOptions(cycles=3, io={"x": 1}), said.append)
+    assert said and "--io, --cycles ignored" in said[0]
+    said.clear()
+    _say_unused(TaskOptions(floor=-5, tool="gripper.stl"), said.append)  # the hose meets those: no warning
+    assert said == []
+
+
+def test_options_objects_take_what_python_callers_give_and_refuse_the_rest():
+    from rswarp.config import DesignOptions, TaskOptions
+    from rswarp.errors import InputError
+
+    assert TaskOptions(environment="m.stl@0,0,0").environment == ("m.stl@0,0,0",)
+    assert DesignOptions(vary="length=1:2").vary == ("length=1:2",)
+    assert TaskOptions(io=["x=1"]).io == {"x": 1.0} and TaskOptions(inputs={"a": 1}).inputs == {"a": ("1",)}
+    for bad in (dict(io=["ab"]), dict(io={"x": "abc"}), dict(cycles=2.5), dict(inputs=["noeq"])):
+        with pytest.raises(InputError):
+            TaskOptions(**bad)
+    from rswarp.examples import IRB2600, IRB2600_PROGRAM
+    from rswarp.motion.plan import program_plan
+
+    with pytest.raises(TypeError, match="task must be a TaskOptions"):  # a routine given where the options go
+        program_plan(str(IRB2600), [str(IRB2600_PROGRAM)], "main")

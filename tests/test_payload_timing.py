@@ -99,6 +99,15 @@ def test_loads_carried_together_are_one_body(irb2600):
     assert load_scale(irb2600, Payload(8.0, b.cog, b.inertia))(tool_load, None) == pytest.approx(factors(a, b))
 
 
+def test_two_loads_of_equal_value_weigh_twice(irb2600):
+    """A payload equal to the tool's load is a second body of that mass, not the same one: the pair
+    is the load of twice the mass at the same centre of gravity."""
+    factors = load_factors(irb2600)
+    a = Payload(3.0, (0.0, 0.0, 0.08))
+    assert factors(a, a) == pytest.approx(factors(Payload(6.0, (0.0, 0.0, 0.08))), rel=1e-9)
+    assert np.all(factors(a, a)[:5] < factors(a)[:5])  # axis 6 carries a point mass on its axis: 1 both
+
+
 def test_a_robot_without_meshes_keeps_its_timing_and_says_why(tmp_path):
     (tmp_path / "bare.rsxml").write_text(mechanism(2))
     factors = LoadFactors(load_mechanism(str(tmp_path / "bare.rsxml"))[0])

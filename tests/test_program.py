@@ -243,6 +243,14 @@ def test_findings_collisions_floor_singularity_and_a_line_it_cannot_follow():
     assert all(not m["findings"] for m in clean.doc["moves"])
 
 
+
+def test_no_floor_finds_nothing_below_it(capsys):
+    """``--no-floor`` (``TaskOptions.floor`` None): the same move as above has no floor finding."""
+    out = run_program(str(IRB2600), [str(RAPID / "floor.mod")], floor=None)
+    assert out.code == 0 and not any(f["kind"] == "floor" for m in out.doc["moves"] for f in m["findings"])
+    assert main(["program", str(IRB2600), str(RAPID / "floor.mod"), "--no-floor", "--json"]) == 0
+    assert '"kind": "floor"' not in capsys.readouterr().out
+
 def test_near_a_singularity_only_the_samples_that_need_it_are_slowed():
     """A 0.5 m MoveL that passes 2 deg from the wrist singularity at its middle: the axes stay
     within their speed, the TCP keeps v_tcp away from the singularity, and the move takes

@@ -145,7 +145,8 @@ class LoadFactors:
         return self._loads[key]
 
     def __call__(self, *loads) -> np.ndarray:
-        carried = tuple(sorted({_key(x): x for x in loads if _weighs(x)}.items()))
+        # each load counts, two of equal value included (a tool and a payload alike weigh twice)
+        carried = tuple(sorted(((_key(x), x) for x in loads if _weighs(x)), key=lambda kx: kx[0]))
         found = self._factors.get(tuple(k for k, _ in carried))
         if found is not None:
             return found

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..config import TaskOptions, with_fields
+from ..config import TaskOptions, routed
 from ..errors import Diagnostic, InputError, RsxmlError, Warn, ignore
 from ..kinematics.kinematics import Kinematics
 from ..rapid.interpret import MAX_CYCLES, Interpreter
@@ -25,7 +25,7 @@ def program_plan(path: str, programs, task: TaskOptions | None = None, *, device
     fields: ``routine="other"``, ``io={"diStart": 1}``); with ``strict`` an RsxmlError lists every
     target the robot cannot take. The payload is carried on top of each move's tool and GripLoad
     loads, which lower the accelerations (docs/payload-timing.md)."""
-    task = with_fields(task or TaskOptions(), **changes)
+    task = routed(changes, task=task or TaskOptions())["task"]
     if not 1 <= int(task.cycles) <= MAX_CYCLES:
         raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {task.cycles}")
     mech, cell = robot_of(path)

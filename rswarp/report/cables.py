@@ -65,13 +65,14 @@ def run_cables(path: str, out: str, task: TaskOptions | None = None, hose: HoseO
         raise InputError(f"{mech.path or mech.name}: the mechanism has no Cable to simulate")
     if seconds is not None or random:  # bounded before any trajectory is made
         run_frames(seconds or RANDOM_SECONDS, options)
-    if program is not None:
+    plan = None
+    if program is None:
+        _say_unused(task, warn)
+    else:
         from ..motion.plan import moved_before_stop, program_plan
 
         _, plan = program_plan(path, program, task, warn=warn)
         moved_before_stop(plan)
-    else:
-        plan = None
     trajectories = _trajectories(mech, options, plan, trajectory, random, envs, seconds, batch.seed, warn,
                                  base_offsets(cell, plan) if plan is not None else None)
     trajectories = [carried(cell, t) for t in trajectories]  # a CSV's external axes carry the robot
@@ -88,6 +89,20 @@ def run_cables(path: str, out: str, task: TaskOptions | None = None, hose: HoseO
                                    video.video_size, moves)
         text += f"\nvideo: {video.video} (environment {doc['video']['environment']}, {doc['video']['frames']} frames)"
     return Output(doc, text)
+
+
+# the task options only a --program reads, and their flags
+PROGRAM_ONLY = {"routine": "--routine", "io": "--io", "inputs": "--input", "cycles": "--cycles",
+                "external_axes": "--external-axes", "limits": "--limits", "payload": "--payload"}
+
+
+def _say_unused(task: TaskOptions, warn: Warn) -> None:
+    """One warning naming the task's options given without ``--program``: only a program reads them."""
+    default = TaskOptions()
+    given = [flag for key, flag in PROGRAM_ONLY.items() if getattr(task, key) != getattr(default, key)]
+    if given:
+        warn(f"rswarp cable: warning: {', '.join(given)} ignored: only a --program runs a task (--trajectory and "
+             "--random follow joint values)")
 
 
 def default_envs(envs: int | None, program) -> int:

@@ -6,6 +6,7 @@ the trajectory as the CSV that ``rswarp cable --trajectory`` reads."""
 from __future__ import annotations
 
 import io as _io
+import math
 from dataclasses import replace
 from pathlib import Path
 
@@ -58,8 +59,11 @@ def run_program(path: str, programs: list[str], task: TaskOptions | None = None,
         claim_video(video.video)
     robot, cell = robot_of(path)  # every option and input checked before any work
     tool = tool_spec(cell, task.tool)
-    world_floor = checked("floor", robot.si_length(task.floor or 0.0))
-    floor = world_floor - (cell_floor(cell) if cell is not None else 0.0)  # in the robot's frame
+    if task.floor is None:  # no floor: nothing is below it, and a video draws one under the robot
+        world_floor, floor = None, -math.inf
+    else:
+        world_floor = checked("floor", robot.si_length(task.floor))
+        floor = world_floor - (cell_floor(cell) if cell is not None else 0.0)  # in the robot's frame
     env = placed_environments(robot, task.environment)
     if cell is not None and env:  # --env meshes stand in the cell's world, checked with its own
         cell, env = with_meshes(cell, env), ()
