@@ -27,6 +27,25 @@ DEFAULT_MAX_FILE_SIZE = 256 * 1024 * 1024  # bytes: the largest input file (mode
 _max_file_size = contextvars.ContextVar("rswarp_max_file_size", default=DEFAULT_MAX_FILE_SIZE)
 
 
+HELD_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+
+
+@contextlib.contextmanager
+def signals_held():
+    """Ctrl-C and SIGTERM held back while native code runs in the main thread (a kernel launch,
+    Warp compiling a module with its in-process compiler, which installs handlers of its own), or
+    while a temporary file is made and its name kept, and delivered, as KeyboardInterrupt or the
+    SIGTERM handler, the moment the block ends."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, HELD_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)
+
+
 def max_file_size() -> int:
     """The input size limit in force (``DEFAULT_MAX_FILE_SIZE`` unless set by ``file_size_limit``)."""
     return _max_file_size.get()
@@ -98,21 +117,25 @@ def atomic_write(path: str | Path, data: bytes) -> None:
     if path.is_dir():
         raise InputError(f"{path}: is a folder, not a file name")
     with cleanup_on_terminate():
+        tmp = None
         try:
-            fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:64]}.", suffix=".tmp", dir=_folder(path))
-        except OSError as exc:
-            raise output_error(path, exc) from None
-        try:
+            with signals_held():  # the name is kept before a Ctrl-C can land
+                fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:64]}.", suffix=".tmp", dir=_folder(path))
             with os.fdopen(fd, "wb") as fh:
                 fh.write(data)
             usual_mode(tmp)
             commit(tmp, path)
         except OSError as exc:
-            Path(tmp).unlink(missing_ok=True)
+            _unlink(tmp)
             raise output_error(path, exc) from None
         except BaseException:
-            Path(tmp).unlink(missing_ok=True)
+            _unlink(tmp)
             raise
+
+
+def _unlink(tmp: str | None) -> None:
+    if tmp is not None:
+        Path(tmp).unlink(missing_ok=True)
 
 
 def usual_mode(path: str | Path) -> None:

@@ -28,7 +28,7 @@ from typing import Sequence
 import numpy as np
 
 from .errors import InputError
-from .files import stop_if_interrupted
+from .files import HELD_SIGNALS, signals_held, stop_if_interrupted
 
 DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
 MIN_SPLIT = 512  # items a CPU chunk holds at least: a smaller batch costs less on one thread than handed out
@@ -59,28 +59,10 @@ def init_warp():
     return wp
 
 
-_HELD = {signal.SIGINT, signal.SIGTERM}
-
-
-@contextlib.contextmanager
-def signals_held():
-    """Ctrl-C and SIGTERM held back while native code runs in the main thread (a kernel launch,
-    Warp compiling a module with its in-process compiler, which installs handlers of its own), and
-    delivered, as KeyboardInterrupt or the SIGTERM handler, the moment it returns."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    before = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, before)
-
-
 def _hold_signals() -> None:
     """A worker thread never takes Ctrl-C or SIGTERM: the main thread does, between launches."""
     if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+        signal.pthread_sigmask(signal.SIG_BLOCK, HELD_SIGNALS)
 
 
 def warp_device(name: str):

@@ -29,6 +29,7 @@ from .files import (
     new_folders,
     output_error,
     read_regular,
+    signals_held,
     stop_if_terminated,
     usual_mode,
 )
@@ -121,11 +122,10 @@ def atomic_folder(out: str | Path) -> Iterator[Path]:
     out = Path(out)
     check_replaceable(out)
     with cleanup_on_terminate(), new_folders(out):
+        tmp = None
         try:
-            tmp = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".tmp", dir=_folder(out)))
-        except OSError as exc:
-            raise output_error(out, exc) from None
-        try:
+            with signals_held():  # the name is kept before a Ctrl-C can land
+                tmp = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".tmp", dir=_folder(out)))
             yield tmp
             record(tmp, sorted(p.name for p in tmp.iterdir() if p.name != MANIFEST))
             usual_mode(tmp)
@@ -133,7 +133,8 @@ def atomic_folder(out: str | Path) -> Iterator[Path]:
         except OSError as exc:
             raise output_error(out, exc) from None
         finally:
-            shutil.rmtree(tmp, ignore_errors=True)
+            if tmp is not None:
+                shutil.rmtree(tmp, ignore_errors=True)
 
 
 def check_replaceable(out: Path) -> None:
@@ -173,13 +174,14 @@ def _check_rename(out: Path) -> None:
     parent = _folder(out)
     if not parent.exists():
         return  # made when the work is done (new_folders), and removed again if it fails
-    probe = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".probe", dir=parent))
-    try:
-        if out.exists():  # a folder that cannot be renamed (immutable, busy) says so now
-            os.rename(out, probe / "x")
-            os.rename(probe / "x", out)
-    finally:
-        shutil.rmtree(probe, ignore_errors=True)
+    with signals_held():  # made, tried and removed in one piece: a Ctrl-C never leaves it, nor ``out`` in it
+        probe = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".probe", dir=parent))
+        try:
+            if out.exists():  # a folder that cannot be renamed (immutable, busy) says so now
+                os.rename(out, probe / "x")
+                os.rename(probe / "x", out)
+        finally:
+            shutil.rmtree(probe, ignore_errors=True)
 
 
 def _folder(path: Path) -> Path:
@@ -194,23 +196,24 @@ def _swap_in(tmp: Path, out: Path) -> None:
         commit(tmp, out)
         return
     stop_if_terminated()
-    old = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".old", dir=_folder(out)))
-    aside = old / out.name
-    try:
-        os.replace(out, aside)
-    except BaseException:
-        shutil.rmtree(old, ignore_errors=True)  # still empty
-        raise
-    try:
-        os.replace(tmp, out)
-    except BaseException:
+    with signals_held():  # the swap is one piece: a Ctrl-C lands after it, never between its renames
+        old = Path(tempfile.mkdtemp(prefix=f".{out.name[:64]}.", suffix=".old", dir=_folder(out)))
+        aside = old / out.name
         try:
-            os.replace(aside, out)
-        except OSError:
-            raise InputError(f"{out}: the new set could not be put in place, nor the earlier one back; the "
-                             f"earlier one is kept in {aside}") from None
-        shutil.rmtree(old, ignore_errors=True)
-        raise
+            os.replace(out, aside)
+        except BaseException:
+            shutil.rmtree(old, ignore_errors=True)  # still empty
+            raise
+        try:
+            os.replace(tmp, out)
+        except BaseException:
+            try:
+                os.replace(aside, out)
+            except OSError:
+                raise InputError(f"{out}: the new set could not be put in place, nor the earlier one back; "
+                                 f"the earlier one is kept in {aside}") from None
+            shutil.rmtree(old, ignore_errors=True)
+            raise
     shutil.rmtree(old, ignore_errors=True)
 
 
