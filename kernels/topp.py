@@ -66,9 +66,9 @@ def stretch_time(v0: wp.float64, v1: wp.float64, h: wp.float64, speed_up: wp.flo
 
 @wp.func
 def speed_cap(q: wp.array2d(dtype=wp.float64), u: wp.array(dtype=wp.float64), lo: int, n: int, k: int,
-              cap: wp.float64, vel: wp.array2d(dtype=wp.float64), m: int):
-    """The greatest x at probe k the axes' speeds and the path's cap allow."""
-    x = cap * cap
+              cap: wp.array(dtype=wp.float64), vel: wp.array2d(dtype=wp.float64), m: int):
+    """The greatest x at probe k the axes' speeds and the path's cap there allow."""
+    x = cap[lo + k] * cap[lo + k]
     for i in range(q.shape[1]):
         d = wp.abs(slope(q, u, lo, n, k, i))
         if d > TINY:
@@ -169,34 +169,37 @@ def topp_kernel(dof: int):
         # every path's probes, flat
         u: wp.array(dtype=wp.float64),
         q: wp.array2d(dtype=wp.float64),
-        # per path: where its probes are, its speed cap (du/dt), its axes' speeds and accelerations
+        # per probe: the path's speed cap there (du/dt: the TCP's speed and turn, a corner's share of both)
+        cap: wp.array(dtype=wp.float64),
+        # per path: where its probes are, its axes' speeds and accelerations
         first: wp.array(dtype=wp.int32),
         count: wp.array(dtype=wp.int32),
-        cap: wp.array(dtype=wp.float64),
         vel: wp.array2d(dtype=wp.float64),
         acc: wp.array2d(dtype=wp.float64),
         # per path: the share up to which it speeds up into a zone and from which it slows into one
         head: wp.array(dtype=wp.float64),
         tail: wp.array(dtype=wp.float64),
-        # work, per probe: the fastest x a probe can still stop from
-        reach: wp.array(dtype=wp.float64),
-        # out, per probe: the time at each probe from its path's start
+        # out, per probe: x = (du/dt)² as planned (the backward pass's reach until the forward pass
+        # overwrites it), and the time at each probe from its path's start
+        x_out: wp.array(dtype=wp.float64),
         t_out: wp.array(dtype=wp.float64),
     ):
         m = wp.tid()
         lo = first[m]
         n = count[m]
+        reach = x_out
         reach[lo + n - 1] = wp.float64(0.0)
-        c2 = cap[m] * cap[m]  # a zone's ramp: from rest to the cap over its share of the way, or down
-        up = wp.where(head[m] > wp.float64(0.0), c2 / (wp.float64(2.0) * head[m]), wp.float64(1e300))
-        down = wp.where(tail[m] < wp.float64(1.0), c2 / (wp.float64(2.0) * (wp.float64(1.0) - tail[m])),
+        c0 = cap[lo] * cap[lo]  # a zone's ramp: from rest to the cap over its share of the way, or down
+        c1 = cap[lo + n - 1] * cap[lo + n - 1]
+        up = wp.where(head[m] > wp.float64(0.0), c0 / (wp.float64(2.0) * head[m]), wp.float64(1e300))
+        down = wp.where(tail[m] < wp.float64(1.0), c1 / (wp.float64(2.0) * (wp.float64(1.0) - tail[m])),
                         wp.float64(1e300))
-        ahead = speed_cap(q, u, lo, n, n - 1, cap[m], vel, m)  # the axes' speeds at probes k + 1 and k
-        here = speed_cap(q, u, lo, n, wp.max(n - 2, 0), cap[m], vel, m)
+        ahead = speed_cap(q, u, lo, n, n - 1, cap, vel, m)  # the axes' speeds at probes k + 1 and k
+        here = speed_cap(q, u, lo, n, wp.max(n - 2, 0), cap, vel, m)
         for j in range(n - 1):  # backward: the controllable sets
             k = n - 2 - j
             w, s, still = bounds(q, u, lo, n, k, acc, m, ramp(u[lo + k], u[lo + k + 1], head[m], tail[m], up, down))
-            behind = speed_cap(q, u, lo, n, wp.max(k - 1, 0), cap[m], vel, m)
+            behind = speed_cap(q, u, lo, n, wp.max(k - 1, 0), cap, vel, m)
             # within the speeds at the probe and its neighbours: the path between them holds within them
             x = wp.min(wp.min(ahead, here), wp.min(behind, still))
             reach[lo + k] = fastest(w, s, reach[lo + k + 1], u[lo + k + 1] - u[lo + k], x)
@@ -208,8 +211,10 @@ def topp_kernel(dof: int):
         for k in range(n - 1):  # forward: the greatest acceleration that stays controllable
             w, s, still = bounds(q, u, lo, n, k, acc, m, ramp(u[lo + k], u[lo + k + 1], head[m], tail[m], up, down))
             x1, dt = advance(w, s, x, reach[lo + k + 1], u[lo + k + 1] - u[lo + k])
+            x_out[lo + k] = x  # probe k's reach is read no more
             t += dt
             t_out[lo + k + 1] = t
             x = x1
+        x_out[lo + n - 1] = x
 
     return topp

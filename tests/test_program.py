@@ -110,8 +110,8 @@ def test_movec_follows_the_circle_through_its_point():
 
 
 def test_speeds_within_the_axes_and_the_speeddata():
-    """No axis beyond its default speed (90 deg/s); a MoveL's TCP within its v_tcp; every move
-    starts and ends at rest (zones are not blended)."""
+    """No axis beyond its default speed (90 deg/s); a MoveL's TCP within its v_tcp up to its zone
+    (in the corner its speed changes to the next move's); the task ends at rest."""
     p = planned("zones.mod")
     rate = np.abs(np.diff(p.q, axis=0)) / np.diff(p.times)[:, None]
     assert rate.max() <= np.radians(90) * 1.01
@@ -119,10 +119,9 @@ def test_speeds_within_the_axes_and_the_speeddata():
     a, b = mv.rows
     points = tcp(mv.motion, p.q[a - 1:b])[:, :3, 3]
     speed = np.linalg.norm(np.diff(points, axis=0), axis=1) / np.diff(p.times[a - 1:b])
-    assert speed.max() <= 0.050 * 1.01 and speed.max() > 0.045  # vSlow: 50 mm/s, reached
-    for mv in p.moves:
-        if mv.rows[1] - mv.rows[0] > 2:
-            assert np.abs(p.q[mv.rows[1] - 1] - p.q[mv.rows[1] - 2]).max() < 1e-3  # slowing to a stop
+    outside = np.linalg.norm(points[1:] - mv.motion.targets[-1].pose.matrix()[:3, 3], axis=1) > 0.025  # zCustom
+    assert speed[outside].max() <= 0.050 * 1.01 and speed[outside].max() > 0.045  # vSlow: 50 mm/s, reached
+    assert np.abs(p.q[-1] - p.q[-2]).max() < 1e-3  # slowing to a stop
 
 
 def test_t_sets_the_moves_time_and_velset_stretches_it():

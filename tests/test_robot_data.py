@@ -78,6 +78,74 @@ def test_robot_data_estimates_are_the_rule_their_file_states(rsxml):
     np.testing.assert_allclose(jerk, accel / JERK_S)
 
 
+@pytest.mark.parametrize("rsxml", list(BUNDLED), ids=lambda p: p.name)
+def test_bundled_accelerations_say_they_rest_on_an_assumption_and_give_no_cycle_time(rsxml):
+    """No published acceleration or standard cycle time was found for the bundled robots (issue
+    59): each file says its 0.07 s is an assumption, not a recollection of ABB's figures, and gives
+    no ABB cycle time rather than one from memory."""
+    data = robot_data(mech_of(rsxml))
+    text = data_file(str(rsxml)).read_text()
+    assert data.standard_cycle is None and "standard_cycle_s =" not in text
+    assert "an assumption" in data.limits.sources()[1] and "from memory" not in text
+    assert data.limits.estimates()[:, 1:].all()  # accel_estimated, jerk_estimated: true
+
+
+def _cycle_file(tmp_path, *lines: str) -> tuple:
+    """A copy of the IRB 2600's RSXML beside a robot-data file whose top (before [axes]) holds
+    ``lines``: the 2nd line on."""
+    folder = tmp_path / "cycle"
+    folder.mkdir(parents=True)
+    shutil.copy(examples.IRB2600, folder / examples.IRB2600.name)
+    text = ['source = "test"', *lines, "", "[axes]", 'names = ["J1", "J2", "J3", "J4", "J5", "J6"]',
+            "speed_deg_s = [175, 175, 175, 360, 360, 500]"]
+    path = folder / "IRB2600_12_165.robot.toml"
+    path.write_text("\n".join(text) + "\n")
+    return path, mech_of(folder / examples.IRB2600.name)
+
+
+def test_a_published_standard_cycle_time_is_read_with_its_load_and_source(tmp_path):
+    path, mech = _cycle_file(tmp_path, "standard_cycle_s = 0.45", "standard_cycle_kg = 1",
+                             'standard_cycle_source = "ABB data sheet, 1 kg picking cycle 25 x 300 x 25 mm"')
+    cycle = read_robot_data(str(path), mech).standard_cycle
+    assert (cycle.seconds, cycle.load_kg) == (0.45, 1.0) and cycle.source.startswith("ABB data sheet")
+    path, mech = _cycle_file(tmp_path / "none")  # none given: None, no error
+    assert read_robot_data(str(path), mech).standard_cycle is None
+
+
+@pytest.mark.parametrize("lines, line, message", [
+    (["standard_cycle_s = -0.4", "standard_cycle_kg = 1", 'standard_cycle_source = "x"'], 2,
+     "standard_cycle_s must be a number of seconds above 0"),
+    (['standard_cycle_s = "0.4 s"', "standard_cycle_kg = 1", 'standard_cycle_source = "x"'], 2,
+     "standard_cycle_s must be a number of seconds above 0"),
+    (["standard_cycle_s = true", "standard_cycle_kg = 1", 'standard_cycle_source = "x"'], 2,
+     "standard_cycle_s must be a number of seconds above 0"),
+    (["standard_cycle_kg = 1", "standard_cycle_s = 0.4"], 3,
+     "standard_cycle_s needs standard_cycle_source: the document ABB's figure comes from"),
+    (["standard_cycle_s = 0.4", 'standard_cycle_source = "x"'], 2,
+     "standard_cycle_s needs standard_cycle_kg: the load ABB's figure is for (kg)"),
+    (["standard_cycle_s = 0.4", "standard_cycle_kg = 0", 'standard_cycle_source = "x"'], 3,
+     "standard_cycle_kg must be a number above 0"),
+    (["standard_cycle_s = 0.4", "standard_cycle_kg = 1", 'standard_cycle_source = " "'], 4,
+     "standard_cycle_source must be text"),
+    (['standard_cycle_source = "ABB data sheet"'], 2, "standard_cycle_source without standard_cycle_s"),
+])
+def test_a_bad_standard_cycle_entry_is_said_at_its_line(tmp_path, lines, line, message):
+    path, mech = _cycle_file(tmp_path, *lines)
+    with pytest.raises(RsxmlError) as exc:
+        read_robot_data(str(path), mech)
+    assert str(exc.value).startswith(f"{path}:{line}: ") and message in str(exc.value)
+
+
+def test_a_standard_cycle_written_under_axes_is_refused_at_its_line(tmp_path):
+    """Appended at the end of a file, after [axes], TOML puts the key in that table: said, not
+    silently dropped."""
+    path, mech = _bad_file(tmp_path, "standard_cycle_s = 0.45")
+    with pytest.raises(RsxmlError) as exc:
+        read_robot_data(str(path), mech)
+    assert str(exc.value) == f"{path}:8: standard_cycle_s is in [axes]: it belongs at the top of the file, " \
+                             "before [axes]"
+
+
 def _bad_file(tmp_path, line: str) -> tuple:
     """A copy of the IRB 2600's RSXML beside a robot-data file with ``line`` as its 8th line."""
     folder = tmp_path / "robot"

@@ -7,8 +7,9 @@ launches and the arithmetic in a few large arrays, not one per move:
 2. ``resolve``, move by move: the joints each goes to (the solution the controller picks), and a
    path's joints followed from where the robot is (probes solved again only where a move ended
    elsewhere than its target; a path already followed from the same joints taken as it was);
-3. ``time_all``: the joint moves' TCP paths posed in one batch, every move timed in arrays over
-   the batch (``timing_batch``), then sampled and appended in order."""
+3. ``time_all``: the joint moves' TCP paths posed in one batch, the chains of zoned path moves
+   planned as one path each (``chains``), every other move timed in arrays over the batch
+   (``timing_batch``), then sampled and appended in order."""
 
 from __future__ import annotations
 
@@ -21,8 +22,8 @@ import numpy as np
 from ..findings import FAIL, at_time
 from ..kernels.ik import OK
 from ..kinematics.ik import IKSolutions
+from . import chains, timing, timing_batch, zone_batch
 from . import targets as tg
-from . import timing, timing_batch, zone_batch
 from .follow import follow
 from .paths import lines, path, poses_along
 from .tcp import Frames, frames
@@ -64,6 +65,8 @@ class Step:
     head: float = 0.0  # the share of its way it speeds up over out of the zone before it (0: from a stop)
     tail: float = 1.0  # the share from which it slows into the zone at its end (1: it ends at a stop)
     timed: object = None  # (t, q, share, zones.Ahead) the batch timed it at, or the TooLong it met
+    frames: object = None  # a path's fixed frames (None where external axes move them): a chain's, if one
+    chained: bool = False  # a move of a chain after its first: the corner before it is the chain's
 
     def timing(self, compute):
         """(t, q, share): the batch's, else ``compute()``'s; the batch's TooLong raised here."""
@@ -308,7 +311,8 @@ def _follow(planner, m, p: Prepared) -> Step:
         if memo is not None:
             memo[key] = found
     q, stop, why, conf = found
-    step = Step(m, "path", q0=planner.q, u=u, q=q, length=length, turn=turn, end_conf=conf)
+    step = Step(m, "path", q0=planner.q, u=u, q=q, length=length, turn=turn, end_conf=conf,
+                frames=p.frames if p.along is None else None)
     if stop is not None:
         step.findings.append(at_time("path", f"cannot follow its {'line' if m.kind == 'linear' else 'circle'}: "
                                      f"{why} at {100.0 * stop / len(u):.0f} % of the move", m, None,
@@ -332,7 +336,10 @@ def time_all(planner, steps: list[Step]) -> None:
         tcp = {id(s): path for s, path in zip(joint, timing_batch.tcp_paths(poses))}
     _zone_ramps(steps, tcp, planner.limits)
     budget = [timing_batch.BATCH_SAMPLES]
-    timed = timing_batch.path_moves(steps, planner.limits, planner.rate, budget, planner.load_factor)
+    chained = chains.plan(planner, steps, budget)
+    alone = [s for s in steps if id(s) not in chained]
+    timed = timing_batch.path_moves(alone, planner.limits, planner.rate, budget, planner.load_factor)
+    timed.update(chained)
     timed.update(timing_batch.joint_moves(steps, tcp, planner.limits, planner.rate, budget, planner.load_factor))
     zone_batch.blends(steps, timed, tcp)
     for s in steps:

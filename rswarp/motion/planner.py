@@ -241,6 +241,8 @@ class Planner:
         except timing.TooLong as exc:
             fail(m.file, m.line, f"{m.instruction}: {exc}")
         piece = zones.straight(t, seg, share, s.q0, s.length, s.turn, s.ahead) if len(t) else None
+        if s.chained:
+            self.zoned = None  # its corner is the chain's, in its samples already
         self._short_time(m, t)
         self._append(m, t, seg, s.findings + self._end_findings(m, t, seg, s.end_conf), piece)
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import timing, topp, zones
+from . import sampling, timing, topp, zones
 
 BATCH_SAMPLES = 5_000_000  # samples timed at once (a trajectory's most): moves past them are timed one by one
 
@@ -107,30 +107,30 @@ def bucket_size(n: int) -> int:
 
 
 def _path_bucket(group: list, size: int, limits, rate: float, out: dict, budget: list, factors) -> None:
-    """Steps of at most ``size`` probes each, timed together (``topp.path_speeds``) and sampled in
-    (moves, size) arrays; a ``\\T`` move's profile slowed evenly to its time."""
+    """Steps of at most ``size`` probes each, timed together (``topp.path_times``) and sampled in
+    (moves, size) arrays (``sampling``: the timing's own speed profile, the joints on Hermite
+    curves between probes); a ``\\T`` move's profile slowed evenly to its time."""
     split = [timing.split_single(s.u, s.q) for s in group]
     n = np.array([len(u) for u, _ in split])
     u_flat, q_flat = np.concatenate([u for u, _ in split]), np.concatenate([q for _, q in split])
     motions = [s.motion for s in group]
     length, turn = np.array([s.length for s in group]), np.array([s.turn for s in group])
     speeds, accels, _ = timing.move_limits(motions, limits, factors)
-    t = topp.path_times(u_flat, q_flat, n, timing.share_caps(motions, length, turn), speeds, accels,
-                        np.array([s.head for s in group]), np.array([s.tail for s in group]))
-    u_all, q_all, at_probe = _padded(u_flat, n, size), _padded(q_flat, n, size), _padded(t, n, size)
+    t, v = topp.path_times(u_flat, q_flat, n, timing.share_caps(motions, length, turn), speeds, accels,
+                           np.array([s.head for s in group]), np.array([s.tail for s in group]))
+    u_all, q_all = _padded(u_flat, n, size), _padded(q_flat, n, size)
+    at_probe, v_all = _padded(t, n, size), _padded(v, n, size)
     rows = np.arange(len(group))
     given = np.array([timing.given_time(m) if m.duration is not None else 0.0 for m in motions])
     optimal = at_probe[rows, n - 1]
     slow = given > optimal
     if slow.any():
         at_probe[slow] *= (given[slow] / optimal[slow])[:, None]
+        v_all[slow] *= (optimal[slow] / given[slow])[:, None]
     grid = Grid(at_probe[rows, n - 1], rate, budget)
-    along = grid.interp(at_probe, u_all, n)
+    along = grid.along(at_probe, v_all, u_all, n)
     k = grid.row_index(u_all, n, along)  # along lies in [u[k-1], u[k]]
-    lo, hi = u_all[grid.row, k - 1], u_all[grid.row, k]
-    w = ((along - lo) / (hi - lo))[:, None]
-    seg = q_all[grid.row, k - 1] * (1.0 - w) + q_all[grid.row, k] * w
-    grid.hand_out(group, out, seg, along)
+    grid.hand_out(group, out, sampling.joints_at(q_all, u_all, n, grid.row, k, along), along)
 
 
 def _padded(flat: np.ndarray, n: np.ndarray, size: int) -> np.ndarray:
@@ -169,14 +169,14 @@ class Grid:
         """Sample ``i`` (0 to count) of moves ``row``: ``np.linspace(0, d, count + 1)``'s values."""
         return np.where(i == self.count[row], self.durations[row], i * self.step[row])
 
-    def interp(self, at: np.ndarray, u: np.ndarray, n: np.ndarray) -> np.ndarray:
-        """``np.interp(t, at[r, :n[r]], u[r, :n[r]])`` of each move's samples, row ``r`` its move's."""
+    def along(self, at: np.ndarray, v: np.ndarray, u: np.ndarray, n: np.ndarray) -> np.ndarray:
+        """The share of the way at each move's samples (``sampling.shares_at``): probes ``u[r, :n[r]]``
+        reached at times ``at`` at speeds ``v``, row ``r`` its move's."""
         j = self._probe_before(at, n)
         rows, last = self.row, n[self.row] - 1
         jj = np.minimum(j, last - 1)
-        a0, a1 = at[rows, jj], at[rows, jj + 1]
-        u0, u1 = u[rows, jj], u[rows, jj + 1]
-        out = (u1 - u0) / (a1 - a0) * (self.t - a0) + u0
+        out = sampling.shares_at(self.t - at[rows, jj], u[rows, jj], u[rows, jj + 1] - u[rows, jj], v[rows, jj],
+                                 v[rows, jj + 1], at[rows, jj + 1] - at[rows, jj])
         out = np.where(at[rows, j] == self.t, u[rows, j], out)
         return np.where(j == last, u[rows, last], out)
 

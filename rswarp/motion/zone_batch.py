@@ -18,7 +18,7 @@ def blends(steps: list, timed: dict, tcp: dict) -> None:
     for a, b in zip(steps, steps[1:]):
         zone = a.motion.zone
         if isinstance(timed.get(id(a)), tuple) and isinstance(timed.get(id(b)), tuple) and zone is not None \
-                and not zone.fine:
+                and not zone.fine and not b.chained:
             pairs.append((a, b))
     after = _pairs(pairs, timed, tcp) if pairs else {}
     for b in steps:

@@ -33,6 +33,7 @@ QUANTITIES = ("velocity", "acceleration", "jerk")
 SPEED_RULE = "rswarp's default: 90 deg/s (0.5 m/s) for every axis"
 ACCEL_RULE = f"rswarp's rule: each axis reaches its top speed in {RAMP_S:g} s"
 JERK_RULE = f"rswarp's rule: each axis reaches its top acceleration in {JERK_S:g} s"
+CYCLE_KEYS = ("standard_cycle_s", "standard_cycle_kg", "standard_cycle_source")  # ABB's standard cycle time
 
 
 @dataclass(frozen=True)
@@ -136,14 +137,26 @@ class Payload:
 
 
 @dataclass(frozen=True)
+class StandardCycle:
+    """ABB's published time for its standard pick cycle on a robot (25 mm up, 300 mm across, 25 mm
+    down and back): ``seconds`` with ``load_kg`` on the flange, and the document it is from."""
+
+    seconds: float
+    load_kg: float
+    source: str
+
+
+@dataclass(frozen=True)
 class RobotData:
-    """A robot-data file: its axis limits and, where published, total mass and payload (kg)."""
+    """A robot-data file: its axis limits and, where published, total mass and payload (kg) and
+    ABB's standard cycle time (``standard_cycle``; None where the file gives none)."""
 
     limits: AxisLimits
     mass: float | None = None
     payload: float | None = None
     source: str = ""
     path: str = ""
+    standard_cycle: StandardCycle | None = None
 
 
 def default_limits(revolute: list[bool], names: tuple[str, ...] = ()) -> AxisLimits:
@@ -200,13 +213,16 @@ def read_limits(path: str, mech) -> AxisLimits:
 
 
 def read_robot_data(path: str, mech) -> RobotData:
-    """A robot-data file: ``source``, ``mass_kg``, ``payload_kg`` and ``[axes]`` with ``names``,
-    ``speed_deg_s`` and optional ``accel_deg_s2``, ``jerk_deg_s3``, ``effort_Nm``; each of speed,
-    accel and jerk may have a ``*_source`` (text) and ``*_estimated`` (true: not published)."""
+    """A robot-data file: ``source``, ``mass_kg``, ``payload_kg``, ABB's standard cycle time
+    (``standard_cycle_s`` with ``standard_cycle_kg`` and ``standard_cycle_source``, optional) and
+    ``[axes]`` with ``names``, ``speed_deg_s`` and optional ``accel_deg_s2``, ``jerk_deg_s3``,
+    ``effort_Nm``; each of speed, accel and jerk may have a ``*_source`` (text) and ``*_estimated``
+    (true: not published)."""
     text, doc = read_toml(path)
     axes = doc.get("axes")
     if not isinstance(axes, dict):
         raise RsxmlError(Diagnostic(path, 0, "no [axes] table: a robot-data file gives names and speed_deg_s"))
+    cycle = _standard_cycle(path, text, doc, axes)
     active = mech.graph.active
     revolute = [j.revolute for j in active]
     names = axes.get("names")
@@ -226,7 +242,33 @@ def read_robot_data(path: str, mech) -> RobotData:
         jerk=jerk if given[2] else None, names=tuple(j.name for j in active), velocity_source=sources[0],
         accel_source=sources[1], jerk_source=sources[2], estimated=np.tile(np.array(flags, bool), (len(active), 1)),
         linear=tuple(not r for r in revolute))
-    return RobotData(limits, _kg(path, text, doc, "mass_kg"), _kg(path, text, doc, "payload_kg"), source, path)
+    return RobotData(limits, _kg(path, text, doc, "mass_kg"), _kg(path, text, doc, "payload_kg"), source, path,
+                     cycle)
+
+
+def _standard_cycle(path, text, doc, axes) -> StandardCycle | None:
+    """ABB's standard cycle time from the file's top: ``standard_cycle_s`` (s), the load it is for
+    (``standard_cycle_kg``) and where it comes from (``standard_cycle_source``), all three or none."""
+    for key in CYCLE_KEYS:
+        if key in axes:  # written after [axes], so TOML puts it in that table
+            raise RsxmlError(Diagnostic(path, _line_of(text, key),
+                                        f"{key} is in [axes]: it belongs at the top of the file, before [axes]"))
+    given = [key for key in CYCLE_KEYS if key in doc]
+    if not given:
+        return None
+    if "standard_cycle_s" not in doc:
+        raise RsxmlError(Diagnostic(path, _line_of(text, given[0]), f"{given[0]} without standard_cycle_s: "
+                                                                   "give ABB's cycle time with it, or neither"))
+    line = _line_of(text, "standard_cycle_s")
+    seconds = doc["standard_cycle_s"]
+    if not _positive(seconds):
+        raise RsxmlError(Diagnostic(path, line, "standard_cycle_s must be a number of seconds above 0"))
+    for key, what in (("standard_cycle_kg", "the load ABB's figure is for (kg)"),
+                      ("standard_cycle_source", "the document ABB's figure comes from")):
+        if key not in doc:
+            raise RsxmlError(Diagnostic(path, line, f"standard_cycle_s needs {key}: {what}"))
+    return StandardCycle(float(seconds), _kg(path, text, doc, "standard_cycle_kg"),
+                         _words(path, text, doc, "standard_cycle_source"))
 
 
 def estimated_accelerations(mech, speed: np.ndarray, accel_time: float) -> tuple[np.ndarray, np.ndarray]:
