@@ -106,6 +106,8 @@ def program(p: argparse.ArgumentParser) -> None:
                         "RAPID/TASK1), or a .pgf program file")
     _task(p)
     p.add_argument("--csv", metavar="CSV", help="write the trajectory as the CSV rswarp cable --trajectory reads")
+    p.add_argument("--speed-plot", metavar="FILE.png",
+                   help="plot the TCP's speed over time against each move's programmed speed (PNG)")
     p.add_argument("--env", dest="environment", action="append", default=[], metavar="MESH@x,y,z",
                    help=f"a mesh placed in the world ({LENGTH}), checked against every link; repeat for more")
     p.add_argument("--collision-matrix", metavar="SRDF",

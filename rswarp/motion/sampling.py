@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 TINY = 1e-12
+CHUNK = 16384  # samples evaluated together
 
 
 def shares_at(tau: np.ndarray, u0: np.ndarray, h: np.ndarray, v0: np.ndarray, v1: np.ndarray,
@@ -49,34 +50,40 @@ def along(at: np.ndarray, v: np.ndarray, u: np.ndarray, t: np.ndarray) -> np.nda
     return np.where(t >= at[-1], u[-1], out)
 
 
-def slopes(q: np.ndarray, u: np.ndarray, n: np.ndarray) -> np.ndarray:
-    """dq/du at every probe of rows of probes ``u`` (R, P) and joints ``q`` (R, P, dof), row r's
-    first ``n[r]`` (the rest padding): central, one-sided at the ends (``kernels.topp.slope``)."""
-    i = np.arange(u.shape[1])[None, :]
-    a = np.maximum(i - 1, 0)
-    b = np.minimum(i + 1, n[:, None] - 1)
-    b = np.maximum(b, np.minimum(1, n[:, None] - 1))  # past a row's end: its last stretch's slope
-    a = np.minimum(a, b - 1)
-    rows = np.arange(len(u))[:, None]
-    return (q[rows, b] - q[rows, a]) / (u[rows, b] - u[rows, a])[..., None]
-
-
 def joints_at(q: np.ndarray, u: np.ndarray, n: np.ndarray, row: np.ndarray, k: np.ndarray,
-              x: np.ndarray, m: np.ndarray | None = None) -> np.ndarray:
-    """Joints at shares ``x`` on rows ``row``, each between probes k - 1 and k: the cubic Hermite
-    curve through both with their ``slopes`` (``m``, made here where not given)."""
-    m = slopes(q, u, n) if m is None else m
-    u0 = u[row, k - 1]
-    h = (u[row, k] - u0)[:, None]
-    w = ((x - u0)[:, None]) / h
-    q0 = q[row, k - 1]
-    d = q[row, k] - q0
-    s0, s1 = h * m[row, k - 1], h * m[row, k]
-    return q0 + w * (s0 + w * ((3.0 * d - 2.0 * s0 - s1) + w * (s0 + s1 - 2.0 * d)))
+              x: np.ndarray) -> np.ndarray:
+    """Joints at shares ``x`` on rows ``row`` of probes ``u`` (R, P) and joints ``q`` (R, P, dof),
+    row r's first ``n[r]``, each between probes k - 1 and k: the cubic Hermite curve through both,
+    its slopes at them central (one-sided at a row's ends, ``kernels.topp.slope``). In chunks, so
+    the arithmetic runs in a few cache-sized buffers, not in fresh arrays of every sample."""
+    size, dof = u.shape[1], q.shape[2]
+    flat_u, flat_q = u.reshape(-1), q.reshape(-1, dof)
+    out = np.empty((len(x), dof))
+    for lo in range(0, len(x), CHUNK):
+        hi = min(lo + CHUNK, len(x))
+        r, kk = row[lo:hi], k[lo:hi]
+        base, last = r * size, n[r] - 1
+        i0, i1 = base + kk - 1, base + kk
+        before, after = base + np.maximum(kk - 2, 0), base + np.minimum(kk + 1, last)
+        u0, u1 = flat_u.take(i0), flat_u.take(i1)
+        h = u1 - u0
+        w = ((x[lo:hi] - u0) / h)[:, None]
+        q0, q1 = flat_q.take(i0, axis=0), flat_q.take(i1, axis=0)
+        s0 = (q1 - flat_q.take(before, axis=0)) * (h / (u1 - flat_u.take(before)))[:, None]
+        s1 = (flat_q.take(after, axis=0) - q0) * (h / (flat_u.take(after) - u0))[:, None]
+        d = q1 - q0
+        c = s0 + s1 - 2.0 * d
+        c *= w
+        c += 3.0 * d - 2.0 * s0 - s1
+        c *= w
+        c += s0
+        c *= w
+        c += q0
+        out[lo:hi] = c
+    return out
 
 
 def path_joints(q: np.ndarray, u: np.ndarray, x: np.ndarray) -> np.ndarray:
     """``joints_at`` of one path: probes ``u`` (P,), joints ``q`` (P, dof), shares ``x``."""
     k = np.clip(np.searchsorted(u, x, side="right"), 1, len(u) - 1)
-    row = np.zeros(len(x), int)
-    return joints_at(q[None], u[None], np.array([len(u)]), row, k, x)
+    return joints_at(q[None], u[None], np.array([len(u)]), np.zeros(len(x), int), k, x)

@@ -28,6 +28,7 @@ from ..motion.cells import (
 from ..motion.payload import carried_loads, load_scale, read_payload
 from ..motion.plan import program_plan
 from ..motion.planner import Plan
+from ..motion.speeds import plan_speeds
 from ..motion.targets import joint_values
 from ..motion.tcp import frames
 from ..options import checked
@@ -41,18 +42,20 @@ from .program_text import program_text
 
 
 def run_program(path: str, programs: list[str], task: TaskOptions | None = None, batch: BatchOptions | None = None,
-                video: VideoOptions | None = None, *, csv: str | None = None, progress=None, warn: Warn = ignore,
-                **changes) -> Output:
-    """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory;
-    ``changes`` replace fields of the options (``cycles=3``, ``tool="gripper.stl"``). Targets the
-    robot cannot take are all reported (exit 1), with the rest of the report."""
+                video: VideoOptions | None = None, *, csv: str | None = None, speed_plot: str | None = None,
+                progress=None, warn: Warn = ignore, **changes) -> Output:
+    """``rswarp program``: run, resolve, build, check and report; ``csv`` writes the trajectory,
+    ``speed_plot`` a PNG of the TCP's speed over time; ``changes`` replace fields of the options
+    (``cycles=3``, ``tool="gripper.stl"``). Targets the robot cannot take are all reported (exit 1),
+    with the rest of the report."""
     from ..export.srdf import read_srdf
     from ..sim.engine import cluster_for
 
     o = routed(changes, task=task or TaskOptions(), batch=batch or BatchOptions(), video=video or VideoOptions())
     task, batch, video = o["task"], o["batch"], o["video"]
-    if csv is not None:
-        claim(Path(csv))  # a file of the user's is never replaced: refused before any work
+    for out in (csv, speed_plot):
+        if out is not None:
+            claim(Path(out))  # a file of the user's is never replaced: refused before any work
     if video.video is not None:
         from .videos import claim_video
 
@@ -72,21 +75,21 @@ def run_program(path: str, programs: list[str], task: TaskOptions | None = None,
     disabled = read_srdf(task.collision_matrix, robot.link_names) if task.collision_matrix else ()
     mech, p = program_plan(path, [programs] if isinstance(programs, str) else programs, replace(task, payload=load),
                            device=batch.device, warn=warn, strict=False)
+    speeds = plan_speeds(Kinematics(mech), p, load_scale(mech, load))
     if p.errors:
-        if csv is not None or video.video is not None:
-            warn(f"{'--csv' if csv is not None else '--video'}: nothing written, the task has targets the robot "
-                 "cannot take (below)")
-        doc = _document(mech, p, None, [], None, csv=None, payload=load)
+        for given, option in ((csv, "--csv"), (speed_plot, "--speed-plot"), (video.video, "--video")):
+            if given is not None:
+                warn(f"{option}: nothing written, the task has targets the robot cannot take (below)")
+        doc = _document(mech, p, None, [], None, csv=None, payload=load, speeds=speeds)
         return Output(json_safe(doc), program_text(mech, doc), 1, tuple(str(d) for d in p.errors))
     tally, tools, tested = check_program(mech, p.q, env, disabled, batch.device,
                                          cluster=cluster_for(batch.ray, batch.device), progress=progress, tool=mounted)
     names = tools.checker.bodies.pair_names() if tools.checker is not None else []
     if cell is not None:  # the robot against the units' links and the cell's meshes, where the axes put them
         tally, names, tested = with_cell_pairs(cell, p, tally, names, tested, mounted, batch.device)
-    if csv is not None:
-        atomic_write(csv, trajectory_csv(mech, p).encode())
-        record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])
-    doc = _document(mech, p, tally, names, tested, csv, floor, tools, mounted, load)
+    _write_files(mech, p, csv, speed_plot, speeds)
+    doc = _document(mech, p, tally, names, tested, csv, floor, tools, mounted, load, speeds) | \
+        {"speed_plot": speed_plot}
     if video.video is not None:
         from .videos import program_video
 
@@ -95,18 +98,32 @@ def run_program(path: str, programs: list[str], task: TaskOptions | None = None,
     return Output(json_safe(doc), program_text(mech, doc))
 
 
+def _write_files(mech, p: Plan, csv: str | None, speed_plot: str | None, speeds) -> None:
+    """The trajectory's CSV and the TCP's speed plot, where asked for, each noted as rswarp's."""
+    if csv is not None:
+        atomic_write(csv, trajectory_csv(mech, p).encode())
+        record(Path(csv).parent if str(Path(csv).parent) else Path("."), [Path(csv).name])
+    if speed_plot is not None:
+        from .speed_plot import write_speed_plot
+
+        write_speed_plot(speed_plot, p, speeds, f"{mech.name}: {p.run.routine}, TCP speed")
+
+
 def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, tools=None, tool=None,
-              payload=None) -> dict:
+              payload=None, speeds=None) -> dict:
     """The run as data (SI): its moves with their findings as records (a target it could not take
-    among them), every finding once per move line, kind and links, counted, in time order, and
-    the loads the moves carry with what each does to the accelerations."""
+    among them) and their speeds (``motion.speeds``), every finding once per move line, kind and
+    links, counted, in time order, and the loads the moves carry with what each does to the
+    accelerations."""
     run = p.run
     kin = Kinematics(mech)
     ends = _move_ends(kin, p)
     moves = [_move(mech, p, m, tally, names, floor, ends[k] + (_target_m(kin, m.motion, p, m.rows[1] - 1),), tools)
              for k, m in enumerate(p.moves)]
     scale, made = load_scale(mech, payload), {}
-    for said, move in zip(moves, p.moves):  # made once per setting a move runs under
+    for k, (said, move) in enumerate(zip(moves, p.moves)):  # limits made once per setting a move runs under
+        if speeds is not None:
+            said["tcp_speed"], said["limited_by"] = speeds.record(k)
         m = move.motion
         key = (m.kind == "wait", m.override, m.accel, m.ramp, m.held_loads)
         if key not in made:
@@ -131,6 +148,7 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
             "loads": carried_loads(mech, p, payload),
             "moves": moves, "findings": found,
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
+            "speed_plot": None,
             "stopped": str(run.stopped) if run.stopped is not None else None, "needs_input": run.needs_input,
             "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
 

@@ -9,6 +9,8 @@ from pathlib import Path
 from .findings import grouped
 
 MAX_ROWS = 200  # moves shown one by one; a longer task's table is cut, its findings are not
+SLOW = 0.9  # a move whose least TCP speed (away from a stop) is under this share of its programmed one is slow
+SLOW_LINES = 3  # slow move lines shown, the slowest first
 
 
 def program_text(mech, doc: dict) -> str:
@@ -31,6 +33,7 @@ def program_text(mech, doc: dict) -> str:
     lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
     if len(moves) > MAX_ROWS:
         lines.append(f"... {len(moves) - MAX_ROWS} more moves and waits (--json lists them all)")
+    lines += _slow(moves, several)
     lines += _findings(moves, several)
     if doc["errors"]:
         lines.append(f"errors: {len(doc['errors'])} (targets the robot cannot take; their moves are skipped)")
@@ -38,6 +41,8 @@ def program_text(mech, doc: dict) -> str:
         lines.append(f"stopped: {doc['stopped']} (every move before it is planned and timed)")
     if doc["csv"]:
         lines.append(f"trajectory: {doc['csv']}")
+    if doc.get("speed_plot"):
+        lines.append(f"speed plot: {doc['speed_plot']}")
     if doc.get("video"):
         lines.append(f"video: {doc['video']['path']} ({doc['video']['frames']} frames)")
     return "\n".join(lines)
@@ -122,6 +127,46 @@ def _findings(moves: list[dict], several: bool) -> list[str]:
     if len(shown) > MAX_ROWS:
         lines.append(f"  ... {len(shown) - MAX_ROWS} more (--json lists them all)")
     return lines
+
+
+def _slow(moves: list[dict], several: bool) -> list[str]:
+    """The moves slower than their programmed speed away from a stop, a line per program line
+    (its slowest pass), the slowest first, with what holds each; none where none is."""
+    worst, counts = {}, {}
+    for m in moves:
+        s = m.get("tcp_speed")
+        if not s or not s["programmed_m_s"] or s["least_m_s"] >= SLOW * s["programmed_m_s"]:
+            continue
+        share, key = s["least_m_s"] / s["programmed_m_s"], (m["file"], m["line"], m["instruction"])
+        counts[key] = counts.get(key, 0) + 1
+        if key not in worst or share < worst[key][0]:
+            worst[key] = (share, m)
+    if not worst:
+        return []
+    shown = sorted(((share, counts[key], m) for key, (share, m) in worst.items()), key=lambda w: w[0])
+    total = sum(counts.values())
+    lines = [f"slow: {total} move{'s' * (total != 1)} under {SLOW:.0%} of the programmed TCP speed away from a "
+             f"stop, at {len(shown)} line{'s' * (len(shown) != 1)} (tcp_speed, limited_by: --json); the slowest:"]
+    for _, count, m in shown[:SLOW_LINES]:
+        s = m["tcp_speed"]
+        times = f" (the slowest of {count})" if count > 1 else ""
+        lines.append(f"  {_where(m, several)}: {m['instruction']}{times}: {1000 * s['least_m_s']:.0f} of "
+                     f"{1000 * s['programmed_m_s']:.0f} mm/s at {s['least_at_s']:.2f} s "
+                     f"({s['least_at_share']:.0%} in), held by {_held(m['limited_by'])}")
+    return lines
+
+
+def _held(held: dict) -> str:
+    """What holds a move, in words: an axis's speed, acceleration or jerk, the TCP's programmed
+    speed or turn, its zone's blend, its \\T; with the ratio to that bound."""
+    limit, axis, ratio = held["limit"], held.get("axis"), held.get("ratio")
+    if limit in ("zone", "time"):
+        near = held["nearest"]
+        what = "its zone (a corner's blend: the speed changes to the next move's)" if limit == "zone" else "its \\T"
+        return f"{what}; nearest bound {_held({**near, 'ratio': ratio})}"
+    words = {"velocity": f"{axis}'s top speed", "acceleration": f"{axis}'s acceleration", "jerk": f"{axis}'s jerk",
+             "tcp_speed": "the programmed TCP speed", "orientation_speed": "the programmed turn (v_ori)"}
+    return f"{words.get(limit, limit)} ({ratio:.2f})"
 
 
 def _resolved(m: dict) -> str:
