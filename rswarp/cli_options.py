@@ -135,6 +135,10 @@ def _task(p: argparse.ArgumentParser) -> None:
                    help="auto (default): as the controller, a target's value for an external axis the robot "
                         "does not have is ignored (one warning an axis), a work object a unit moves is an error; "
                         "error: both are errors; ignore: both are ignored with a warning")
+    p.add_argument("--assume-missing", action="store_true",
+                   help="run a task whose repository lacks its configuration: a name declared nowhere becomes, by "
+                        "its use, a stand-in (a signal or num at 0, a tooldata or wobjdata at the identity with no "
+                        "load, a speeddata v1000, a zonedata fine), each listed once with the line that first uses it")
     _limits(p)
 
 

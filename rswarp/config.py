@@ -62,7 +62,8 @@ class TaskOptions:
     """How a RAPID task runs and what it is checked against (``rswarp program``, ``cable
     --program``, ``dresspack``): its entry routine, signal values and live inputs, passes of a main
     loop, what to do with external axes the robot lacks, axis limits, a payload, a tool on the
-    flange, the floor (None: none), environment meshes (``MESH@x,y,z``) and an SRDF of pairs to skip."""
+    flange, the floor (None: none), environment meshes (``MESH@x,y,z``), an SRDF of pairs to skip, and
+    whether names declared nowhere are taken as stand-ins (``--assume-missing``)."""
 
     routine: str = "main"
     io: Mapping[str, float] = field(default_factory=dict)
@@ -75,6 +76,7 @@ class TaskOptions:
     floor: float | None = 0.0
     environment: tuple[str, ...] = ()
     collision_matrix: str | None = None
+    assume_missing: bool = False  # a name declared nowhere taken as a stand-in by its use (rapid.check.Assumed)
 
     def __post_init__(self):
         if self.external_axes not in EXTERNAL_AXES:

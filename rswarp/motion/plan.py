@@ -11,6 +11,7 @@ from ..config import TaskOptions, routed
 from ..errors import Diagnostic, InputError, RsxmlError, Warn, ignore
 from ..kinematics.kinematics import Kinematics
 from ..rapid.interpret import MAX_CYCLES, Interpreter
+from ..rapid.eio import add_configuration
 from ..rapid.task import load_task
 from ..rsxml.robot_data import axis_limits, robot_data
 from .cells import cell_planner, robot_of
@@ -31,6 +32,8 @@ def program_plan(path: str, programs, task: TaskOptions | None = None, *, device
     mech, cell = robot_of(path)
     load = read_payload(task.payload, mech) if isinstance(task.payload, str) else task.payload
     modules = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
+    if cell is not None and cell.eio is not None:  # the cell's backup's signals, as its task folder's would be
+        add_configuration(modules, cell.eio)
     limits, scale = axis_limits(mech, task.limits), load_scale(mech, load)
     if cell is not None:
         for w in cell.warnings:
@@ -38,8 +41,8 @@ def program_plan(path: str, programs, task: TaskOptions | None = None, *, device
         planner = cell_planner(cell, device, task.external_axes, limits, scale)
     else:
         planner = Planner(Kinematics(mech, device), external_axes=task.external_axes, limits=limits, load_scale=scale)
-    run = Interpreter(modules, planner, dict(task.io), int(task.cycles),
-                      {k: list(v) for k, v in task.inputs.items()}).run(task.routine)
+    run = Interpreter(modules, planner, dict(task.io), int(task.cycles), {k: list(v) for k, v in task.inputs.items()},
+                      task.assume_missing).run(task.routine, keep=True)
     plan = planner.finish(run)
     for w in (*run.warnings, *planner.notes):
         warn(str(w))
@@ -49,8 +52,8 @@ def program_plan(path: str, programs, task: TaskOptions | None = None, *, device
     _over_rated(mech, carried, warn)
     if run.stopped is not None:
         warn(str(run.stopped))
-    if strict and plan.errors:
-        raise RsxmlError(list(plan.errors))
+    if strict and (plan.errors or run.error is not None):
+        raise RsxmlError([d for d in (run.error,) if d is not None] + list(plan.errors))
     return mech, plan
 
 

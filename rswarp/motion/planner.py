@@ -88,7 +88,8 @@ class Plan:
         from a pass, as every later one does), else the first; None without passes."""
         if not self.cycles:
             return None
-        return 1 if len(self.cycles) > 1 and self.run.stopped is None else len(self.cycles) - 1
+        return 1 if len(self.cycles) > 1 and self.run.stopped is None and self.run.error is None else \
+            len(self.cycles) - 1
 
     @property
     def cycle_s(self) -> float:
@@ -97,7 +98,7 @@ class Plan:
         routine; None where the run stopped (a live input) before a pass ended."""
         k = self.cycle_pass
         if k is None:
-            return None if self.run.stopped is not None else float(self.times[-1])
+            return None if self.run.stopped is not None or self.run.error is not None else float(self.times[-1])
         return self.cycles[k] - (self.into_next if k == len(self.cycles) - 1 else 0.0)
 
 

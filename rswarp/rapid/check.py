@@ -6,10 +6,15 @@ routine lacks. ``file:line`` errors before any statement runs.
 A name declared nowhere is a signal where RAPID expects one (an argument the reference manual
 types as a signal: ``SetDO``, ``WaitDI``, ``DInput``, ``\\DOp``, a routine's signal parameter), or
 where the I/O configuration (a backup's EIO.cfg, ``--io``) declares it; anything else is an error
-saying what its use makes it and where such data usually lives. Arguments of a procedure that
-neither RAPID nor the task defines (an option's) are not checked: only that option knows them."""
+saying what its use makes it and where such data usually lives; with ``--assume-missing`` it is
+taken, by its use, as a stand-in (``Assumed``: a tooldata or wobjdata at the identity with no load,
+a speeddata v1000, a zonedata fine, a num 0), and only a target declared nowhere stays an error.
+Arguments of a procedure that neither RAPID nor the task defines (an option's) are not checked:
+only that option knows them."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass, field
 
 from ..errors import Diagnostic, RsxmlError, nearest
 from . import nodes as n
@@ -22,9 +27,26 @@ from .predefined import error_number
 from .task import Task
 
 
-def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
+@dataclass
+class Assumed:
+    """A name declared nowhere, taken as a stand-in of the type its use makes it (``--assume-missing``):
+    where it is first used, and every line that uses it."""
+
+    name: str
+    type: str
+    file: str
+    line: int
+    uses: set = field(default_factory=set)  # (file, line)
+
+
+STAND_INS = ("tooldata", "wobjdata", "loaddata", "speeddata", "zonedata", "num")  # the types a stand-in may take
+
+
+def check_task(task: Task, predefined: set[str], signals: set[str], assume: dict | None = None) -> None:
     """Every routine of ``task`` checked as the controller checks it at load (``predefined``: the
-    controller's own data by lower-case name; ``signals``: those ``--io`` names)."""
+    controller's own data by lower-case name; ``signals``: those ``--io`` names). ``assume``: a
+    dict that takes each name declared nowhere that a stand-in can take (lower-case name ->
+    ``Assumed``) instead of its error."""
     signals = set(signals) | set(task.signals) | signal_uses(task)
     problems: list[Diagnostic] = []
     for module in task.modules:
@@ -35,21 +57,21 @@ def check_task(task: Task, predefined: set[str], signals: set[str]) -> None:
         routines.update({k: s.node for k, s in own.items() if isinstance(s.node, n.Routine)})
         names = {k: s.node.name for k, s in {**task.globals, **own}.items() if isinstance(s.node, n.Data)}
         for r in module.routines:
-            _Routine(module.file, r, data | predefined, names, routines, signals, problems).check()
-        _module_data(module, data | predefined, names, routines, signals, problems)
+            _Routine(module.file, r, data | predefined, names, routines, signals, problems, assume).check()
+        _module_data(module, data | predefined, names, routines, signals, problems, assume)
     if problems:  # every one at once, as the controller lists them when it loads the task
         order = {f: k for k, f in enumerate(task.files)}
         raise RsxmlError(sorted(problems, key=lambda d: (order.get(d.file, 0), d.line)))
 
 
 def _module_data(module: n.Module, known: set[str], names: dict, routines: dict, signals: set[str],
-                 problems: list) -> None:
+                 problems: list, assume: dict | None = None) -> None:
     """The values a module's data are declared with, checked as a routine's statements are."""
     inits = [d for d in module.data if d.init is not None or d.dims]
     if not inits:
         return
     holder = n.Routine(module.line, "proc", f"the data of {module.name}", "", None, (), n.Body(()), False)
-    walk = _Routine(module.file, holder, known, names, routines, signals, problems)
+    walk = _Routine(module.file, holder, known, names, routines, signals, problems, assume)
     for d in inits:
         for e in (*(d.dims or ()), d.init):
             walk.expr(e, d.line)
@@ -59,8 +81,9 @@ class _Routine:
     """One routine's walk: its parameters, data and FOR variables, then the module's names."""
 
     def __init__(self, file: str, routine: n.Routine, known: set[str], names: dict, routines: dict,
-                 signals: set[str] = frozenset(), problems: list | None = None):
+                 signals: set[str] = frozenset(), problems: list | None = None, assume: dict | None = None):
         self.file, self.routine, self.known, self.routines = file, routine, known, routines
+        self.assume = assume
         self.signals = signals
         self.problems = problems if problems is not None else []
         self.own = {p.key: p.name for p in routine.params}
@@ -187,9 +210,22 @@ class _Routine:
             return
         if not (declared or role) and key in self.signals:
             return
+        if self.assume is not None and (role or "num") in STAND_INS:
+            self._assumed(e, role or "num", e.line or line)
+            return
         near = nearest(key, self.names)
-        hint = f" (did you mean '{self.names[near]}'?)" if near else _lives(role)
+        hint = f" (did you mean '{self.names[near]}'?)" if near else _lives(role)  # a typo: no stand-in offered
         self.problem(e.line or line, f"'{e.name}' is declared nowhere in the task{hint}")
+
+
+    def _assumed(self, e: n.Name, role: str, line: int) -> None:
+        """A name declared nowhere taken as a stand-in: its first use's type, a record type over a num."""
+        found = self.assume.get(e.key)
+        if found is None:
+            found = self.assume[e.key] = Assumed(e.name, role, self.file, line)
+        elif found.type == "num" and role != "num":
+            found.type = role
+        found.uses.add((self.file, line))
 
 
 def _role(spec, index: int, count: int) -> str | None:
@@ -226,11 +262,13 @@ def _typed(places, index: int) -> str | None:
 
 
 def _lives(role: str | None) -> str:
-    """What a name's place makes it and where such data usually lives: the file to add."""
+    """What a name's place makes it and where such data usually lives: the file to add (or, for
+    what a stand-in can take, ``--assume-missing``)."""
     if role in _HOMES:
-        return f": a {role} here ({_HOMES[role]}: add that module to the task)"
+        flag = "; or --assume-missing runs it with a stand-in" if role in STAND_INS else ""
+        return f": a {role} here ({_HOMES[role]}: add that module to the task{flag})"
     return (": data of a module the task lacks (user.sys, an option's module), or an I/O signal (a backup's "
-            "SYSPAR/EIO.cfg, or --io NAME=VALUE, declares it)")
+            "SYSPAR/EIO.cfg, or --io NAME=VALUE, declares it; or --assume-missing runs it with a stand-in)")
 
 
 def signal_uses(task: Task) -> set[str]:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import contextlib
 import sys
 
-from ..errors import Diagnostic, Diagnostics, nearest
+from ..errors import Diagnostic, Diagnostics, RsxmlError, nearest
 from ..files import no_cyclic_gc
 from . import flow, handlers
 from . import nodes as n
@@ -37,13 +37,15 @@ from .values import Arr, Mismatch
 MAX_STATEMENTS = 5_000_000  # statements one run executes
 MAX_MOTIONS = 1_000_000  # moves and waits of one run
 MAX_DEPTH = 100  # routine calls nested
+STAND_IN = {"tooldata": "tool0", "wobjdata": "wobj0", "loaddata": "load0", "speeddata": "v1000",
+            "zonedata": "fine"}  # --assume-missing: the predefined data a stand-in takes its value from
 
 
 class Interpreter(Evaluator):
     """One run of a task. ``io`` sets signals (name -> value); ``robot`` answers CRobT and kin."""
 
     def __init__(self, task: Task, robot=None, io: dict | None = None, cycles: int = 1,
-                 inputs: dict[str, list[str]] | None = None):
+                 inputs: dict[str, list[str]] | None = None, assume_missing: bool = False):
         if not 1 <= cycles <= MAX_CYCLES:
             raise ValueError(f"cycles must be 1 to {MAX_CYCLES}")
         self.task, self.types, self.robot = task, task.types, robot or NoRobot()
@@ -73,6 +75,9 @@ class Interpreter(Evaluator):
         self.converted: dict = {}  # records already converted to SI motion data (Arguments.si)
         self.inputs = Inputs(inputs)  # --input: what live reads give, name by name
         self.stopped: NeedsInput | None = None  # where the run stopped for a live input
+        self.assume_missing = assume_missing
+        self.assumed: dict = {}  # name -> check.Assumed: the stand-ins of names declared nowhere
+        self.failed: tuple | None = None  # (Diagnostic, call chain): the run-time error the run stopped at
 
     # -- reporting ------------------------------------------------------------------------------
     def warn_once(self, key, line: int, message: str) -> None:
@@ -88,7 +93,9 @@ class Interpreter(Evaluator):
             self.warnings.append(Diagnostic(self.path, line, message, "warning"))
 
     # -- the run ----------------------------------------------------------------------------------
-    def run(self, routine: str = "main") -> Run:
+    def run(self, routine: str = "main", keep: bool = False) -> Run:
+        """The task run from ``routine``; with ``keep``, a run-time error stops it where it is, as the
+        controller stops, kept in ``Run.error`` with every motion before it (else it is raised)."""
         entry = self.task.routine(routine)
         with _deep_stack():
             with no_cyclic_gc():  # a module's 100 000 targets: no cycles, and the collector's passes cost
@@ -105,6 +112,11 @@ class Interpreter(Evaluator):
                 except NeedsInput as stop:  # every move before it stands, planned and timed
                     self.stopped = stop
                     break
+                except RsxmlError as exc:  # a run-time error: the task stops at its line, every move before stands
+                    if not keep:
+                        raise
+                    self.failed = (exc.diagnostics[0], getattr(exc, "chain", ()))
+                    break
                 if self.main_loop is not None:
                     break
                 self.pass_index += 1
@@ -118,24 +130,32 @@ class Interpreter(Evaluator):
             said = "values were left unread" if name.lower() in self.inputs.asked else \
                 "the task reads no live input into that name" + (f" (did you mean {near}?)" if near else "")
             self.warnings.append(Diagnostic("rswarp", 0, f"--input {name}: {said}", "warning"))
+        cut = self.stopped is not None or self.failed is not None  # a pass the stop cut short is no cycle
         if self.main_loop is not None:
             node, file, passes = self.main_loop
-            ends = () if self.stopped else (len(self.motions),)  # a pass the stop cut short is no cycle
+            ends = () if cut else (len(self.motions),)
             cycle = Cycle(file, node.line, tuple(p[0] for p in passes) + ends)
         else:
-            done = tuple(starts) if not self.stopped else tuple(starts[:-1])
-            cycle = Cycle(entry.file, entry.line, done + (() if self.stopped else (len(self.motions),)), endless=False)
+            done = tuple(starts) if not cut else tuple(starts[:-1])
+            cycle = Cycle(entry.file, entry.line, done + (() if cut else (len(self.motions),)), endless=False)
         return Run(tuple(self.motions), tuple(self.task.notes) + tuple(self.warnings.finish()), cycle,
                    tuple(self.task.files), entry.name, self.statements,
                    stopped=self.stopped.diagnostic() if self.stopped else None,
-                   needs_input=self.stopped.record() if self.stopped else None)
+                   needs_input=self.stopped.record() if self.stopped else None,
+                   error=self.failed[0] if self.failed else None, error_chain=self.failed[1] if self.failed else (),
+                   assumed=tuple(self.assumed.values()))
 
     # -- data -------------------------------------------------------------------------------------
     def _declare_all(self) -> None:
         """A cell for every module's data, the scopes of every module, then each value in order
         (a value that needs a later one has it made first)."""
         base = {k: Cell(v, t, s, "", 0, k) for k, (t, s, v) in predefined(self.types).items()}
-        check_task(self.task, set(base), set(self.signals))  # as the controller loads it: every routine
+        assumed = {} if self.assume_missing else None
+        check_task(self.task, set(base), set(self.signals), assumed)  # as the controller loads it: every routine
+        for key, a in (assumed or {}).items():  # --assume-missing: each a variable of its stand-in's value
+            value = base[STAND_IN[a.type]].value if a.type in STAND_IN else 0.0
+            base[key] = Cell(value, a.type, "var", a.file, a.line, a.name)
+        self.assumed = assumed or {}
         cells: dict[int, Cell] = {}
         shared: dict[str, Cell] = {}  # a global PERS declared in several modules is one object
         for sym in self.task.globals.values():
@@ -357,6 +377,10 @@ class Interpreter(Evaluator):
         self.path = routine.file
         try:
             self.body(routine.body, callee)
+        except RsxmlError as exc:
+            if not hasattr(exc, "chain"):  # the calls that led to the line it stopped at
+                exc.chain = (*callee.chain(), f"{routine.name} ({exc.file}:{exc.line})")
+            raise
         except Returned as r:
             if routine.kind == "func":
                 if r.value is None:

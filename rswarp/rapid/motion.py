@@ -127,3 +127,6 @@ class Run:
     notes: tuple[str, ...] = field(default=())
     stopped: Diagnostic | None = None  # where the run stopped for a live input no --input gave
     needs_input: dict | None = None  # that input: name, source, file, line, read_file, read_line
+    error: Diagnostic | None = None  # the run-time error the task stopped at (division by zero, ...)
+    error_chain: tuple[str, ...] = ()  # the calls that led to it, outermost first
+    assumed: tuple = ()  # check.Assumed: the stand-ins --assume-missing took for names declared nowhere

@@ -95,6 +95,8 @@ def run_program(path: str, programs: list[str], task: TaskOptions | None = None,
 
         doc["video"] = program_video(mech, p, tally, names, video.video, video.video_size, tool=mounted, cell=cell,
                                      floor=world_floor)
+    if p.run.error is not None:  # the task stopped at a run-time error: reported whole, exit 1
+        return Output(json_safe(doc), program_text(mech, doc), 1, (str(p.run.error),))
     return Output(json_safe(doc), program_text(mech, doc))
 
 
@@ -150,7 +152,35 @@ def _document(mech, p: Plan, tally, names, checked, csv, floor: float = 0.0, too
             "warnings": [str(w) for w in run.warnings], "errors": [str(e) for e in p.errors], "csv": csv,
             "speed_plot": None,
             "stopped": str(run.stopped) if run.stopped is not None else None, "needs_input": run.needs_input,
+            "error": _run_error(run), "assumed": _assumed(run, moves),
             "collision_pairs_checked": [list(n) for n, c in zip(names, [] if checked is None else checked) if c]}
+
+
+def _run_error(run) -> dict | None:
+    """The run-time error the task stopped at (every move before it planned, timed and checked):
+    its line and the calls that led there; None where it ran to its end."""
+    e = run.error
+    return None if e is None else {"file": e.file, "line": e.line, "message": e.message, "text": str(e),
+                                   "chain": list(run.error_chain)}
+
+
+def _assumed(run, moves: list[dict]) -> list[dict]:
+    """``--assume-missing``'s stand-ins, each once: its name, type, value, the line that first uses
+    it; and each move (and its findings) that uses one says which."""
+    from ..rapid.interpret import STAND_IN
+
+    at: dict = {}
+    for a in run.assumed:
+        for use in a.uses:
+            at.setdefault(use, []).append(a.name)
+    for m in moves:
+        names = sorted(at.get((m["file"], m["line"]), ()))
+        if names:
+            m["assumed"] = names
+            for f in m["findings"]:
+                f["assumed"] = names
+    return [{"name": a.name, "type": a.type, "value": STAND_IN.get(a.type, "0"), "file": a.file, "line": a.line,
+             "uses": len(a.uses)} for a in sorted(run.assumed, key=lambda a: (a.file, a.line, a.name))]
 
 
 def _move_limits(limits, motion, scale) -> dict | None:

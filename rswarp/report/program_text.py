@@ -39,6 +39,11 @@ def program_text(mech, doc: dict) -> str:
         lines.append(f"errors: {len(doc['errors'])} (targets the robot cannot take; their moves are skipped)")
     if doc.get("stopped"):
         lines.append(f"stopped: {doc['stopped']} (every move before it is planned and timed)")
+    lines += _assumed(doc.get("assumed") or [], several)
+    if doc.get("error"):
+        e = doc["error"]
+        lines.append(f"error: {e['text']} (the task stops there; every move before it is planned, timed and checked)")
+        lines += [f"  called from {c}" for c in e["chain"][:-1][::-1]]
     if doc["csv"]:
         lines.append(f"trajectory: {doc['csv']}")
     if doc.get("speed_plot"):
@@ -87,7 +92,8 @@ def _head(doc: dict, files: list[str]) -> str:
             f"{doc['duration_s']:.2f} s in all (zones blended; fine stops)")
     passes = doc["cycles_s"]
     if doc["cycle_s"] is None:
-        head += "\ncycle: none: the run stopped before a pass ended (see 'stopped' below)"
+        said = "error" if doc.get("error") else "stopped"
+        head += f"\ncycle: none: the run stopped before a pass ended (see '{said}' below)"
     elif doc["main_loop"] or len(passes) > 1:
         head += f"\ncycle: {doc['cycle_s']:.2f} s, {_which_pass(doc)}"
     else:
@@ -123,9 +129,29 @@ def _findings(moves: list[dict], several: bool) -> list[str]:
     head = f"findings: {len(found)} ({fails} fail, {len(found) - fails} warn)"
     if len(shown) < len(found):
         head += f" at {len(shown)} place{'s' * (len(shown) != 1)}"
-    lines = [head] + [f"  {_where(f, several)}: {f['severity']}: {f['text']}" for f in shown[:MAX_ROWS]]
+    lines = [head] + [f"  {_where(f, several)}: {f['severity']}: {f['text']}{_assumes(f)}" for f in shown[:MAX_ROWS]]
     if len(shown) > MAX_ROWS:
         lines.append(f"  ... {len(shown) - MAX_ROWS} more (--json lists them all)")
+    return lines
+
+
+def _assumes(f: dict) -> str:
+    """A finding of a move that uses a stand-in says which."""
+    return f" (the move uses the stand-in {', '.join(f['assumed'])})" if f.get("assumed") else ""
+
+
+def _assumed(assumed: list[dict], several: bool) -> list[str]:
+    """``--assume-missing``'s stand-ins, one line each: name, type and value, the line first using it."""
+    if not assumed:
+        return []
+    lines = [f"assumed: {len(assumed)} name{'s' * (len(assumed) != 1)} declared nowhere, run with stand-ins "
+             "(--assume-missing)"]
+    for a in assumed[:MAX_ROWS]:
+        where = f"{Path(a['file']).name}:{a['line']}" if several else f"line {a['line']}"
+        value = {"num": "0"}.get(a["type"], f"as {a['value']}")
+        lines.append(f"  {a['name']}: a {a['type']} {value} ({where}, {a['uses']} use{'s' * (a['uses'] != 1)})")
+    if len(assumed) > MAX_ROWS:
+        lines.append(f"  ... {len(assumed) - MAX_ROWS} more (--json lists them all)")
     return lines
 
 
