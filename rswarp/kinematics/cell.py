@@ -94,8 +94,11 @@ class CellKinematics:
         ext = np.atleast_2d(np.asarray(ext, float))
         return {name: ext[:, s] for name, s in self.slices.items()}
 
-    def joined(self, joints: dict[str, np.ndarray]) -> np.ndarray:
-        """External joint vectors (N, all) of each unit's joints (N, dof)."""
+    def joined(self, joints: dict[str, np.ndarray], count: int = 1) -> np.ndarray:
+        """External joint vectors (N, all) of each unit's joints (N, dof); (count, 0) for a cell
+        with no external unit (a robot alone in its cell)."""
+        if not self.cell.externals:
+            return np.zeros((count, 0))
         return np.concatenate([np.atleast_2d(joints[e.name]) for e in self.cell.externals], axis=1)
 
     def home(self) -> np.ndarray:

@@ -140,7 +140,7 @@ def carried(cell: Cell | None, trajectory):
     extax = np.full((len(trajectory.times), 6), 9e9)
     for k, axis in enumerate(trajectory.ext_axes):
         extax[:, LOGICAL_AXES.index(axis)] = trajectory.ext[:, k]
-    return replace(trajectory, base=_offsets(cell, ck.joined(ck.unit_joints(extax)), ck))
+    return replace(trajectory, base=_offsets(cell, ck.joined(ck.unit_joints(extax), len(extax)), ck))
 
 
 def _offsets(cell: Cell, ext: np.ndarray, ck=None) -> np.ndarray:

@@ -69,7 +69,7 @@ def plan(planner, steps: list, budget: list) -> dict:
 def _probed(planner, run: list):
     """(the chain's ``Corners``, its flange poses) of a run of steps."""
     fr = run[0].frames
-    start = fr.relative(planner.flanges(run[0].q0[None]))[0]
+    start = fr.relative(planner.flanges(run[0].q0[None, :planner.dof]))[0]  # over a cell, the robot's joints
     members = []
     for s in run:
         m = s.motion
@@ -88,15 +88,19 @@ def _probed(planner, run: list):
 
 def _solve(planner, found: list) -> None:
     """Each chain's probes solved in one launch and followed from where its first move starts; a
-    chain that cannot be followed to its last move's own end is dropped (None)."""
+    chain that cannot be followed to its last move's own end is dropped (None). Over a cell the
+    steps' joints end with the external axes', which stand still along a chain (a move that moves
+    them has no fixed frames and joins none): they are carried along as they are."""
     sol = planner.kin.ik64(np.concatenate([f[2] for f in found]))
-    at = 0
+    dof, at = planner.dof, 0
     for k, (run, c, flanges) in enumerate(found):
         n = len(flanges)
         part = type(sol)(sol.q[at:at + n], sol.conf[at:at + n], sol.status[at:at + n], sol.numerical)
         at += n
-        q, stop, _, _ = follow(planner.kin, part, run[0].q0)
-        ok = stop is None and np.allclose(q[-1], run[-1].q[-1], atol=1e-6)
+        q, stop, _, _ = follow(planner.kin, part, run[0].q0[:dof])
+        ok = stop is None and np.allclose(q[-1], run[-1].q[-1, :dof], atol=1e-6)
+        if ok and len(run[0].q0) > dof:
+            q = np.hstack([q, np.broadcast_to(run[0].q0[dof:], (len(q), len(run[0].q0) - dof))])
         found[k] = (run, c, flanges, q if ok else None)
 
 

@@ -10,8 +10,8 @@ from pathlib import Path
 from ..config import TaskOptions, routed
 from ..errors import Diagnostic, InputError, RsxmlError, Warn, ignore
 from ..kinematics.kinematics import Kinematics
-from ..rapid.interpret import MAX_CYCLES, Interpreter
 from ..rapid.eio import add_configuration
+from ..rapid.interpret import MAX_CYCLES, Interpreter
 from ..rapid.task import load_task
 from ..rsxml.robot_data import axis_limits, robot_data
 from .cells import cell_planner, robot_of

@@ -9,8 +9,8 @@ from pathlib import Path
 
 from ..files import read_regular
 from ..rsxml.cfg import parse_cfg
-from .errors import fail
-from .parse import decode
+from .errors import fail, warning
+from .parse import NotText, decode
 
 _TYPES = {"DI": "signaldi", "DO": "signaldo", "AI": "signalai", "AO": "signalao", "GI": "signalgi", "GO": "signalgo"}
 
@@ -44,6 +44,8 @@ def read_eio(path: Path) -> dict[str, Signal]:
         text = decode(read_regular(path), str(path))
     except OSError as exc:
         fail(str(path), 0, f"cannot read: {exc.strerror or exc}")
+    except NotText:
+        fail(str(path), 0, "not a CFG text file (it holds NUL bytes or control characters: binary)")
     out: dict[str, Signal] = {}
     for entry in parse_cfg(text, str(path), strict=False):  # lenient: an optional file, read for names
         name, kind = entry.name, (entry.text("signaltype") or entry.text("type") or "").upper()
@@ -55,3 +57,18 @@ def read_eio(path: Path) -> dict[str, Signal]:
             default = 0.0
         out.setdefault(name.lower(), Signal(name, _TYPES[kind], default, str(path), entry.line))
     return out
+
+
+def add_configuration(task, path) -> None:
+    """The I/O configuration of a cell's backup (``Cell.eio``, its SYSPAR/EIO.cfg) given to
+    ``task`` as a task folder's backup gives its own, said in a note: its signals join those the
+    task's folder brought (the cell's backup's default where both declare a name); nothing where
+    the task's folder is that same backup."""
+    cfg = Path(path)
+    if any(Path(s.file).resolve() == cfg.resolve() for s in task.signals.values()):
+        return
+    signals = read_eio(cfg)
+    task.signals = {**task.signals, **signals}
+    task.notes.append(warning(str(cfg), 0, f"the I/O configuration of the cell's backup: {len(signals)} signals read "
+                                           "(their names are signals in the task, at their default values unless "
+                                           "--io sets them)"))

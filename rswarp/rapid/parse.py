@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import Diagnostic, RsxmlError
 from ..files import cache_root, read_regular
 from . import nodes
 from .build import DECLARATION, MAX_STRING, STRING, Builder, literal_regex
@@ -68,9 +69,14 @@ def _shared():
     return _parser("")
 
 
+class NotText(RsxmlError):
+    """A module file that is no text: binary, or encrypted (ABB's own system modules, a module
+    saved NOVIEW). A task's folder skips one (``rapid.task``); one named by itself is an error."""
+
+
 def decode(data: bytes, path: str) -> str:
     """Text of a module: by its byte-order mark, else UTF-8, else Windows-1252 (what older
-    controllers and RobotStudio write); a NUL outside a UTF-16/32 file is not text."""
+    controllers and RobotStudio write); a NUL outside a UTF-16/32 file is not text (``NotText``)."""
     for bom, codec in _BOMS:
         if data.startswith(bom):
             try:
@@ -78,13 +84,14 @@ def decode(data: bytes, path: str) -> str:
             except UnicodeDecodeError as exc:
                 fail(path, 0, f"not valid {codec} text: {exc.reason}")
     if b"\x00" in data:
-        fail(path, 0, "not a RAPID text file (it holds NUL bytes)")
+        raise NotText(Diagnostic(path, 0, "not a RAPID text file: it holds NUL bytes (binary, or an encrypted module)"))
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:
         text = data.decode("cp1252", errors="replace")
     if len(_CONTROL.findall(text[:65536])) > 0.01 * min(len(text), 65536):
-        fail(path, 0, "not RAPID text: binary or encrypted (a module saved NOVIEW is encrypted); rswarp cannot read it")
+        raise NotText(Diagnostic(path, 0, "not RAPID text: binary or encrypted (a module saved NOVIEW is encrypted); "
+                                          "rswarp cannot read it"))
     return text
 
 

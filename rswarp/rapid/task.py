@@ -14,7 +14,7 @@ from ..errors import Diagnostic, InputError, RsxmlError
 from ..files import no_cyclic_gc
 from . import nodes
 from .errors import fail, warning
-from .parse import SUFFIXES, read_file
+from .parse import SUFFIXES, NotText, read_file
 from .values import Types
 
 MAX_FILES = 10_000  # module files of one task
@@ -163,23 +163,51 @@ def _io_configuration(paths: list[str | Path], notes: list) -> dict:
     return {}
 
 
+def _named(paths: list[str | Path]) -> set[Path]:
+    """The module files given by themselves (not a folder's, nor a .pgf program file's)."""
+    return {p.resolve() for p in map(Path, paths) if not p.is_dir() and p.suffix.lower() != ".pgf"}
+
+
+def _modules_of(f: Path, named: set[Path], notes: list) -> list[nodes.Module] | None:
+    """The modules of file ``f``; None, with a warning, for an encrypted module (binary: ABB's own
+    system modules, a module saved NOVIEW) that a folder or a .pgf brings: the controller loads it,
+    rswarp cannot read it, so only what the task needs from it is missing (an error at that use).
+    One named by itself is the error it is: that file is all the user asked for."""
+    try:
+        return read_file(f)[0]
+    except NotText as exc:
+        if f.resolve() in named:
+            d = exc.diagnostics[0]
+            fail(d.file, d.line, f"{d.message}; in a task's folder an encrypted module is skipped with a warning")
+        notes.append(warning(str(f), 0, "an encrypted module: skipped; only what the task needs from it is missing"))
+        return None
+
+
 def _load_task(paths: list[str | Path]) -> Task:
     files, notes = task_files(paths)
     signals = _io_configuration(paths, notes)
+    named = _named(paths)
     modules: list[nodes.Module] = []
     names: dict[str, nodes.Module] = {}
-    total = 0
+    total, skipped = 0, 0
     for f in files:
         total += f.stat().st_size if f.is_file() else 0
         if total > MAX_TASK_BYTES:
             fail(str(f), 0, f"the task's modules pass {MAX_TASK_BYTES >> 20} MiB of text with this file: rswarp "
                             f"reads at most {MAX_TASK_BYTES >> 20} MiB of RAPID (some 350 000 robtargets)")
-        for m in read_file(f)[0]:
+        found = _modules_of(f, named, notes)
+        if found is None:
+            skipped += 1
+            continue
+        for m in found:
             other = names.get(m.name.lower())
             if other is not None:
                 fail(m.file, m.line, f"a second module '{m.name}': the first is at {other.file}:{other.line}")
             names[m.name.lower()] = m
             modules.append(m)
+    if files and skipped == len(files):
+        fail(str(paths[0]), 0, f"every module of the task is encrypted ({', '.join(f.name for f in files[:3])}"
+                               f"{', ...' if len(files) > 3 else ''}): rswarp reads none, so there is nothing to run")
     task = Task(modules, [str(f) for f in files], Types(), notes=notes, signals=signals)
     for m in modules:
         for r in m.records:

@@ -30,7 +30,7 @@ LOGICAL_AXES = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
 MECHANISM_SUFFIXES = (".rsxml", ".xml")  # a tool given by one of these is a Tool mechanism, else a mesh
 KEYS = {  # table -> its keys; "" is the file's top level
     "": ("robot", "external", "tool", "environment", "backup"),
-    "robot": ("rsxml", "on", "frame"),
+    "robot": ("rsxml", "on", "frame", "unit"),
     "external": ("name", "rsxml", "frame", "axes"),
     "tool": ("path", "frame"),
     "environment": ("mesh", "frame", "on"),
@@ -118,6 +118,7 @@ class Cell:
     environment: tuple[CellMesh, ...] = ()
     warnings: tuple[str, ...] = ()
     diagnostics: tuple[Diagnostic, ...] = ()  # the warnings as records (``rswarp check``'s)
+    eio: str | None = None  # the backup's SYSPAR/EIO.cfg: the signals a task run on the cell knows
 
     @property
     def mapping(self) -> dict[str, tuple[str, str]]:
@@ -162,13 +163,14 @@ def read_cell(path) -> Cell:
     tool = r.attempt(lambda: r.tool(r.table(doc, "tool"))) if "tool" in doc else None
     meshes = r.attempt(r.tables, doc, "environment", default=[])
     environment = tuple(m for k, t in enumerate(meshes) if (m := r.attempt(r.mesh, t, k, externals)))
+    unit = r.attempt(r.unit, doc) if isinstance(doc.get("robot"), dict) else None
     if r.errors:
         raise RsxmlError(sorted(r.errors, key=lambda d: d.line))
     cell = Cell(path, robot, externals, tool, environment)
-    if "backup" in doc:  # the controller's own setup (SYSPAR/MOC.cfg): its bounds, carrier and frames
+    if "backup" in doc:  # the controller's own setup (SYSPAR/MOC.cfg, EIO.cfg): bounds, carrier, frames, signals
         from .cell_moc import apply_backup
 
-        given = {("robot", "frame"): "frame" in doc["robot"]}
+        given = {("robot", "frame"): "frame" in doc["robot"], ("robot", "unit"): unit}
         given |= {("external", t.get("name")): "frame" in t for t in r.tables(doc, "external")}
         cell, said = apply_backup(cell, r.folder, doc["backup"], r.lines.of("", None, "backup"), given,
                                   lambda message: r.fail(("", None), "backup", message))
@@ -247,6 +249,21 @@ class _Reader:
                 self.fail(where, "on", f"[robot] on = {_shown(on)} names no [[external]]{hint}")
             self.allowed_track(mech, externals[names.index(on)])
         return PlacedRobot(path, mech, self.frame(t, where), on, self.lines.of(*where, None))
+
+    def unit(self, doc: dict) -> tuple[str, int] | None:
+        """``[robot] unit`` (the backup's robot the cell's is, MultiMove) and its line; None where
+        not given. It names a robot of the backup's MOC.cfg: without ``backup`` it is an error."""
+        if "unit" not in doc["robot"]:
+            return None
+        value = doc["robot"]["unit"]
+        where = ("robot", None)
+        if not isinstance(value, str) or not value.strip():
+            self.fail(where, "unit", "[robot] unit: give the backup's robot the cell's robot is, as text: its "
+                                     "mechanical unit in MOC.cfg (\"ROB_2\") or its motion task (\"T_ROB2\")")
+        if "backup" not in doc:
+            self.fail(where, "unit", f"[robot] unit = {_shown(value)} names a robot of the cell's backup, and the "
+                                     "cell file gives no backup = \"...\"")
+        return value.strip(), self.lines.of(*where, "unit")
 
     def allowed_track(self, robot: Mechanism, carrier: External) -> None:
         """A warning where the robot's AllowedTrackModels does not name the model it stands on."""

@@ -9,20 +9,30 @@ the controller has the cell set up (``rsxml.moc``). What it sets, each said in a
   mechanical unit's logical axes drive, where the cell's ``[robot] on`` is not given (a warning
   where it names another);
 - the robot's base frame, where ``[robot] frame`` is not given; a single-axis unit's frame (its
-  SINGLE's base frame), where its ``frame`` is not given.
+  SINGLE's base frame), where its ``frame`` is not given;
+- the backup's ``SYSPAR/EIO.cfg``, where it has one: the signals a task run on the cell knows
+  (``Cell.eio``, read by ``rswarp.motion.plan``).
 
-Axes one side drives and the other does not are warnings."""
+A MultiMove controller has several robots: ``[robot] unit`` says which is the cell's (its
+mechanical unit, ``ROB_2``, or the motion task that moves it, ``T_ROB2``, where the backup's
+``SYSPAR/SYS.cfg`` says), and the external axes are that robot's task's: its mechanical unit
+group's in SYS.cfg; without SYS.cfg, those of no unit that carries another robot. Axes one side
+drives and the other does not are warnings."""
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import Diagnostic, RsxmlError
-from .moc import MocConfig, read_moc
+from ..files import read_regular
+from .cfg import decode_cfg, parse_cfg
+from .moc import MocConfig, MocJoint, MocRobot, read_moc
 from .model import Limit
+
+GROUP_UNITS = 6  # -MechUnit_1 .. -MechUnit_6 of a SYS.cfg MECHANICAL_UNIT_GROUP
 
 
 def moc_path(folder: Path, value, fail) -> Path:
@@ -41,15 +51,64 @@ def moc_path(folder: Path, value, fail) -> Path:
     return path
 
 
-class MocApplied:
-    """A cell as read, with its MOC.cfg's settings applied; ``said`` the notes and warnings."""
+def beside(moc: Path, name: str) -> Path | None:
+    """The backup's other SYSPAR file ``name`` (``EIO.cfg``, ``SYS.cfg``) beside its MOC.cfg."""
+    for spelt in (name, name.lower(), name.upper()):
+        if (moc.parent / spelt).is_file():
+            return moc.parent / spelt
+    return None
 
-    def __init__(self, cell, moc: MocConfig, line: int, given: dict):
-        self.cell, self.moc, self.line, self.given = cell, moc, line, given
+
+@dataclass(frozen=True)
+class MotionGroup:
+    """A SYS.cfg MECHANICAL_UNIT_GROUP: its robot's and other mechanical units' names (lower case)
+    and the motion tasks (CAB_TASKS) that use it."""
+
+    name: str
+    robot: str | None
+    units: tuple[str, ...]
+    tasks: tuple[str, ...]
+
+
+def motion_groups(path: Path) -> tuple[MotionGroup, ...]:
+    """The mechanical unit groups of a backup's SYS.cfg, read leniently (only two sections are
+    read: a line that is no attribute elsewhere is skipped); an RsxmlError where it cannot be read."""
+    try:
+        data = read_regular(path)
+    except OSError as exc:
+        raise RsxmlError(Diagnostic(str(path), 0, f"cannot read: {exc.strerror or exc}")) from None
+    entries = parse_cfg(decode_cfg(data, str(path)), str(path), strict=False)
+    tasks: dict[str, list[str]] = {}
+    for e in entries:
+        group = e.text("usemechanicalunitgroup")
+        if e.section == "CAB_TASKS" and e.name and group:
+            tasks.setdefault(group.lower(), []).append(e.name)
+    out = []
+    for e in entries:
+        if e.section == "MECHANICAL_UNIT_GROUP" and e.name:
+            units = tuple(u.lower() for k in range(1, GROUP_UNITS + 1) if (u := e.text(f"mechunit_{k}")))
+            robot = e.text("robot")
+            out.append(MotionGroup(e.name, robot.lower() if robot else None, units,
+                                   tuple(tasks.get(e.name.lower(), ()))))
+    return tuple(out)
+
+
+class MocApplied:
+    """A cell as read, with its MOC.cfg's settings applied; ``said`` the notes and warnings.
+    ``groups``: the backup's SYS.cfg mechanical unit groups (None: it has no SYS.cfg)."""
+
+    def __init__(self, cell, moc: MocConfig, line: int, given: dict, groups: tuple[MotionGroup, ...] | None = None):
+        self.cell, self.moc, self.line, self.given, self.groups = cell, moc, line, given, groups
         self.said: list[Diagnostic] = []
+        self.robot = self._which()
+        self.axes = self._task_axes()
 
     def note(self, message: str, severity: str = "note") -> None:
         self.said.append(Diagnostic(self.cell.path, self.line, f"{Path(self.moc.path).name}: {message}", severity))
+
+    def fail(self, message: str, line: int | None = None):
+        raise RsxmlError(Diagnostic(self.cell.path, self.line if line is None else line,
+                                    f"{Path(self.moc.path).name}: {message}"))
 
     def apply(self):
         """The cell with the bounds, the carrier and the frames the MOC sets."""
@@ -59,9 +118,72 @@ class MocApplied:
         cell = self._robot(cell)
         return cell
 
+    # -- which robot, which axes (MultiMove: several robots, one task each) -------------------------
+    def _unit_of_robot(self, robot: MocRobot) -> str:
+        """The mechanical unit (lower case) that uses ``robot``."""
+        return next((u.name.lower() for u in self.moc.units if u.robot is robot), robot.name.lower())
+
+    def _which(self) -> MocRobot | None:
+        """The MOC's robot the cell's robot is: the one ``[robot] unit`` names (its mechanical
+        unit or ROBOT, or a motion task of SYS.cfg that moves it), else the only one."""
+        robots = self.moc.robots
+        name, line = self.given.get(("robot", "unit")) or (None, None)
+        names = ", ".join(r.name for r in robots) or "none"
+        tasks = [t for g in self.groups or () if g.robot for t in g.tasks]
+        if name is None:
+            if len(robots) > 1:
+                hint = f" (or its motion task: {', '.join(tasks)})" if tasks else ""
+                self.fail(f"the controller has {len(robots)} robots ({names}: MultiMove): say which is the cell's, "
+                          f"[robot] unit = \"{robots[0].name}\"{hint}")
+            return robots[0] if robots else None
+        key = name.strip().lower()
+        for r in robots:
+            if key in (r.name.lower(), self._unit_of_robot(r)):
+                return r
+        for g in self.groups or ():
+            if g.robot and key in (t.lower() for t in g.tasks):
+                found = next((r for r in robots if g.robot in (r.name.lower(), self._unit_of_robot(r))), None)
+                if found is not None:
+                    return found
+        hint = f", and SYS.cfg the motion tasks {', '.join(tasks)}" if tasks else \
+            "; a motion task is known by the backup's SYSPAR/SYS.cfg, which it lacks" if self.groups is None else ""
+        self.fail(f"[robot] unit = '{name}' is no robot of the controller (its robots: {names}{hint})", line)
+
+    def _task_axes(self) -> dict[str, MocJoint]:
+        """The external axes of the chosen robot's task by logical axis: the joints of its
+        mechanical unit group's units (SYS.cfg); without SYS.cfg, of every unit but those that
+        carry another robot (one robot: every unit's). An axis two units still claim (one per
+        task) is the carrier's where one of them carries the robot; else neither, with a warning."""
+        joints = [j for j in self.moc.joints if j.logical_axis >= 7 and j.unit is not None]
+        robots = self.moc.robots
+        if self.robot is None or len(robots) < 2:
+            return self.moc.external_axes
+        mine = self._unit_of_robot(self.robot)
+        group = next((g for g in self.groups or () if g.robot == mine), None)
+        if group is not None:
+            joints = [j for j in joints if j.unit.lower() in group.units]
+        else:
+            others = {r.base_frame.moved_by.lower() for r in robots if r is not self.robot and r.base_frame.moved_by}
+            joints = [j for j in joints if j.unit.lower() not in others]
+        carrier = (self.robot.base_frame.moved_by or "").lower()
+        by_axis: dict[str, list[MocJoint]] = {}
+        for j in joints:
+            by_axis.setdefault(j.axis, []).append(j)
+        out = {}
+        for axis, found in by_axis.items():
+            if len(found) > 1:
+                found = [j for j in found if j.unit.lower() == carrier] or found
+            if len(found) > 1:
+                claims = " and ".join(f"{j.unit}'s joint {j.name}" for j in found)
+                self.note(f"{axis} is {claims} (one per task); the backup has no SYS.cfg to say which is "
+                          f"{self.robot.name}'s: neither is applied", "warning")
+                continue
+            out[axis] = found[0]
+        return {a: out[a] for a in sorted(out)}
+
     def _bounds(self, e):
         """Unit ``e`` with the MOC's bounds on each joint whose logical axis the MOC has."""
-        found = self.moc.external_axes
+        found = self.axes
         limits = {lim.joint: lim for lim in e.mechanism.limits}
         mech = e.mechanism
         for axis, name in zip(e.axes, e.joints):
@@ -87,32 +209,34 @@ class MocApplied:
 
     def _unmapped(self, externals) -> None:
         mine = {a for e in externals for a in e.axes}
-        for axis, j in self.moc.external_axes.items():
+        for axis, j in self.axes.items():
             if axis not in mine:
                 self.note(f"the controller drives {axis} ({j.unit}'s joint {j.name}); no unit of the cell does",
                           "warning")
 
     def _robot(self, cell):
-        """The robot's carrier and base frame as the MOC's first robot has them, where not given."""
-        robots = self.moc.robots
-        if not robots:
+        """The robot's carrier and base frame as its MOC robot has them, where not given."""
+        if self.robot is None:
             return cell
-        bf = robots[0].base_frame
+        me = self.robot.name
+        bf = self.robot.base_frame
         robot = cell.robot
+        if len(self.moc.robots) > 1:
+            self.note(f"the cell's robot is {me} (robot type {self.robot.robot_type or 'not given'}), one of the "
+                      f"controller's {len(self.moc.robots)}")
         if bf.moved_by:
             carrier = self._unit_of(cell, bf.moved_by)
             if carrier is None:
-                self.note(f"{robots[0].name}'s base is moved by {bf.moved_by}, whose axes drive no unit of the cell",
-                          "warning")
+                self.note(f"{me}'s base is moved by {bf.moved_by}, whose axes drive no unit of the cell", "warning")
             elif robot.on is None:
                 robot = replace(robot, on=carrier)
-                self.note(f"{robots[0].name}'s base is moved by {bf.moved_by}: the robot stands on '{carrier}'")
+                self.note(f"{me}'s base is moved by {bf.moved_by}: the robot stands on '{carrier}'")
             elif robot.on != carrier:
-                self.note(f"{robots[0].name}'s base is moved by {bf.moved_by} ('{carrier}' in the cell), not "
+                self.note(f"{me}'s base is moved by {bf.moved_by} ('{carrier}' in the cell), not "
                           f"'{robot.on}' as [robot] on says", "warning")
         if not self.given.get(("robot", "frame")):
             robot = replace(robot, frame=bf.matrix())
-            self.note(f"the robot's frame is {robots[0].name}'s base frame: {bf.words()}")
+            self.note(f"the robot's frame is {me}'s base frame: {bf.words()}")
         externals = tuple(self._unit_frame(e) for e in cell.externals)
         return replace(cell, robot=robot, externals=externals)
 
@@ -139,7 +263,7 @@ class MocApplied:
         for u in self.moc.units:
             for s in u.singles:
                 j = next((j for j in u.joints if j.name == s.joint), None)
-                if j is not None and j.axis == e.axes[0]:
+                if j is not None and j is self.axes.get(e.axes[0]):
                     self.note(f"the frame of '{e.name}' is {u.name}'s single {s.name}'s base frame: "
                               f"{s.base_frame.words()}")
                     return replace(e, frame=s.base_frame.matrix())
@@ -147,7 +271,16 @@ class MocApplied:
 
 
 def apply_backup(cell, folder: Path, value, line: int, given: dict, fail):
-    """(the cell with its backup's MOC.cfg applied, the notes and warnings it said)."""
+    """(the cell with its backup's MOC.cfg applied and its EIO.cfg named, the notes and warnings
+    it said). ``given``: what the cell file gives itself (``("robot", "frame")``: True; ``("robot",
+    "unit")``: (the name, its line))."""
     path = moc_path(folder, value, fail)
-    done = MocApplied(cell, read_moc(path), line, given)
-    return done.apply(), done.said
+    sys_cfg = beside(path, "SYS.cfg")
+    done = MocApplied(cell, read_moc(path), line, given, motion_groups(sys_cfg) if sys_cfg else None)
+    cell = done.apply()
+    eio = beside(path, "EIO.cfg")
+    if eio is not None:
+        cell = replace(cell, eio=str(eio))
+        done.said.append(Diagnostic(cell.path, line, f"{eio.name}: the controller's I/O configuration: the signals "
+                                                     "it declares are known to a task run on the cell", "note"))
+    return cell, done.said

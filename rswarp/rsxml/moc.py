@@ -224,9 +224,9 @@ class _Reader:
             self.fail(inst, "base_frame_orient_u0", f"the base frame's quaternion [{_nums(q)}] (u0..u3; u0 is 1 where "
                                                     f"omitted) has length {norm:.6g}, not 1")
         key = _moved_key(inst)
-        moved = inst.text(key)
-        if inst.flag(key) and (not moved or moved.lower() not in self.by["MECHANICAL_UNIT"]):
-            self.fail(inst, key, f"-{key} '{moved or ''}' names no MECHANICAL_UNIT")
+        moved = inst.text(key) or None  # absent, or "" as the controller writes a reference left unset
+        if moved is not None and moved.lower() not in self.by["MECHANICAL_UNIT"]:
+            self.fail(inst, key, f"-{key} '{moved}' names no MECHANICAL_UNIT")
         return BaseFrame(xyz, tuple(float(v) for v in q / norm), moved, inst.line)
 
     def unit(self, inst: CfgInstance) -> _Unit:
