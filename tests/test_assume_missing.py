@@ -81,3 +81,12 @@ def test_a_run_time_error_stops_the_task_there_with_every_move_before_it(capsys)
         program_plan(str(IRB2600), [str(path)])  # the Python API still raises it
     assert main(["program", str(IRB2600), str(path)]) == 1
     assert "Calib.mod:19: division by zero" in capsys.readouterr().err
+
+
+def test_a_run_time_error_before_the_first_move_is_that_error_not_a_crash(tmp_path, capsys):
+    module = tmp_path / "e.mod"
+    module.write_text("MODULE E\n  PROC main()\n    reg1 := 1 / 0;\n    MoveJ [[900,0,900],[0,0,1,0],[0,0,0,0],"
+                      "[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n  ENDPROC\nENDMODULE\n")
+    assert main(["program", str(IRB2600), str(module), "--json"]) == 1
+    out = capsys.readouterr()
+    assert json.loads(out.out)["moves"] == [] and f"{module}:3: division by zero" in out.err

@@ -103,8 +103,10 @@ def at_rest(p, accel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         r = np.clip(r, 1, len(q) - 1)
         return np.all(np.abs(q[r] - q[r - 1]) <= accel * dt[r - 1][:, None] ** 2 * (1 + 1e-9), axis=1)
 
+    if not len(moves):  # a run that stopped before its first move
+        return np.zeros(0, bool), np.zeros(0, bool)
     empty = last <= first
-    stops = empty | still(last - 1) | np.array([m.motion.zone is None or m.motion.zone.fine for m in moves])
+    stops = empty | still(last - 1) | np.array([m.motion.zone is None or m.motion.zone.fine for m in moves], bool)
     follows = np.array([m.error is None and m.motion.kind != "wait" for m in moves[1:]] + [False], bool)
     stops |= ~(follows & np.append(~empty[1:], False))
     starts = empty | still(first)

@@ -9,7 +9,8 @@ from __future__ import annotations
 from . import nodes as n
 from .errors import fail
 from .scope import Cell, Part
-from .values import Arr
+from .values import Arr, Opaque
+from .words import CONFIGURED_TYPES, SIGNAL_TYPES
 
 
 class ArgumentError(ValueError):
@@ -81,6 +82,9 @@ def _argument(interp, p: n.Param, a: n.Arg, frame, line: int):
         if expr is not None and p.type.lower() == "switch":
             return Cell(True, "switch", "in", interp.path, line, p.name)
         return Cell(True, p.type, "in", interp.path, line, p.name)
+    configured = _configured(interp, p, expr, frame, line)
+    if configured is not None:
+        return configured
     if p.mode != "in" and isinstance(expr, n.Name):
         if interp.undeclared(expr, frame):
             fail(interp.path, line, f"unknown name '{expr.name}'")
@@ -101,6 +105,29 @@ def _argument(interp, p: n.Param, a: n.Arg, frame, line: int):
         value = interp.coerce(value, p.type, line, f"the argument '{p.name}'")
     file, at = _origin(expr, frame)
     return Cell(value, p.type, "in", file, at, p.name)
+
+
+def _configured(interp, p: n.Param, expr, frame, line: int):
+    """The cell of a signal or mechanical-unit parameter (``VAR signaldo sig``, ``VAR mecunit m``)
+    given a bare name: one the task declares nowhere is what the controller's configuration
+    declares (an I/O signal, ROB_1, STN1), bound by its name as the controller binds it; an IN
+    signal parameter is the signal its argument names, not a copy under the parameter's name.
+    None for other parameters and for declared data a VAR or INOUT parameter takes itself."""
+    t = interp.types.base(p.type)
+    if t not in CONFIGURED_TYPES or not isinstance(expr, n.Name) or expr.selectors:
+        return None
+    declared = not interp.undeclared(expr, frame)
+    if declared and p.mode != "in":
+        return None
+    cell = (frame.cells.get(expr.key) or frame.module.get(expr.key)) if declared else None
+    if cell is not None and interp.types.base(cell.type) not in CONFIGURED_TYPES:
+        return None  # data of another type: taken (and refused) as any argument is
+    name = getattr(cell, "name", expr.name)
+    if t in SIGNAL_TYPES:
+        interp.signal(name, line)  # the configuration's signal, without the warning a bare read gives
+        return Cell(interp.types.default(t), p.type, "var" if p.mode != "in" else "in", interp.path, line, name)
+    value = cell.get() if cell is not None else Opaque(t, expr.name)
+    return Cell(value, p.type, "var" if p.mode != "in" else "in", interp.path, line, name)
 
 
 def _origin(expr, frame) -> tuple[str, int]:
