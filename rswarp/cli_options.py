@@ -135,6 +135,8 @@ def _task(p: argparse.ArgumentParser) -> None:
                    help="auto (default): as the controller, a target's value for an external axis the robot "
                         "does not have is ignored (one warning an axis), a work object a unit moves is an error; "
                         "error: both are errors; ignore: both are ignored with a warning")
+    p.add_argument("--task", dest="motion_task", metavar="NAME",
+                   help="the task of a backup's folder to run (T_ROB2, MultiMove; default its first)")
     p.add_argument("--assume-missing", action="store_true",
                    help="run a task whose repository lacks its configuration: a name declared nowhere becomes, by "
                         "its use, a stand-in (a signal or num at 0, a tooldata or wobjdata at the identity with no "

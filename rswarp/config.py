@@ -77,6 +77,7 @@ class TaskOptions:
     environment: tuple[str, ...] = ()
     collision_matrix: str | None = None
     assume_missing: bool = False  # a name declared nowhere taken as a stand-in by its use (rapid.check.Assumed)
+    motion_task: str | None = None  # the task of a backup's folder to run (``T_ROB2``, MultiMove); None: its first
 
     def __post_init__(self):
         if self.external_axes not in EXTERNAL_AXES:

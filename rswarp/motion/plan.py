@@ -31,7 +31,7 @@ def program_plan(path: str, programs, task: TaskOptions | None = None, *, device
         raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {task.cycles}")
     mech, cell = robot_of(path)
     load = read_payload(task.payload, mech) if isinstance(task.payload, str) else task.payload
-    modules = load_task([programs] if isinstance(programs, (str, Path)) else list(programs))
+    modules = load_task([programs] if isinstance(programs, (str, Path)) else list(programs), task.motion_task)
     if cell is not None and cell.eio is not None:  # the cell's backup's signals, as its task folder's would be
         add_configuration(modules, cell.eio)
     limits, scale = axis_limits(mech, task.limits), load_scale(mech, load)

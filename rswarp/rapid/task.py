@@ -73,14 +73,15 @@ class Task:
             yield from names.values()
 
 
-def task_files(paths: list[str | Path]) -> tuple[list[Path], list]:
+def task_files(paths: list[str | Path], name: str | None = None) -> tuple[list[Path], list]:
     """The module files of ``paths`` (files, folders, .pgf program files) in load order, and notes
-    on what a folder held that is not run."""
+    on what a folder held that is not run; ``name``: the task a backup's folder runs (``T_ROB2``;
+    None: its first)."""
     files: list[Path] = []
     notes: list = []
     for p in map(Path, paths):
         if p.is_dir():
-            files += _folder_files(p, notes)
+            files += _folder_files(p, notes, name)
         elif p.suffix.lower() == ".pgf":
             files += _program_file(p)
         else:
@@ -96,15 +97,20 @@ def task_files(paths: list[str | Path]) -> tuple[list[Path], list]:
     return out, notes
 
 
-def _folder_files(folder: Path, notes: list) -> list[Path]:
-    """Every module file under ``folder``; of a backup (RAPID/ and its task folders), the first
-    task's, with a note naming the others."""
+def _folder_files(folder: Path, notes: list, name: str | None = None) -> list[Path]:
+    """Every module file under ``folder``; of a backup (RAPID/ and its task folders), the task
+    ``name`` names (its first where None, with a note naming the others)."""
     root = folder / "RAPID" if (folder / "RAPID").is_dir() else folder
     tasks = sorted((d for d in root.iterdir() if d.is_dir() and _TASK_FOLDER.match(d.name)), key=lambda d: d.name)
-    if tasks:
+    if name is not None and tasks:
+        found = [t for t in tasks if t.name.lower() == name.lower()]
+        if not found:
+            fail(str(folder), 0, f"--task {name}: the backup has no such task (it has {', '.join(t.name for t in tasks)})")
+        root = found[0]
+    elif tasks:
         if len(tasks) > 1:
             notes.append(warning(str(folder), 0, f"the folder holds the tasks {', '.join(t.name for t in tasks)}: "
-                                                 f"running {tasks[0].name} (name another's folder to run it)"))
+                                                 f"running {tasks[0].name} (--task names another)"))
         root = tasks[0]
     files = []
     for f in sorted(root.rglob("*")):
@@ -143,10 +149,11 @@ def _program_file(path: Path) -> list[Path]:
     return out
 
 
-def load_task(paths: list[str | Path]) -> Task:
-    """The task made of ``paths``: parsed, its types and names resolved."""
+def load_task(paths: list[str | Path], name: str | None = None) -> Task:
+    """The task made of ``paths``: parsed, its types and names resolved; ``name``: which task of a
+    backup's folder (``T_ROB2``; None: its first)."""
     with no_cyclic_gc():
-        return _load_task(paths)
+        return _load_task(paths, name)
 
 
 def _io_configuration(paths: list[str | Path], notes: list) -> dict:
@@ -183,8 +190,8 @@ def _modules_of(f: Path, named: set[Path], notes: list) -> list[nodes.Module] | 
         return None
 
 
-def _load_task(paths: list[str | Path]) -> Task:
-    files, notes = task_files(paths)
+def _load_task(paths: list[str | Path], name: str | None = None) -> Task:
+    files, notes = task_files(paths, name)
     signals = _io_configuration(paths, notes)
     named = _named(paths)
     modules: list[nodes.Module] = []
