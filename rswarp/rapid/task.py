@@ -105,7 +105,8 @@ def _folder_files(folder: Path, notes: list, name: str | None = None) -> list[Pa
     if name is not None and tasks:
         found = [t for t in tasks if t.name.lower() == name.lower()]
         if not found:
-            fail(str(folder), 0, f"--task {name}: the backup has no such task (it has {', '.join(t.name for t in tasks)})")
+            have = ", ".join(t.name for t in tasks)
+            fail(str(folder), 0, f"--task {name}: the backup has no such task (it has {have})")
         root = found[0]
     elif tasks:
         if len(tasks) > 1:
