@@ -103,9 +103,13 @@ def claim(path: Path, made: Path | None = None) -> None:
     any) is rswarp's; never the manifest itself."""
     if path.name == MANIFEST:
         raise InputError(f"{path}: {MANIFEST} is the name of rswarp's manifest of a folder; name the output otherwise")
+    if not str(path) or not path.name or path.is_dir():
+        raise InputError(f"{path}: is a folder, not a file name" if str(path) else "an output's file name is empty")
     folder = _folder(path)
     if (made is None or folder.resolve() != Path(made).resolve()) and not folder.is_dir():
         raise InputError(f"{path}: {folder} {'is a file, not a folder' if folder.exists() else 'does not exist'}")
+    if folder.is_dir() and not os.access(folder, os.W_OK | os.X_OK):
+        raise InputError(f"{path}: cannot write in {folder} (permission denied)")
     manifest(_folder(path))
     try:
         taken = path.exists() or path.is_symlink()

@@ -23,8 +23,10 @@ import numpy as np
 from .paths import path, quaternions, rotations, slerps
 
 PROBE_STEP = 0.002  # m of the chain between probes
+FINE_STEP = PROBE_STEP / 4  # in a corner's zones
 PROBE_TURN = 0.02  # rad of turn between probes
 CORNER_PROBES = 16  # stretches of a corner at least (an even number: its middle is a probe)
+FAR_TURN = np.pi / 2  # rad between the two orientations a corner blends: past it, each is held at its end
 TOP_CAP = 1e9  # m/s: the cap where neither the TCP's speed nor its turn bounds the path
 
 
@@ -74,7 +76,7 @@ def corner_path(members: list[Member]) -> Corners:
     zp = np.array([min(m.pzone, a / 2, b / 2) for m, a, b in zip(members, length, length[1:])] + [0.0])
     zo = np.array([max(min(m.ozone, a / 2, b / 2), z) for m, a, b, z in zip(members, length, length[1:], zp)] + [0.0])
     offset = np.concatenate([[0.0], np.cumsum(length)[:-1]])
-    s, end_probe = _probes(length, turn, zp, offset)
+    s, end_probe = _probes(length, turn, zp, zo, offset)
     own = np.clip(np.searchsorted(offset, s, side="right") - 1, 0, len(members) - 1)
     poses = _evaluate(paths, length, own, s - offset[own])
     near, gap = _nearest_corner(offset[1:], s)
@@ -96,18 +98,23 @@ def _nearest_corner(points: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.n
     return near, s - points[near]
 
 
-def _probes(length, turn, zp, offset) -> tuple[np.ndarray, np.ndarray]:
+def _probes(length, turn, zp, zo, offset) -> tuple[np.ndarray, np.ndarray]:
     """The probes' ``s`` (each move's part outside the corners, then its corner, evenly within
-    each) and the probe at each move's end (its corner's middle; the chain's end)."""
+    each; a corner's zones, where the joints turn from one move's way to the next's, at a quarter
+    of the step) and the probe at each move's end (its corner's middle; the chain's end)."""
     pieces = []
     count = len(length)
     for k in range(count):
         lo, hi = offset[k] + (zp[k - 1] if k else 0.0), offset[k] + length[k] - zp[k]
-        if hi - lo > 1e-9:
-            steps = max(int(np.ceil(max((hi - lo) / PROBE_STEP, turn[k] * (hi - lo) / length[k] / PROBE_TURN))), 1)
-            pieces.append(lo + (hi - lo) * np.arange(steps) / steps)
+        rate = turn[k] / length[k]
+        early = min(lo + (zo[k - 1] - zp[k - 1] if k else 0.0), hi)  # the orientation zones either side
+        late = max(hi - (zo[k] - zp[k]), early)
+        for a, b, step in ((lo, early, FINE_STEP), (early, late, PROBE_STEP), (late, hi, FINE_STEP)):
+            if b - a > 1e-9:
+                steps = max(int(np.ceil(max((b - a) / step, rate * (b - a) / PROBE_TURN))), 1)
+                pieces.append(a + (b - a) * np.arange(steps) / steps)
         if k < count - 1 and zp[k] > 0:
-            steps = max(int(np.ceil(2 * zp[k] / PROBE_STEP)), CORNER_PROBES)
+            steps = max(int(np.ceil(2 * zp[k] / FINE_STEP)), CORNER_PROBES)
             steps += steps % 2
             pieces.append(hi + 2 * zp[k] * np.arange(steps) / steps)
     total = offset[-1] + length[-1]
@@ -149,9 +156,23 @@ def _orientations(paths, length, poses, rows, near, s, offset, gap, zo) -> None:
         return
     k, z = near[rows], zo[near[rows]]
     w = beta((gap[rows] + z) / (2 * z))
-    before = _evaluate(paths, length, k, s[rows] - offset[k])[:, :3, :3]
-    after = _evaluate(paths, length, k + 1, s[rows] - offset[k + 1])[:, :3, :3]
+    d0, d1 = s[rows] - offset[k], s[rows] - offset[k + 1]
+    before = _evaluate(paths, length, k, d0)[:, :3, :3]
+    after = _evaluate(paths, length, k + 1, d1)[:, :3, :3]
+    # a turn continued far past its move could pass the half turn between the two, where the
+    # shortest way flips: those corners blend the moves' own orientations, each held at its end
+    far = np.unique(k[_angles(before, after) > FAR_TURN])
+    if len(far):
+        held = np.isin(k, far)
+        before[held] = _evaluate(paths, length, k[held], np.minimum(d0[held], length[k[held]]))[:, :3, :3]
+        after[held] = _evaluate(paths, length, k[held] + 1, np.maximum(d1[held], 0.0))[:, :3, :3]
     poses[rows, :3, :3] = _slerp_rows(before, after, w)
+
+
+def _angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The angle (rad) between rotations ``a`` and ``b`` (N, 3, 3), row by row."""
+    c = (np.einsum("nij,nij->n", a, b) - 1.0) / 2.0
+    return np.arccos(np.clip(c, -1.0, 1.0))
 
 
 def _slerp_rows(a: np.ndarray, b: np.ndarray, w: np.ndarray) -> np.ndarray:

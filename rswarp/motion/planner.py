@@ -369,7 +369,7 @@ class Planner:
     def _append(self, m: Motion, t: np.ndarray, seg: np.ndarray, findings: list[str], piece=None) -> None:
         """A move's samples added; a move that follows a zoned one at once starts inside its zone."""
         if self.zoned is not None and piece is not None:
-            seg = self._blend(piece)
+            seg = self._blend(piece, m)
         if self.count + len(t) > MAX_ROWS:
             hours = MAX_ROWS / self.rate / 3600
             fail(m.file, m.line, f"the trajectory would hold more than {MAX_ROWS} samples ({hours:.1f} h at "
@@ -394,20 +394,37 @@ class Planner:
             return replace(f, t_s=self.now + f.t_s)
         return replace(f, t_s=end, joints=tuple(float(v) for v in seg[-1]) if len(seg) else None)
 
-    def _blend(self, piece: zones.Segment) -> np.ndarray:
+    def _blend(self, piece: zones.Segment, m: Motion) -> np.ndarray:
         """The last move cut where ``piece`` starts inside its zone; ``piece``'s joints with the
-        rest of that move added."""
+        rest of that move added; the overlap halved while the two together pass an axis's limit."""
         prev, zone = self.zoned
         tau = zones.overlap(prev, piece, zone)
         if tau <= 0:
             return piece.q
         kept, q = zones.blend(prev, piece, tau)
+        speed, accel = self._blend_limits(self.moves[-1].motion, m)
+        for _ in range(zones.TRIES):
+            if zones.within(prev, piece, kept, q, tau, speed, accel):
+                break
+            tau *= 0.5
+            kept, q = zones.blend(prev, piece, tau)
+        else:
+            return piece.q  # no overlap keeps them: the move after starts from rest
         last = self.moves[-1]
         drop = len(prev.t) - kept
         self.times[-1], self.rows[-1] = self.times[-1][:kept], self.rows[-1][:kept]
         self.now, self.count = last.start + prev.duration - tau, self.count - drop
         self.moves[-1] = replace(last, end=self.now, rows=(last.rows[0], last.rows[1] - drop))
         return q
+
+    def _blend_limits(self, a: Motion, b: Motion) -> tuple[np.ndarray, np.ndarray]:
+        """The axes' speeds and accelerations both moves of a blend keep (the lower of each)."""
+        factors = [self.load_factor(x) for x in (a, b)]
+        load = None if all(f is None for f in factors) else np.array(
+            [np.ones(len(self.limits.velocity)) if f is None else timing.widened(f, len(self.limits.velocity))
+             for f in factors])
+        v, acc, _ = timing.move_limits([a, b], self.limits, load)
+        return v.min(axis=0), acc.min(axis=0)
 
     def _targets(self) -> tuple[Target, ...]:
         found = list(self.targets.values())

@@ -94,7 +94,8 @@ def _pairs(pairs: list, timed: dict, tcp: dict) -> dict:
 def _overlaps(d: _Rows, a: np.ndarray, b: np.ndarray, pzone: np.ndarray, zone_ori: np.ndarray) -> np.ndarray:
     """``zones.overlap`` of pairs of rows (``a`` before ``b``) with their zones' sizes."""
     z = np.minimum(np.minimum(pzone, d.length[a] / 2), d.length[b] / 2)
-    zo = np.minimum(np.minimum(zone_ori, d.turn[a] / 2), d.turn[b] / 2)
+    zo = np.minimum(np.minimum(zone_ori, np.where(d.turn[a] > 0, d.turn[a] / 2, np.inf)),
+                    np.where(d.turn[b] > 0, d.turn[b] / 2, np.inf))  # ``zones.overlap``'s cut
     with np.errstate(divide="ignore", invalid="ignore"):
         left = np.where(d.turn[a] > 0, 1.0 - (zo + EPS) / d.turn[a], 0.0)
         near = np.where(d.turn[b] > 0, (zo + EPS) / d.turn[b], 1.0)

@@ -15,6 +15,8 @@ from functools import lru_cache
 import numpy as np
 
 EPS = 1e-9
+SLACK = 0.01  # of the limits, for the samples' own rounding
+TRIES = 8  # halvings of an overlap whose samples pass a limit
 
 
 @dataclass(frozen=True)
@@ -102,7 +104,9 @@ def overlap(prev: Segment, nxt: Segment, zone) -> float:
     if nxt.ahead is not None and nxt.ahead.after(prev, zone):
         return nxt.ahead.tau
     z = min(zone.pzone_tcp, prev.length / 2, nxt.length / 2)
-    zo = min(zone.zone_ori, prev.turn / 2, nxt.turn / 2)
+    # the orientation's zone cut to half of either move's turn, of a move that turns: one that keeps
+    # its orientation bounds nothing (else a MoveJ that turns the tool would stop every such blend)
+    zo = min(zone.zone_ori, prev.turn / 2 if prev.turn > 0 else np.inf, nxt.turn / 2 if nxt.turn > 0 else np.inf)
     # prev is inside the zone from the share where both its way and its turn left are within it
     # (both only shrink along the move); nxt is near its start up to where either grows past it
     s_in = max(_share_at(prev, prev.length - z - EPS), 1.0 - (zo + EPS) / prev.turn if prev.turn > 0 else 0.0)
@@ -147,6 +151,28 @@ def blend(prev: Segment, nxt: Segment, tau: float) -> tuple[int, np.ndarray]:
     q = nxt.q.copy()
     q[:shared] += q_prev[k - 1] * (1.0 - w) + q_prev[k] * w - prev.q[-1]
     return kept, q
+
+
+def within(prev: Segment, nxt: Segment, kept: int, q: np.ndarray, tau: float, speed: np.ndarray,
+           accel: np.ndarray, slack: float = SLACK) -> bool:
+    """Whether a blend's samples (``blend``'s ``kept`` and ``q`` for an overlap of ``tau``) keep every
+    axis within ``speed`` and ``accel`` (a little ``slack`` for sampling) where the two moves run
+    together and either side of it: where both speed up or slow down the same axis the same way,
+    their accelerations add, and the overlap must then be shorter."""
+    shared = int(np.searchsorted(nxt.t, tau, side="right"))
+    before = max(kept - 2, 0)
+    t_prev = np.concatenate([[0.0], prev.t])[before:kept + 1] if kept else np.zeros(1)
+    q_prev = np.vstack([prev.q0[None], prev.q])[before:kept + 1] if kept else prev.q0[None]
+    upto = min(shared + 2, len(q))
+    t = np.concatenate([t_prev, prev.duration - tau + nxt.t[:upto]])
+    rows = np.vstack([q_prev, q[:upto]])
+    keep = np.concatenate([[True], np.diff(t) > 1e-9])
+    t, rows = t[keep], rows[keep]
+    if len(t) < 3:
+        return True
+    v = np.diff(rows, axis=0) / np.diff(t)[:, None]
+    a = np.diff(v, axis=0) / (0.5 * (t[2:] - t[:-2]))[:, None]
+    return bool(np.all(np.abs(v) <= speed * (1 + slack)) and np.all(np.abs(a) <= accel * (1 + slack)))
 
 
 def _monotone_tail(t: np.ndarray, s: np.ndarray) -> float:

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import BatchOptions, TaskOptions, VideoOptions, routed
+from ..errors import InputError
 from ..files import atomic_write
 from ..kinematics.kinematics import Kinematics
 from ..motion import timing
@@ -53,9 +54,7 @@ def run_program(path: str, programs: list[str], task: TaskOptions | None = None,
 
     o = routed(changes, task=task or TaskOptions(), batch=batch or BatchOptions(), video=video or VideoOptions())
     task, batch, video = o["task"], o["batch"], o["video"]
-    for out in (csv, speed_plot):
-        if out is not None:
-            claim(Path(out))  # a file of the user's is never replaced: refused before any work
+    _claim_outputs(csv, speed_plot)  # a file of the user's is never replaced: refused before any work
     if video.video is not None:
         from .videos import claim_video
 
@@ -98,6 +97,20 @@ def run_program(path: str, programs: list[str], task: TaskOptions | None = None,
     if p.run.error is not None:  # the task stopped at a run-time error: reported whole, exit 1
         return Output(json_safe(doc), program_text(mech, doc), 1, (str(p.run.error),))
     return Output(json_safe(doc), program_text(mech, doc))
+
+
+def _claim_outputs(csv: str | None, speed_plot: str | None) -> None:
+    """The CSV and the speed plot, checked free to write before any work: named, each rswarp's or
+    new, in a folder it can write in, a PNG for the plot, not one file for both."""
+    for out, option in ((csv, "--csv"), (speed_plot, "--speed-plot")):
+        if out is not None:
+            if not str(out).strip():
+                raise InputError(f"{option}: the file name is empty")
+            claim(Path(out))
+    if speed_plot is not None and Path(speed_plot).suffix.lower() != ".png":
+        raise InputError(f"{speed_plot}: --speed-plot writes a PNG image: name a .png file")
+    if csv is not None and speed_plot is not None and Path(csv).resolve() == Path(speed_plot).resolve():
+        raise InputError(f"{csv}: --csv and --speed-plot name the same file")
 
 
 def _write_files(mech, p: Plan, csv: str | None, speed_plot: str | None, speeds) -> None:
@@ -257,14 +270,15 @@ def _target_m(kin, m, p: Plan, row: int) -> list[float] | None:
 
 
 def trajectory_csv(mech, p: Plan) -> str:
-    """``time,<joints>`` in the file's units, one row per sample (what ``--trajectory`` reads)."""
+    """``time,<joints>`` in the file's units, one row per sample (what ``--trajectory`` reads); the time to
+    the nanosecond, so its differences keep the samples' speeds and accelerations."""
     joints = mech.active_joints
     names, ext = csv_columns(p)
     buf = _io.StringIO()
     buf.write(",".join(["time"] + [j.name for j in joints] + names) + "\n")
     factors = [mech.joint_factor(j) for j in joints]
     for t, q, e in zip(p.times, p.q, ext):
-        buf.write(",".join([f"{t:.6f}"] + [_fixed(v / f) for v, f in zip(q, factors)] + [_fixed(v) for v in e]) + "\n")
+        buf.write(",".join([f"{t:.9f}"] + [_fixed(v / f) for v, f in zip(q, factors)] + [_fixed(v) for v in e]) + "\n")
     return buf.getvalue()
 
 

@@ -11,6 +11,7 @@ from .findings import grouped
 MAX_ROWS = 200  # moves shown one by one; a longer task's table is cut, its findings are not
 SLOW = 0.9  # a move whose least TCP speed (away from a stop) is under this share of its programmed one is slow
 SLOW_LINES = 3  # slow move lines shown, the slowest first
+STILL_M_S = 1e-3  # m/s: a move whose TCP goes no faster on the mean turns the tool in place
 
 
 def program_text(mech, doc: dict) -> str:
@@ -162,6 +163,8 @@ def _slow(moves: list[dict], several: bool) -> list[str]:
     for m in moves:
         s = m.get("tcp_speed")
         if not s or not s["programmed_m_s"] or s["least_m_s"] >= SLOW * s["programmed_m_s"]:
+            continue
+        if (s["mean_m_s"] or 0.0) < STILL_M_S:  # a reorientation in place: the TCP's speed says nothing
             continue
         share, key = s["least_m_s"] / s["programmed_m_s"], (m["file"], m["line"], m["instruction"])
         counts[key] = counts.get(key, 0) + 1
