@@ -403,13 +403,14 @@ class Planner:
             return piece.q
         kept, q = zones.blend(prev, piece, tau)
         speed, accel = self._blend_limits(self.moves[-1].motion, m)
-        for _ in range(zones.TRIES):
-            if zones.within(prev, piece, kept, q, tau, speed, accel):
-                break
-            tau *= 0.5
-            kept, q = zones.blend(prev, piece, tau)
-        else:
-            return piece.q  # no overlap keeps them: the move after starts from rest
+        if not zones.within(prev, piece, kept, q, tau, speed, accel):
+            for k in range(1, zones.TRIES + 1):  # the longest overlap, in steps down, that keeps them
+                kept, q = zones.blend(prev, piece, tau * zones.SHORTER ** k)
+                if zones.within(prev, piece, kept, q, tau * zones.SHORTER ** k, speed, accel):
+                    tau *= zones.SHORTER ** k
+                    break
+            else:
+                return piece.q  # the move after starts from rest
         last = self.moves[-1]
         drop = len(prev.t) - kept
         self.times[-1], self.rows[-1] = self.times[-1][:kept], self.rows[-1][:kept]

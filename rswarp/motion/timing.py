@@ -32,6 +32,8 @@ STILL = 1e-7  # m and rad: a linear move this short is the robot staying where i
 JOINT_PROBES = 64  # probes of a joint move's TCP path, to measure its length and turn
 MAX_SAMPLES = 2_000_000  # samples of one move (over two hours at 250 a second)
 SHARED = 1e-9  # relative slack of the limits an axis meets on the slowest axis's profile
+ZONE_RAMP = 0.85  # of the acceleration and jerk a joint move's ramps take in a zone: where two moves blend,
+# their accelerations add on an axis both speed up or slow down, and the blend keeps the limits
 
 
 class TooLong(ValueError):
@@ -205,7 +207,7 @@ def _zoned(share: tuple, duration: np.ndarray, zoned: np.ndarray, top: np.ndarra
     (``scurve.zone_ramp``), the fastest cruise the way then allows (at most ``top``), slowed to a
     ``\\T``; each found by bisection (the time falls and the ramps' way grows with the cruise)."""
     k = np.flatnonzero(zoned)
-    a, j, h, t = share[1][k], share[2][k], head[k], tail[k]
+    a, j, h, t = share[1][k] * ZONE_RAMP, share[2][k] * ZONE_RAMP, head[k], tail[k]
 
     def shape(c):
         ua, uj = scurve.zone_ramp(c, a, j, h)
