@@ -30,6 +30,13 @@ def program_plan(path: str, programs, task: TaskOptions | None = None, *, device
     if not 1 <= int(task.cycles) <= MAX_CYCLES:
         raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {task.cycles}")
     mech, cell = robot_of(path)
+    return plan_on(mech, cell, programs, task, device=device, warn=warn, strict=strict)
+
+
+def plan_on(mech, cell, programs, task: TaskOptions, *, device: str = "cpu", warn: Warn = ignore,
+            strict: bool = True):
+    """``program_plan`` on a robot (``mech``) or a cell already read (``cell``, its robot
+    ``mech``; None for the robot alone): each robot of a MultiMove cell is planned so."""
     load = read_payload(task.payload, mech) if isinstance(task.payload, str) else task.payload
     modules = load_task([programs] if isinstance(programs, (str, Path)) else list(programs), task.motion_task)
     if cell is not None and cell.eio is not None:  # the cell's backup's signals, as its task folder's would be

@@ -18,6 +18,7 @@ from .arguments import Arguments
 from .errors import fail
 from .flow import ExitCycle
 from .live import Live
+from .motion import Motion
 from .moves import MOVES, NO_LOAD_KG, HeldLoad, run_move, wait
 from .nodes import written
 from .scope import Cell
@@ -234,14 +235,20 @@ def _book_error(interp, a: Arguments, s, frame) -> None:
 
 
 def _sync(on: bool | None):
-    """SyncMoveOn, SyncMoveOff, WaitSyncTask: MultiMove's meeting points and synchronized moves,
-    run as this task's robot alone."""
+    """SyncMoveOn, SyncMoveOff, WaitSyncTask: MultiMove's meeting points, each a wait of 0 s that
+    names its syncident (the robot stops there: ``motion.multimove`` makes the tasks meet), and
+    synchronized moves from SyncMoveOn to SyncMoveOff (their ``\\ID``)."""
     def run(interp, a: Arguments, s, frame) -> None:
         if on is not None:
             interp.state["sync"] = on
+        kind = "wait" if on is None else "on" if on else "off"
+        ident = n.written(a.node(0)) if len(a) and s.key != "syncmoveundo" else None
         interp.warn_once(("multimove",), s.line,
-                         f"{s.name}: MultiMove; rswarp runs this task's own robot, not the other tasks' robots it "
-                         "waits for and moves with (their \\ID and synchronization are read, not timed)")
+                         f"{s.name}: MultiMove; run alone, this task's robot stops at each meeting point and "
+                         "moves on at once (a cell of several robots runs their tasks together)")
+        if ident is not None:
+            interp.emit(Motion("wait", s.name, interp.path, s.line, frame.routine.name, frame.chain(), seconds=0.0,
+                               cycle=interp.pass_index, sync=ident, sync_kind=kind))
     return run
 
 

@@ -46,6 +46,9 @@ class Motion:
     cycle: int = 0
     declared: tuple[str, ...] = ()  # per target, "file:line" of the data it is or is built from ("" inline)
     load: rd.Load | None = None  # GripLoad's payload in the flange's frame (a moves.HeldLoad: its source); None: none
+    sync: str | None = None  # MultiMove: the syncident of a SyncMoveOn, SyncMoveOff or WaitSyncTask (a wait of 0 s)
+    sync_kind: str = ""  # "on", "off" or "wait" for those
+    sync_id: float | None = None  # a move's \\ID: its place among the tasks' synchronized moves
 
     @property
     def held_loads(self) -> tuple:

@@ -101,7 +101,7 @@ def run_move(interp, spec: MoveSpec, a: Arguments, s: n.ProcCall, frame) -> None
     interp.emit(Motion(spec.kind, s.name, interp.path, s.line, frame.routine.name, frame.chain(), tuple(targets),
                        tuple(names), speed, zone, tool, wobj, conf, state["accel"], state["ramp"], state["override"],
                        state["vmax"], duration, 0.0, interp.pass_index, tuple(declared),
-                       _held(state.get("grip_load"), tool, wobj)))
+                       _held(state.get("grip_load"), tool, wobj), sync_id=_sync_id(a)))
     _after(interp, s, a, spec, frame)
 
 
@@ -204,6 +204,11 @@ def _after(interp, s: n.ProcCall, a: Arguments, spec: MoveSpec, frame) -> None:
         point = a.reference(1)
         point.set(a.value(spec.targets[-1], "robtarget"))
         interp.warn(s.line, f"{s.name}: no signal is modelled; the search runs to its ToPoint and finds it there")
+
+
+def _sync_id(a) -> float | None:
+    """A move's ``\\ID`` (MultiMove's synchronized moves), or None."""
+    return float(a.option("ID", "num")) if a.has("ID") else None
 
 
 def wait(interp, seconds: float, s: n.ProcCall, frame) -> None:
