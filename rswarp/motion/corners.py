@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .paths import path, quaternions, rotations, slerps
+from .paths import angles, path, quaternions, rotations, slerps
 
 PROBE_STEP = 0.002  # m of the chain between probes
 FINE_STEP = PROBE_STEP / 4  # in a corner's zones
@@ -161,18 +161,12 @@ def _orientations(paths, length, poses, rows, near, s, offset, gap, zo) -> None:
     after = _evaluate(paths, length, k + 1, d1)[:, :3, :3]
     # a turn continued far past its move could pass the half turn between the two, where the
     # shortest way flips: those corners blend the moves' own orientations, each held at its end
-    far = np.unique(k[_angles(before, after) > FAR_TURN])
+    far = np.unique(k[angles(before, after) > FAR_TURN])
     if len(far):
         held = np.isin(k, far)
         before[held] = _evaluate(paths, length, k[held], np.minimum(d0[held], length[k[held]]))[:, :3, :3]
         after[held] = _evaluate(paths, length, k[held] + 1, np.maximum(d1[held], 0.0))[:, :3, :3]
     poses[rows, :3, :3] = _slerp_rows(before, after, w)
-
-
-def _angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The angle (rad) between rotations ``a`` and ``b`` (N, 3, 3), row by row."""
-    c = (np.einsum("nij,nij->n", a, b) - 1.0) / 2.0
-    return np.arccos(np.clip(c, -1.0, 1.0))
 
 
 def _slerp_rows(a: np.ndarray, b: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -202,8 +196,7 @@ def _speeds(members, own, near, gap, zp, in_pos) -> tuple[np.ndarray, np.ndarray
 def caps(c: Corners) -> np.ndarray:
     """The cap on d(arc)/dt at each probe: the TCP's speed, and its turn's over the turn's rate
     along the path (the faster of the stretches either side)."""
-    rel = np.einsum("nji,njk->nik", c.poses[:-1, :3, :3], c.poses[1:, :3, :3])
-    angle = np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0))
+    angle = angles(c.poses[:-1, :3, :3], c.poses[1:, :3, :3])
     with np.errstate(divide="ignore", invalid="ignore"):
         rate = np.where(np.diff(c.arc) > 0, angle / np.diff(c.arc), 0.0)
         turning = np.concatenate([[rate[0]], np.maximum(rate[:-1], rate[1:]), [rate[-1]]])

@@ -78,6 +78,15 @@ def rotations(q: np.ndarray) -> np.ndarray:
                             2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy)]).reshape(-1, 3, 3)
 
 
+def angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The angle (N,) of the rotation from each of ``a`` to each of ``b`` (N, 3, 3), exact when small."""
+    r = np.swapaxes(a, -1, -2) @ b
+    cos = 0.5 * (np.trace(r, axis1=1, axis2=2) - 1.0)
+    sin = 0.5 * np.linalg.norm(np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0],
+                                         r[:, 1, 0] - r[:, 0, 1]], axis=1), axis=1)
+    return np.arctan2(sin, cos)
+
+
 def turn_between(a: np.ndarray, b: np.ndarray) -> float:
     """The angle (rad) of the rotation from matrix ``a`` to ``b``."""
     c = (np.trace(a.T @ b) - 1.0) / 2.0

@@ -20,7 +20,7 @@ from ..rsxml.robot_data import AxisLimits, axis_limits
 from . import misses, plan_steps, timing, timing_batch, zones
 from . import targets as tg
 from .shortfall import Shortfall
-from .tcp import Frames, frames, pose_of
+from .tcp import Frames, flange_poses, frames, pose_of
 
 SINGULAR_DEG = 1.0  # |q5| below this along a linear or circular move: a finding
 MAX_ROWS = 5_000_000  # samples of one trajectory: memory stays bounded (a little over 5 hours at 250/s)
@@ -259,16 +259,8 @@ class Planner:
                          "and it takes that")
 
     def flanges(self, q: np.ndarray) -> np.ndarray:
-        """Flange poses (N, 4, 4) of joint values (N, dof), in one launch: the flange's own kernel
-        where the chain is unrolled (every link's poses are seven times the memory to write)."""
-        kin = self.kin
-        q = kin._q(q, np.float64)
-        if kin.unrolled and len(q):
-            out = np.empty((len(q), 4, 4))
-            kin.launcher.launch(kin._kernels_for(np.float64)[1][0], len(q), inputs=[q], outputs=[out])
-            return out
-        link, m = kin.flange_frame()
-        return kin.fk64(q)[:, link] @ m
+        """Flange poses (N, 4, 4) of joint values (N, dof), in one launch (``tcp.flange_poses``)."""
+        return flange_poses(self.kin, q)
 
     def flange_at(self, q: np.ndarray) -> np.ndarray:
         return self.flanges(q[None])[0]

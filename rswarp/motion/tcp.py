@@ -76,3 +76,15 @@ def pose_of(matrix: np.ndarray) -> rd.Pose:
     q = np.array([w, x, y, z])
     q = -q if w < 0 else q
     return rd.Pose(tuple(float(v) for v in matrix[:3, 3]), tuple(float(v) for v in q))
+
+
+def flange_poses(kin, q: np.ndarray) -> np.ndarray:
+    """Flange poses (N, 4, 4) in float64 of joint values (N, dof), in one launch: the flange's own
+    kernel where the chain is unrolled (every link's poses are seven times the memory to write)."""
+    q = kin._q(q, np.float64)
+    if kin.unrolled and len(q):
+        out = np.empty((len(q), 4, 4))
+        kin.launcher.launch(kin._kernels_for(np.float64)[1][0], len(q), inputs=[q], outputs=[out])
+        return out
+    link, m = kin.flange_frame()
+    return kin.fk64(q)[:, link] @ m

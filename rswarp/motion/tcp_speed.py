@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .tcp import frames
+from .paths import angles
+from .tcp import flange_poses, frames
 
 CHUNK = 200_000  # samples per FK launch and per batch of products: memory stays bounded
 
@@ -22,7 +23,7 @@ def tcp_samples(kin, p, table: tuple) -> np.ndarray:
     dt = np.maximum(np.diff(p.times), 1e-12)
     for lo in range(1, n, CHUNK):
         hi = min(lo + CHUNK, n)
-        f = _flanges(kin, p.q[lo - 1:hi])
+        f = flange_poses(kin, p.q[lo - 1:hi])
         ea, eb = ip[lo:hi], ic[lo:hi]
         xa, xb = _tool_point(f[:-1], post, inverted, ea), _tool_point(f[1:], post, inverted, eb)
         moving = np.flatnonzero(ea != eb)
@@ -39,10 +40,10 @@ def turn_at(kin, p, table: tuple, rows: np.ndarray) -> np.ndarray:
     if len(p.times) < 2 or not len(rows):
         return np.zeros(len(rows))
     rows = np.clip(rows, 1, len(p.times) - 1)
-    f = _flanges(kin, np.vstack([p.q[rows - 1], p.q[rows]]))
+    f = flange_poses(kin, np.vstack([p.q[rows - 1], p.q[rows]]))
     a = _relative(pre, post, inverted, ip[rows], f[:len(rows)])
     b = _relative(pre, post, inverted, ic[rows], f[len(rows):])
-    return _angle(a[:, :3, :3], b[:, :3, :3]) / np.maximum(p.times[rows] - p.times[rows - 1], 1e-12)
+    return angles(a[:, :3, :3], b[:, :3, :3]) / np.maximum(p.times[rows] - p.times[rows - 1], 1e-12)
 
 
 def _tool_point(f: np.ndarray, post, inverted, idx: np.ndarray) -> np.ndarray:
@@ -114,24 +115,3 @@ def _relative(pre, post, inverted, idx: np.ndarray, f: np.ndarray) -> np.ndarray
         g[inv, :3, :3] = rt
         g[inv, :3, 3] = -(rt @ f[inv, :3, 3:4])[..., 0]
     return pre[idx] @ g @ post[idx]
-
-
-def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The angle (N,) of the rotation from each of ``a`` to each of ``b`` (N, 3, 3), exact when small."""
-    r = np.swapaxes(a, -1, -2) @ b
-    cos = 0.5 * (np.trace(r, axis1=1, axis2=2) - 1.0)
-    sin = 0.5 * np.linalg.norm(np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0],
-                                         r[:, 1, 0] - r[:, 0, 1]], axis=1), axis=1)
-    return np.arctan2(sin, cos)
-
-
-def _flanges(kin, q: np.ndarray) -> np.ndarray:
-    """Flange poses (N, 4, 4) in float64 of joint values (N, dof), in one launch (the flange's own
-    kernel where the chain is unrolled, as ``Planner.flanges``)."""
-    q = kin._q(q, np.float64)
-    if kin.unrolled and len(q):
-        out = np.empty((len(q), 4, 4))
-        kin.launcher.launch(kin._kernels_for(np.float64)[1][0], len(q), inputs=[q], outputs=[out])
-        return out
-    link, m = kin.flange_frame()
-    return kin.fk64(q)[:, link] @ m
