@@ -184,7 +184,7 @@ def write_cell(tmp_path, text: str, data: bytes | None = None):
     ('[robot]\nrsxml = "robot.rsxml"\n[[environment]]\nmesh = "fixture.stl"\nname = "x"\n', 5,
      "unknown key 'name' in [[environment]] 1 (known: mesh, frame, on)"),
     ('[robot]\nrsxml = "robot.rsxml"\n[robot.base]\nx = 1\n', 3, "unknown key 'base' in [robot] (known: rsxml, on, "
-                                                                  "frame, unit)"),
+                                                                  "frame, unit, name, task, drives)"),
     ('[robot]\nrsxml = "robot.rsxml"\n[external]\nname = "t"\n', 3, "external must be an array of tables: "
                                                                     "[[external]], once for each"),
     ('[robot]\nrsxml = 3\n', 2, "[robot] rsxml: give an RSXML Mechanism of type Robot, as a path relative to the cell "

@@ -123,6 +123,8 @@ def test_demo_runs_on_the_bundled_examples(capsys, demo_run):
     assert (tmp_path / "dresspack-sweep" / "best.rsxml").is_file()
     assert "== cell track_cell.toml: track_transfer.mod" in out and "eax_a 3200" in out
     assert "== cell positioner_cell.toml: positioner_weld.mod" in out and "eax_a 20, eax_b 90" in out
+    assert "== cell multimove_cell.toml: each robot's task of the backup multimove/" in out
+    assert "WaitSyncTask sync_ready at 0.98 s" in out and "robots against each other: no link of one meets" in out
     assert "== cell track_dresspack_cell.toml: the dress pack over track_transfer.mod" in out
     assert sorted(p.name for p in (tmp_path / "cells").iterdir()) == sorted([".rswarp.json", "track-dresspack"] + [
         f"{c}-{m}.{e}" for c, m in (("track_cell", "track_transfer"), ("positioner_cell", "positioner_weld"))

@@ -14,6 +14,7 @@ from rswarp.errors import RsxmlError
 from rswarp.examples import IRB2600
 from rswarp.motion.multimove import clashes, together
 from rswarp.motion.plan import program_plan
+from rswarp.rsxml.cell import Cell, PlacedRobot
 
 from conftest import DATA
 
@@ -57,8 +58,13 @@ def test_robots_standing_close_are_found_to_hit_each_other_and_far_apart_not():
     mech = rswarp.load(IRB2600)
     facing = np.diag([-1.0, -1.0, 1.0, 1.0])
     far, near = facing.copy(), facing.copy()
-    far[0, 3], near[0, 3] = 2.2, 1.2
-    assert clashes([("ROB_1", mech, str(IRB2600), np.eye(4)), ("ROB_2", mech, str(IRB2600), far)], t) == ()
-    met = clashes([("ROB_1", mech, str(IRB2600), np.eye(4)), ("ROB_2", mech, str(IRB2600), near)], t)
+    far[0, 3], near[0, 3] = 3.2, 2.2
+    assert clashes([_cell("ROB_1", mech, np.eye(4)), _cell("ROB_2", mech, far)], t) == ()
+    met = clashes([_cell("ROB_1", mech, np.eye(4)), _cell("ROB_2", mech, near)], t)
     assert met and all(c.first.startswith("ROB_1.") and c.second.startswith("ROB_2.") for c in met)
     assert 0.0 < met[0].time < t.duration and met[0].span > 0.0
+
+
+def _cell(name, mech, frame):
+    """One robot's cell of a two-robot team: the robot alone, at ``frame`` in the world."""
+    return Cell(str(IRB2600), PlacedRobot(str(IRB2600), mech, frame, name=name, task=f"T_{name}"))

@@ -116,15 +116,21 @@ def _on_clock(p: Plan, m: list, fixed: dict, clock: np.ndarray) -> Plan:
     olds, news = np.array([a for a, _ in m] + [m[-1][0] + 1e9]), np.array([b for _, b in m] + [m[-1][1] + 1e9])
     own = np.interp(clock, news, olds)
     own = np.minimum(own, float(p.times[-1]))
-    q = np.column_stack([np.interp(own, p.times, p.q[:, k]) for k in range(p.q.shape[1])])
-    ext = None if p.ext is None else np.column_stack([np.interp(own, p.times, p.ext[:, k])
-                                                      for k in range(p.ext.shape[1])])
+    q, ext = _resampled(own, p.times, p.q), None if p.ext is None else _resampled(own, p.times, p.ext)
     moves = []
     for k, mv in enumerate(p.moves):
         start, end = fixed.get(k, (_forward(mv.start, m), _forward(mv.end, m, before=True)))
         rows = (int(np.searchsorted(clock, start, side="right")), int(np.searchsorted(clock, end, side="right")))
         moves.append(replace(mv, start=start, end=end, rows=rows))
     return replace(p, times=clock, q=q, ext=ext, moves=tuple(moves), cycles=())
+
+
+def _resampled(at: np.ndarray, times: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """``values`` (samples, columns; none for a cell without units) at the times ``at``."""
+    out = np.empty((len(at), values.shape[1]))
+    for k in range(values.shape[1]):
+        out[:, k] = np.interp(at, times, values[:, k])
+    return out
 
 
 @dataclass(frozen=True)
@@ -138,28 +144,52 @@ class Clash:
     span: float
 
 
-def clashes(robots, t: Together, device: str = "cpu") -> tuple[Clash, ...]:
-    """Every pair of robots' links that collide at a sample of the common clock (``robots``: per
-    robot its name, mechanism, RSXML path and base frame in the world, 4x4 m), the pair that
-    touches with both robots at home left out as a build that touches (as a cell's pairs are)."""
-    from ..kinematics.cell import CellKinematics
-    from ..rsxml.cell import LOGICAL_AXES, Cell, External, PlacedRobot
-    from ..sim.cell_check import CellChecker, cell_pairs
-
+def clashes(cells, t: Together, device: str = "cpu", tool=None) -> tuple[Clash, ...]:
+    """Every pair of robots' links that collide at a sample of the common clock (``cells``: each
+    robot's cell, ``rsxml.cell.Cell``, its base on the floor or on its units where the plan's
+    external axes put them; ``tool``: the first robot's), a pair touching with every robot and
+    unit at home left out as a build that touches (as a cell's pairs are)."""
     out = []
     step = float(t.plans[0].times[1] - t.plans[0].times[0]) if len(t.plans[0].times) > 1 else 0.0
-    for i in range(len(robots)):
-        for j in range(i + 1, len(robots)):
-            (na, ma, ra, fa), (nb, mb, rb, fb) = robots[i], robots[j]
-            other = External(nb, rb, mb, fb, LOGICAL_AXES[:mb.dof], tuple(x.name for x in mb.active_joints))
-            ck = CellKinematics(Cell(ra, PlacedRobot(ra, ma, fa), (other,)), device)
-            found = cell_pairs(ck)
-            if found is None:
-                continue
-            checker = CellChecker(ck, found, device)
-            hit = checker.hits(t.plans[i].q, t.plans[j].q) & checker.checked
+    for i in range(len(cells)):
+        for j in range(i + 1, len(cells)):
+            hit, names = _pair_hits(cells[i], cells[j], t.plans[i], t.plans[j], device, tool if i == 0 else None)
             for k in np.flatnonzero(hit.any(axis=0)):
-                a, b = found.pair_names()[k]
                 first = int(np.argmax(hit[:, k]))
-                out.append(Clash(f"{na}.{a}", b, float(t.plans[i].times[first]), float(hit[:, k].sum()) * step))
+                out.append(Clash(f"{cells[i].robot.name}.{names[k][0]}", names[k][1], float(t.plans[i].times[first]),
+                                 float(hit[:, k].sum()) * step))
     return tuple(sorted(out, key=lambda c: c.time))
+
+
+def _pair_hits(a, b, pa: Plan, pb: Plan, device: str, tool) -> tuple[np.ndarray, list]:
+    """(samples, pairs) whether robot ``a``'s links (and ``tool``) meet robot ``b``'s, each where
+    its own cell puts it, and the pairs' names (``ROB_2.link_5`` for b's)."""
+    from ..kinematics.cell import CellKinematics
+    from ..rsxml.cell import LOGICAL_AXES, Cell, External
+    from ..sim.cell_check import CellChecker, cell_pairs
+    from ..sim.tool import tool_body
+
+    mb = b.robot.mechanism
+    other = External(b.robot.name, b.robot.rsxml, mb, np.eye(4), LOGICAL_AXES[:mb.dof],
+                     tuple(x.name for x in mb.active_joints))
+    pair_ck = CellKinematics(Cell(a.path, replace(a.robot, on=None), (other,)), device)
+    found = cell_pairs(pair_ck, tool_body(pair_ck.robot.mech, tool) if tool is not None else None)
+    if found is None:
+        return np.zeros((len(pa.times), 0), bool), []
+    cka, ckb = CellKinematics(a, device), CellKinematics(b, device)
+    wa, wb = len(cka.home()), mb.dof
+
+    def poses(q, rest):  # rest: a's external joints, b's joints, b's external joints
+        la = cka.robot_links(q, cka.split(rest[:, :wa]))
+        lb = ckb.robot_links(rest[:, wa:wa + wb], ckb.split(rest[:, wa + wb:]))
+        return np.stack([la[:, w[0]] if who == "robot" else lb[:, w[1]] for who, *w in found.owner], axis=1)
+
+    home = (a.robot.mechanism.home_position(), np.concatenate([cka.home(), mb.home_position(), ckb.home()]))
+    checker = CellChecker(pair_ck, found, device, poses=poses, home=home)
+    rest = np.hstack([_ext(pa, wa), pb.q, _ext(pb, len(ckb.home()))])
+    return checker.hits(pa.q, rest) & checker.checked, found.pair_names()
+
+
+def _ext(p: Plan, width: int) -> np.ndarray:
+    """A plan's external joints (samples, width); none where its robot drives no unit."""
+    return p.ext if p.ext is not None else np.zeros((len(p.times), width))

@@ -26,11 +26,16 @@ def program_plan(path: str, programs, task: TaskOptions | None = None, *, device
     fields: ``routine="other"``, ``io={"diStart": 1}``); with ``strict`` an RsxmlError lists every
     target the robot cannot take. The payload is carried on top of each move's tool and GripLoad
     loads, which lower the accelerations (docs/payload-timing.md)."""
-    task = routed(changes, task=task or TaskOptions())["task"]
-    if not 1 <= int(task.cycles) <= MAX_CYCLES:
-        raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {task.cycles}")
+    task = checked_cycles(routed(changes, task=task or TaskOptions())["task"])
     mech, cell = robot_of(path)
     return plan_on(mech, cell, programs, task, device=device, warn=warn, strict=strict)
+
+
+def checked_cycles(task: TaskOptions) -> TaskOptions:
+    """``task``, its ``--cycles`` within what a run takes; an InputError where not."""
+    if not 1 <= int(task.cycles) <= MAX_CYCLES:
+        raise InputError(f"--cycles must be 1 to {MAX_CYCLES}, not {task.cycles}")
+    return task
 
 
 def plan_on(mech, cell, programs, task: TaskOptions, *, device: str = "cpu", warn: Warn = ignore,
@@ -38,7 +43,8 @@ def plan_on(mech, cell, programs, task: TaskOptions, *, device: str = "cpu", war
     """``program_plan`` on a robot (``mech``) or a cell already read (``cell``, its robot
     ``mech``; None for the robot alone): each robot of a MultiMove cell is planned so."""
     load = read_payload(task.payload, mech) if isinstance(task.payload, str) else task.payload
-    modules = load_task([programs] if isinstance(programs, (str, Path)) else list(programs), task.motion_task)
+    name = task.motion_task or (cell.robot.task if cell is not None else None)  # a MultiMove robot's own task
+    modules = load_task([programs] if isinstance(programs, (str, Path)) else list(programs), name)
     if cell is not None and cell.eio is not None:  # the cell's backup's signals, as its task folder's would be
         add_configuration(modules, cell.eio)
     limits, scale = axis_limits(mech, task.limits), load_scale(mech, load)

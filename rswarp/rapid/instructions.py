@@ -234,6 +234,10 @@ def _book_error(interp, a: Arguments, s, frame) -> None:
     a.reference(0).set(float(interp.booked))
 
 
+RUN_ALONE = ("MultiMove; run alone, this task's robot stops at each meeting point and moves on at once (a cell of "
+             "several robots runs their tasks together)")
+
+
 def _sync(on: bool | None):
     """SyncMoveOn, SyncMoveOff, WaitSyncTask: MultiMove's meeting points, each a wait of 0 s that
     names its syncident (the robot stops there: ``motion.multimove`` makes the tasks meet), and
@@ -243,9 +247,7 @@ def _sync(on: bool | None):
             interp.state["sync"] = on
         kind = "wait" if on is None else "on" if on else "off"
         ident = n.written(a.node(0)) if len(a) and s.key != "syncmoveundo" else None
-        interp.warn_once(("multimove",), s.line,
-                         f"{s.name}: MultiMove; run alone, this task's robot stops at each meeting point and "
-                         "moves on at once (a cell of several robots runs their tasks together)")
+        interp.warn_once(("multimove",), s.line, f"{s.name}: {RUN_ALONE}")
         if ident is not None:
             interp.emit(Motion("wait", s.name, interp.path, s.line, frame.routine.name, frame.chain(), seconds=0.0,
                                cycle=interp.pass_index, sync=ident, sync_kind=kind))

@@ -97,6 +97,18 @@ def task_files(paths: list[str | Path], name: str | None = None) -> tuple[list[P
     return out, notes
 
 
+def backup_tasks(paths: list[str | Path]) -> tuple[str, ...]:
+    """The task folders (``T_ROB1``, ...) of the first folder given that is a backup's (or its
+    RAPID folder); none where no folder given holds any."""
+    for folder in (Path(p) for p in paths):
+        root = folder / "RAPID" if (folder / "RAPID").is_dir() else folder
+        if root.is_dir():
+            tasks = sorted(d.name for d in root.iterdir() if d.is_dir() and _TASK_FOLDER.match(d.name))
+            if tasks:
+                return tuple(tasks)
+    return ()
+
+
 def _folder_files(folder: Path, notes: list, name: str | None = None) -> list[Path]:
     """Every module file under ``folder``; of a backup (RAPID/ and its task folders), the task
     ``name`` names (its first where None, with a note naming the others)."""

@@ -20,7 +20,11 @@ def _frame(m: np.ndarray) -> str:
 
 
 def cell_dict(cell: Cell) -> dict:
-    """The cell as data (SI: frames as 4x4 in metres)."""
+    """The cell as data (SI: frames as 4x4 in metres); a MultiMove cell's robots each with theirs."""
+    if cell.team:
+        return {"path": cell.path, "kind": "Cell", "robots": [cell_dict(c) | {"name": c.robot.name,
+                                                                              "task": c.robot.task}
+                                                              for c in cell.team], "warnings": list(cell.warnings)}
     r = cell.robot
     return {"path": cell.path, "kind": "Cell",
             "robot": {"rsxml": r.rsxml, "name": r.mechanism.name, "on": r.on, "frame": r.frame.tolist()},
@@ -33,7 +37,11 @@ def cell_dict(cell: Cell) -> dict:
 
 
 def cell_text(cell: Cell) -> str:
-    """The cell in the file's units, a line per thing it places."""
+    """The cell in the file's units, a line per thing it places (each robot's, MultiMove)."""
+    if cell.team:
+        head = f"{cell.path}: a MultiMove cell of {len(cell.team)} robots, each running its own task"
+        return "\n\n".join([head] + [f"{c.robot.name} (task {c.robot.task}):\n" +
+                                       cell_text(c).split("\n", 1)[1] for c in cell.team])
     r = cell.robot
     where = f"on {r.on}'s {cell.carrier.carrier_link}" if r.on else "on the floor"
     lines = [f"{cell.path}: a cell of {1 + len(cell.externals)} mechanism{'s' if cell.externals else ''}",

@@ -1,6 +1,7 @@
 """The demo's cells: the IRB 2600 on the 4 m track and beside the two-axis positioner, each with
 the RAPID module beside its cell file run over the whole cell (``rswarp program CELL.toml``), its
-table, the external axes' values, its trajectory and a video of the cell."""
+table, the external axes' values, its trajectory and a video of the cell; the two-robot MultiMove
+weld cell, both tasks on one clock."""
 
 from __future__ import annotations
 
@@ -34,8 +35,24 @@ def demo_cells(out: Path, say: Callable[[str], None], video_size: int) -> list[d
         doc = result.doc
         done.append({"cell": str(cell), "program": str(program), "cycle_s": doc["cycle_s"], "csv": str(csv),
                      "video": doc.get("video", {}).get("path"), "errors": doc["errors"]})
+    done.append(_multimove(say))
     done.append(_hose(out, say))
     return done
+
+
+def _multimove(say: Callable[[str], None]) -> dict:
+    """The two-robot weld cell: both tasks of its backup on one clock, checked against each other."""
+    from .. import examples
+    from .program import run_program
+
+    cell, backup = examples.MULTIMOVE_CELL, examples.MULTIMOVE_BACKUP
+    result = run_program(str(cell), [str(backup)])
+    lines = [f"== cell {cell.name}: each robot's task of the backup {backup.name}/, on one clock (rswarp program "
+             f"{cell.name} {backup.name}):"]
+    lines += [f"     {line}" for line in result.text.splitlines()]
+    say("\n".join(lines + [""]))
+    return {"cell": str(cell), "program": str(backup), "cycle_s": result.doc["cycle_s"], "csv": None, "video": None,
+            "errors": result.doc["errors"]}
 
 
 def _hose(out: Path, say: Callable[[str], None]) -> dict:

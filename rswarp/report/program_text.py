@@ -15,11 +15,16 @@ STILL_M_S = 1e-3  # m/s: a move whose TCP goes no faster on the mean turns the t
 
 
 def program_text(mech, doc: dict) -> str:
+    return "\n".join([_head(doc, doc["files"])] + program_body(doc))
+
+
+def program_body(doc: dict) -> list[str]:
+    """The table of the moves and what is said under it (a MultiMove report's, for each robot)."""
     moves = doc["moves"]
     files = doc["files"]
     several = len(files) > 1
     routines = len({m["routine"] for m in moves}) > 1
-    lines = [_head(doc, files)]
+    lines = []
     axes = doc.get("external_axes") or {}
     rows = [["line" if not several else "file:line"] + (["routine"] if routines else []) +
             ["instruction", "target", "resolved [mm]"] + (["extax [mm, deg]"] if axes else []) +
@@ -51,7 +56,7 @@ def program_text(mech, doc: dict) -> str:
         lines.append(f"speed plot: {doc['speed_plot']}")
     if doc.get("video"):
         lines.append(f"video: {doc['video']['path']} ({doc['video']['frames']} frames)")
-    return "\n".join(lines)
+    return lines
 
 
 def _external(m: dict, axes: dict) -> str:
@@ -189,6 +194,8 @@ def _held(held: dict) -> str:
     """What holds a move, in words: an axis's speed, acceleration or jerk, the TCP's programmed
     speed or turn, its zone's blend, its \\T; with the ratio to that bound."""
     limit, axis, ratio = held["limit"], held.get("axis"), held.get("ratio")
+    if limit == "synchronized":
+        return f"the synchronized move ({held['ident']}) of {' and '.join(held['robots'])}, the slower"
     if limit in ("zone", "time"):
         near = held["nearest"]
         what = "its zone (a corner's blend: the speed changes to the next move's)" if limit == "zone" else "its \\T"

@@ -30,7 +30,7 @@ LOGICAL_AXES = ("eax_a", "eax_b", "eax_c", "eax_d", "eax_e", "eax_f")
 MECHANISM_SUFFIXES = (".rsxml", ".xml")  # a tool given by one of these is a Tool mechanism, else a mesh
 KEYS = {  # table -> its keys; "" is the file's top level
     "": ("robot", "external", "tool", "environment", "backup"),
-    "robot": ("rsxml", "on", "frame", "unit"),
+    "robot": ("rsxml", "on", "frame", "unit", "name", "task", "drives"),
     "external": ("name", "rsxml", "frame", "axes"),
     "tool": ("path", "frame"),
     "environment": ("mesh", "frame", "on"),
@@ -45,13 +45,16 @@ def _identity() -> np.ndarray:
 @dataclass(frozen=True)
 class PlacedRobot:
     """The robot: its RSXML file and mechanism, its base's frame (4x4, m) in the world, or on the
-    carrier ``on`` names (the external unit whose last joint's link carries it; None: the floor)."""
+    carrier ``on`` names (the external unit whose last joint's link carries it; None: the floor);
+    its ``name`` in the cell (``ROB_2``) and the motion task it runs (``T_ROB2``; None: the first)."""
 
     rsxml: str
     mechanism: Mechanism = field(compare=False, repr=False)
     frame: np.ndarray = field(default_factory=_identity, compare=False, repr=False)
     on: str | None = None
     line: int = 0
+    name: str = ""
+    task: str | None = None
 
 
 @dataclass(frozen=True)
@@ -119,6 +122,7 @@ class Cell:
     warnings: tuple[str, ...] = ()
     diagnostics: tuple[Diagnostic, ...] = ()  # the warnings as records (``rswarp check``'s)
     eio: str | None = None  # the backup's SYSPAR/EIO.cfg: the signals a task run on the cell knows
+    team: tuple[Cell, ...] = ()  # MultiMove ([[robot]] tables): one cell per robot, each with its units
 
     @property
     def mapping(self) -> dict[str, tuple[str, str]]:
@@ -156,6 +160,10 @@ def read_cell(path) -> Cell:
     text, doc = read_toml(path)
     r = _Reader(path, text)
     r.attempt(lambda: r.known(doc, "", None))
+    if isinstance(doc.get("robot"), list):  # MultiMove: [[robot]], once for each
+        from .cell_team import read_team
+
+        return read_team(r, doc)
     if "robot" not in doc:
         r.errors.append(Diagnostic(path, 0, "no [robot] table: a cell places one robot (rsxml = its RSXML file)"))
     externals = r.externals(r.attempt(r.tables, doc, "external", default=[]))
@@ -163,18 +171,15 @@ def read_cell(path) -> Cell:
     tool = r.attempt(lambda: r.tool(r.table(doc, "tool"))) if "tool" in doc else None
     meshes = r.attempt(r.tables, doc, "environment", default=[])
     environment = tuple(m for k, t in enumerate(meshes) if (m := r.attempt(r.mesh, t, k, externals)))
-    unit = r.attempt(r.unit, doc) if isinstance(doc.get("robot"), dict) else None
+    unit = r.attempt(r.unit, doc["robot"], doc) if isinstance(doc.get("robot"), dict) else None
+    if isinstance(doc.get("robot"), dict) and "drives" in doc["robot"]:
+        r.attempt(r.fail, ("robot", None), "drives", "[robot] drives: a cell of one robot drives every unit; "
+                                                     "drives names a MultiMove robot's units, in [[robot]]")
     if r.errors:
         raise RsxmlError(sorted(r.errors, key=lambda d: d.line))
     cell = Cell(path, robot, externals, tool, environment)
-    if "backup" in doc:  # the controller's own setup (SYSPAR/MOC.cfg, EIO.cfg): bounds, carrier, frames, signals
-        from .cell_moc import apply_backup
-
-        given = {("robot", "frame"): "frame" in doc["robot"], ("robot", "unit"): unit}
-        given |= {("external", t.get("name")): "frame" in t for t in r.tables(doc, "external")}
-        cell, said = apply_backup(cell, r.folder, doc["backup"], r.lines.of("", None, "backup"), given,
-                                  lambda message: r.fail(("", None), "backup", message))
-        r.warnings.extend(said)
+    if "backup" in doc:
+        cell = r.backup(cell, doc, doc["robot"], unit)
     return replace(cell, warnings=tuple(str(w) for w in r.warnings), diagnostics=tuple(r.warnings))
 
 
@@ -195,6 +200,7 @@ class _Reader:
         self.errors: list[Diagnostic] = []  # every problem found; a table with one is left out
         self.failed: set[str] = set()  # the names of [[external]] tables left out for a problem
         self.names: dict[tuple[str, int | None], str] = {}  # an [[external]]'s name, once known
+        self.owner: dict[str, int] = {}  # MultiMove: unit -> the robot whose task drives it (axes are per task)
 
     def attempt(self, read, *args, default=None):
         """``read(*args)``, or ``default`` with its problem kept in ``errors`` (the rest read on)."""
@@ -236,8 +242,20 @@ class _Reader:
                 hint = f"; did you mean '{near}'?" if near else f" (known: {', '.join(keys)})"
                 self.fail((name, index), key, f"unknown key '{key}' in {_title(name, index)}{hint}")
 
-    def robot(self, t: dict, externals: tuple[External, ...]) -> PlacedRobot:
-        where = ("robot", None)
+    def backup(self, cell: Cell, doc: dict, t: dict, unit, index: int | None = None) -> Cell:
+        """``cell`` with the controller's own setup (SYSPAR/MOC.cfg, EIO.cfg) applied: bounds,
+        carrier, frames, signals; ``t`` the robot's table, ``unit`` its ``unit`` (and line), ``index``
+        its place among a MultiMove cell's robots."""
+        from .cell_moc import apply_backup
+
+        given = {("robot", "frame"): "frame" in t, ("robot", "unit"): unit, ("robot", "index"): index}
+        given |= {("external", e.get("name")): "frame" in e for e in self.tables(doc, "external")}
+        cell, said = apply_backup(cell, self.folder, doc["backup"], self.lines.of("", None, "backup"), given,
+                                  lambda message: self.fail(("", None), "backup", message))
+        self.warnings.extend(w for w in said if w not in self.warnings)
+        return cell
+
+    def robot(self, t: dict, externals: tuple[External, ...], where=("robot", None)) -> PlacedRobot:
         path, mech = self.mechanism(t, where, "Robot")
         on = t.get("on")
         if on is not None and on not in self.failed:  # a unit left out for its own problem: said there
@@ -246,32 +264,40 @@ class _Reader:
                 near = nearest(str(on), names)
                 hint = f"; did you mean '{near}'?" if near else \
                     f" (the cell's external units: {', '.join(names)})" if names else " (the cell has no [[external]])"
-                self.fail(where, "on", f"[robot] on = {_shown(on)} names no [[external]]{hint}")
-            self.allowed_track(mech, externals[names.index(on)])
-        return PlacedRobot(path, mech, self.frame(t, where), on, self.lines.of(*where, None))
+                self.fail(where, "on", f"{self.title(where)} on = {_shown(on)} names no [[external]]{hint}")
+            self.allowed_track(mech, externals[names.index(on)], where)
+        name, task = (self.text(t, where, key) for key in ("name", "task"))
+        return PlacedRobot(path, mech, self.frame(t, where), on, self.lines.of(*where, None), name, task)
 
-    def unit(self, doc: dict) -> tuple[str, int] | None:
+    def text(self, t: dict, where, key: str) -> str:
+        """The table's ``key`` as text, stripped; "" where not given."""
+        value = t.get(key, "")
+        if not isinstance(value, str) or (key in t and not value.strip()):
+            self.fail(where, key, f"{self.title(where)} {key}: give it as text, not {_shown(value)}")
+        return value.strip()
+
+    def unit(self, t: dict, doc: dict, where=("robot", None)) -> tuple[str, int] | None:
         """``[robot] unit`` (the backup's robot the cell's is, MultiMove) and its line; None where
         not given. It names a robot of the backup's MOC.cfg: without ``backup`` it is an error."""
-        if "unit" not in doc["robot"]:
+        if "unit" not in t:
             return None
-        value = doc["robot"]["unit"]
-        where = ("robot", None)
+        value = t["unit"]
         if not isinstance(value, str) or not value.strip():
-            self.fail(where, "unit", "[robot] unit: give the backup's robot the cell's robot is, as text: its "
+            self.fail(where, "unit", f"{self.title(where)} unit: give the backup's robot the cell's robot is, as "
+                                     "text: its "
                                      "mechanical unit in MOC.cfg (\"ROB_2\") or its motion task (\"T_ROB2\")")
         if "backup" not in doc:
-            self.fail(where, "unit", f"[robot] unit = {_shown(value)} names a robot of the cell's backup, and the "
-                                     "cell file gives no backup = \"...\"")
+            self.fail(where, "unit", f"{self.title(where)} unit = {_shown(value)} names a robot of the cell's backup, "
+                                     "and the cell file gives no backup = \"...\"")
         return value.strip(), self.lines.of(*where, "unit")
 
-    def allowed_track(self, robot: Mechanism, carrier: External) -> None:
+    def allowed_track(self, robot: Mechanism, carrier: External, where=("robot", None)) -> None:
         """A warning where the robot's AllowedTrackModels does not name the model it stands on."""
         allowed = robot.allowed_track_models
         model = carrier.mechanism.model_name or carrier.mechanism.name
         if allowed and not any(re.fullmatch(rf"{re.escape(a)}(_.*)?", model, re.I) for a in allowed):
             self.warnings.append(Diagnostic(
-                self.path, self.lines.of("robot", None, "on"), f"robot '{robot.name}' allows the track models "
+                self.path, self.lines.of(*where, "on"), f"robot '{robot.name}' allows the track models "
                 f"{', '.join(allowed)} (AllowedTrackModels), not '{model}' of '{carrier.name}'", "warning"))
 
     def externals(self, tables: list[dict]) -> tuple[External, ...]:
@@ -317,9 +343,10 @@ class _Reader:
                                      f"ax{'es' if len(axes) != 1 else 'is'} for its {count}: give one per joint, "
                                      "in joint order")
         for a, j in zip(axes, joints):
+            a = (self.owner.get(unit), a)  # two tasks each have their own eax_a
             if a in taken:
                 other, joint, first = taken[a]
-                self.fail(where, "axes", f"[[external]] '{unit}' axes: {a} already drives joint {joint} of "
+                self.fail(where, "axes", f"[[external]] '{unit}' axes: {a[1]} already drives joint {joint} of "
                                          f"'{other}' (line {first})")
             taken[a] = (unit, j, line)
         return axes

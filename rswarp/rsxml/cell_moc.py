@@ -130,6 +130,11 @@ class MocApplied:
         name, line = self.given.get(("robot", "unit")) or (None, None)
         names = ", ".join(r.name for r in robots) or "none"
         tasks = [t for g in self.groups or () if g.robot for t in g.tasks]
+        index = self.given.get(("robot", "index"))
+        if name is None and index is not None and len(robots) > 1:  # the k-th [[robot]]: the k-th robot
+            if index >= len(robots):
+                self.fail(f"the cell has a [[robot]] {index + 1}, the controller {len(robots)} robots ({names})")
+            return robots[index]
         if name is None:
             if len(robots) > 1:
                 hint = f" (or its motion task: {', '.join(tasks)})" if tasks else ""
@@ -237,6 +242,9 @@ class MocApplied:
         if not self.given.get(("robot", "frame")):
             robot = replace(robot, frame=bf.matrix())
             self.note(f"the robot's frame is {me}'s base frame: {bf.words()}")
+        mine = self._unit_of_robot(self.robot)
+        task = next((t for g in self.groups or () if g.robot == mine for t in g.tasks), None)
+        robot = replace(robot, name=robot.name or me, task=robot.task or task)
         externals = tuple(self._unit_frame(e) for e in cell.externals)
         return replace(cell, robot=robot, externals=externals)
 

@@ -81,7 +81,10 @@ def body_poses(ck, found: CellPairs, q: np.ndarray, ext: np.ndarray) -> np.ndarr
 class CellChecker:
     """The posed-pair kernel over a cell's pairs on a device: ``hits(q, ext)`` (N, pairs)."""
 
-    def __init__(self, ck, found: CellPairs, device: str = "cpu", threads: int | None = None):
+    def __init__(self, ck, found: CellPairs, device: str = "cpu", threads: int | None = None, poses=None,
+                 home=None):
+        """``poses(q, ext)``: the bodies' poses (``body_poses`` where not given); ``home``: the (q,
+        ext) whose touching pairs are a build that touches, left unchecked (every unit at home)."""
         from ..kernels.collide import posed_kernel
         from ..launch import Launcher, init_warp
 
@@ -92,15 +95,16 @@ class CellChecker:
         self._kernel = posed_kernel(wp.float32)
         self.launcher.load(self._kernel)
         self._wp = wp
-        home = self.hits(ck.robot.mech.home_position()[None], ck.home()[None])[0]
-        self.checked = ~home
+        self._poses = poses or (lambda q, ext: body_poses(ck, found, q, ext))
+        q0, ext0 = home or (ck.robot.mech.home_position(), ck.home())
+        self.checked = ~self.hits(np.asarray(q0, float)[None], np.asarray(ext0, float)[None])[0]
 
     def hits(self, q: np.ndarray, ext: np.ndarray) -> np.ndarray:
         """(N, pairs) whether each pair collides (surfaces cross, or one contains the other)."""
         pairs = np.array(self.found.bodies.pairs, np.int32).reshape(-1, 2)
         out = np.zeros((len(q), len(pairs)), bool)
         for lo in range(0, len(q), CHUNK):
-            poses = body_poses(self.ck, self.found, q[lo:lo + CHUNK], ext[lo:lo + CHUNK])[:, :, :3, :]
+            poses = self._poses(q[lo:lo + CHUNK], ext[lo:lo + CHUNK])[:, :, :3, :]
             n = len(poses)
             a = poses[:, pairs[:, 0]].reshape(-1, 3, 4).astype(np.float32)
             b = poses[:, pairs[:, 1]].reshape(-1, 3, 4).astype(np.float32)
