@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..errors import Diagnostic, RsxmlError, nearest
-from .cell import Cell
+from .cell_types import Cell
 
 
 def read_team(r, doc: dict) -> Cell:
