@@ -9,7 +9,7 @@ of ``config``. Device code lives in ``rswarp.kernels``.
 """
 
 from . import files as files  # first: in the rswarp command a Ctrl-C while it loads waits for main
-from .config import BatchOptions, DesignOptions, HoseOptions, TaskOptions, VideoOptions
+from .config import BatchOptions, DesignOptions, HoseOptions, PlaceOptions, TaskOptions, VideoOptions
 from .errors import Diagnostic, InputError, MeshError, MeshNotFoundError, RsxmlError
 from .rsxml.documents import Report, RsxmlWarning, check, load, load_library
 from .rsxml.graph import LinkGraph
@@ -40,6 +40,7 @@ _LAZY = {
     "Cluster": ("sim.engine", "Cluster"),
     "build_library": ("report.library", "build_library"),
     "program": ("motion.plan", "program_plan"),
+    "place": ("report.placement.run", "place"),
     "to_usd": ("export.usd_layout", "to_usd"),
     "to_newton": ("export.newton", "to_newton"),
     "to_urdf": ("export.urdf", "to_urdf"),
@@ -65,5 +66,6 @@ __all__ = [
     "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
     "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton",
-    "to_urdf", "program", "TaskOptions", "HoseOptions", "DesignOptions", "BatchOptions", "VideoOptions",
+    "to_urdf", "program", "place", "PlaceOptions", "TaskOptions", "HoseOptions", "DesignOptions", "BatchOptions",
+    "VideoOptions",
 ]

@@ -76,6 +76,9 @@ COMMANDS = {
                                                  "kinematics with their confdata, the trajectory, and its joint "
                                                  "limits, collisions, floor and singularities",
                 ("json", "device", "ray")),
+    "place": ("placement.run:run_place", None, "where the robot should stand: candidate bases scored over every "
+                                               "pose of a RAPID task in one batch, the best run through the whole "
+                                               "program and ranked by cycle time", ("json", "device", "seed", "out")),
     "demo": ("demo:demo_output", None, "run rswarp on the bundled example robots", ("json",)),
 }
 

@@ -121,6 +121,26 @@ def program(p: argparse.ArgumentParser) -> None:
     _tool(p)
 
 
+def place(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file, or a cell file whose robot stands on the "
+                                                 "floor (its [robot] frame is what moves; its meshes are checked)")
+    p.add_argument("programs", nargs="+", metavar="PATH",
+                   help="the RAPID task (module files, a folder, a .pgf) whose every pose the robot must reach")
+    _task(p)
+    p.add_argument("--vary", action="append", required=True, metavar="NAME=MIN:MAX[:N]",
+                   help="a variable of the base and its range: x, y, z (mm) or yaw (degrees), as a cell file writes "
+                        "frames; with N, N values ends included (every such variable a grid, all combinations), "
+                        "without, drawn --samples times; repeat for more")
+    p.add_argument("--samples", type=argument("samples"), metavar="N",
+                   help="quasi-random draws of the variables given without N (scrambled Halton, --seed)")
+    p.add_argument("--top", type=argument("top"), default=8,
+                   help="the best bases (by their margin to the singularities) run through the whole program and "
+                        "ranked by cycle time (default 8)")
+    p.add_argument("--env", dest="environment", action="append", default=[], metavar="MESH@x,y,z",
+                   help=f"a mesh placed in the world ({LENGTH}), checked at every pose; repeat for more")
+    _tool(p)
+
+
 def _task(p: argparse.ArgumentParser) -> None:
     """How a RAPID task runs: its entry routine, its inputs, its main loop's passes, external axes."""
     p.add_argument("--routine", default="main", help="the routine to run (default main)")

@@ -157,6 +157,22 @@ class DesignOptions:
 
 
 @dataclass(frozen=True)
+class PlaceOptions:
+    """``rswarp place``'s search: the ``--vary`` specs of the base (x, y, z in mm, yaw in degrees;
+    ``MIN:MAX[:N]``), the quasi-random draws of those without N, and how many of the best bases
+    are run through the whole program."""
+
+    vary: tuple[str, ...] = ()
+    samples: int | None = None
+    top: int = 8
+
+    def __post_init__(self):
+        object.__setattr__(self, "vary", _strings(self.vary))
+        if isinstance(self.top, bool) or not 1 <= int(self.top) <= 64:
+            raise InputError(f"--top must be 1 to 64, not {self.top!r}")
+
+
+@dataclass(frozen=True)
 class BatchOptions:
     """Where a batch runs: the Warp device, a Ray address (None: locally; "local": a local Ray
     instance) and the sampling seed."""
@@ -179,7 +195,7 @@ class VideoOptions:
 
 # the parameter name each kind travels under, in the library and in ``cli.OPTION_PARAMETERS``
 OPTION_KINDS = {"task": TaskOptions, "hose": HoseOptions, "design": DesignOptions, "batch": BatchOptions,
-          "video": VideoOptions}
+          "video": VideoOptions, "place": PlaceOptions}
 
 
 def from_namespace(kind: type, values: Mapping[str, Any]):

@@ -69,6 +69,7 @@ BOUNDS: dict[str, Bound] = {
     "seed": Bound(0, 2 ** 63 - 1, whole=True, why="a 64-bit seed"),
     "envs": Bound(1, 1 << 16, whole=True, why="a run's state and per-frame results stay bounded"),
     "designs": Bound(1, 1 << 16, whole=True, why="each design is an environment of one run"),
+    "top": Bound(1, 64, whole=True, why="each is a whole run of the program"),
     "min-margin": Bound(0.0, 100.0, why="a percentage of each rating"),
     "substeps": Bound(1, 1000, whole=True, why="17 microsecond steps at 60 frames/s"),
     "seconds": Bound(0.0, 86400.0, strict=True, unit="s", why="a day; a run also takes at most 1000000 frames"),

@@ -15,7 +15,7 @@ import pytest
 from rswarp import examples
 from rswarp.errors import RsxmlError
 from rswarp.report.output import json_safe
-from rswarp.report.program import _limits_dict
+from rswarp.report.program_doc import _limits_dict
 from rswarp.rsxml.documents import load_mechanism
 from rswarp.rsxml.robot_data import (
     ACCEL_RULE,

@@ -337,7 +337,7 @@ def _box(arm, conf, start: np.ndarray, bounds) -> tuple[np.ndarray, np.ndarray]:
         hi[:, 4] = np.minimum(hi[:, 4], EDGE)
     else:
         lo[:, 4] = np.maximum(lo[:, 4], -EDGE)
-    straight = _straight(arm)  # the elbow's side: between two of these, half a turn apart
+    straight = stretched_q3(arm)  # the elbow's side: between two of these, half a turn apart
     k = np.floor((start[:, 2] - straight) / np.pi)
     lo[:, 2] = np.maximum(lo[:, 2], straight + k * np.pi + INSIDE)
     hi[:, 2] = np.minimum(hi[:, 2], straight + (k + 1) * np.pi - INSIDE)
@@ -404,7 +404,7 @@ def _descend(kin, pose: np.ndarray, q: np.ndarray, lo: np.ndarray, hi: np.ndarra
     return q, err
 
 
-def _straight(arm) -> float:
+def stretched_q3(arm) -> float:
     """q3 where the arm is stretched: the wrist centre on the line through axes 2 and 3, beyond 3."""
     w3 = arm.s3 * np.asarray(arm.w2)
     a, b = np.asarray(arm.c0) - np.asarray(arm.p3), np.asarray(arm.p3) - np.asarray(arm.p2)

@@ -24,21 +24,21 @@ class Frames:
     stationary: bool  # the tool stands in the world; the robot holds the work object
 
     def __post_init__(self):
-        inv = {k: _inverse(getattr(self, k)) for k in ("base", "tool", "wobj")}
+        inv = {k: rigid_inverse(getattr(self, k)) for k in ("base", "tool", "wobj")}
         object.__setattr__(self, "_inv", inv)
 
     def flange(self, relative: np.ndarray) -> np.ndarray:
         """Flange poses (N, 4, 4) in the robot's frame for target poses in the work object."""
         i = self._inv
         if self.stationary:
-            return i["base"] @ self.tool @ _inverse(relative) @ i["wobj"]
+            return i["base"] @ self.tool @ rigid_inverse(relative) @ i["wobj"]
         return (i["base"] @ self.wobj) @ relative @ i["tool"]
 
     def relative(self, flange: np.ndarray) -> np.ndarray:
         """The TCP poses in the work object of flange poses (N, 4, 4)."""
         i = self._inv
         if self.stationary:
-            return i["wobj"] @ _inverse(flange) @ i["base"] @ self.tool
+            return i["wobj"] @ rigid_inverse(flange) @ i["base"] @ self.tool
         return (i["wobj"] @ self.base) @ flange @ self.tool
 
     def world(self, flange: np.ndarray) -> np.ndarray:
@@ -48,7 +48,7 @@ class Frames:
         return self.base @ flange @ self.tool
 
 
-def _inverse(m: np.ndarray) -> np.ndarray:
+def rigid_inverse(m: np.ndarray) -> np.ndarray:
     """The inverse of rigid transforms (..., 4, 4): the rotation transposed."""
     out = np.zeros_like(m)
     rt = np.swapaxes(m[..., :3, :3], -1, -2)

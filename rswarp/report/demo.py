@@ -14,6 +14,7 @@ from ..rsxml.model import Mechanism
 from .demo_cells import demo_cells
 from .info import report_dict, report_text
 from .output import Output
+from .placement.demo import demo_placement
 
 DEMO_SAMPLES = 20_000
 DEMO_CABLE_ENVS, DEMO_CABLE_SECONDS = 16, 4.0
@@ -32,15 +33,17 @@ class Demo:
     dresspack: dict = field(default_factory=dict)
     ray: dict = field(default_factory=dict)
     cells: list[dict] = field(default_factory=list)
+    placement: dict = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
         return all(r.ok for r in self.reports) and self.ray.get("same_as_local", True) and \
-            not any(c["errors"] for c in self.cells)
+            not any(c["errors"] for c in self.cells) and self.placement.get("best") is not None
 
     def as_dict(self) -> dict:
         return {"ok": self.ok, "examples": [report_dict(r) for r in self.reports], "robots": self.robots,
-                "libraries": self.libraries, "dresspack": self.dresspack, "cells": self.cells, "ray": self.ray}
+                "libraries": self.libraries, "dresspack": self.dresspack, "cells": self.cells,
+                "placement": self.placement, "ray": self.ray}
 
 
 def demo_output(out: str | Path = "rswarp-demo", say: Callable[[str], None] = lambda text: None) -> Output:
@@ -74,6 +77,7 @@ def _run_demo(out: str | Path, say: Callable[[str], None]) -> Demo:
             demo.libraries.append(demo_library(path, Path(out) / "library", say))
     demo.dresspack = demo_dresspack(Path(out), say)
     demo.cells = demo_cells(Path(out) / "cells", say, DEMO_VIDEO)
+    demo.placement = demo_placement(Path(out) / "place", say)
     demo.ray = demo_ray(robots, say)
     return demo
 

@@ -1,0 +1,86 @@
+"""Collisions at each pose of the bases that reach every pose: the robot in the configuration the
+reach batch chose, against itself (every pair but those touching at home, as ``rswarp program``
+checks) and against the cell's environment meshes where that base puts the robot among them, in
+one exact batch each (``sim.collisions.Checker``, ``sim.cell_check.CellChecker``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...kinematics.cell import CellKinematics
+from ...rsxml.cell import Cell, CellMesh, PlacedRobot
+from ...sim.cell_check import CellChecker, cell_pairs
+from ...sim.program_check import checked_pairs, program_tools
+from ...sim.tool import tool_body
+
+FAR_AWAY = 1e6  # m: where the home check puts the robot, so that no mesh of the cell counts as its build
+
+
+@dataclass
+class Clear:
+    """Per base (n,): whether nothing collides at any pose; per pose (P,): the bases where it
+    collides, and the pair that collides most often there (``Link3`` and ``column``)."""
+
+    free: np.ndarray
+    hits: np.ndarray
+    pair: list
+
+
+class Clearance:
+    """The checkers of one robot (with its ``tool``) and the cell's meshes (``meshes``: ``CellMesh``
+    in the world), compiled once for every chunk of bases."""
+
+    def __init__(self, mech, meshes: tuple[CellMesh, ...], tool, device: str, rsxml: str):
+        self.mech, self.device = mech, device
+        self.tools = program_tools(mech, (), device, tool=tool)
+        self.self_pairs = checked_pairs(mech, self.tools)
+        self.env = None
+        if meshes:
+            ck = CellKinematics(Cell(rsxml, PlacedRobot(rsxml, mech), (), None, tuple(meshes)), device)
+            found = cell_pairs(ck, tool_body(mech, tool) if tool is not None else None)
+            self.env = (ck, found)
+
+    def check(self, q: np.ndarray, bases: np.ndarray, out: Clear, at: int) -> None:
+        """Bases ``bases`` (n, 4, 4) from ``at``, their chosen configurations ``q`` (n, P, 6)."""
+        n, count = q.shape[:2]
+        flat = q.reshape(n * count, -1)
+        hit = np.zeros((n * count,), bool)
+        names: list[tuple[str, str]] = []
+        pairs = np.zeros((n * count, 0), bool)
+        if self.tools.checker is not None:
+            own = self.tools.checker.verdicts(flat)[0] & self.self_pairs
+            pairs, names = own, list(self.tools.checker.bodies.pair_names())
+        if self.env is not None:
+            more = self._environment(flat, np.repeat(bases, count, axis=0))
+            pairs = np.concatenate([pairs, more], axis=1)
+            names += self.env[1].pair_names()
+        hit = pairs.any(axis=1)
+        out.free[at:at + n] = ~hit.reshape(n, count).any(axis=1)
+        per_pose = hit.reshape(n, count)
+        out.hits += per_pose.sum(axis=0)
+        counts = pairs.reshape(n, count, -1).sum(axis=0)  # (P, pairs)
+        for j in np.flatnonzero(per_pose.any(axis=0)):
+            k = int(np.argmax(counts[j]))
+            out.pair[j] = out.pair[j] or tuple(names[k][:2])
+
+    def _environment(self, q: np.ndarray, bases: np.ndarray) -> np.ndarray:
+        """(N, pairs) robot links against the meshes, the robot at ``bases`` (N, 4, 4)."""
+        ck, found = self.env
+        fk = ck.robot.fk64
+
+        def poses(qq, rest):  # rest[:, 0]: the row's base in ``frames``
+            at = frames[rest[:, 0].astype(np.int64)]
+            links = at[:, None] @ fk(qq)
+            return np.stack([links[:, w[0]] if who == "robot" else
+                             np.broadcast_to(found.bodies.bodies[b].pose, (len(qq), 4, 4))
+                             for b, (who, *w) in enumerate(found.owner)], axis=1)
+
+        far = np.eye(4)
+        far[:3, 3] = FAR_AWAY
+        frames = np.concatenate([bases, far[None]])
+        checker = CellChecker(ck, found, self.device, poses=poses,
+                              home=(self.mech.home_position(), np.array([len(frames) - 1.0])))
+        rows = np.arange(len(q), dtype=float)[:, None]
+        return checker.hits(q, rows) & checker.checked

@@ -1,0 +1,146 @@
+"""Every pose of a task at every candidate base, solved in one batch (the closed-form IK of every
+branch, ``Kinematics.ik64``), in chunks that keep memory bounded: whether some configuration within
+the joint limits reaches it (with the target's confdata where ConfJ/ConfL check it), why not where
+none does (out of reach, by how much; a joint limit; the confdata; the wrist centre on axis 1), and
+how far the best configuration is from the arm's singularities: the wrist (|q5| from 0), the elbow
+(q3 from the arm stretched) and the shoulder (the wrist centre from axis 1)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...kinematics.ik import NO_LIMITS, NO_REACH, OK, SHOULDER, ArmConstants
+from ...motion.shortfall import across, arm_reach, axis2_distance
+from ...motion.targets import stretched_q3
+from ...motion.tcp import rigid_inverse
+
+CHUNK = 131_072  # poses solved at once: 8 branches of 6 joints each, some 60 MB of work
+REASONS = ("out of reach", "a joint limit", "the confdata", "the shoulder singularity")
+FAR, LIMIT, CONF, AXIS1 = range(4)
+SCALE = (30.0, 30.0, 300.0)  # deg, deg, mm: the singularity distances that count as clear of them
+
+
+@dataclass
+class Reach:
+    """Per candidate (C,): poses reached, and the least wrist, elbow (degrees) and shoulder (mm)
+    distances over the poses it reaches; per pose (P, reasons): the candidates each reason rules
+    it out at, and (P,) the least and most it is beyond the arm's reach (mm; NaN: never)."""
+
+    reached: np.ndarray
+    singular: np.ndarray
+    ruled_out: np.ndarray
+    beyond: np.ndarray
+    conf_missed: np.ndarray  # (C,) some pose reached only in another configuration than its confdata
+
+    @property
+    def score(self) -> np.ndarray:
+        """(C,) the least of the three singularity distances, each over what counts as clear of it
+        (capped at 1): the margin a base keeps on the program's worst pose."""
+        return np.nan_to_num(_nanmin(np.minimum(self.singular / np.array(SCALE), 1.0)), nan=-1.0)
+
+
+def reach(kin, bases: np.ndarray, poses, chunk: int = CHUNK) -> Reach:
+    """``Reach`` of the ``poses`` (``ProgramPoses``) at each base (C, 4, 4, the robot's base in the
+    world); the robot ``kin`` must have the closed form of a 6-axis arm."""
+    form = kin._ik_form()
+    if not isinstance(form, ArmConstants):
+        from ...errors import InputError
+
+        raise InputError(f"'{kin.mech.name}' is not a 6-axis arm with a spherical wrist: rswarp place solves the "
+                         "arm's closed form (a palletizer or another shape is not placed yet)")
+    count = len(poses.world)
+    per = max(1, chunk // count)
+    out = Reach(np.zeros(len(bases), np.int64), np.full((len(bases), 3), np.nan),
+                np.zeros((count, len(REASONS)), np.int64), np.full((count, 2), np.nan), np.zeros(len(bases), bool))
+    for lo in range(0, len(bases), per):
+        _chunk(kin, form, bases[lo:lo + per], poses, out, lo)
+    return out
+
+
+def solve(kin, form, bases: np.ndarray, poses) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(q (n, P, 6) the best configuration of each pose at each base, NaN where none reaches it;
+    ok (n, P); the status (n, P, branches); the flange poses in the robot's frame (n, P, 4, 4))."""
+    local = rigid_inverse(bases)[:, None] @ poses.world[None]  # (n, P, 4, 4)
+    n, count = local.shape[:2]
+    sol = kin.ik64(local.reshape(-1, 4, 4))
+    good = sol.status == OK
+    good &= _conf_ok(kin, sol, np.tile(poses.conf, (n, 1)), np.tile(poses.checked, n))
+    wrist, elbow = _branch_margins(form, sol.q)
+    value = np.where(good, np.minimum(wrist / SCALE[0], elbow / SCALE[1]), -np.inf)
+    best = np.argmax(value, axis=1)
+    rows = np.arange(len(best))
+    ok = good[rows, best]
+    q = np.where(ok[:, None], sol.q[rows, best], np.nan)
+    return q.reshape(n, count, -1), ok.reshape(n, count), sol.status.reshape(n, count, -1), local
+
+
+def _chunk(kin, form, bases: np.ndarray, poses, out: Reach, at: int) -> None:
+    """One chunk of candidates (from ``at``) solved, its figures added to ``out``."""
+    q, ok, status, local = solve(kin, form, bases, poses)
+    n, count = ok.shape
+    out.reached[at:at + n] = ok.sum(axis=1)
+    flat = q.reshape(n * count, -1)
+    wrist, elbow = _branch_margins(form, flat[:, None])
+    shoulder = _shoulder(form, local.reshape(-1, 4, 4))
+    for k, v in enumerate((wrist[:, 0], elbow[:, 0], shoulder)):
+        v = np.where(ok.ravel(), v, np.nan).reshape(n, count)
+        out.singular[at:at + n, k] = _nanmin(v)
+    _reasons(form, ok, status, local, out, at)
+
+
+def _reasons(form, ok, status, local, out: Reach, at: int) -> None:
+    """Why each pose is missed at each base of the chunk: counted per pose, and how far beyond reach."""
+    miss = ~ok
+    limit = (status == NO_LIMITS).any(axis=2)
+    any_ok = (status == OK).any(axis=2)
+    axis1 = (status == SHOULDER).any(axis=2)
+    far = miss & ~any_ok & ~limit & ~axis1 & (status == NO_REACH).any(axis=2)
+    for k, mask in ((FAR, far), (LIMIT, miss & ~any_ok & limit), (CONF, miss & any_ok),
+                    (AXIS1, miss & ~any_ok & ~limit & axis1)):
+        out.ruled_out[:, k] += mask.sum(axis=0)
+    out.conf_missed[at:at + len(ok)] = (miss & any_ok).any(axis=1)
+    if far.any():
+        rows, cols = np.nonzero(far)
+        gap = np.min(axis2_distance(form, local[rows, cols]), axis=1) - arm_reach(form)[0]
+        mm = np.maximum(gap, 0.0) * 1000.0
+        for j in np.unique(cols):
+            g = mm[cols == j]
+            lo, hi = out.beyond[j]
+            out.beyond[j] = (np.fmin(lo, g.min()), np.fmax(hi, g.max()))
+
+
+def _conf_ok(kin, sol, conf: np.ndarray, checked: np.ndarray) -> np.ndarray:
+    """(N, branches): whether each branch has the target's confdata where it is checked: cf1 and
+    cfx as the branch's, cf4 and cf6 its quadrant of axes 4 and 6 in some whole turn within the
+    limits (ABB's cf4 and cf6 count the turns)."""
+    lo, hi = kin.mech.bounds()
+    c = conf[:, None, :]
+    same = (sol.conf[..., 0] == c[..., 0]) & (sol.conf[..., 3] == c[..., 3])
+    for col, axis in ((1, 3), (2, 5)):
+        d = c[..., col] - sol.conf[..., col]
+        turns = np.where(d % 4 == 0, d // 4, 0)
+        moved = sol.q[..., axis] + 2.0 * np.pi * turns
+        same &= (d % 4 == 0) & (moved >= lo[axis] - 1e-9) & (moved <= hi[axis] + 1e-9)
+    return same | ~checked[:, None]
+
+
+def _branch_margins(form, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(wrist, elbow) in degrees of configurations q (..., 6): |q5| from 0 (mod 180 degrees) and q3
+    from the arm stretched (mod 180 degrees)."""
+    wrist = np.degrees(np.abs(np.arcsin(np.clip(np.sin(q[..., 4]), -1.0, 1.0))))
+    elbow = np.degrees(np.abs(np.arcsin(np.clip(np.sin(q[..., 2] - stretched_q3(form)), -1.0, 1.0))))
+    return np.nan_to_num(wrist, nan=-1.0), np.nan_to_num(elbow, nan=-1.0)
+
+
+def _shoulder(form, flanges: np.ndarray) -> np.ndarray:
+    """(N,) mm: the wrist centre's distance from axis 1 of flange poses in the robot's frame."""
+    centre = flanges[:, :3, 3] + flanges[:, :3, :3] @ np.asarray(form.cf)
+    return 1000.0 * across(centre - np.asarray(form.p1), np.asarray(form.w1))
+
+
+def _nanmin(v: np.ndarray) -> np.ndarray:
+    """The least of each row, NaN for a row of NaN (a base that reaches nothing)."""
+    filled = np.where(np.isnan(v), np.inf, v).min(axis=1)
+    return np.where(np.isinf(filled), np.nan, filled)
