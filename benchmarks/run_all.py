@@ -50,6 +50,7 @@ RUNS = {
     "bench_cable_whole_run": (["--whole-run"], ["--whole-run", "--quick"]),
     "bench_dresspack": ([], ["--designs", "64", "--alone", "2"]),
     "bench_ray": ([], ["--quick"]),
+    "bench_place": ([], ["--quick"]),
 }
 PEERS = ("warp-lang", "newton", "numpy", "pin", "python-fcl", "coal", "mujoco", "mujoco-warp", "pyelastica",
          "eaik", "ik-geo", "roboticstoolbox-python", "ikpy", "trimesh", "embreex", "ray")

@@ -105,7 +105,7 @@ def test_demo_runs_on_the_bundled_examples(capsys, demo_run):
                                                                  "IRB2600_12_165__01-cell.csv",
                                                                  "IRB2600_12_165__01-service.gif", "dresspack-program",
                                                                  "dresspack-program.gif", "dresspack-random",
-                                                                 "dresspack-random.gif", "dresspack-sweep", "cells"] + [
+                                                                 "dresspack-random.gif", "dresspack-sweep", "cells", "place"] + [
         f"{n}.{e}" for n in ("IRB1300_11_90__01", "IRB2600ID_8_200__03", "IRB2600_12_165__01", "IRB9460_110_240__01")
         for e in ("urdf", "srdf", "usdc")])
     assert "matrix disables 6 adjacent, 1 default, 0 always" in out
@@ -125,6 +125,8 @@ def test_demo_runs_on_the_bundled_examples(capsys, demo_run):
     assert "== cell positioner_cell.toml: positioner_weld.mod" in out and "eax_a 20, eax_b 90" in out
     assert "== cell multimove_cell.toml: each robot's task of the backup multimove/" in out
     assert "WaitSyncTask sync_ready at 0.98 s" in out and "robots against each other: no link of one meets" in out
+    assert "== place: where IRB2600_12_165__01.rsxml should stand for its palletizing task" in out
+    assert "75 bases tried against 27 poses of 73 moves" in out and (tmp_path / "place" / "best.toml").is_file()
     assert "== cell track_dresspack_cell.toml: the dress pack over track_transfer.mod" in out
     assert sorted(p.name for p in (tmp_path / "cells").iterdir()) == sorted([".rswarp.json", "track-dresspack"] + [
         f"{c}-{m}.{e}" for c, m in (("track_cell", "track_transfer"), ("positioner_cell", "positioner_weld"))

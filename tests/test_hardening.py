@@ -243,7 +243,7 @@ def test_a_joint_value_too_large_is_not_called_unset(tmp_path, capsys, robax, me
 def test_a_csv_into_a_missing_folder_is_refused_before_any_work(tmp_path, capsys, monkeypatch):
     import rswarp.report.program as program
 
-    monkeypatch.setattr(program, "program_plan", lambda *a, **k: pytest.fail("planned before the check"))
+    monkeypatch.setattr(program, "plan_on", lambda *a, **k: pytest.fail("planned before the check"))
     out = tmp_path / "nodir" / "o.csv"
     assert main(["program", str(IRB2600), str(IRB2600_PROGRAM), "--csv", str(out)]) == 1
     assert f"{out}: {out.parent} does not exist" in capsys.readouterr().err

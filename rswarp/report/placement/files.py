@@ -12,9 +12,8 @@ import os
 from pathlib import Path
 
 import numpy as np
-import tomllib
 
-from ...files import read_regular
+from ...rsxml.robot_data import read_toml
 from .reach import REASONS
 
 COLUMNS = ("x_mm", "y_mm", "z_mm", "yaw_deg", "reached", "poses", "feasible", "wrist_deg", "elbow_deg", "shoulder_mm",
@@ -90,7 +89,7 @@ def cell_toml(source: str, is_cell: bool, frame: list[float], folder: Path, note
     if not is_cell:
         doc = {"robot": {"rsxml": str(Path(source).resolve()), "frame": frame}}
     else:
-        doc = tomllib.loads(read_regular(source).decode("utf-8"))
+        doc = read_toml(source)[1]
         doc["robot"]["frame"] = frame
         _rebased(doc, Path(source).resolve().parent)
     return f"# {note}\n" + _dump(_relative(doc, folder))

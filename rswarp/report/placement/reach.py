@@ -41,9 +41,11 @@ class Reach:
         return np.nan_to_num(_nanmin(np.minimum(self.singular / np.array(SCALE), 1.0)), nan=-1.0)
 
 
-def reach(kin, bases: np.ndarray, poses, chunk: int = CHUNK) -> Reach:
+def reach(kin, bases: np.ndarray, poses, chunk: int = CHUNK, reached_all=None) -> Reach:
     """``Reach`` of the ``poses`` (``ProgramPoses``) at each base (C, 4, 4, the robot's base in the
-    world); the robot ``kin`` must have the closed form of a 6-axis arm."""
+    world); the robot ``kin`` must have the closed form of a 6-axis arm. ``reached_all(rows, q)``
+    is given, chunk by chunk, the bases that reach every pose and their chosen configurations (n,
+    P, 6): the collision check runs on them while they are at hand."""
     form = kin._ik_form()
     if not isinstance(form, ArmConstants):
         from ...errors import InputError
@@ -55,7 +57,7 @@ def reach(kin, bases: np.ndarray, poses, chunk: int = CHUNK) -> Reach:
     out = Reach(np.zeros(len(bases), np.int64), np.full((len(bases), 3), np.nan),
                 np.zeros((count, len(REASONS)), np.int64), np.full((count, 2), np.nan), np.zeros(len(bases), bool))
     for lo in range(0, len(bases), per):
-        _chunk(kin, form, bases[lo:lo + per], poses, out, lo)
+        _chunk(kin, form, bases[lo:lo + per], poses, out, lo, reached_all)
     return out
 
 
@@ -66,9 +68,11 @@ def solve(kin, form, bases: np.ndarray, poses) -> tuple[np.ndarray, np.ndarray, 
     n, count = local.shape[:2]
     sol = kin.ik64(local.reshape(-1, 4, 4))
     good = sol.status == OK
-    good &= _conf_ok(kin, sol, np.tile(poses.conf, (n, 1)), np.tile(poses.checked, n))
-    wrist, elbow = _branch_margins(form, sol.q)
-    value = np.where(good, np.minimum(wrist / SCALE[0], elbow / SCALE[1]), -np.inf)
+    if poses.checked.any():
+        good &= _conf_ok(kin, sol, np.tile(poses.conf, (n, 1)), np.tile(poses.checked, n))
+    with np.errstate(invalid="ignore"):  # a branch that has no solution is NaN, and not taken
+        value = np.where(good, np.minimum(np.abs(np.sin(sol.q[..., 4])),
+                                          np.abs(np.sin(sol.q[..., 2] - stretched_q3(form)))), -np.inf)
     best = np.argmax(value, axis=1)
     rows = np.arange(len(best))
     ok = good[rows, best]
@@ -76,10 +80,13 @@ def solve(kin, form, bases: np.ndarray, poses) -> tuple[np.ndarray, np.ndarray, 
     return q.reshape(n, count, -1), ok.reshape(n, count), sol.status.reshape(n, count, -1), local
 
 
-def _chunk(kin, form, bases: np.ndarray, poses, out: Reach, at: int) -> None:
+def _chunk(kin, form, bases: np.ndarray, poses, out: Reach, at: int, reached_all) -> None:
     """One chunk of candidates (from ``at``) solved, its figures added to ``out``."""
     q, ok, status, local = solve(kin, form, bases, poses)
     n, count = ok.shape
+    every = ok.all(axis=1)
+    if reached_all is not None and every.any():
+        reached_all(at + np.flatnonzero(every), q[every])
     out.reached[at:at + n] = ok.sum(axis=1)
     flat = q.reshape(n * count, -1)
     wrist, elbow = _branch_margins(form, flat[:, None])

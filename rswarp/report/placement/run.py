@@ -25,7 +25,7 @@ from .candidates import base_frames, candidates, parse_vary
 from .clear import Clear, Clearance
 from .files import candidates_csv, cell_toml, limiting_csv, map_png
 from .poses import program_poses
-from .reach import reach, solve
+from .reach import reach
 
 
 @dataclass(frozen=True)
@@ -54,14 +54,14 @@ def run_place(path: str, programs: list[str], task: TaskOptions | None = None, b
     current = np.array([*(now[:3, 3] * 1000.0), math.degrees(matrix_euler_zyx(now[:3, :3])[2])])
     tilt = tuple(math.degrees(a) for a in matrix_euler_zyx(now[:3, :3])[:2])
     values = candidates(varies, place.samples, current, batch.seed)
+    clearance = _checker(mech, cell, task, batch.device)  # the meshes and the tool loaded before the run
     _, plan = plan_on(mech, cell, programs, task, device=batch.device, warn=warn, strict=False)
     poses = program_poses(plan, mech, now)
     kin = Kinematics(mech, batch.device)
     bases = base_frames(values, tilt)
-    found = reach(kin, bases, poses)
-    every = found.reached == len(poses.world)
-    clear = _clearance(kin, mech, cell, task, bases, every, poses, batch.device)
-    feasible = every & clear.free
+    clear, check = _clearance(clearance, len(bases), poses)
+    found = reach(kin, bases, poses, reached_all=lambda rows, q: check(rows, q, bases))
+    feasible = (found.reached == len(poses.world)) & clear.free
     order = sorted(np.flatnonzero(feasible), key=lambda k: (-found.score[k], k))[:place.top]
     with atomic_folder(out) as tmp:
         timed = [_timed(path, programs, task, batch, tmp, rank, k, values[k], tilt) for rank, k in enumerate(order, 1)]
@@ -91,30 +91,31 @@ def _placeable(path: str, cell) -> None:
                          "floor (a robot on a unit is not placed yet)")
 
 
-def _clearance(kin, mech, cell, task, bases, every, poses, device) -> Clear:
-    """Collisions at every pose of the bases that reach every pose (the others are not feasible)."""
+def _checker(mech, cell, task, device) -> Clearance:
+    """The collision checkers of the robot with its tool (the cell's ``[tool]`` or ``--tool``),
+    the cell's meshes that stand still and ``--env``'s: a mesh that does not load stops here."""
     from ...motion.cells import tool_spec
     from ...rsxml.cell import CellMesh
     from ...sim.bodies import placed_environments
     from ...sim.tool import load_tool
 
-    out = Clear(np.zeros(len(bases), bool), np.zeros(len(poses.world), np.int64), [None] * len(poses.world))
-    picked = np.flatnonzero(every)
-    if not len(picked):
-        return out
     meshes = tuple(m for m in (cell.environment if cell is not None else ()) if m.on is None)
     meshes += tuple(CellMesh(e.name, e.path, e.pose) for e in placed_environments(mech, task.environment))
     tool = load_tool(mech, tool_spec(cell, task.tool))
-    check = Clearance(mech, meshes, tool, device, cell.robot.rsxml if cell is not None else mech.path)
-    per = max(1, 65_536 // len(poses.world))
-    form = kin._ik_form()
-    for lo in range(0, len(picked), per):
-        rows = picked[lo:lo + per]
-        q = solve(kin, form, bases[rows], poses)[0]
+    return Clearance(mech, meshes, tool, device, cell.robot.rsxml if cell is not None else mech.path)
+
+
+def _clearance(clearance: Clearance, count: int, poses) -> tuple[Clear, object]:
+    """(the collisions found, ``check(rows, q, bases)``: the bases ``rows`` that reach every pose
+    checked at each, in their chosen configurations ``q``)."""
+    out = Clear(np.zeros(count, bool), np.zeros(len(poses.world), np.int64), [None] * len(poses.world))
+
+    def check(rows: np.ndarray, q: np.ndarray, bases: np.ndarray) -> None:
         part = Clear(np.zeros(len(rows), bool), out.hits, out.pair)
-        check.check(q, bases[rows], part, 0)
+        clearance.check(q, bases[rows], part, 0)
         out.free[rows] = part.free
-    return out
+
+    return out, check
 
 
 def _timed(path, programs, task, batch, folder: Path, rank: int, k: int, value: np.ndarray, tilt) -> Timed:
