@@ -64,20 +64,29 @@ def reach(kin, bases: np.ndarray, poses, chunk: int = CHUNK, reached_all=None) -
 def solve(kin, form, bases: np.ndarray, poses) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(q (n, P, 6) the best configuration of each pose at each base, NaN where none reaches it;
     ok (n, P); the status (n, P, branches); the flange poses in the robot's frame (n, P, 4, 4))."""
-    local = rigid_inverse(bases)[:, None] @ poses.world[None]  # (n, P, 4, 4)
+    local = _in_bases(bases, poses.world)
     n, count = local.shape[:2]
     sol = kin.ik64(local.reshape(-1, 4, 4))
     good = sol.status == OK
     if poses.checked.any():
         good &= _conf_ok(kin, sol, np.tile(poses.conf, (n, 1)), np.tile(poses.checked, n))
     with np.errstate(invalid="ignore"):  # a branch that has no solution is NaN, and not taken
-        value = np.where(good, np.minimum(np.abs(np.sin(sol.q[..., 4])),
-                                          np.abs(np.sin(sol.q[..., 2] - stretched_q3(form)))), -np.inf)
+        q5, q3 = sol.q[..., 4].astype(np.float32), (sol.q[..., 2] - stretched_q3(form)).astype(np.float32)
+        value = np.where(good, np.minimum(np.abs(np.sin(q5)), np.abs(np.sin(q3))), -np.inf)  # float32: a choice
     best = np.argmax(value, axis=1)
     rows = np.arange(len(best))
     ok = good[rows, best]
     q = np.where(ok[:, None], sol.q[rows, best], np.nan)
     return q.reshape(n, count, -1), ok.reshape(n, count), sol.status.reshape(n, count, -1), local
+
+
+def _in_bases(bases: np.ndarray, world: np.ndarray) -> np.ndarray:
+    """(n, P, 4, 4): the world poses ``world`` (P, 4, 4) in each base's frame (``bases`` (n, 4, 4)),
+    as one matrix product (the bases' inverses stacked against the poses side by side)."""
+    n, count = len(bases), len(world)
+    inverse = rigid_inverse(bases).reshape(n * 4, 4)
+    side = world.transpose(1, 0, 2).reshape(4, count * 4)
+    return np.ascontiguousarray((inverse @ side).reshape(n, 4, count, 4).transpose(0, 2, 1, 3))
 
 
 def _chunk(kin, form, bases: np.ndarray, poses, out: Reach, at: int, reached_all) -> None:
