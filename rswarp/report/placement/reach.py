@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...kinematics.ik import NO_LIMITS, NO_REACH, OK, SHOULDER, ArmConstants
-from ...motion.shortfall import across, arm_reach, axis2_distance
+from ...motion.shortfall import arm_reach, axis2_distance
 from ...motion.targets import stretched_q3
 from ...motion.tcp import rigid_inverse
 
@@ -99,14 +99,15 @@ def _chunk(kin, form, bases: np.ndarray, poses, out: Reach, at: int, reached_all
     out.reached[at:at + n] = ok.sum(axis=1)
     flat = q.reshape(n * count, -1)
     wrist, elbow = _branch_margins(form, flat[:, None])
-    shoulder = _shoulder(form, local.reshape(-1, 4, 4))
-    for k, v in enumerate((wrist[:, 0], elbow[:, 0], shoulder)):
-        v = np.where(ok.ravel(), v, np.nan).reshape(n, count)
-        out.singular[at:at + n, k] = _nanmin(v)
-    _reasons(form, ok, status, local, out, at)
+    shoulder = _shoulder(form, bases, poses.world)
+    for k, v in enumerate((wrist[:, 0].reshape(n, count), elbow[:, 0].reshape(n, count), shoulder)):
+        out.singular[at:at + n, k] = _nanmin(np.where(ok, v, np.nan))
+    missed = np.flatnonzero(~every)  # the reasons are looked for where a base misses a pose
+    if len(missed):
+        _reasons(form, ok[missed], status[missed], local[missed], out, at + missed)
 
 
-def _reasons(form, ok, status, local, out: Reach, at: int) -> None:
+def _reasons(form, ok, status, local, out: Reach, rows_at: np.ndarray) -> None:
     """Why each pose is missed at each base of the chunk: counted per pose, and how far beyond reach."""
     miss = ~ok
     limit = (status == NO_LIMITS).any(axis=2)
@@ -116,15 +117,17 @@ def _reasons(form, ok, status, local, out: Reach, at: int) -> None:
     for k, mask in ((FAR, far), (LIMIT, miss & ~any_ok & limit), (CONF, miss & any_ok),
                     (AXIS1, miss & ~any_ok & ~limit & axis1)):
         out.ruled_out[:, k] += mask.sum(axis=0)
-    out.conf_missed[at:at + len(ok)] = (miss & any_ok).any(axis=1)
+    out.conf_missed[rows_at] = (miss & any_ok).any(axis=1)
     if far.any():
         rows, cols = np.nonzero(far)
         gap = np.min(axis2_distance(form, local[rows, cols]), axis=1) - arm_reach(form)[0]
         mm = np.maximum(gap, 0.0) * 1000.0
-        for j in np.unique(cols):
-            g = mm[cols == j]
-            lo, hi = out.beyond[j]
-            out.beyond[j] = (np.fmin(lo, g.min()), np.fmax(hi, g.max()))
+        least, most = np.full(len(out.beyond), np.inf), np.full(len(out.beyond), -np.inf)
+        np.minimum.at(least, cols, mm)
+        np.maximum.at(most, cols, mm)
+        hit = np.isfinite(least)
+        out.beyond[hit, 0] = np.fmin(out.beyond[hit, 0], least[hit])
+        out.beyond[hit, 1] = np.fmax(out.beyond[hit, 1], most[hit])
 
 
 def _conf_ok(kin, sol, conf: np.ndarray, checked: np.ndarray) -> np.ndarray:
@@ -150,10 +153,15 @@ def _branch_margins(form, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.nan_to_num(wrist, nan=-1.0), np.nan_to_num(elbow, nan=-1.0)
 
 
-def _shoulder(form, flanges: np.ndarray) -> np.ndarray:
-    """(N,) mm: the wrist centre's distance from axis 1 of flange poses in the robot's frame."""
-    centre = flanges[:, :3, 3] + flanges[:, :3, :3] @ np.asarray(form.cf)
-    return 1000.0 * across(centre - np.asarray(form.p1), np.asarray(form.w1))
+def _shoulder(form, bases: np.ndarray, world: np.ndarray) -> np.ndarray:
+    """(n, P) mm: the wrist centre's distance from axis 1 at each base, of flange poses in the
+    world (P, 4, 4): axis 1 put in the world by each base (n, 4, 4), the centres as they are."""
+    centre = world[:, :3, 3] + world[:, :3, :3] @ np.asarray(form.cf)  # (P, 3)
+    point = bases[:, :3, :3] @ np.asarray(form.p1) + bases[:, :3, 3]  # (n, 3)
+    axis = bases[:, :3, :3] @ np.asarray(form.w1)
+    v = centre[None] - point[:, None]
+    along = np.einsum("npk,nk->np", v, axis)
+    return 1000.0 * np.sqrt(np.maximum(np.einsum("npk,npk->np", v, v) - along * along, 0.0))
 
 
 def _nanmin(v: np.ndarray) -> np.ndarray:

@@ -177,7 +177,8 @@ def place_text(doc: dict) -> str:
     if b is None:
         lines.append(f"best: none of the bases tried runs the program clean (the current base: {now})")
     else:
-        vs = f", {100.0 * (b['cycle_s'] / c['cycle_s'] - 1.0):+.1f} %" if c["cycle_s"] else ""
+        change = 100.0 * (b["cycle_s"] / c["cycle_s"] - 1.0) if c["cycle_s"] else None
+        vs = "" if change is None else ", the same to 0.1 %" if abs(change) < 0.05 else f", {change:+.1f} %"
         lines.append(f"best: x {b['x_mm']:.0f} mm, y {b['y_mm']:.0f} mm, z {b['z_mm']:.0f} mm, "
                      f"yaw {b['yaw_deg']:.1f} deg, cycle {b['cycle_s']:.2f} s against the current base's "
                      f"{now}{vs} -> {doc['out']}/best.toml")
