@@ -131,3 +131,48 @@ def test_place_refuses_bad_input_before_any_work(tmp_path, capsys):
     empty.write_text("MODULE still\n  PROC main()\n    WaitTime 1;\n  ENDPROC\nENDMODULE\n")
     assert main(["place", str(IRB2600), str(empty), "--vary", "x=0:1:2", "--out", str(out)]) == 1
     assert "the task moves to no robtarget" in capsys.readouterr().err and not out.exists()
+
+
+def test_what_reaches_agrees_with_pinocchio_at_every_base_of_a_grid(kin, tmp_path):
+    """An independent check from the exported URDF, on a 4 x 4 grid of bases: at every pose ours
+    reaches, pinocchio's forward kinematics puts the flange on it from our configuration, within
+    pinocchio's joint limits; at every pose ours misses, pinocchio's damped least squares within
+    the limits, from 12 seeds, finds no configuration either."""
+    pin = pytest.importorskip("pinocchio")
+    from rswarp.export.urdf import to_urdf
+    from rswarp.motion.plan import program_plan
+    from rswarp.report.placement.poses import program_poses
+
+    mech, plan = program_plan(str(IRB2600), [str(MODULE)], strict=False)
+    poses = program_poses(plan, mech, np.eye(4))
+    bases = base_frames(candidates(parse_vary(["x=-900:600:4", "y=-900:600:4"]), None, np.zeros(4)))
+    q, ok, _, local = solve(kin, kin._ik_form(), bases, poses)
+    urdf = tmp_path / "irb.urdf"
+    to_urdf(mech, urdf)
+    model = pin.buildModelFromUrdf(str(urdf))
+    data, frame = model.createData(), model.getFrameId(mech.flanges[0].name)
+    lo, hi = model.lowerPositionLimit, model.upperPositionLimit
+    seeds = np.random.default_rng(11).uniform(lo, hi, (12, model.nq))
+
+    def flange(qq):
+        pin.forwardKinematics(model, data, qq)
+        pin.updateFramePlacements(model, data)
+        return data.oMf[frame]
+
+    def solved(target) -> bool:
+        goal = pin.SE3(target[:3, :3], target[:3, 3])
+        for qq in seeds:
+            for _ in range(80):
+                err = pin.log6(flange(qq).actInv(goal)).vector
+                if np.linalg.norm(err) < 1e-9:
+                    return True
+                J = pin.computeFrameJacobian(model, data, qq, frame)
+                qq = np.clip(qq + J.T @ np.linalg.solve(J @ J.T + 1e-8 * np.eye(6), err), lo, hi)
+        return False
+
+    assert 0 < ok.all(axis=1).sum() < len(bases)  # bases that reach every pose and bases that do not
+    for b, p in zip(*np.nonzero(ok)):
+        assert np.abs(flange(q[b, p]).homogeneous - local[b, p]).max() < 1e-9
+        assert np.all(q[b, p] >= lo - 1e-12) and np.all(q[b, p] <= hi + 1e-12)
+    missed = list(zip(*np.nonzero(~ok)))
+    assert missed and not any(solved(local[b, p]) for b, p in missed)
