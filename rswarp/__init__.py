@@ -41,6 +41,7 @@ _LAZY = {
     "build_library": ("report.library", "build_library"),
     "program": ("motion.plan", "program_plan"),
     "place": ("report.placement.run", "place"),
+    "reach": ("report.placement.study", "reach"),
     "to_usd": ("export.usd_layout", "to_usd"),
     "to_newton": ("export.newton", "to_newton"),
     "to_urdf": ("export.urdf", "to_urdf"),
@@ -66,6 +67,6 @@ __all__ = [
     "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
     "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton",
-    "to_urdf", "program", "place", "PlaceOptions", "TaskOptions", "HoseOptions", "DesignOptions", "BatchOptions",
+    "to_urdf", "program", "place", "reach", "PlaceOptions", "TaskOptions", "HoseOptions", "DesignOptions", "BatchOptions",
     "VideoOptions",
 ]

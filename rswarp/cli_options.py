@@ -141,6 +141,16 @@ def place(p: argparse.ArgumentParser) -> None:
     _tool(p)
 
 
+def reach(p: argparse.ArgumentParser) -> None:
+    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file, or a cell file whose robot stands on the "
+                                                 "floor")
+    p.add_argument("part", metavar="MESH@x,y,z", help=f"the part: a mesh file and where its origin goes in the "
+                                                      f"world ({LENGTH}); every face centre is a target")
+    p.add_argument("--spin", type=float, default=90.0, metavar="DEG",
+                   help="the tool spun about each face's normal every DEG degrees (default 90: four approaches)")
+    _tool(p)
+
+
 def _task(p: argparse.ArgumentParser) -> None:
     """How a RAPID task runs: its entry routine, its inputs, its main loop's passes, external axes."""
     p.add_argument("--routine", default="main", help="the routine to run (default main)")

@@ -176,3 +176,42 @@ def test_what_reaches_agrees_with_pinocchio_at_every_base_of_a_grid(kin, tmp_pat
         assert np.all(q[b, p] >= lo - 1e-12) and np.all(q[b, p] <= hi + 1e-12)
     missed = list(zip(*np.nonzero(~ok)))
     assert missed and not any(solved(local[b, p]) for b, p in missed)
+
+
+def test_manipulability_is_yoshikawas_of_pinocchios_jacobian(kin, tmp_path):
+    pin = pytest.importorskip("pinocchio")
+    from rswarp.export.urdf import to_urdf
+    from rswarp.report.placement.study import manipulability
+
+    urdf = tmp_path / "irb.urdf"
+    to_urdf(kin.mech, urdf)
+    model = pin.buildModelFromUrdf(str(urdf))
+    data, frame = model.createData(), model.getFrameId(kin.mech.flanges[0].name)
+    q = np.random.default_rng(5).uniform(*kin.mech.bounds(), (20, 6))
+    theirs = []
+    for row in q:
+        pin.computeJointJacobians(model, data, row)
+        pin.updateFramePlacements(model, data)
+        J = pin.getFrameJacobian(model, data, frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        theirs.append(np.sqrt(max(np.linalg.det(J @ J.T), 0.0)))
+    assert np.allclose(manipulability(kin, q), theirs, rtol=1e-5, atol=1e-9)
+
+
+def test_a_reach_study_reaches_a_plate_before_the_robot_and_not_one_out_of_reach(tmp_path, capsys):
+    import trimesh
+
+    plate = tmp_path / "plate.stl"
+    trimesh.creation.box((0.4, 0.4, 0.02)).export(plate)
+    near, far = tmp_path / "near", tmp_path / "far"
+    assert main(["reach", str(IRB2600), f"{plate}@0.9,0,0.4", "--out", str(near), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    rows = list(csv.DictReader((near / "points.csv").open()))
+    assert doc["points"] == len(rows) == 12 and doc["spins"] == 4
+    top = [r for r in rows if float(r["nz"]) > 0.99]  # the plate's top, approached from above
+    assert top and all(int(r["spins_reached"]) == 4 and float(r["manipulability"]) > 0 for r in top)
+    coloured = trimesh.load(near / "part.ply")
+    assert len(coloured.faces) == 12 and coloured.visual.face_colors.shape == (12, 4)
+    assert main(["reach", str(IRB2600), f"{plate}@5,0,0.4", "--out", str(far), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["reached"] == 0
+    assert main(["reach", str(IRB2600), f"{plate}@0.9,0,0.4", "--spin", "0", "--out", str(tmp_path / "x")]) == 1
+    assert "--spin must be 1 to 360 degrees" in capsys.readouterr().err
