@@ -67,6 +67,6 @@ __all__ = [
     "Report",
     "RsxmlError", "RsxmlWarning", "SmartComponent", "check", "load", "load_library", "save", "to_rsxml",
     "Kinematics", "workspace", "collisions", "simulate_cables", "Cluster", "build_library", "to_usd", "to_newton",
-    "to_urdf", "program", "place", "reach", "PlaceOptions", "TaskOptions", "HoseOptions", "DesignOptions", "BatchOptions",
-    "VideoOptions",
+    "to_urdf", "program", "place", "reach", "PlaceOptions", "TaskOptions", "HoseOptions", "DesignOptions",
+    "BatchOptions", "VideoOptions",
 ]
