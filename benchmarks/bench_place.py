@@ -55,7 +55,7 @@ def ours(kin, check, bases, poses) -> tuple[float, int, int]:
 
     def clear(rows, q):
         part = Clear(np.zeros(len(rows), bool), np.zeros(len(poses.world), np.int64), [None] * len(poses.world))
-        check.check(q, bases[rows], part, 0)
+        check.check(q, poses.bases(bases[rows]), part, 0)
         free[0] += int(part.free.sum())
 
     found = reach(kin, bases, poses, reached_all=clear)

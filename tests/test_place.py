@@ -215,3 +215,19 @@ def test_a_reach_study_reaches_a_plate_before_the_robot_and_not_one_out_of_reach
     assert json.loads(capsys.readouterr().out)["reached"] == 0
     assert main(["reach", str(IRB2600), f"{plate}@0.9,0,0.4", "--spin", "0", "--out", str(tmp_path / "x")]) == 1
     assert "--spin must be 1 to 360 degrees" in capsys.readouterr().err
+
+
+def test_a_robot_on_a_track_is_placed_by_the_tracks_frame_each_pose_where_its_carriage_stands(tmp_path, capsys):
+    from rswarp import examples
+
+    cell, module = examples.CELLS / "track_cell.toml", examples.CELLS / "track_transfer.mod"
+    out = tmp_path / "place"
+    assert main(["place", str(cell), str(module), "--vary", "y=-300:300:3", "--top", "1", "--out", str(out),
+                 "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    rows = list(csv.DictReader((out / "candidates.csv").open()))
+    assert rows[1]["y_mm"] == "0.000" and rows[1]["reached"] == rows[1]["poses"]  # where the track stands now
+    best = (out / "best.toml").read_text()
+    assert 'on = "track"' in best and "frame = [0, 0, 400, 0, 0, 0]" in best  # the robot stays on its carriage
+    assert main(["program", str(out / "best.toml"), str(module), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["cycle_s"] == pytest.approx(doc["best"]["cycle_s"], abs=1e-9)

@@ -43,7 +43,8 @@ class Clearance:
             self.env = (ck, found)
 
     def check(self, q: np.ndarray, bases: np.ndarray, out: Clear, at: int) -> None:
-        """Bases ``bases`` (n, 4, 4) from ``at``, their chosen configurations ``q`` (n, P, 6)."""
+        """Bases from ``at``, their chosen configurations ``q`` (n, P, 6); ``bases`` (n, P, 4, 4) the
+        robot's base at each pose."""
         n, count = q.shape[:2]
         flat = q.reshape(n * count, -1)
         hit = np.zeros((n * count,), bool)
@@ -53,7 +54,7 @@ class Clearance:
             own = self.tools.checker.verdicts(flat)[0] & self.self_pairs
             pairs, names = own, list(self.tools.checker.bodies.pair_names())
         if self.env is not None:
-            more = self._environment(flat, np.repeat(bases, count, axis=0))
+            more = self._environment(flat, np.ascontiguousarray(bases).reshape(-1, 4, 4))
             pairs = np.concatenate([pairs, more], axis=1)
             names += self.env[1].pair_names()
         hit = pairs.any(axis=1)

@@ -84,13 +84,16 @@ def _size(count: int) -> float:
 
 def cell_toml(source: str, is_cell: bool, frame: list[float], folder: Path, note: str) -> str:
     """A cell file placing the robot at ``frame`` (x, y, z mm; rx, ry, rz degrees): the cell file
-    ``source`` with its ``[robot] frame`` replaced, or a cell of the robot file ``source`` alone;
-    every path relative to ``folder``, where it is written."""
+    ``source`` with its ``[robot] frame`` replaced (or, where a unit carries the robot, that unit's
+    ``frame``), or a cell of the robot file ``source`` alone; every path relative to ``folder``,
+    where it is written."""
     if not is_cell:
         doc = {"robot": {"rsxml": str(Path(source).resolve()), "frame": frame}}
     else:
         doc = read_toml(source)[1]
-        doc["robot"]["frame"] = frame
+        carrier = doc["robot"].get("on")
+        units = [t for t in doc.get("external", []) if t.get("name") == carrier]
+        (units[0] if carrier and units else doc["robot"])["frame"] = frame  # a carried robot: its unit moves
         _rebased(doc, Path(source).resolve().parent)
     return f"# {note}\n" + _dump(_relative(doc, folder))
 

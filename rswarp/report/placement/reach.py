@@ -65,6 +65,8 @@ def solve(kin, form, bases: np.ndarray, poses) -> tuple[np.ndarray, np.ndarray, 
     """(q (n, P, 6) the best configuration of each pose at each base, NaN where none reaches it;
     ok (n, P); the status (n, P, branches); the flange poses in the robot's frame (n, P, 4, 4))."""
     local = _in_bases(bases, poses.world)
+    if poses.mount is not None:  # a carried robot: its base at each pose the carrier's frame times the mount
+        local = rigid_inverse(poses.mount)[None] @ local
     n, count = local.shape[:2]
     sol = kin.ik64(local.reshape(-1, 4, 4))
     good = sol.status == OK
@@ -99,7 +101,7 @@ def _chunk(kin, form, bases: np.ndarray, poses, out: Reach, at: int, reached_all
     out.reached[at:at + n] = ok.sum(axis=1)
     flat = q.reshape(n * count, -1)
     wrist, elbow = _branch_margins(form, flat[:, None])
-    shoulder = _shoulder(form, bases, poses.world)
+    shoulder = _shoulder(form, bases, poses.world) if poses.mount is None else _shoulder_local(form, local)
     for k, v in enumerate((wrist[:, 0].reshape(n, count), elbow[:, 0].reshape(n, count), shoulder)):
         out.singular[at:at + n, k] = _nanmin(np.where(ok, v, np.nan))
     missed = np.flatnonzero(~every)  # the reasons are looked for where a base misses a pose
@@ -162,6 +164,14 @@ def _shoulder(form, bases: np.ndarray, world: np.ndarray) -> np.ndarray:
     v = centre[None] - point[:, None]
     along = np.einsum("npk,nk->np", v, axis)
     return 1000.0 * np.sqrt(np.maximum(np.einsum("npk,npk->np", v, v) - along * along, 0.0))
+
+
+def _shoulder_local(form, local: np.ndarray) -> np.ndarray:
+    """(n, P) mm: the wrist centre's distance from axis 1 of flange poses in the robot's frame."""
+    centre = local[..., :3, 3] + local[..., :3, :3] @ np.asarray(form.cf)
+    v = centre - np.asarray(form.p1)
+    along = v @ np.asarray(form.w1)
+    return 1000.0 * np.sqrt(np.maximum(np.sum(v * v, axis=-1) - along * along, 0.0))
 
 
 def _nanmin(v: np.ndarray) -> np.ndarray:

@@ -50,13 +50,13 @@ def run_place(path: str, programs: list[str], task: TaskOptions | None = None, b
     check_replaceable(Path(out))
     mech, cell = robot_of(path)
     _placeable(path, cell)
-    now = cell.robot.frame if cell is not None else (mech.base_frame.matrix() if mech.base_frame else np.eye(4))
+    now = _placed_frame(mech, cell)
     current = np.array([*(now[:3, 3] * 1000.0), math.degrees(matrix_euler_zyx(now[:3, :3])[2])])
     tilt = tuple(math.degrees(a) for a in matrix_euler_zyx(now[:3, :3])[:2])
     values = candidates(varies, place.samples, current, batch.seed)
     clearance = _checker(mech, cell, task, batch.device)  # the meshes and the tool loaded before the run
     _, plan = plan_on(mech, cell, programs, task, device=batch.device, warn=warn, strict=False)
-    poses = program_poses(plan, mech, now)
+    poses = program_poses(plan, mech, now, _mounts(cell, plan))
     kin = Kinematics(mech, batch.device)
     bases = base_frames(values, tilt)
     clear, check = _clearance(clearance, len(bases), poses)
@@ -80,15 +80,34 @@ def run_place(path: str, programs: list[str], task: TaskOptions | None = None, b
     return Output(json_safe(doc), place_text(doc), 0 if best is not None else 1)
 
 
+def _placed_frame(mech, cell) -> np.ndarray:
+    """The frame a candidate replaces, where it is now: the robot's base (its RSXML BaseFrame, or a
+    cell's ``[robot] frame``), or, where a unit carries the robot, that unit's ``frame``."""
+    if cell is None:
+        return mech.base_frame.matrix() if mech.base_frame else np.eye(4)
+    return cell.carrier.frame if cell.carrier is not None else cell.robot.frame
+
+
+def _mounts(cell, plan):
+    """Where a unit carries the robot: row -> its base in the carrier's frame at that row of the
+    plan (a track's carriage where the move put it); None for a robot on the floor."""
+    if cell is None or cell.carrier is None:
+        return None
+    from ...kinematics.cell import CellKinematics
+
+    ck = CellKinematics(cell)
+    frame = np.linalg.inv(cell.carrier.frame)
+    return lambda row: frame @ ck.robot_base(ck.split(plan.ext[row:row + 1]))[0]
+
+
 def _placeable(path: str, cell) -> None:
     """An InputError for a cell whose robot is not placed by its own frame (yet)."""
     if cell is None:
         return
     if cell.team:
         raise InputError(f"{path}: a MultiMove cell: place one robot, in a cell of its own")
-    if cell.carrier is not None:
-        raise InputError(f"{path}: the robot rides '{cell.carrier.name}': rswarp place moves a base that stands on the "
-                         "floor (a robot on a unit is not placed yet)")
+    if cell.carrier is not None and cell.robot.on is None:
+        raise InputError(f"{path}: the robot rides a unit the cell file does not name")
 
 
 def _checker(mech, cell, task, device) -> Clearance:
@@ -112,7 +131,7 @@ def _clearance(clearance: Clearance, count: int, poses) -> tuple[Clear, object]:
 
     def check(rows: np.ndarray, q: np.ndarray, bases: np.ndarray) -> None:
         part = Clear(np.zeros(len(rows), bool), out.hits, out.pair)
-        clearance.check(q, bases[rows], part, 0)
+        clearance.check(q, poses.bases(bases[rows]), part, 0)
         out.free[rows] = part.free
 
     return out, check
