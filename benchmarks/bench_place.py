@@ -25,11 +25,12 @@ from rswarp.examples import IRB2600
 from rswarp.kinematics.kinematics import Kinematics
 from rswarp.motion.plan import plan_on
 from rswarp.report.placement.candidates import base_frames, candidates, parse_vary
-from rswarp.report.placement.clear import Clear, Clearance
+from rswarp.report.placement.clear import Clearance
+from rswarp.report.placement.job import PlaceJob
 from rswarp.report.placement.poses import program_poses
-from rswarp.report.placement.reach import reach
 from rswarp.report.program import run_program
 from rswarp.rsxml.documents import load_mechanism
+from rswarp.sim.engine import run_batch
 
 TARGET_S = 10.0
 BASELINE_RUNS = 3
@@ -49,17 +50,12 @@ def raster(count: int) -> str:
 
 def ours(kin, check, bases, poses) -> tuple[float, int, int]:
     """(seconds, bases that reach every pose, of them free at every pose) of the batch (``check``:
-    the robot's collision checker, compiled before)."""
+    the robot's collision checker, compiled before), through the batch engine as ``rswarp place``."""
     start = time.perf_counter()
-    free = [0]
-
-    def clear(rows, q):
-        part = Clear(np.zeros(len(rows), bool), np.zeros(len(poses.world), np.int64), [None] * len(poses.world))
-        check.check(q, poses.bases(bases[rows]), part, 0)
-        free[0] += int(part.free.sum())
-
-    found = reach(kin, bases, poses, reached_all=clear)
-    return time.perf_counter() - start, int((found.reached == len(poses.world)).sum()), free[0]
+    job = PlaceJob(bases, poses, (), None, str(IRB2600))
+    tally = run_batch(job, kin.mech, tools=(kin, check))
+    every = tally.reach.reached == len(poses.world)
+    return time.perf_counter() - start, int(every.sum()), int((every & tally.clear.free).sum())
 
 
 def one_at_a_time(module: Path, folder: Path, values: np.ndarray) -> float:

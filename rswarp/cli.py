@@ -76,9 +76,10 @@ COMMANDS = {
                                                  "kinematics with their confdata, the trajectory, and its joint "
                                                  "limits, collisions, floor and singularities",
                 ("json", "device", "ray")),
-    "place": ("placement.run:run_place", None, "where the robot should stand: candidate bases scored over every "
-                                               "pose of a RAPID task in one batch, the best run through the whole "
-                                               "program and ranked by cycle time", ("json", "device", "seed", "out")),
+    "place": ("placement.run:run_place", "base", "where the robot should stand: candidate bases scored over every "
+                                                 "pose of a RAPID task in one batch, the best run through the whole "
+                                                 "program and ranked by cycle time",
+              ("json", "device", "ray", "seed", "out")),
     "reach": ("placement.study:run_reach", None, "a reach study of a part for the base where the robot stands: "
                                                 "every face approached along its normal, reached, manipulability, "
                                                 "joint-limit margin; a coloured PLY", ("json", "device", "out")),

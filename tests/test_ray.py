@@ -244,3 +244,20 @@ def test_cuda_asked_of_a_machine_without_one_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 2 and "its share of the run goes on the CPU" in err[0] and "it has no GPU" in err[1], err
     assert not (tmp_path / "c").exists()
+
+
+def test_place_on_ray_is_the_local_placement(local_ray, tmp_path, capsys):
+    """``rswarp place`` cut into tasks of a few bases each on Ray: the same candidates.csv."""
+    from rswarp.report.placement import reach as reach_module
+
+    module = DATA / "place" / "pick_table.mod"
+    args = ["place", str(IRB), str(module), "--vary", "x=-300:300:5", "--vary", "yaw=-30:30:3", "--top", "1"]
+    old = reach_module.CHUNK
+    reach_module.CHUNK = 40  # 3 bases a chunk, fixed on the driver: the batch is several tasks
+    try:
+        assert main(args + ["--out", str(tmp_path / "here")]) == 0
+        assert main(args + ["--out", str(tmp_path / "there"), "--ray"]) == 0
+    finally:
+        reach_module.CHUNK = old
+    capsys.readouterr()
+    assert (tmp_path / "here" / "candidates.csv").read_text() == (tmp_path / "there" / "candidates.csv").read_text()

@@ -20,12 +20,29 @@ FAR_AWAY = 1e6  # m: where the home check puts the robot, so that no mesh of the
 
 @dataclass
 class Clear:
-    """Per base (n,): whether nothing collides at any pose; per pose (P,): the bases where it
-    collides, and the pair that collides most often there (``Link3`` and ``column``)."""
+    """Per base (C,): whether nothing collides at any of its poses (False where it was not
+    checked: it misses a pose); per pose (P,): the bases it collides at; per pose and pair (P,
+    pairs): how often that pair collides there (``names`` the pairs)."""
 
     free: np.ndarray
     hits: np.ndarray
-    pair: list
+    counts: np.ndarray | None = None
+    names: list | None = None
+
+    @property
+    def pair(self) -> list:
+        """Per pose the pair that collides most often there (``Link3``, ``column``), or None."""
+        if self.counts is None:
+            return [None] * len(self.hits)
+        return [tuple(self.names[int(np.argmax(c))][:2]) if c.any() else None for c in self.counts]
+
+    def merge(self, other: "Clear") -> None:
+        """Another chunk's bases (the bases each checks are its own)."""
+        self.free |= other.free
+        self.hits += other.hits
+        if other.counts is not None:
+            self.counts = other.counts.copy() if self.counts is None else self.counts + other.counts
+            self.names = other.names
 
 
 class Clearance:
@@ -42,29 +59,26 @@ class Clearance:
             found = cell_pairs(ck, tool_body(mech, tool) if tool is not None else None)
             self.env = (ck, found)
 
-    def check(self, q: np.ndarray, bases: np.ndarray, out: Clear, at: int) -> None:
-        """Bases from ``at``, their chosen configurations ``q`` (n, P, 6); ``bases`` (n, P, 4, 4) the
-        robot's base at each pose."""
+    def check(self, q: np.ndarray, bases: np.ndarray, rows: np.ndarray, out: Clear) -> None:
+        """The bases ``rows`` checked into ``out``: their chosen configurations ``q`` (n, P, 6) and
+        the robot's base at each pose (n, P, 4, 4)."""
         n, count = q.shape[:2]
         flat = q.reshape(n * count, -1)
-        hit = np.zeros((n * count,), bool)
         names: list[tuple[str, str]] = []
         pairs = np.zeros((n * count, 0), bool)
         if self.tools.checker is not None:
-            own = self.tools.checker.verdicts(flat)[0] & self.self_pairs
-            pairs, names = own, list(self.tools.checker.bodies.pair_names())
+            pairs, names = self.tools.checker.verdicts(flat)[0] & self.self_pairs, \
+                list(self.tools.checker.bodies.pair_names())
         if self.env is not None:
             more = self._environment(flat, np.ascontiguousarray(bases).reshape(-1, 4, 4))
             pairs = np.concatenate([pairs, more], axis=1)
             names += self.env[1].pair_names()
-        hit = pairs.any(axis=1)
-        out.free[at:at + n] = ~hit.reshape(n, count).any(axis=1)
-        per_pose = hit.reshape(n, count)
+        per_pose = pairs.any(axis=1).reshape(n, count)
+        out.free[rows] = ~per_pose.any(axis=1)
         out.hits += per_pose.sum(axis=0)
-        counts = pairs.reshape(n, count, -1).sum(axis=0)  # (P, pairs)
-        for j in np.flatnonzero(per_pose.any(axis=0)):
-            k = int(np.argmax(counts[j]))
-            out.pair[j] = out.pair[j] or tuple(names[k][:2])
+        counts = pairs.reshape(n, count, -1).sum(axis=0)
+        out.counts = counts if out.counts is None else out.counts + counts
+        out.names = names
 
     def _environment(self, q: np.ndarray, bases: np.ndarray) -> np.ndarray:
         """(N, pairs) robot links against the meshes, the robot at ``bases`` (N, 4, 4)."""

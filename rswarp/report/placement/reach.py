@@ -34,6 +34,15 @@ class Reach:
     beyond: np.ndarray
     conf_missed: np.ndarray  # (C,) some pose reached only in another configuration than its confdata
 
+    def merge(self, other: "Reach") -> None:
+        """Another task's bases (each base is solved in one task: elsewhere its figures are 0 and NaN)."""
+        self.reached += other.reached
+        self.singular = np.fmin(self.singular, other.singular)
+        self.ruled_out += other.ruled_out
+        self.beyond[:, 0] = np.fmin(self.beyond[:, 0], other.beyond[:, 0])
+        self.beyond[:, 1] = np.fmax(self.beyond[:, 1], other.beyond[:, 1])
+        self.conf_missed |= other.conf_missed
+
     @property
     def score(self) -> np.ndarray:
         """(C,) the least of the three singularity distances, each over what counts as clear of it
@@ -41,24 +50,38 @@ class Reach:
         return np.nan_to_num(_nanmin(np.minimum(self.singular / np.array(SCALE), 1.0)), nan=-1.0)
 
 
-def reach(kin, bases: np.ndarray, poses, chunk: int = CHUNK, reached_all=None) -> Reach:
+def reach(kin, bases: np.ndarray, poses, chunk: int | None = None, reached_all=None) -> Reach:
     """``Reach`` of the ``poses`` (``ProgramPoses``) at each base (C, 4, 4, the robot's base in the
     world); the robot ``kin`` must have the closed form of a 6-axis arm. ``reached_all(rows, q)``
     is given, chunk by chunk, the bases that reach every pose and their chosen configurations (n,
     P, 6): the collision check runs on them while they are at hand."""
+    out = empty(len(bases), len(poses.world))
+    per = per_chunk(len(poses.world), chunk)
+    for lo in range(0, len(bases), per):
+        solve_into(kin, bases, range(lo, min(lo + per, len(bases))), poses, out, reached_all)
+    return out
+
+
+def empty(bases: int, poses: int) -> Reach:
+    """A ``Reach`` of ``bases`` bases and ``poses`` poses, none solved yet."""
+    return Reach(np.zeros(bases, np.int64), np.full((bases, 3), np.nan), np.zeros((poses, len(REASONS)), np.int64),
+                 np.full((poses, 2), np.nan), np.zeros(bases, bool))
+
+
+def per_chunk(poses: int, chunk: int | None = None) -> int:
+    """Bases solved at once: ``chunk`` poses' worth (``CHUNK``), at least one."""
+    return max(1, (chunk or CHUNK) // poses)
+
+
+def solve_into(kin, bases: np.ndarray, rows: range, poses, out: Reach, reached_all=None) -> None:
+    """The bases ``rows`` of ``bases`` solved into ``out`` (a whole batch's ``Reach``)."""
     form = kin._ik_form()
     if not isinstance(form, ArmConstants):
         from ...errors import InputError
 
         raise InputError(f"'{kin.mech.name}' is not a 6-axis arm with a spherical wrist: rswarp place solves the "
                          "arm's closed form (a palletizer or another shape is not placed yet)")
-    count = len(poses.world)
-    per = max(1, chunk // count)
-    out = Reach(np.zeros(len(bases), np.int64), np.full((len(bases), 3), np.nan),
-                np.zeros((count, len(REASONS)), np.int64), np.full((count, 2), np.nan), np.zeros(len(bases), bool))
-    for lo in range(0, len(bases), per):
-        _chunk(kin, form, bases[lo:lo + per], poses, out, lo, reached_all)
-    return out
+    _chunk(kin, form, bases[rows.start:rows.stop], poses, out, rows.start, reached_all)
 
 
 def solve(kin, form, bases: np.ndarray, poses) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

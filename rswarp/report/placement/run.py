@@ -19,13 +19,14 @@ from ...kinematics.kinematics import Kinematics
 from ...motion.cells import is_cell, robot_of
 from ...motion.plan import checked_cycles, plan_on
 from ...outputs import atomic_folder, check_replaceable
+from ...sim.engine import cluster_for, run_batch
 from ...transforms import matrix_euler_zyx
 from ..output import Output, Warn, ignore, json_safe
 from .candidates import base_frames, candidates, parse_vary
-from .clear import Clear, Clearance
+from .clear import Clearance
 from .files import candidates_csv, cell_toml, limiting_csv, map_png
+from .job import PlaceJob
 from .poses import program_poses
-from .reach import reach
 
 
 @dataclass(frozen=True)
@@ -54,13 +55,13 @@ def run_place(path: str, programs: list[str], task: TaskOptions | None = None, b
     current = np.array([*(now[:3, 3] * 1000.0), math.degrees(matrix_euler_zyx(now[:3, :3])[2])])
     tilt = tuple(math.degrees(a) for a in matrix_euler_zyx(now[:3, :3])[:2])
     values = candidates(varies, place.samples, current, batch.seed)
-    clearance = _checker(mech, cell, task, batch.device)  # the meshes and the tool loaded before the run
+    meshes, tool, clearance = _checker(mech, cell, task, batch.device)  # the meshes and the tool loaded first
     _, plan = plan_on(mech, cell, programs, task, device=batch.device, warn=warn, strict=False)
     poses = program_poses(plan, mech, now, _mounts(cell, plan))
-    kin = Kinematics(mech, batch.device)
-    bases = base_frames(values, tilt)
-    clear, check = _clearance(clearance, len(bases), poses)
-    found = reach(kin, bases, poses, reached_all=lambda rows, q: check(rows, q, bases))
+    job = PlaceJob(base_frames(values, tilt), poses, meshes, tool, cell.robot.rsxml if cell is not None else mech.path)
+    tally = run_batch(job, mech, tools=(Kinematics(mech, batch.device), clearance), device=batch.device,
+                      cluster=cluster_for(batch.ray, batch.device), progress=progress)
+    found, clear = tally.reach, tally.clear
     feasible = (found.reached == len(poses.world)) & clear.free
     order = sorted(np.flatnonzero(feasible), key=lambda k: (-found.score[k], k))[:place.top]
     with atomic_folder(out) as tmp:
@@ -110,9 +111,10 @@ def _placeable(path: str, cell) -> None:
         raise InputError(f"{path}: the robot rides a unit the cell file does not name")
 
 
-def _checker(mech, cell, task, device) -> Clearance:
-    """The collision checkers of the robot with its tool (the cell's ``[tool]`` or ``--tool``),
-    the cell's meshes that stand still and ``--env``'s: a mesh that does not load stops here."""
+def _checker(mech, cell, task, device) -> tuple:
+    """(the meshes checked at every pose, the tool, their checkers with the robot's): the cell's
+    meshes that stand still and ``--env``'s, the cell's ``[tool]`` or ``--tool``; a mesh that does
+    not load stops here, before any work."""
     from ...motion.cells import tool_spec
     from ...rsxml.cell import CellMesh
     from ...sim.bodies import placed_environments
@@ -121,20 +123,8 @@ def _checker(mech, cell, task, device) -> Clearance:
     meshes = tuple(m for m in (cell.environment if cell is not None else ()) if m.on is None)
     meshes += tuple(CellMesh(e.name, e.path, e.pose) for e in placed_environments(mech, task.environment))
     tool = load_tool(mech, tool_spec(cell, task.tool))
-    return Clearance(mech, meshes, tool, device, cell.robot.rsxml if cell is not None else mech.path)
-
-
-def _clearance(clearance: Clearance, count: int, poses) -> tuple[Clear, object]:
-    """(the collisions found, ``check(rows, q, bases)``: the bases ``rows`` that reach every pose
-    checked at each, in their chosen configurations ``q``)."""
-    out = Clear(np.zeros(count, bool), np.zeros(len(poses.world), np.int64), [None] * len(poses.world))
-
-    def check(rows: np.ndarray, q: np.ndarray, bases: np.ndarray) -> None:
-        part = Clear(np.zeros(len(rows), bool), out.hits, out.pair)
-        clearance.check(q, poses.bases(bases[rows]), part, 0)
-        out.free[rows] = part.free
-
-    return out, check
+    rsxml = cell.robot.rsxml if cell is not None else mech.path
+    return meshes, tool, Clearance(mech, meshes, tool, device, rsxml)
 
 
 def _timed(path, programs, task, batch, folder: Path, rank: int, k: int, value: np.ndarray, tilt) -> Timed:
