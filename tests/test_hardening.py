@@ -397,7 +397,7 @@ def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confd
     it turns), q1 anywhere, the robot at zero."""
     from scipy.optimize import brentq
 
-    from rswarp.motion.targets import _straight
+    from rswarp.motion.targets import stretched_q3
 
     kin = irb2600_kinematics
 
@@ -408,7 +408,7 @@ def test_a_robtarget_over_the_shoulder_singularity_is_reached_with_its_own_confd
     q3 = brentq(ahead, -179.0, 0.0, xtol=1e-12) if ahead(-179.0) * ahead(0.0) < 0 else None
     assume(q3 is not None and q3 > -175)
     # clear of the arm stretched (the elbow's singularity), where rounding can put the pose out of reach
-    assume(abs(q3 - np.degrees(_straight(kin._ik_form()))) > 1.0)
+    assume(abs(q3 - np.degrees(stretched_q3(kin._ik_form()))) > 1.0)
     q = np.radians([q1, q2, q3, q4, q5, q6])
     _reached(kin, q, np.zeros(6))
 
