@@ -12,8 +12,10 @@ A run on another machine (a lent GPU) is recorded beside them, with that machine
 --command "python benchmarks/bench_dresspack.py --device cuda"``, OUTPUT being what it printed (UTF-8
 text with at least one metric line; anything else is refused and the file is left as it was).
 
-The file is strict JSON (a non-finite number is written as null, and read back only if strict) and
-is written whole or not at all: a temporary file beside it, then a rename. Bad input (a missing or
+The file is strict JSON (a non-finite number is written as null, and read back only if strict; a
+recorded line whose ``ours`` or ``ratio`` is not a finite number is refused) and is written whole or
+not at all: a temporary file beside it, then a rename (through a symlink, beside the file it points
+to, which is replaced; the link is kept). Bad input (a missing or
 unreadable OUTPUT, a broken results file) ends in one line and exit 1.
 """
 
@@ -97,23 +99,34 @@ def _no_constant(name: str):
     raise ValueError(f"{name} is not JSON")
 
 
-def metric_lines(text: str, source: str) -> tuple[list[dict], list[str]]:
+MEASURED = ("ours", "ratio")  # a metric line's figures that must be numbers where it gives them: refused as NaN
+
+
+def metric_lines(text: str, source: str, strict: bool = False) -> tuple[list[dict], list[str]]:
     """The metric lines of a script's output (``{"metric": ...}``), their non-finite numbers
     (``NaN``, ``Infinity``, ``1e999``) as None, and a ``source:line: why`` for each that is no JSON
-    object."""
+    object (nested too deep, or, with ``strict``, whose ``ours`` or ``ratio`` is not finite)."""
     lines, bad = [], []
     for n, line in enumerate(text.splitlines(), 1):
         if not (line.startswith("{") and '"metric"' in line):
             continue
         try:
-            found = json.loads(line, parse_constant=lambda c: None)
+            found = json.loads(line, parse_constant=lambda c: math.nan)
+        except RecursionError:
+            bad.append(f"{source}:{n}: a metric line nested too deep to be one")
+            continue
         except ValueError as exc:
             bad.append(f"{source}:{n}: a metric line that is not JSON ({getattr(exc, 'msg', exc)})")
             continue
-        if isinstance(found, dict):
-            lines.append(finite(found))
-        else:
+        if not isinstance(found, dict):
             bad.append(f"{source}:{n}: a metric line that is not a JSON object")
+            continue
+        broken = [k for k in MEASURED if isinstance(found.get(k), float) and not math.isfinite(found[k])]
+        if strict and broken:
+            bad.append(f"{source}:{n}: {' and '.join(broken)} {'is' if len(broken) == 1 else 'are'} not a finite "
+                       "number: nothing to record")
+            continue
+        lines.append(finite(found))
     return lines, bad
 
 
@@ -129,6 +142,8 @@ def load_results(path: Path) -> dict:
         fail(f"{path}: not UTF-8 text (byte {exc.start}); restore it from git")
     except json.JSONDecodeError as exc:
         fail(f"{path}:{exc.lineno}: not JSON ({exc.msg}; truncated?); restore it from git")
+    except RecursionError:
+        fail(f"{path}: nested too deep to be a results file; restore it from git")
     except ValueError as exc:
         fail(f"{path}: not strict JSON ({exc}); restore it from git")
     if not isinstance(doc, dict) or not isinstance(doc.get("benchmarks", {}), dict):
@@ -140,6 +155,7 @@ def write_results(path: Path, doc: dict) -> None:
     """``doc`` as strict JSON into ``path``, whole or not at all: a temporary file beside it, then
     a rename (an interrupted or failed write leaves the old file and no temporary one)."""
     text = json.dumps(finite(doc), indent=1, allow_nan=False) + "\n"
+    path = Path(os.path.realpath(path))  # through a symlink: the file it points to is replaced, the link kept
     tmp = None
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
@@ -195,7 +211,7 @@ def record(name: str, output: Path, on: str, command: str) -> dict:
         fail(f"{output}: cannot read: {exc.strerror or exc}")
     except UnicodeDecodeError as exc:
         fail(f"{output}: not UTF-8 text (byte {exc.start}): give what the script printed")
-    lines, bad = metric_lines(out, str(output))
+    lines, bad = metric_lines(out, str(output), strict=True)
     if bad:
         fail(f"{bad[0]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""))
     if not lines:
