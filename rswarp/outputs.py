@@ -57,7 +57,7 @@ def manifest(folder: Path) -> dict[str, str]:
         doc = None
         if not path.is_symlink() and path.is_file() and path.stat().st_size <= MAX_MANIFEST:
             doc = json.loads(read_regular(path))
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         doc = None
     files = doc.get("files") if isinstance(doc, dict) and doc.get("written_by") == "rswarp" else None
     if not isinstance(files, dict):

@@ -124,6 +124,8 @@ def parse_input(text: str, base: str):
             return _lists(json.loads(_WORD.sub(lambda m: m.group(1).lower(), stripped)))
         except json.JSONDecodeError as exc:
             raise ValueError(f"an aggregate such as [100, 200, 300], not '{text}'") from exc
+        except RecursionError:
+            raise ValueError("an aggregate nested too deep") from None
     try:
         value = float(stripped)
     except ValueError:

@@ -181,6 +181,8 @@ def _specs(vary: list[str]) -> list[str]:
         raise InputError(f"{path}: cannot read the TOML file of variables: {exc.strerror or exc}") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a TOML file of variables ({exc})") from None
+    except RecursionError:
+        raise InputError(f"{path}: not a TOML file of variables (nested too deep)") from None
     table = table.get("vary", table)
     if not isinstance(table, dict):
         raise InputError(f"{path}: 'vary' must be a table of NAME = \"MIN:MAX\" or NAME = [MIN, MAX] ([vary], or "

@@ -453,11 +453,29 @@ def read_toml(path: str) -> tuple[str, dict]:
     text = read_text(path)
     try:
         return text, tomllib.loads(text)
+    except RecursionError:  # arrays or inline tables nested some thousand deep: no file of ours is
+        raise RsxmlError(Diagnostic(path, _deepest(text), "TOML: nested too deep (give frames and lists as "
+                                                          "flat lists of numbers)")) from None
     except tomllib.TOMLDecodeError as exc:
         line = int(m.group(1)) if (m := re.search(r"line (\d+)", str(exc))) else 0
         if not line and "end of document" in str(exc):  # an array or table left open: the file's last line
             line = max(1, len(text.rstrip().splitlines()))
         raise RsxmlError(Diagnostic(path, line, f"TOML: {str(exc).split(' (at')[0]}")) from None
+
+
+def _deepest(text: str) -> int:
+    """The line where brackets first open deepest (strings not told apart: for the message only)."""
+    depth, most, line, at = 0, 0, 1, 1
+    for ch in text:
+        if ch == "\n":
+            line += 1
+        elif ch in "[{":
+            depth += 1
+            if depth > most:
+                most, at = depth, line
+        elif ch in "]}":
+            depth -= 1
+    return at
 
 
 def read_text(path: str) -> str:
