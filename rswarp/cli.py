@@ -165,8 +165,14 @@ def _call(args) -> int:
     quiet = getattr(args, "json", False)
     if "json" in names:
         kwargs["json"] = quiet
+    said: list[str] = []  # every warning on stderr, for the JSON's ``warnings`` too
+
+    def warn(line) -> None:
+        said.append(str(line))
+        _stderr(line)
+
     if "warn" in names:
-        kwargs["warn"] = (lambda line: None) if quiet and args.command == "check" else _stderr
+        kwargs["warn"] = (lambda line: None) if quiet and args.command == "check" else warn
     if "say" in names:
         kwargs["say"] = (lambda line: None) if quiet else (lambda line: print(line, flush=True))
     if "progress" in names and not quiet:
@@ -176,12 +182,21 @@ def _call(args) -> int:
     if quiet:
         from .report.output import json_text
 
-        print(json_text(out.doc))
+        print(json_text(_with_warnings(out.doc, said)))
     elif out.text:
         print(out.text)
     for line in out.errors:
         print(line, file=sys.stderr)
     return out.code
+
+
+def _with_warnings(doc, said: list[str]):
+    """The JSON document with every warning said on stderr among its ``warnings`` (in the order
+    said, after its own), so that a program reading the JSON misses none."""
+    if not isinstance(doc, dict) or not said:
+        return doc
+    own = list(doc.get("warnings") or [])
+    return doc | {"warnings": own + [w for w in dict.fromkeys(said) if w not in own]}
 
 
 def _stderr(line: str) -> None:

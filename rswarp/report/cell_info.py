@@ -30,10 +30,29 @@ def cell_dict(cell: Cell) -> dict:
             "robot": {"rsxml": r.rsxml, "name": r.mechanism.name, "on": r.on, "frame": r.frame.tolist()},
             "externals": [{"name": e.name, "rsxml": e.rsxml, "model": e.mechanism.model_name,
                            "frame": e.frame.tolist(), "axes": dict(zip(e.axes, e.joints)),
-                           "carrier_link": e.carrier_link} for e in cell.externals],
+                           "carrier_link": e.carrier_link, "joints": _unit_axes(e)} for e in cell.externals],
             "tool": None if cell.tool is None else {"path": cell.tool.path, "mount": cell.tool.mount.tolist()},
             "environment": [{"mesh": m.path, "pose": m.pose.tolist(), "on": m.on} for m in cell.environment],
             "warnings": list(cell.warnings)}
+
+
+def _unit_axes(e) -> list[dict]:
+    """Each joint of a unit with its logical axis, its travel and its limits (SI: m or rad, m/s or
+    rad/s, ...) and where the limits come from (its robot-data file, or rswarp's default)."""
+    from ..rsxml.robot_data import axis_limits
+
+    mech = e.mechanism
+    lo, hi = mech.bounds()
+    limits = axis_limits(mech)
+    names = [j.name for j in mech.active_joints]
+    by_joint = dict(zip(e.joints, e.axes))
+    out = []
+    for k, j in enumerate(mech.active_joints):
+        jerk = None if limits.jerk is None else float(limits.jerk[k])
+        out.append({"name": names[k], "axis": by_joint.get(names[k]), "type": "rotational" if j.revolute else "linear",
+                    "travel": [float(lo[k]), float(hi[k])], "velocity": float(limits.velocity[k]),
+                    "acceleration": float(limits.acceleration[k]), "jerk": jerk, "source": limits.source})
+    return out
 
 
 def cell_text(cell: Cell) -> str:
