@@ -52,7 +52,7 @@ def read_cell(path) -> Cell:
         return read_team(r, doc)
     if "robot" not in doc:
         r.errors.append(Diagnostic(path, 0, "no [robot] table: a cell places one robot (rsxml = its RSXML file)"))
-    externals = r.externals(r.attempt(r.tables, doc, "external", default=[]))
+    externals = r.externals(r.attempt(r.tables, doc, "external", False, default=[]))
     robot = r.attempt(lambda: r.robot(r.table(doc, "robot"), externals)) if "robot" in doc else None
     tool = r.attempt(lambda: r.tool(r.table(doc, "tool"))) if "tool" in doc else None
     meshes = r.attempt(r.tables, doc, "environment", default=[])
@@ -111,11 +111,13 @@ class _Reader:
         self.known(value, name, None)
         return value
 
-    def tables(self, doc: dict, name: str) -> list[dict]:
+    def tables(self, doc: dict, name: str, keys: bool = True) -> list[dict]:
+        """The array of tables ``name``; ``keys``: each table's keys checked here (else by its reader,
+        so that a table with an unknown key is left out alone, said before what follows from it)."""
         value = doc.get(name, [])
         if not isinstance(value, list) or not all(isinstance(t, dict) for t in value):
             self.fail(("", None), name, f"{name} must be an array of tables: [[{name}]], once for each")
-        for k, t in enumerate(value):
+        for k, t in enumerate(value if keys else ()):
             self.known(t, name, k)
         return value
 
@@ -201,6 +203,9 @@ class _Reader:
         """One [[external]] table read (``out``: those before it; ``taken``: their axes)."""
         where = ("external", k)
         name = t.get("name")
+        if isinstance(name, str) and name.strip():
+            self.names[where] = name
+        self.known(t, "external", k)
         if not isinstance(name, str) or not name.strip():
             self.fail(where, "name" if "name" in t else None, f"{_title(*where)}: give it a name (text)")
         if name in (e.name for e in out):
@@ -268,6 +273,10 @@ class _Reader:
             self.fail(where, key if key in t else None, f"{self.title(where)} {key}: give {what}, as a path relative "
                                                         "to the cell file")
         path = self.folder / value.strip().replace("\\", "/")
+        if path.exists() and not path.is_file():
+            from .cell_moc import kind_of
+
+            self.fail(where, key, f"{self.title(where)} {key}: '{value}' is {kind_of(path)}, not a file")
         if not path.is_file():
             self.fail(where, key, f"{self.title(where)} {key}: no such file '{value}' (looked for {path})")
         return str(path)

@@ -43,12 +43,27 @@ def moc_path(folder: Path, value, fail) -> Path:
     path = folder / value.strip().replace("\\", "/")
     if path.is_dir():
         for sub in ("SYSPAR", "syspar", "Syspar"):
-            if (path / sub / "MOC.cfg").is_file():
-                return path / sub / "MOC.cfg"
+            moc = path / sub / "MOC.cfg"
+            if moc.is_file():
+                return moc
+            if moc.exists():
+                fail(f"backup: {moc} is {kind_of(moc)}, not a MOC.cfg file")
         fail(f"backup: '{value}' holds no SYSPAR/MOC.cfg")
+    if path.exists() and not path.is_file():
+        fail(f"backup: '{value}' is {kind_of(path)}, not a backup folder or a MOC.cfg file")
     if not path.is_file():
         fail(f"backup: no such file or folder '{value}' (looked for {path})")
     return path
+
+
+def kind_of(path: Path) -> str:
+    """What a path that is no regular file is, in words: a folder, a FIFO, a device, a socket."""
+    import stat
+
+    mode = path.stat().st_mode
+    return "a folder" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
+        "a device" if stat.S_ISBLK(mode) or stat.S_ISCHR(mode) else "a socket" if stat.S_ISSOCK(mode) else \
+        "not a regular file"
 
 
 def beside(moc: Path, name: str) -> Path | None:

@@ -26,7 +26,7 @@ def read_team(r, doc: dict) -> Cell:
     names = [t.get("name") for t in given if isinstance(t, dict)] if isinstance(given, list) else []
     drives = [r.attempt(_drives, r, t, k, names) or () for k, t in enumerate(tables)]
     r.owner = _owners(tables, drives, names)
-    externals = r.externals(r.attempt(r.tables, doc, "external", default=[]))
+    externals = r.externals(r.attempt(r.tables, doc, "external", False, default=[]))
     robots = [r.attempt(lambda t=t, k=k: r.robot(t, externals, ("robot", k))) for k, t in enumerate(tables)]
     units = [r.attempt(r.unit, t, doc, ("robot", k)) for k, t in enumerate(tables)]
     tool = r.attempt(lambda: r.tool(r.table(doc, "tool"))) if "tool" in doc else None
