@@ -41,3 +41,12 @@ def test_a_fifo_given_as_a_moc_cfg_is_called_a_fifo_and_never_opened(tmp_path):
     cell.write_text(f'backup = "MOC.cfg"\n[robot]\nrsxml = "{ROBOT}"\n')
     with pytest.raises(RsxmlError, match=r"cell.toml:1: backup: 'MOC.cfg' is a FIFO, not a backup folder"):
         read_cell(str(cell))
+
+
+def test_an_empty_moc_cfg_is_an_error_at_its_first_line(tmp_path):
+    (tmp_path / "backup" / "SYSPAR").mkdir(parents=True)
+    (tmp_path / "backup" / "SYSPAR" / "MOC.cfg").write_text("\n\n")
+    cell = tmp_path / "cell.toml"
+    cell.write_text(f'backup = "backup"\n[robot]\nrsxml = "{ROBOT}"\n')
+    with pytest.raises(RsxmlError, match=r"MOC.cfg:1: not a MOC.cfg: the file is empty, without the header"):
+        read_cell(str(cell))

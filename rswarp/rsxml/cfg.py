@@ -104,6 +104,9 @@ def parse_cfg(text: str, path: str, *, strict: bool = True, domain: str | None =
             lines = []
         lines.append((k, body))
         continued = stripped.endswith("\\")
+    if domain is not None:  # the file ended before its first line: empty, or only blank lines
+        raise RsxmlError(Diagnostic(path, 1, f"not a {domain}.cfg: the file is empty, without the header "
+                                             f"{domain}:CFG_1.0:<version>:<revision>::"))
     _flush(out, section, lines, path, strict)
     return tuple(out)
 
