@@ -228,7 +228,7 @@ def test_a_robot_on_a_track_is_placed_by_the_tracks_frame_each_pose_where_its_ca
     rows = list(csv.DictReader((out / "candidates.csv").open()))
     assert rows[1]["y_mm"] == "0.000" and rows[1]["reached"] == rows[1]["poses"]  # where the track stands now
     best = (out / "best.toml").read_text()
-    assert 'on = "track"' in best and "frame = [0, 0, 400, 0, 0, 0]" in best  # the robot stays on its carriage
+    assert 'on = "track"' in best and "frame = [0, 0, 0, 0, 0, 0]" in best  # the robot stays on its carriage
     assert main(["program", str(out / "best.toml"), str(module), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["cycle_s"] == pytest.approx(doc["best"]["cycle_s"], abs=1e-9)
 

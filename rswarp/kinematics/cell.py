@@ -60,8 +60,7 @@ class CellKinematics:
         carrier = self.cell.carrier
         if carrier is None:
             return np.broadcast_to(frame, (count, 4, 4)).copy()
-        link = self.units[carrier.name].graph.link_index(carrier.carrier_link)
-        return self.unit_links(carrier.name, joints[carrier.name])[:, link] @ frame
+        return self.unit_flange(carrier.name, joints[carrier.name]) @ frame  # the robot rides the unit's flange
 
     def robot_links(self, q, joints: dict[str, np.ndarray]) -> np.ndarray:
         """(N, links, 4, 4) world poses of the robot's links at its joints ``q`` (N, dof)."""
@@ -74,9 +73,15 @@ class CellKinematics:
         return self.robot_links(q, joints)[:, link] @ offset
 
     def unit_flange(self, name: str, q) -> np.ndarray:
-        """(N, 4, 4) world pose of a unit's flange (a positioner's face plate, where a work object
-        it moves is defined; a track's mount) at its joints ``q`` (N, dof)."""
-        link, offset = self.units[name].flange_frame()
+        """(N, 4, 4) world pose of a unit's mounting flange (a positioner's face plate, where a work
+        object it moves is defined; a track's mount) at its joints ``q`` (N, dof): where whatever
+        rides the unit sits. A unit without a Flange: its carrying link's frame."""
+        unit = self.cell.external(name)
+        kin = self.units[name]
+        if unit.mount is None:
+            link, offset = kin.graph.link_index(unit.carrier_link), np.eye(4)
+        else:
+            link, offset = kin.flange_frame(unit.mount.name)
         return self.unit_links(name, np.atleast_2d(q))[:, link] @ offset
 
     # -- the external joints as one vector (each unit's joints, in the cell's order) ---------------

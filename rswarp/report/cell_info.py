@@ -62,18 +62,37 @@ def cell_text(cell: Cell) -> str:
         return "\n\n".join([head] + [f"{c.robot.name} (task {c.robot.task}):\n" +
                                        cell_text(c).split("\n", 1)[1] for c in cell.team])
     r = cell.robot
-    where = f"on {r.on}'s {cell.carrier.carrier_link}" if r.on else "on the floor"
     lines = [f"{cell.path}: a cell of {1 + len(cell.externals)} mechanism{'s' if cell.externals else ''}",
-             f"robot {r.mechanism.name} ({Path(r.rsxml).name}) {where}, frame [{_frame(r.frame)}]"]
+             f"robot {r.mechanism.name} ({Path(r.rsxml).name}) {_riding(cell, r.on)}, frame [{_frame(r.frame)}]"
+             + _at_home(cell)]
     for e in cell.externals:
         axes = ", ".join(f"{a} -> {j} ({_range(e.mechanism, j)})" for a, j in zip(e.axes, e.joints))
         lines.append(f"external {e.name}: {e.mechanism.model_name} ({Path(e.rsxml).name}), frame [{_frame(e.frame)}], "
                      f"{axes}, carries on {e.carrier_link}")
     if cell.tool is not None:
         lines.append(f"tool {Path(cell.tool.path).name}, mounted [{_frame(cell.tool.mount)}] on the flange")
-    lines += [f"environment {Path(m.path).name} at [{_frame(m.pose)}]" + (f" on {m.on}'s flange" if m.on else "")
-              for m in cell.environment]
+    lines += [f"environment {Path(m.path).name} " + (f"{_riding(cell, m.on)}, frame [{_frame(m.pose)}]" if m.on else
+                                                     f"at [{_frame(m.pose)}]") for m in cell.environment]
     return "\n".join(lines)
+
+
+def _riding(cell: Cell, on: str | None) -> str:
+    """Where a thing rides: on the floor, or on a unit's mounting flange (its frame is there)."""
+    if on is None:
+        return "on the floor"
+    unit = cell.external(on)
+    flange = f"flange '{unit.mount.name}' ({unit.carrier_link})" if unit.mount is not None else unit.carrier_link
+    return f"on {on}'s {flange}"
+
+
+def _at_home(cell: Cell) -> str:
+    """Where a carried robot's base sits in the world with every unit at home."""
+    if cell.carrier is None:
+        return ""
+    from ..kinematics.cell import CellKinematics
+
+    ck = CellKinematics(cell)
+    return f"; at home its base at [{_frame(ck.robot_base(ck.split(ck.home()[None]))[0])}] in the world"
 
 
 def _range(mech, joint: str) -> str:

@@ -31,7 +31,7 @@ MECHANISM_SUFFIXES = (".rsxml", ".xml")  # a tool given by one of these is a Too
 KEYS = {  # table -> its keys; "" is the file's top level
     "": ("robot", "external", "tool", "environment", "backup"),
     "robot": ("rsxml", "on", "frame", "unit", "name", "task", "drives"),
-    "external": ("name", "rsxml", "frame", "axes"),
+    "external": ("name", "rsxml", "frame", "axes", "flange"),
     "tool": ("path", "frame"),
     "environment": ("mesh", "frame", "on"),
 }
@@ -214,7 +214,25 @@ class _Reader:
         path, mech = self.mechanism(t, where, "ExternalAxis")
         joints = tuple(j.name for j in mech.active_joints)
         axes = self.axes(t, where, name, joints, taken)
-        return External(name, path, mech, self.frame(t, where), axes, joints, self.lines.of(*where, None))
+        return External(name, path, mech, self.frame(t, where), axes, joints, self.lines.of(*where, None),
+                        self.flange(t, where, name, mech))
+
+    def flange(self, t: dict, where, unit: str, mech: Mechanism) -> str | None:
+        """The unit's mounting flange: the one ``flange`` names, else its only one (None: it has
+        none); a unit of several flanges must name one."""
+        names = [f.name for f in mech.flanges]
+        if "flange" not in t:
+            if len(names) > 1:
+                self.fail(where, None, f"[[external]] '{unit}' has {len(names)} flanges ({', '.join(names)}): give "
+                                       "flange = \"...\", the one what rides it is mounted on")
+            return names[0] if names else None
+        value = t["flange"]
+        if not isinstance(value, str) or value not in names:
+            near = nearest(str(value), names)
+            hint = f"; did you mean '{near}'?" if near else f" (its flanges: {', '.join(names) or 'none'})"
+            self.fail(where, "flange", f"[[external]] '{unit}' flange = {_shown(value)} names no Flange of "
+                                       f"'{Path(mech.path or unit).name}'{hint}")
+        return value
 
     def axes(self, t: dict, where, unit: str, joints: tuple[str, ...], taken: dict) -> tuple[str, ...]:
         """The logical axes of ``unit``'s joints: distinct, eax_a..eax_f, one per active joint, none

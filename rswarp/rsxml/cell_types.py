@@ -47,11 +47,21 @@ class External:
     axes: tuple[str, ...] = ()
     joints: tuple[str, ...] = ()
     line: int = 0
+    flange: str | None = None  # the RSXML Flange what rides the unit is mounted on; None: it has none
+
+    @property
+    def mount(self):
+        """The unit's ``Flange`` that what rides it is placed in (a track's mount, a positioner's
+        face plate): the one the cell file names, else its only one; None where it has none."""
+        flanges = self.mechanism.flanges
+        return next((f for f in flanges if f.name == self.flange), flanges[0] if flanges else None)
 
     @property
     def carrier_link(self) -> str:
-        """The link that carries what stands on this unit: the child of its last active joint
-        (a track's carriage, a positioner's faceplate); its base link where it has no joint."""
+        """The link that carries what stands on this unit: its mounting flange's link; without a
+        flange, the child of its last active joint (its base link where it has no joint)."""
+        if self.mount is not None:
+            return self.mount.link
         active = self.mechanism.active_joints
         return active[-1].child if active else self.mechanism.base_link
 
