@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from rswarp.errors import RsxmlError
+from rswarp.kinematics.cell import CellKinematics
 from rswarp.kinematics.kinematics import Kinematics
 from rswarp.motion.plan import program_plan
 from rswarp.rsxml.cell import read_cell
@@ -98,7 +99,10 @@ def test_a_multimove_backup_gives_rob_2_its_own_base_frame_and_its_tasks_axes():
 def test_a_multimove_backup_puts_rob_1_on_its_track_by_its_task_name():
     cell = read_cell(str(CELLS / "multimove_rob1.toml"))  # unit = "T_ROB1": SYS.cfg's task of ROB_1
     assert cell.robot.on == "track"
-    assert np.allclose(cell.robot.frame[:3, 3], (0.0, 0.0, 0.565))
+    # MOC.cfg's base frame is in TRACK_1's own frame: on the track's mount flange (400 mm up) it is 165 mm
+    assert np.allclose(cell.robot.frame[:3, 3], (0.0, 0.0, 0.165))
+    ck = CellKinematics(cell)
+    assert np.allclose(ck.robot_base(ck.split(ck.home()[None]))[0, :3, 3], (0.25, -1.2, 0.565))
     lo, hi = cell.external("track").mechanism.bounds()
     assert (lo[0], hi[0]) == pytest.approx((-0.1, 3.85))  # TRACK_1's eax_a, not STN1_1's (also eax_a)
     assert np.allclose(cell.external("track").frame[:3, 3], (0.25, -1.2, 0.0))

@@ -36,7 +36,7 @@ def test_the_backup_puts_the_robot_on_the_track_at_its_base_frame(cell):
     assert cell.robot.on == "track"
     expected = np.eye(4)
     expected[:3, :3] = quat_matrix((0.707107, 0.0, 0.0, 0.707107))
-    expected[:3, 3] = (0.0, 0.0, 0.565)
+    expected[:3, 3] = (0.0, 0.0, 0.565 - 0.4)  # MOC's frame is in the track's own: on its 400 mm mount flange
     assert np.allclose(cell.robot.frame, expected, atol=1e-6)
     frame = cell.external("track").frame  # TRACK_1's single: base frame [0.25, -1.2, 0]
     assert np.allclose(frame[:3, 3], (0.25, -1.2, 0.0)) and np.allclose(frame[:3, :3], np.eye(3))

@@ -255,13 +255,22 @@ class MocApplied:
                 self.note(f"{me}'s base is moved by {bf.moved_by} ('{carrier}' in the cell), not "
                           f"'{robot.on}' as [robot] on says", "warning")
         if not self.given.get(("robot", "frame")):
-            robot = replace(robot, frame=bf.matrix())
+            robot = replace(robot, frame=self._on_flange(cell, robot.on, bf.matrix()))
             self.note(f"the robot's frame is {me}'s base frame: {bf.words()}")
         mine = self._unit_of_robot(self.robot)
         task = next((t for g in self.groups or () if g.robot == mine for t in g.tasks), None)
         robot = replace(robot, name=robot.name or me, task=robot.task or task)
         externals = tuple(self._unit_frame(e) for e in cell.externals)
         return replace(cell, robot=robot, externals=externals)
+
+    @staticmethod
+    def _on_flange(cell, on: str | None, frame: np.ndarray) -> np.ndarray:
+        """A MOC base frame of a robot that a unit moves, given in the unit's own frame (at its base,
+        moving with it), as the cell file places a carried robot: in the unit's mounting flange."""
+        unit = next((e for e in cell.externals if e.name == on), None) if on else None
+        if unit is None or unit.mount is None:
+            return frame
+        return np.linalg.inv(unit.mount.pose.matrix()) @ frame
 
     def _unit_of(self, cell, moc_unit: str) -> str | None:
         """The cell's unit driven by the logical axes of the MOC's mechanical unit ``moc_unit``."""
