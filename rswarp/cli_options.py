@@ -122,8 +122,8 @@ def program(p: argparse.ArgumentParser) -> None:
 
 
 def place(p: argparse.ArgumentParser) -> None:
-    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file, or a cell file whose robot stands on the "
-                                                 "floor (its [robot] frame is what moves; its meshes are checked)")
+    p.add_argument("path", metavar="ROBOT", help="the robot's RSXML file, or a cell file (its [robot] frame moves, or "
+                                                 "the frame of the unit the robot rides; its meshes are checked)")
     p.add_argument("programs", nargs="+", metavar="PATH",
                    help="the RAPID task (module files, a folder, a .pgf) whose every pose the robot must reach")
     _task(p)
