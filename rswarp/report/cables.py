@@ -50,6 +50,12 @@ def run_cables(path: str, out: str, task: TaskOptions | None = None, hose: HoseO
     o = routed(changes, task=task or TaskOptions(), hose=hose or HoseOptions(), batch=batch or BatchOptions(),
                video=video or VideoOptions())
     task, hose, batch, video = o["task"], o["hose"], o["batch"], o["video"]
+    said, told = [], warn  # every warning is also in report.json's warnings, as the command printed it
+
+    def warn(line) -> None:
+        said.append(str(line))
+        told(line)
+
     envs = default_envs(envs, program)
     cell = read_cell(path) if is_cell(path) else None
     mech, report = load_mechanism(cell.robot.rsxml if cell is not None else path)
@@ -80,7 +86,7 @@ def run_cables(path: str, out: str, task: TaskOptions | None = None, hose: HoseO
                           cluster=cluster_for(batch.ray, batch.device))
     for w in run.warnings:
         warn(w)
-    doc, text = _reported(run, mech, out, usd, trajectories, plan, ratings, rated)
+    doc, text = _reported(run, mech, out, usd, trajectories, plan, ratings, rated, said)
     if video.video is not None:
         from .videos import cable_video
 
@@ -140,7 +146,7 @@ def _trajectories(mech, options: CableOptions, plan, trajectory, random: bool, e
     return trajectories
 
 
-def _reported(run: CableRun, mech, out: str, usd: bool, trajectories, plan, ratings: Ratings, rated):
+def _reported(run: CableRun, mech, out: str, usd: bool, trajectories, plan, ratings: Ratings, rated, said=()):
     """(report, text) of a run: its verdicts and findings, written into ``out`` with its plots;
     over a program, each finding's line, the fatigue a pass and the payload it carries."""
     load = task_payload(plan) if plan is not None else None
@@ -149,7 +155,8 @@ def _reported(run: CableRun, mech, out: str, usd: bool, trajectories, plan, rati
     doc = write_cables(run, mech, out, usd=usd, ratings=ratings, more={
         "payload": None if load is None else {"mass": load.mass, "cog": load.cog, "source": load.source},
         "program_stopped": None if stopped is None else str(stopped),
-        "needs_input": None if stopped is None else plan.run.needs_input, **verdict_data(run, found)})
+        "needs_input": None if stopped is None else plan.run.needs_input, **verdict_data(run, found),
+        "warnings": list(dict.fromkeys([*run.warnings, *said]))})
     passes = max(len(plan.cycles), 1) if plan is not None else 1
     text = cables_text(run, doc["files"], found, passes, rated)
     if stopped is not None:  # the verdict is of the moves before the stop, and says so
