@@ -179,6 +179,7 @@ def _call(args) -> int:
         kwargs["progress"] = _Progress(args.command, args.unit, _progress_detail(args))
     with _video_progress(args.command, "video" in names and not quiet):
         out = fn(**kwargs)
+    FINISHED.append(out.code)  # every output is in place: a SIGTERM from here on stops nothing (``run``)
     if quiet:
         from .report.output import json_text
 
@@ -320,26 +321,50 @@ def main(argv: list[str] | None = None) -> int:
         return 2
 
 
+FINISHED: list[int] = []  # the command's status, once its library call returned with every output in place
+LATE = "rswarp: SIGTERM came after every output was written: they are complete, and the run ends as it would have"
+
+
 def run() -> None:
-    """The ``rswarp`` command: ``main``'s status as the exit code. A Ctrl-C or SIGTERM once main
-    is done (while Python shuts down: threads joined, exit handlers run) ends the process with 130
-    or 143 at once, its output flushed, never with a traceback."""
+    """The ``rswarp`` command: ``main``'s status as the exit code. SIGTERM, one rule: before the
+    command's outputs are all in place it stops the run (exit 143, nothing half-written kept);
+    after (while the report prints, while Python shuts down) the run is complete: it ends with its
+    own status and a line saying so. A Ctrl-C once main is done ends the process with 130 at once,
+    its output flushed, never with a traceback."""
+    late = []
+
+    def term(signum, frame):  # outside a write (a write holds its own handler): the run's own SIGTERM
+        if not FINISHED:
+            _flushed()
+            os._exit(128 + signum)
+        late.append(True)
+
+    signal.signal(signal.SIGTERM, term)
     try:
         code = main()
     except KeyboardInterrupt:
         code = 130
 
     def leave(signum, frame):
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):
-                pass
+        _flushed()
+        if signum == signal.SIGTERM and FINISHED:
+            print(LATE, file=sys.stderr, flush=True)
+            os._exit(code)
         os._exit(128 + signum)
 
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, leave)
+    if late:
+        print(LATE, file=sys.stderr, flush=True)
     sys.exit(code)
+
+
+def _flushed() -> None:
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
 
 
 if __name__ == "__main__":

@@ -427,3 +427,21 @@ def test_the_no_solution_message_prints_plain_numbers(irb2600_kinematics):
         got, why = tg.pick(sol, 0, conf, np.zeros(6), True, "p", kin._ik_form(), kin.mech.bounds())
         assert got is None and why.startswith("'p' has no solution with confdata [2, 0, 0, 0]; the nearest it has: ")
         assert "np." not in why and "array(" not in why and "int32" not in why, why
+
+
+@pytest.mark.parametrize("when", ["printing", "shutting down"])
+def test_sigterm_once_every_output_is_written_ends_the_run_as_it_would_have(tmp_path, when):
+    """One rule for SIGTERM: once the command's outputs are all in place, it stops nothing: the run
+    ends with its own status (0), its outputs whole, and a line saying the signal came late."""
+    csv = tmp_path / "t.csv"
+    kill = "os.kill(os.getpid(), signal.SIGTERM); time.sleep(0.5)"
+    script = ("import atexit, os, signal, sys, time\nimport rswarp.cli as cli\ncall = cli._call\n"
+              f"def late(args):\n    code = call(args)\n    {kill if when == 'printing' else 'pass'}\n    return code\n"
+              f"cli._call = late\n" + (f"atexit.register(lambda: ({kill.replace('; ', ', ')}))\n"
+                                       if when == "shutting down" else "") +
+              f"sys.argv = ['rswarp', 'program', {str(IRB2600)!r}, {str(IRB2600_PROGRAM)!r}, '--csv', {str(csv)!r}]\n"
+              "cli.run()\n")
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=300)
+    assert p.returncode == 0, p.stderr.decode()[-500:]
+    assert b"SIGTERM came after every output was written" in p.stderr and b"Traceback" not in p.stderr
+    assert csv.read_text().startswith("time,")
