@@ -43,7 +43,7 @@ class Together:
 
 def together(names, plans, rate: float = RATE) -> Together:
     """``plans`` (one per robot, each planned alone) put on one clock where their tasks meet."""
-    items = [_items(name, p) for name, p in zip(names, plans)]
+    items = [_items(p) for p in plans]
     _same_order(names, items)
     maps = [[(0.0, 0.0)] for _ in plans]
     fixed: list[dict] = [{} for _ in plans]  # move index -> (start, end) on the clock, where a meeting sets it
@@ -72,7 +72,7 @@ def together(names, plans, rate: float = RATE) -> Together:
     return Together(tuple(names), out, tuple(meetings))
 
 
-def _items(name: str, p: Plan) -> list:
+def _items(p: Plan) -> list:
     """A task's meeting points in order: (kind, ident, time, the move's place) for each sync point
     (kind wait, on, off) and the start and end of each synchronized move (kind start, end)."""
     out = []

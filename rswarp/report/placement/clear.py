@@ -57,7 +57,12 @@ class Clearance:
         if meshes:
             ck = CellKinematics(Cell(rsxml, PlacedRobot(rsxml, mech), (), None, tuple(meshes)), device)
             found = cell_pairs(ck, tool_body(mech, tool) if tool is not None else None)
-            self.env = (ck, found)
+            far = np.eye(4)
+            far[:3, 3] = FAR_AWAY
+            self._frames = far[None]  # the rows' bases, set by each check; the home check's is far away
+            self._found = found
+            self.env = found, CellChecker(ck, found, device, poses=self._poses,
+                                          home=(mech.home_position(), np.zeros(1)))
 
     def check(self, q: np.ndarray, bases: np.ndarray, rows: np.ndarray, out: Clear) -> None:
         """The bases ``rows`` checked into ``out``: their chosen configurations ``q`` (n, P, 6) and
@@ -72,7 +77,7 @@ class Clearance:
         if self.env is not None:
             more = self._environment(flat, np.ascontiguousarray(bases).reshape(-1, 4, 4))
             pairs = np.concatenate([pairs, more], axis=1)
-            names += self.env[1].pair_names()
+            names += self.env[0].pair_names()
         per_pose = pairs.any(axis=1).reshape(n, count)
         out.free[rows] = ~per_pose.any(axis=1)
         out.hits += per_pose.sum(axis=0)
@@ -80,22 +85,17 @@ class Clearance:
         out.counts = counts if out.counts is None else out.counts + counts
         out.names = names
 
+    def _poses(self, q: np.ndarray, rest: np.ndarray) -> np.ndarray:
+        """Every body's pose (N, bodies, 4, 4): the robot's links on the row's base (``rest[:, 0]``
+        its index in ``_frames``), the meshes where they stand."""
+        found = self._found
+        links = self._frames[rest[:, 0].astype(np.int64)][:, None] @ self.tools.kinematics.fk64(q)
+        return np.stack([links[:, w[0]] if who == "robot" else
+                         np.broadcast_to(found.bodies.bodies[b].pose, (len(q), 4, 4))
+                         for b, (who, *w) in enumerate(found.owner)], axis=1)
+
     def _environment(self, q: np.ndarray, bases: np.ndarray) -> np.ndarray:
         """(N, pairs) robot links against the meshes, the robot at ``bases`` (N, 4, 4)."""
-        ck, found = self.env
-        fk = ck.robot.fk64
-
-        def poses(qq, rest):  # rest[:, 0]: the row's base in ``frames``
-            at = frames[rest[:, 0].astype(np.int64)]
-            links = at[:, None] @ fk(qq)
-            return np.stack([links[:, w[0]] if who == "robot" else
-                             np.broadcast_to(found.bodies.bodies[b].pose, (len(qq), 4, 4))
-                             for b, (who, *w) in enumerate(found.owner)], axis=1)
-
-        far = np.eye(4)
-        far[:3, 3] = FAR_AWAY
-        frames = np.concatenate([bases, far[None]])
-        checker = CellChecker(ck, found, self.device, poses=poses,
-                              home=(self.mech.home_position(), np.array([len(frames) - 1.0])))
-        rows = np.arange(len(q), dtype=float)[:, None]
-        return checker.hits(q, rows) & checker.checked
+        found, checker = self.env
+        self._frames = bases
+        return checker.hits(q, np.arange(len(q), dtype=float)[:, None]) & checker.checked

@@ -103,30 +103,25 @@ PATH_KEYS = {"backup": None, "robot": ("rsxml",), "external": ("rsxml",), "tool"
 
 def _rebased(doc: dict, origin: Path) -> None:
     """The cell's paths made absolute (they were relative to its own file)."""
-    if isinstance(doc.get("backup"), str):
-        doc["backup"] = str((origin / doc["backup"].replace("\\", "/")).resolve())
-    for table, keys in PATH_KEYS.items():
-        if keys is None:
-            continue
-        for t in doc.get(table, []) if isinstance(doc.get(table), list) else [doc.get(table)]:
-            for key in keys:
-                if isinstance(t, dict) and isinstance(t.get(key), str):
-                    t[key] = str((origin / t[key].replace("\\", "/")).resolve())
+    _each_path(doc, lambda v: str((origin / v.replace("\\", "/")).resolve()))
 
 
 def _relative(doc: dict, folder: Path) -> dict:
     """Absolute paths made relative to ``folder`` (where the file goes)."""
-    def rel(p: str) -> str:
-        return Path(os.path.relpath(p, folder.resolve())).as_posix()
+    _each_path(doc, lambda v: Path(os.path.relpath(v, folder.resolve())).as_posix())
+    return doc
 
+
+def _each_path(doc: dict, change) -> None:
+    """Every path of the cell document (``PATH_KEYS``) replaced by ``change(path)``, in place."""
     if isinstance(doc.get("backup"), str):
-        doc["backup"] = rel(doc["backup"])
+        doc["backup"] = change(doc["backup"])
     for table, keys in PATH_KEYS.items():
-        for t in (doc.get(table, []) if isinstance(doc.get(table), list) else [doc.get(table)]) if keys else []:
+        found = doc.get(table)
+        for t in (found if isinstance(found, list) else [found]) if keys else []:
             for key in keys:
                 if isinstance(t, dict) and isinstance(t.get(key), str):
-                    t[key] = rel(t[key])
-    return doc
+                    t[key] = change(t[key])
 
 
 def _dump(doc: dict) -> str:

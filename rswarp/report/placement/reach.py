@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...kinematics.ik import NO_LIMITS, NO_REACH, OK, SHOULDER, ArmConstants
-from ...motion.shortfall import arm_reach, axis2_distance
+from ...motion.shortfall import across, arm_reach, axis2_distance
 from ...motion.targets import stretched_q3
 from ...motion.tcp import rigid_inverse
 
@@ -124,7 +124,7 @@ def _chunk(kin, form, bases: np.ndarray, poses, out: Reach, at: int, reached_all
     out.reached[at:at + n] = ok.sum(axis=1)
     flat = q.reshape(n * count, -1)
     wrist, elbow = _branch_margins(form, flat[:, None])
-    shoulder = _shoulder(form, bases, poses.world) if poses.mount is None else _shoulder_local(form, local)
+    shoulder = _shoulder(form, local)
     for k, v in enumerate((wrist[:, 0].reshape(n, count), elbow[:, 0].reshape(n, count), shoulder)):
         out.singular[at:at + n, k] = _nanmin(np.where(ok, v, np.nan))
     missed = np.flatnonzero(~every)  # the reasons are looked for where a base misses a pose
@@ -178,23 +178,10 @@ def _branch_margins(form, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.nan_to_num(wrist, nan=-1.0), np.nan_to_num(elbow, nan=-1.0)
 
 
-def _shoulder(form, bases: np.ndarray, world: np.ndarray) -> np.ndarray:
-    """(n, P) mm: the wrist centre's distance from axis 1 at each base, of flange poses in the
-    world (P, 4, 4): axis 1 put in the world by each base (n, 4, 4), the centres as they are."""
-    centre = world[:, :3, 3] + world[:, :3, :3] @ np.asarray(form.cf)  # (P, 3)
-    point = bases[:, :3, :3] @ np.asarray(form.p1) + bases[:, :3, 3]  # (n, 3)
-    axis = bases[:, :3, :3] @ np.asarray(form.w1)
-    v = centre[None] - point[:, None]
-    along = np.einsum("npk,nk->np", v, axis)
-    return 1000.0 * np.sqrt(np.maximum(np.einsum("npk,npk->np", v, v) - along * along, 0.0))
-
-
-def _shoulder_local(form, local: np.ndarray) -> np.ndarray:
+def _shoulder(form, local: np.ndarray) -> np.ndarray:
     """(n, P) mm: the wrist centre's distance from axis 1 of flange poses in the robot's frame."""
     centre = local[..., :3, 3] + local[..., :3, :3] @ np.asarray(form.cf)
-    v = centre - np.asarray(form.p1)
-    along = v @ np.asarray(form.w1)
-    return 1000.0 * np.sqrt(np.maximum(np.sum(v * v, axis=-1) - along * along, 0.0))
+    return 1000.0 * across(centre - np.asarray(form.p1), np.asarray(form.w1))
 
 
 def _nanmin(v: np.ndarray) -> np.ndarray:

@@ -7,7 +7,7 @@ clean. The figures a designer reads, and the files (``files``)."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -66,7 +66,7 @@ def run_place(path: str, programs: list[str], task: TaskOptions | None = None, b
     order = sorted(np.flatnonzero(feasible), key=lambda k: (-found.score[k], k))[:place.top]
     with atomic_folder(out) as tmp:
         timed = [_timed(path, programs, task, batch, tmp, rank, k, values[k], tilt) for rank, k in enumerate(order, 1)]
-        now_run = _timed_current(path, programs, task, batch)
+        now_run = _run(path, programs, task, batch, -1)  # the current base, as it stands
         best = _best(timed)
         if best is not None:
             (tmp / "best.toml").write_bytes((tmp / f"rank-{order.index(best.index) + 1}.toml").read_bytes())
@@ -137,16 +137,12 @@ def _timed(path, programs, task, batch, folder: Path, rank: int, k: int, value: 
     return _run(str(name), programs, task, batch, k)
 
 
-def _timed_current(path, programs, task, batch) -> Timed:
-    return _run(path, programs, task, batch, -1)
-
-
 def _run(cell: str, programs, task, batch, k: int) -> Timed:
     """The cycle time of one placement, as ``rswarp program`` gives it (None where it errs)."""
     from ..program import run_program
 
     try:
-        result = run_program(cell, programs, replace(task), batch)
+        result = run_program(cell, programs, task, batch)
     except RsxmlError:
         return Timed(k, None, 0, 1)
     doc = result.doc

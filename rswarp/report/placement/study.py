@@ -59,6 +59,7 @@ def run_reach(path: str, part: str, task: TaskOptions | None = None, batch: Batc
     tcp = tool.tcp if tool is not None and tool.tcp is not None else np.eye(4)
     centres, normals = mesh.triangles_center, mesh.face_normals
     scores = _study(kin, rigid_inverse(base[None])[0], centres, normals, spins, tcp)
+    scores["score"] = _score(scores)  # what every output shows, made once
     with atomic_folder(out) as tmp:
         (tmp / "points.csv").write_text(_points_csv(centres, normals, scores))
         mesh.visual = _coloured(mesh, scores)
@@ -145,7 +146,7 @@ def _points_csv(centres, normals, scores) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["face", "x_mm", "y_mm", "z_mm", "nx", "ny", "nz", "spins_reached", "manipulability", "limit_deg",
                 "score"])
-    score = _score(scores)
+    score = scores["score"]
     for k in range(len(centres)):
         m, d = scores["manipulability"][k], scores["limit_deg"][k]
         w.writerow([k, *(f"{1000 * v:.2f}" for v in centres[k]), *(f"{v:.5f}" for v in normals[k]),
@@ -158,7 +159,7 @@ def _coloured(mesh, scores):
     """Face colours: red where no spin reaches a point, else from yellow (a low score) to green."""
     import trimesh
 
-    s = _score(scores)
+    s = scores["score"]
     colours = np.zeros((len(s), 4), np.uint8)
     colours[:, 3] = 255
     colours[:, 0] = np.where(scores["reached"] > 0, (255 * (1 - s)).astype(np.uint8), 220)
@@ -170,7 +171,7 @@ def _coloured(mesh, scores):
 def _png(centres, scores, base, title: str) -> bytes:
     from ..figures import figure_png
 
-    s = _score(scores)
+    s = scores["score"]
     reached = scores["reached"] > 0
 
     def draw(ax):
@@ -186,7 +187,7 @@ def _png(centres, scores, base, title: str) -> bytes:
 
 def _document(path, part, out, scores, spins: int, tool) -> dict:
     reached = scores["reached"] > 0
-    score = _score(scores)
+    score = scores["score"]
     return {"path": path, "part": part, "out": out, "points": int(len(reached)), "spins": spins,
             "reached": int(reached.sum()), "fraction": float(reached.mean()),
             "mean_score": float(score[reached].mean()) if reached.any() else 0.0,
