@@ -133,6 +133,7 @@ class Launcher:
         self._small = threading.Lock()  # one small call at a time: a recorded launch's arrays are shared
         self._chunks = weakref.WeakKeyDictionary()  # a struct batch -> its chunks' structs (``_rows``)
         self._chunks_lock = threading.Lock()
+        self._quick: dict = {}  # ``quick``'s recorded launches, by kernel and count
 
     def load(self, kernel) -> None:
         """Compile (or load from Warp's cache) the kernel's module before any thread launches it."""
@@ -175,6 +176,25 @@ class Launcher:
                         host[lo:hi] = dev.numpy().reshape(host[lo:hi].shape)
 
         self._spread(n, run)
+
+    def quick(self, kernel, n: int, inputs: Sequence, outputs: Sequence, lanes: int = 1,
+              params: Sequence = ()) -> "_Recorded | None":
+        """The recorded launch of ``kernel`` over ``n`` items shaped as these host arrays (no scratch;
+        ``params`` the model objects it keeps, fixed), made once and kept, for a caller that checks
+        its own arrays and calls it directly (``_Recorded.once``, under ``small_lock``); None on a GPU."""
+        if not self.device.is_cpu:
+            return None
+        key = (kernel, n)
+        found = self._quick.get(key)
+        if found is None:
+            with self._small:
+                found = self._quick[key] = _Recorded(self, kernel, n, params, inputs, outputs, None, lanes)
+        return found
+
+    @property
+    def small_lock(self) -> threading.Lock:
+        """Held while a recorded launch runs: its arrays are shared."""
+        return self._small
 
     def _recorded(self, key: tuple, kernel, n: int, params, inputs, outputs, scratch, lanes: int) -> "_Recorded":
         """The recorded launch of ``kernel`` over ``n`` items with arrays shaped as these, made once."""
@@ -356,3 +376,15 @@ class _Recorded:
             forward(bounds, args)
         for view, host in zip(self.out_views, outputs):
             host[...] = view
+
+    def once(self, inputs) -> list[np.ndarray]:
+        """Run with ``inputs`` (host arrays of the recorded shapes; the kernel writes its outputs whole)
+        and return fresh copies of the outputs."""
+        for view, host in zip(self.in_views, inputs):
+            view[...] = host
+        if self.call is None:
+            self.cmd.launch()
+        else:
+            forward, bounds, args = self.call
+            forward(bounds, args)
+        return [view.copy() for view in self.out_views]

@@ -74,3 +74,69 @@ def test_stacked_trajectories_are_each_trajectory_bit_for_bit():
     got = stacked.at(t)
     for k, tr in enumerate(trajs):
         assert np.array_equal(got[k], tr.at(t))
+
+
+def test_quick_calls_give_the_batch_s_numbers_and_leave_the_rest_to_it(kin):
+    """One to QUICK poses a call (``kinematics.quick``): every branch, link pose and flange as the
+    batch gives them, bit for bit, from poses and joints as a script holds them; anything else
+    goes the batch's way, which still says what is wrong."""
+    from rswarp.errors import InputError
+    from rswarp.kinematics.quick import QUICK
+
+    q = np.random.default_rng(3).uniform(-2, 2, (40, 6))
+    links, flanges = kin.fk64(q), kin.flange(q)
+    link, m = kin.flange_frame()
+    poses = links[:, link] @ m
+    sol = kin.ik64(poses)
+    for k in range(len(q)):
+        one = kin.ik64(poses[k])  # (4, 4)
+        assert all(np.array_equal(a[0], b[k], equal_nan=True)
+                   for a, b in ((one.q, sol.q), (one.conf, sol.conf), (one.status, sol.status)))
+        assert np.array_equal(kin.fk64(q[k]), links[k:k + 1])
+        assert np.array_equal(kin.flange(q[k:k + 1]), flanges[k:k + 1])
+    for n in (2, QUICK, QUICK + 1):
+        part = kin.ik64(poses[:n].copy())
+        assert np.array_equal(part.q, sol.q[:n], equal_nan=True) and np.array_equal(part.conf, sol.conf[:n])
+    assert kin._quick.ik64(poses[0].astype(np.float32)) is None  # another type: the batch's way
+    assert kin._quick.ik64(poses[:, :3]) is None
+    bad = poses[0].copy()
+    bad[0, 3] = np.nan
+    assert kin._quick.ik64(bad) is None
+    with pytest.raises(InputError, match="finite"):
+        kin.ik64(bad)
+    sheared = poses[0].copy()
+    sheared[0, 1] += 0.3
+    with pytest.raises(InputError, match="pose 0 of 1 has a rotation that is not orthonormal"):
+        kin.ik64(sheared)
+
+
+def test_quick_calls_from_threads_each_get_their_own_answer(kin):
+    """The recorded arrays are shared: calls from several threads at once are each their own."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    q = np.random.default_rng(4).uniform(-2, 2, (400, 6))
+    whole = kin.fk64(q)
+    with ThreadPoolExecutor(4) as pool:
+        got = list(pool.map(lambda k: kin.fk64(q[k]), range(len(q))))
+    assert all(np.array_equal(g, whole[k:k + 1]) for k, g in enumerate(got))
+
+
+def test_a_quick_collision_check_of_one_state_is_the_batch_s(kin):
+    """``Checker.verdicts`` of one to a few states (float32 or float64, as a script holds them)
+    gives the batch's verdicts and gaps bit for bit; a NaN state is still reported colliding."""
+    from rswarp.sim.bodies import collision_bodies
+    from rswarp.sim.collisions import Checker
+
+    mech = kin.mech
+    checker = Checker(mech, collision_bodies(mech), threads=1)
+    q = np.random.default_rng(5).uniform(*mech.bounds(), (300, 6))
+    hit, gap = checker.verdicts(q)
+    assert hit.any() and not hit.all()  # both kinds of state among them
+    for k in range(0, len(q), 7):
+        h1, g1 = checker.verdicts(q[k])
+        h2, g2 = checker.verdicts(q[k:k + 3].astype(np.float32))
+        assert np.array_equal(h1, hit[k:k + 1]) and np.array_equal(g1, gap[k:k + 1], equal_nan=True)
+        assert np.array_equal(h2, hit[k:k + 3]) and np.array_equal(g2, gap[k:k + 3], equal_nan=True)
+    bad = q[0].copy()
+    bad[2] = np.nan
+    assert checker.verdicts(bad)[0].all()

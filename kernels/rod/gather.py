@@ -20,6 +20,7 @@ FOLD = 3.141592653589793  # along a hose, pi allowed bend radii: the least arc t
 # a contact is made ahead for what may meet in the substep: within the query distance plus this many
 # times the bodies' predicted sweeps (a snapping cable accelerates past its prediction)
 AHEAD = 2.0
+BOX_HAIR = 1e-5  # m: what a bounding box's test allows for the mesh queries' float32 points
 
 
 @wp.func
@@ -66,8 +67,17 @@ def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_
             if params.touch[d, k, link] == 0:
                 continue
         m_old = mesh_pose(params, poses, e, s_old, j)
+        centre = to_frame(m_old, x)
         sp = params.sphere[j]
-        if wp.length(to_frame(m_old, x) - V3(sp[0], sp[1], sp[2])) >= sp[3] + r + half + query:
+        if wp.length(centre - V3(sp[0], sp[1], sp[2])) >= sp[3] + r + half + query:
+            continue
+        # the first query (from the centre, its reach and half) finds no face past the box; and a
+        # capsule wholly outside the box is outside the mesh, so with clearances alone one further
+        # off than the least so far changes nothing (a hair more for the queries' float32 points)
+        room = r + query
+        if make == 0:
+            room = wp.max(wp.min(room, clear_out[e, cable, j] + r), F64(0.0))
+        if _box_distance(params.box[j, 0], params.box[j, 1], centre) >= room + half + F64(BOX_HAIR):
             continue
         found, t, dist, s, n = segment_mesh(params.mesh[j], m_old, a, b, r + query)
         if found == 0:
@@ -82,6 +92,12 @@ def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_
             keep(contacts, count, row, k, contact(j, wp.quat_rotate_inv(q, p - x), p, moved, turn(m_new, n), gap,
                                                  r, params.contact_stiff[d, k], arc))
     _floor(params, d, e, k, x, q, a, b, query, make, contacts, count, row, clear_out, at_out)
+
+
+@wp.func
+def _box_distance(lo: V3, hi: V3, p: V3) -> F64:
+    """How far ``p`` lies outside the box ``lo``-``hi`` (0 inside)."""
+    return wp.length(wp.max(wp.max(lo - p, p - hi), V3()))
 
 
 @wp.func

@@ -44,7 +44,7 @@ class RodParams:
     Per cable: its bodies (``cable_first``), its clamped ends for the twist (attachment indices, -1:
     none), consecutive attachments for the stretch (``pair_*``).
     Per mesh a rod may touch (the links', then the environment's, fixed in the world): its
-    ``wp.Mesh`` in its zero-position frame (id 0: none), a bounding sphere, the link that carries it
+    ``wp.Mesh`` in its zero-position frame (id 0: none), a bounding sphere and box, the link that carries it
     (-1: the world) and its fixed pose.
 
     Designs: each environment runs one design of the cables (the kernel's ``design`` input): every
@@ -82,6 +82,7 @@ class RodParams:
 
     mesh: wp.array(dtype=wp.uint64)
     sphere: wp.array(dtype=wp.vec4d)
+    box: wp.array2d(dtype=V3)  # per mesh: its vertices' least and greatest corner in its own frame
     mesh_link: wp.array(dtype=wp.int32)
     mesh_pose: wp.array(dtype=M44)
 

@@ -58,13 +58,16 @@ def _bowed(a: np.ndarray, b: np.ndarray, length: float) -> np.ndarray:
     if length <= np.linalg.norm(chord) * (1 + LENGTH_TOLERANCE):
         return a + np.linspace(0.0, 1.0, SAMPLES + 1)[:, None] * chord  # taut: the chord itself
     s = np.linspace(0.0, 1.0, SAMPLES + 1)[:, None]
+    line, bow = a + s * chord, np.sin(np.pi * s)
 
     def curve(h: float) -> np.ndarray:
-        return a + s * chord + h * np.sin(np.pi * s) * side
+        return line + h * bow * side
 
     lo, hi = 0.0, length  # a bow as deep as the length is always long enough
     for _ in range(100):  # bisection on the depth: arc length grows with it
         h = 0.5 * (lo + hi)
+        if h in (lo, hi):  # the interval is one rounding wide: no later step would change it
+            break
         if _arc(curve(h)) < length:
             lo = h
         else:

@@ -18,6 +18,7 @@ from . import ik, ik_numeric, ik_planar
 from .chain import loops_close, mechanism_chain
 from .ik_inputs import checked_conf, rigid_poses
 from .loops import passive_values
+from .quick import Quick
 
 LOOPS_CHUNK = 1 << 14  # configurations whose poses ``loops_close`` holds at once
 
@@ -47,6 +48,7 @@ class Kinematics:
         self._kernels: dict = {}
         self._loaded: set = set()  # lanes kernels whose module is compiled (``_launch_lanes``)
         self._kernels_for(np.float32)  # compiled (or loaded from Warp's cache) now, not mid-batch
+        self._quick = Quick(self)  # one to a few items a call (``quick``)
 
     # -- public ------------------------------------------------------------------------------------
     @property
@@ -131,10 +133,15 @@ class Kinematics:
 
     def fk64(self, q) -> np.ndarray:
         """``(N, n_links, 4, 4)`` float64 link poses: for checks and for refining extremes."""
-        return self._all_links(q, None, np.float64)
+        quick = self._quick.fk64(q)
+        return self._all_links(q, None, np.float64) if quick is None else quick
 
     def flange(self, q, name: str | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """``(N, 4, 4)`` float32 flange poses (the first flange, or the one named)."""
+        if name is None and out is None:
+            quick = self._quick.flange(q)
+            if quick is not None:
+                return quick
         f = self._flange_index(name)
         lanes = self._lanes()
         if lanes is not None:
@@ -180,7 +187,8 @@ class Kinematics:
 
     def ik64(self, poses, conf=None):
         """As ``ik`` in float64."""
-        return self._ik(poses, conf, np.float64)
+        quick = self._quick.ik64(poses) if conf is None else None
+        return self._ik(poses, conf, np.float64) if quick is None else quick
 
     def confdata(self, q) -> np.ndarray:
         """``(N, 4)`` int ABB configuration data (cf1, cf4, cf6, cfx) of joint values ``q``; a
@@ -243,11 +251,7 @@ class Kinematics:
 
     def _solve_form(self, form, poses, dtype):
         if isinstance(form, ik.ArmConstants):
-            key = ("ik", dtype)
-            kernel = self._kernels.get(key)
-            if kernel is None:
-                kernel = self._kernels[key] = ik.ik_kernel(form, dtype)
-            sol = ik.closed_form(self.launcher, form, poses, dtype, kernel)
+            sol = ik.closed_form(self.launcher, form, poses, dtype, self._arm_kernel(form, dtype))
             if NOT_RIGID in sol.status[:, 0].tolist():  # the kernel refuses every branch of it
                 k = int(np.argmax(sol.status[:, 0] == NOT_RIGID))
                 rigid_poses(poses[k:k + 1], np.float64, offset=k, total=len(poses))  # says why
@@ -256,6 +260,14 @@ class Kinematics:
         if isinstance(form, ik_planar.PlanarArm):
             return ik_planar.solve(self.launcher, form, poses, *self.mech.bounds(), self.dof)
         return ik_numeric.solve(self, poses.astype(np.float64))
+
+    def _arm_kernel(self, form, dtype):
+        """The arm's (``form``) closed-form IK kernel in one precision, made once."""
+        key = ("ik", dtype)
+        kernel = self._kernels.get(key)
+        if kernel is None:
+            kernel = self._kernels[key] = ik.ik_kernel(form, dtype)
+        return kernel
 
     def _ik_form(self):
         """The closed form that fits the mechanism (found on first use, and proven on its own forward
@@ -308,15 +320,19 @@ class Kinematics:
         return self._kernels["lanes"]
 
     def _launch_lanes(self, kernel, q, out, shape: tuple) -> np.ndarray:
-        """A lanes kernel over ``q`` into ``out`` (N, *shape), its module compiled (or loaded from
-        Warp's cache) first, here: not by two worker threads at once."""
-        if kernel not in self._loaded:
-            self.launcher.load(kernel)
-            self._loaded.add(kernel)
+        """A lanes kernel over ``q`` into ``out`` (N, *shape), its module loaded first (``_load``)."""
+        self._load(kernel)
         q = self._q(q, np.float32)
         out = self._out(out, (q.shape[0], *shape), np.float32)
         self.launcher.launch(kernel, q.shape[0], inputs=[q], outputs=[out], lanes=fk_lanes.LANES, overwrites=True)
         return out
+
+    def _load(self, kernel) -> None:
+        """A lanes kernel's module compiled (or loaded from Warp's cache) here, once: not by two
+        worker threads at once."""
+        if kernel not in self._loaded:
+            self.launcher.load(kernel)
+            self._loaded.add(kernel)
 
     def _generic(self, dtype):
         """(tree struct on the device, frames kernel, wrist kernel) of the generic walk."""

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..errors import InputError, model_error
 from ..kernels.types import WITNESSES
+from ..kinematics import quick
 from ..kinematics.chain import loops_close, mechanism_chain
 from ..kinematics.kinematics import Kinematics
 from ..launch import Launcher, init_warp
@@ -149,6 +150,16 @@ class Checker:
         """``(hit, gap)``: (N, pairs) booleans, and float32 lower bounds of free pairs' distances.
         A row holding a NaN or an infinity has no pose: every pair is reported colliding there (a
         verdict never clears what it could not check), its gaps NaN."""
+        n = quick.count(q, (self.dof,), quick.F32, quick.F64)
+        if n:  # one to a few states (a planner's, a script's): the recorded launch called directly
+            rec = self.launcher.quick(self._collide, n, [np.zeros((n, self.dof), np.float32)],
+                                      [np.empty((n, self.pair_count), np.uint8),
+                                       np.empty((n, self.pair_count), np.float32)],
+                                      params=[self._device.struct(init_warp().float32)])
+            if rec is not None:
+                with self.launcher.small_lock:
+                    hit, gap = rec.once((q,))
+                return hit.astype(bool), gap
         q = np.ascontiguousarray(np.atleast_2d(q), np.float32)
         if q.ndim != 2 or q.shape[1] != self.dof:
             raise ValueError(f"q must have shape (N, {self.dof}), got {q.shape}")

@@ -249,22 +249,22 @@ def _frames(tangents: np.ndarray, directions: dict[int, np.ndarray]) -> tuple[np
 def transport(n: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``n`` turned by the least rotation taking unit tangent ``a`` to ``b`` (parallel transport),
     kept square to ``b``."""
-    c, axis = float(a @ b), np.cross(a, b)
+    c, axis = float(a @ b), _cross(a, b)
     if c > -0.999:
-        n = c * n + np.cross(axis, n) + axis * (axis @ n) / (1 + c)
+        n = c * n + _cross(axis, n) + axis * (axis @ n) / (1 + c)
     n = n - (n @ b) * b
     return n / np.linalg.norm(n)
 
 
 def _perpendicular(t: np.ndarray) -> np.ndarray:
     helper = np.array([0.0, 0.0, 1.0]) if abs(t[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    n = np.cross(t, helper)
+    n = _cross(t, helper)
     return n / np.linalg.norm(n)
 
 
 def _quaternion(d1: np.ndarray, d3: np.ndarray) -> np.ndarray:
     """The unit quaternion (x, y, z, w) of the frame with axes d1, d3 x d1, d3."""
-    m = np.stack([d1, np.cross(d3, d1), d3], axis=1)
+    m = np.stack([d1, _cross(d3, d1), d3], axis=1)
     w = np.sqrt(max(1e-12, 1 + m[0, 0] + m[1, 1] + m[2, 2])) / 2
     if w > 0.1:
         q = np.array([m[2, 1] - m[1, 2], m[0, 2] - m[2, 0], m[1, 0] - m[0, 1], 4 * w ** 2]) / (4 * w)
@@ -275,6 +275,14 @@ def _quaternion(d1: np.ndarray, d3: np.ndarray) -> np.ndarray:
         q = np.zeros(4)
         q[i], q[j], q[k], q[3] = s / 4, (m[j, i] + m[i, j]) / s, (m[k, i] + m[i, k]) / s, (m[k, j] - m[j, k]) / s
     return q / np.linalg.norm(q)
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross`` of two 3-vectors, term by term as it rounds them, without its axis handling (a
+    design's layout crosses thousands)."""
+    a0, a1, a2 = a.tolist()
+    b0, b1, b2 = b.tolist()
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

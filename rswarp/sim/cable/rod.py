@@ -162,7 +162,7 @@ class CosseratRod(CableSolver):
 
     def _mesh_arrays(self, p, meshes: ContactMeshes) -> None:
         """The link meshes (when ``contact``), then the environment's, then the tool's, as Warp meshes
-        with bounding spheres in their own frames: the kernel's mesh slots, in order."""
+        with bounding spheres and boxes in their own frames: the kernel's mesh slots, in order."""
         wp = init_warp()
         dev = self.launcher.device
         links = meshes.links if self.options.contact else (None,) * len(meshes.links)
@@ -171,6 +171,7 @@ class CosseratRod(CableSolver):
         # the tool rides its link as the link's own mesh does, and like it only with contact
         entries += [((v, f) if self.options.contact else None, j, np.eye(4)) for _, j, v, f in meshes.tool]
         ids, spheres = np.zeros(len(entries), np.uint64), np.zeros((len(entries), 4))
+        boxes = np.zeros((len(entries), 2, 3))
         for j, (m, _, _) in enumerate(entries):
             if m is not None:
                 mesh = wp.Mesh(points=wp.array(m[0].astype(np.float32), dtype=wp.vec3, device=dev),
@@ -180,8 +181,10 @@ class CosseratRod(CableSolver):
                 ids[j] = mesh.id
                 centre = (m[0].min(axis=0) + m[0].max(axis=0)) / 2
                 spheres[j] = (*centre, np.linalg.norm(m[0] - centre, axis=1).max())
+                boxes[j] = m[0].min(axis=0), m[0].max(axis=0)
         p.mesh = wp.array(ids, dtype=wp.uint64, device=dev)
         p.sphere = wp.array(spheres, dtype=wp.vec4d, device=dev)
+        p.box = wp.array(boxes, dtype=wp.vec3d, device=dev)
         p.mesh_link = wp.array(np.array([j for _, j, _ in entries], np.int32), dtype=wp.int32, device=dev)
         p.mesh_pose = wp.array(np.array([pose for _, _, pose in entries], np.float64).reshape(-1, 4, 4),
                                dtype=wp.mat44d, device=dev)
