@@ -32,6 +32,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from limits import held_gc
 
 import rswarp
 from rswarp.examples import IRB2600
@@ -66,12 +67,21 @@ def errors(kin: Kinematics, q: np.ndarray, targets: np.ndarray) -> tuple[np.ndar
 
 
 def best_of(run, repeats: int = 3) -> float:
+    """The best of ``repeats`` timed runs, the collector held off (``limits.held_gc``, as ``timeit``
+    does), ours and every peer alike."""
     best = np.inf
-    for _ in range(repeats):
-        t = time.perf_counter()
-        run()
-        best = min(best, time.perf_counter() - t)
+    with held_gc():
+        for _ in range(repeats):
+            t = time.perf_counter()
+            run()
+            best = min(best, time.perf_counter() - t)
     return best
+
+
+def each(fn, args) -> None:
+    """``fn`` called on each of ``args``, its answer used and dropped, as a loop over targets does."""
+    for a in args:
+        fn(a)
 
 
 def ours(mech, q: np.ndarray, targets: np.ndarray, dtype, threads: int, check: int) -> dict:
@@ -244,36 +254,43 @@ def peers(mech, kin: Kinematics, q: np.ndarray, targets: np.ndarray, m: int, thr
 
 
 SMALL_CALLS = 5_000  # calls of one pose (one configuration) each, for the fixed cost of a call
+ROUNDS = 7  # rounds of every one-a-call timing, taken in turn
 
 
 def one_per_call(kin: Kinematics, q: np.ndarray, targets: np.ndarray, eaik_peer=None) -> dict:
-    """Calls of one pose (or configuration) each, best of 3 runs of SMALL_CALLS calls, as an
+    """Calls of one pose (or configuration) each, the best of ROUNDS runs of SMALL_CALLS calls (each
+    call's runs in turn with the others', EAIK's among them), as an
     interpreter or a placement search calls: ours ``ik64`` (every branch, its input checks) and
     ``fk64``/``flange`` of one configuration; EAIK's ``IK`` of one pose (every branch), where
-    installed. Poses (or calls) per second."""
+    installed. Each answer is dropped before the next call, as a loop that uses it does. Poses (or
+    calls) per second."""
     one = [targets[k:k + 1] for k in range(SMALL_CALLS)]
     qs = [q[k:k + 1] for k in range(SMALL_CALLS)]
-    out = {}
     from rswarp.sim.bodies import collision_bodies
     from rswarp.sim.collisions import Checker
 
     checker = Checker(kin.mech, collision_bodies(kin.mech), threads=1)  # its trees and grids built before
     calls = (("ik64", kin.ik64, one), ("fk64", kin.fk64, qs), ("flange", kin.flange, qs),
              ("collisions", checker.verdicts, qs))
-    for name, fn, args in calls:
+    if eaik_peer is not None:
+        robot, to_end = eaik_peer
+        ends = [t[0] @ to_end for t in one]
+        calls += (("EAIK IK", robot.IK, ends),)
+    for _, fn, args in calls:
         fn(args[0])  # compiled and recorded before timing
-        out[name] = SMALL_CALLS / best_of(lambda fn=fn, args=args: [fn(a) for a in args])
+    # the calls taken in turn, round after round, each its best round: a burst of the machine's
+    # noise falls on one round of one, not on one side's every run
+    best = {name: np.inf for name, _, _ in calls}
+    for _ in range(ROUNDS):
+        for name, fn, args in calls:
+            best[name] = min(best[name], best_of(lambda fn=fn, args=args: each(fn, args), repeats=1))
+    out = {name: SMALL_CALLS / t for name, t in best.items()}
     # a call's fixed cost: its time less an item's in a batch of all of them (one thread)
     batch = {"ik64": lambda: kin.ik64(targets[:SMALL_CALLS]), "fk64": lambda: kin.fk64(q[:SMALL_CALLS]),
              "flange": lambda: kin.flange(q[:SMALL_CALLS]), "collisions": lambda: checker.verdicts(q[:SMALL_CALLS])}
     threads, kin.launcher.threads = kin.launcher.threads, 1
     out["fixed"] = {k: 1e6 / out[k] - best_of(f) / SMALL_CALLS * 1e6 for k, f in batch.items()}
     kin.launcher.threads = threads
-    if eaik_peer is not None:
-        robot, to_end = eaik_peer
-        ends = [t[0] @ to_end for t in one]
-        robot.IK(ends[0])
-        out["EAIK IK"] = SMALL_CALLS / best_of(lambda: [robot.IK(e) for e in ends])
     return out
 
 
@@ -348,6 +365,7 @@ def _small_lines(small: dict, finite) -> None:
     print("a call's fixed cost (its time less an item's in one batch of them all): " + ", ".join(
         f"{k} {v:.1f} us" for k, v in fixed.items()))
     peer = small.get("EAIK IK", float("nan"))
+    print(f"ratio, ours (ik64) over EAIK's one-pose IK, one call each: {small['ik64'] / peer:.2f}x")
     print(json.dumps({"metric": "IK calls of one pose per second, all branches, IRB 2600, float64",
                       "ours": small["ik64"], "peer": finite(peer), "peer_name": "EAIK IK (one pose)", "threads": 1,
                       "ratio": finite(small["ik64"] / peer), "target": 100_000, "fk64_calls": small["fk64"],

@@ -16,7 +16,7 @@ from . import ik
 
 QUICK = 8  # poses (configurations) a call holds at most to take the quick path
 F64, F32 = np.dtype(np.float64), np.dtype(np.float32)
-_MISSING = object()
+_NEW = object.__new__
 
 
 class Quick:
@@ -25,29 +25,42 @@ class Quick:
     def __init__(self, kin):
         self.kin = kin
         self._made: dict = {}  # (what, count) -> its recorded launch, or None where it has none
+        self._ik: list = [None] * (QUICK + 1)  # per count: the IK launch's input, entry point and outputs
 
     def ik64(self, poses) -> ik.IKSolutions | None:
-        """Every branch of ``poses`` ((4, 4) or (n, 4, 4) float64, n <= QUICK), or None."""
-        n = count(poses, (4, 4), F64)
-        rec = self._made.get(("ik", n), _MISSING) if n else None
-        if rec is _MISSING:
-            rec = self._recorded("ik", n)
-        # a NaN or inf makes the sum so (as the batch's check, which then says where)
-        if rec is None or not math.isfinite(sum(poses.reshape(-1).tolist())):
+        """Every branch of ``poses`` ((4, 4) or (n, 4, 4) float64, n <= QUICK), or None. The
+        path a script's one-pose call takes: each step here is a part of its cost."""
+        if type(poses) is not np.ndarray or poses.dtype is not F64 or not poses.flags.c_contiguous:
             return None
-        if rec.call is None:  # this Warp keeps its entry point otherwise: the launch as recorded
-            with self.kin.launcher.small_lock:
-                q, conf, status = rec.once((poses,))
-        else:
-            forward, bounds, args = rec.call
-            (put,), (vq, vc, vs) = rec.in_views, rec.out_views
-            with self.kin.launcher.small_lock:
-                put[...] = poses
-                forward(bounds, args)
-                q, conf, status = vq.copy(), vc.copy(), vs.copy()
+        shape = poses.shape
+        n = 1 if shape == (4, 4) else shape[0] if len(shape) == 3 and shape[1:] == (4, 4) and shape[0] <= QUICK else 0
+        call = self._ik[n] if n else None
+        if call is None:
+            call = self._ik_call(n) if n else None
+            if call is None:
+                return None
+        # a NaN or inf makes the sum so (as the batch's check, which then says where)
+        if not math.isfinite(sum(poses.reshape(-1).tolist())):
+            return None
+        put, forward, bounds, args, vq, vc, vs = call
+        with self.kin.launcher.small_lock:
+            put[...] = poses
+            forward(bounds, args)
+            q, conf, status = vq.copy(), vc.copy(), vs.copy()
         if NOT_RIGID in status[:, 0].tolist():  # the batch's way names the pose and why
             return None
-        return ik.IKSolutions(q, conf, status)
+        sol = _NEW(ik.IKSolutions)  # its fields set as its __init__ would, without the frozen class's setattr
+        sol.__dict__.update(q=q, conf=conf, status=status, numerical=False)
+        return sol
+
+    def _ik_call(self, n: int) -> tuple | None:
+        """The pieces of the recorded IK launch for ``n`` poses (made once), or None where there is
+        none or this Warp keeps its entry point otherwise."""
+        rec = self._recorded("ik", n)
+        if rec is None or rec.call is None:
+            return None
+        self._ik[n] = (*rec.in_views, *rec.call, *rec.out_views)
+        return self._ik[n]
 
     def fk64(self, q) -> np.ndarray | None:
         """Every link's pose of ``q`` ((dof,) or (n, dof) float64), or None."""
