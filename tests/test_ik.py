@@ -200,3 +200,25 @@ def test_other_mechanisms_are_solved_numerically_and_say_so():
     assert sol.ok.any(axis=1).mean() > 0.9
     rows = np.nonzero(sol.ok)
     assert mismatch(kin, sol.q[rows], poses[rows[0]]).max() < 1e-9
+
+
+def test_every_solution_goes_into_the_arrays_given_as_out():
+    """``ik64``/``ik`` with ``out=`` fill the caller's arrays with the same numbers as fresh ones,
+    and refuse arrays of another shape or type, ``conf`` beside them, and a robot with no arm's
+    closed form."""
+    kin = kinematics(IRB2600)
+    poses = flange(kin, configurations(kin, 500, seed=9))
+    for solve, dtype in ((kin.ik64, np.float64), (kin.ik, np.float32)):
+        fresh = solve(poses)
+        out = ikm.IKSolutions(np.full((500, 8, 6), 7.0, dtype), np.zeros((500, 8, 4), np.int8),
+                              np.zeros((500, 8), np.int8))
+        assert solve(poses, out=out) is out
+        for a, b in ((out.q, fresh.q), (out.conf, fresh.conf), (out.status, fresh.status)):
+            assert np.array_equal(a, b, equal_nan=True)
+        with pytest.raises(ValueError, match="out.q must be a C-contiguous"):
+            solve(poses[:499], out=out)
+    with pytest.raises(ValueError, match="not taken with conf"):
+        kin.ik64(poses, conf=(0, 0, 0, 0), out=out)
+    pal = kinematics(PALLETIZER)
+    with pytest.raises(ValueError, match="arm's closed form"):
+        pal.ik64(flange(pal, configurations(pal, 3)), out=out)

@@ -261,17 +261,24 @@ def pick(sol: IKSolutions, conf, axes=(), wrist: int | None = None, arm=None,
     return q, found
 
 
-def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype, kernel=None) -> IKSolutions:
+def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype, kernel=None,
+                out: IKSolutions | None = None) -> IKSolutions:
     """The closed form's eight branches of ``poses`` on the launcher's device (``kernel``: the
-    arm's, when the caller keeps it; else looked up by the arm's content)."""
+    arm's, when the caller keeps it; else looked up by the arm's content), into ``out``'s arrays
+    when given (checked: shaped and typed as the answer's, C-contiguous)."""
     if kernel is None:
         kernel = ik_kernel(arm, dtype)
     n = len(poses)
-    q = np.empty((n, BRANCHES, 6), dtype)
-    conf = np.empty((n, BRANCHES, CONF), np.int8)  # small codes: a quarter of the memory traffic
-    status = np.empty((n, BRANCHES), np.int8)
-    launcher.launch(kernel, n, inputs=[poses], outputs=[q, conf, status], overwrites=True)
-    return IKSolutions(q, conf, status)
+    # small codes for conf and status: a quarter of the memory traffic
+    shapes = (((n, BRANCHES, 6), np.dtype(dtype)), ((n, BRANCHES, CONF), np.dtype(np.int8)),
+              ((n, BRANCHES), np.dtype(np.int8)))
+    if out is None:
+        out = IKSolutions(*(np.empty(shape, t) for shape, t in shapes))
+    for a, (shape, t), name in zip((out.q, out.conf, out.status), shapes, ("q", "conf", "status")):
+        if type(a) is not np.ndarray or a.shape != shape or a.dtype != t or not a.flags.c_contiguous:
+            raise ValueError(f"out.{name} must be a C-contiguous {t.name} array of shape {shape}")
+    launcher.launch(kernel, n, inputs=[poses], outputs=[out.q, out.conf, out.status], overwrites=True)
+    return out
 
 
 def ik_kernel(arm: ArmConstants, dtype):

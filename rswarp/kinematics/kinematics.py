@@ -176,19 +176,23 @@ class Kinematics:
         """(link index, 4x4 zero-position pose) of a flange (the first when ``name`` is None)."""
         return self._flanges[self._flange_index(name)]
 
-    def ik(self, poses, conf=None):
+    def ik(self, poses, conf=None, out: ik.IKSolutions | None = None):
         """Inverse kinematics of ``(N, 4, 4)`` flange poses (the first flange, metres), float32.
 
         With no ``conf``: every solution, an ``IKSolutions`` (the 8 closed-form branches of an arm,
         q4 and q6 turned into their limits nearest zero; ``ik.turns`` adds the other turns). With
         ``conf`` ((4,) or (N, 4): cf1, cf4, cf6, cfx): ``(q (N, dof), found (N,))``, the solution
-        with that configuration data, NaN where none has it. See docs/kinematics.md."""
-        return self._ik(poses, conf, np.float32)
+        with that configuration data, NaN where none has it. See docs/kinematics.md.
 
-    def ik64(self, poses, conf=None):
+        ``out`` (an arm's every solution, no ``conf``): an ``IKSolutions`` of C-contiguous arrays
+        shaped and typed as the answer's, filled in place and returned: reusing one in a loop saves
+        the page faults of fresh arrays."""
+        return self._ik(poses, conf, np.float32, out)
+
+    def ik64(self, poses, conf=None, out: ik.IKSolutions | None = None):
         """As ``ik`` in float64."""
-        quick = self._quick.ik64(poses) if conf is None else None
-        return self._ik(poses, conf, np.float64) if quick is None else quick
+        quick = self._quick.ik64(poses) if conf is None and out is None else None
+        return self._ik(poses, conf, np.float64, out) if quick is None else quick
 
     def confdata(self, q) -> np.ndarray:
         """``(N, 4)`` int ABB configuration data (cf1, cf4, cf6, cfx) of joint values ``q``; a
@@ -219,12 +223,14 @@ class Kinematics:
         poses = self._poses(poses, np.float64)
         return self._turned(self._solve(self._ik_form(), poses, np.float64))
 
-    def _ik(self, poses, conf, dtype):
+    def _ik(self, poses, conf, dtype, out=None):
         poses = self._poses(poses, dtype)
         if conf is not None:
+            if out is not None:
+                raise ValueError("out holds every solution: it is not taken with conf")
             conf = checked_conf(conf, len(poses))
         form = self._ik_form()
-        sol = self._solve(form, poses, dtype)
+        sol = self._solve(form, poses, dtype, out)
         if conf is None:
             return sol
         return ik.pick(self._turned(sol), conf, ik.quadrant_axes(form), ik.wrist_axis(form), form, self.mech.bounds())
@@ -241,17 +247,19 @@ class Kinematics:
             return ik.turns(sol, *self.mech.bounds(), axes=(form.last,), conf_columns=(2,))
         return sol
 
-    def _solve(self, form, poses, dtype):
-        sol = self._solve_form(form, poses, dtype)
+    def _solve(self, form, poses, dtype, out=None):
+        sol = self._solve_form(form, poses, dtype, out)
         if not isinstance(form, ik.ArmConstants):  # the arm's kernel says so itself
             far = np.abs(poses[:, :3, 3]).max(axis=1) > FAR_M
             if far.any():  # out of reach, whatever a solver's rounding made of it
                 sol.status[far] = ik.NO_REACH
         return sol
 
-    def _solve_form(self, form, poses, dtype):
+    def _solve_form(self, form, poses, dtype, out=None):
+        if out is not None and not isinstance(form, ik.ArmConstants):
+            raise ValueError("out is for an arm's closed form (8 branches a pose)")
         if isinstance(form, ik.ArmConstants):
-            sol = ik.closed_form(self.launcher, form, poses, dtype, self._arm_kernel(form, dtype))
+            sol = ik.closed_form(self.launcher, form, poses, dtype, self._arm_kernel(form, dtype), out)
             if NOT_RIGID in sol.status[:, 0].tolist():  # the kernel refuses every branch of it
                 k = int(np.argmax(sol.status[:, 0] == NOT_RIGID))
                 rigid_poses(poses[k:k + 1], np.float64, offset=k, total=len(poses))  # says why
