@@ -17,7 +17,7 @@ import traceback
 
 from .config import OPTION_KINDS, from_namespace
 from .errors import InputError, RsxmlError, one_line
-from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit, interrupted, note_interrupts
+from .files import DEFAULT_MAX_FILE_SIZE, Terminated, file_size_limit, interrupted, note_interrupts, signals_held
 from .options import argument
 
 RAY_HELP = ("run the batch as tasks on Ray: a local Ray instance on this machine, or the cluster at ADDRESS "
@@ -344,6 +344,11 @@ def run() -> None:
         code = main()
     except KeyboardInterrupt:
         code = 130
+    finally:
+        launch = sys.modules.get(f"{__package__}.launch")  # loaded: a launcher may have workers
+        if launch is not None:
+            with signals_held():
+                launch.stop_workers()
 
     def leave(signum, frame):
         _flushed()

@@ -113,6 +113,17 @@ def driver_device(device: str, on_cluster: bool) -> tuple[str, str | None]:
                        f"differ in the last digits from a run all on '{device}'")
 
 
+_POOLS: "weakref.WeakSet[ThreadPoolExecutor]" = weakref.WeakSet()  # every launcher's worker pool
+
+
+def stop_workers() -> None:
+    """Every launcher's idle workers told to end, and pending work dropped: a command's last step,
+    so that no worker outlives it however a Ctrl-C cut a launch short (Python waits for each at
+    exit)."""
+    for pool in list(_POOLS):
+        pool.shutdown(wait=False, cancel_futures=True)
+
+
 class Launcher:
     """Runs kernels over a batch of ``n`` items on one device.
 
@@ -263,9 +274,13 @@ class Launcher:
             for lo, hi in spans:
                 run(lo, hi)
             return
-        if self._pool is None:
-            self._pool = ThreadPoolExecutor(self.threads, initializer=_hold_signals)
-        futures = [self._pool.submit(run, lo, hi) for lo, hi in spans]
+        # Ctrl-C held while workers start and take work: one landing between a worker's start and
+        # its pool noting it leaves a thread the pool never stops, and Python waits for it at exit
+        with signals_held():
+            if self._pool is None:
+                self._pool = ThreadPoolExecutor(self.threads, initializer=_hold_signals)
+                _POOLS.add(self._pool)
+            futures = [self._pool.submit(run, lo, hi) for lo, hi in spans]
         try:
             for f in futures:
                 f.result()
