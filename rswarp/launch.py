@@ -113,15 +113,17 @@ def driver_device(device: str, on_cluster: bool) -> tuple[str, str | None]:
                        f"differ in the last digits from a run all on '{device}'")
 
 
-_POOLS: "weakref.WeakSet[ThreadPoolExecutor]" = weakref.WeakSet()  # every launcher's worker pool
+_LAUNCHERS: "weakref.WeakSet[Launcher]" = weakref.WeakSet()  # every launcher with a worker pool
 
 
 def stop_workers() -> None:
     """Every launcher's idle workers told to end, and pending work dropped: a command's last step,
     so that no worker outlives it however a Ctrl-C cut a launch short (Python waits for each at
-    exit)."""
-    for pool in list(_POOLS):
-        pool.shutdown(wait=False, cancel_futures=True)
+    exit). A launcher used again makes a new pool."""
+    for launcher in list(_LAUNCHERS):
+        pool, launcher._pool = launcher._pool, None
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
 
 
 class Launcher:
@@ -279,7 +281,7 @@ class Launcher:
         with signals_held():
             if self._pool is None:
                 self._pool = ThreadPoolExecutor(self.threads, initializer=_hold_signals)
-                _POOLS.add(self._pool)
+                _LAUNCHERS.add(self)
             futures = [self._pool.submit(run, lo, hi) for lo, hi in spans]
         try:
             for f in futures:

@@ -140,3 +140,24 @@ def test_a_quick_collision_check_of_one_state_is_the_batch_s(kin):
     bad = q[0].copy()
     bad[2] = np.nan
     assert checker.verdicts(bad)[0].all()
+
+
+def test_a_command_s_end_stops_every_launcher_s_workers():
+    """``launch.stop_workers`` (a command's last step) ends every pool's workers, so that none is
+    left for Python to wait on at exit however a Ctrl-C cut a launch short."""
+    from rswarp.launch import MIN_SPLIT, stop_workers
+
+    launcher = Launcher("cpu", threads=2)
+    launcher.load(_scaled_add)
+    n = 4 * MIN_SPLIT  # chunks for both threads: the pool is made
+    out = np.zeros(n, np.float32)
+    launcher.launch(_scaled_add, n, params=[1.0], inputs=[np.ones(n, np.float32)], outputs=[out])
+    assert (out == 1.0).all() and launcher._pool is not None
+    workers = list(launcher._pool._threads)
+    assert workers
+    stop_workers()
+    for t in workers:
+        t.join(timeout=10)
+    assert not any(t.is_alive() for t in workers)
+    launcher.launch(_scaled_add, n, params=[1.0], inputs=[np.ones(n, np.float32)], outputs=[out])
+    assert (out == 2.0).all()  # used again: a new pool
