@@ -386,11 +386,7 @@ class _Recorded:
         if not overwrites:
             for view, host in zip(self.out_views, outputs):  # as the caller's: a kernel may read what it updates
                 view[...] = host
-        if self.call is None:
-            self.cmd.launch()
-        else:
-            forward, bounds, args = self.call
-            forward(bounds, args)
+        self._fire()
         for view, host in zip(self.out_views, outputs):
             host[...] = view
 
@@ -399,9 +395,14 @@ class _Recorded:
         and return fresh copies of the outputs."""
         for view, host in zip(self.in_views, inputs):
             view[...] = host
+        self._fire()
+        return [view.copy() for view in self.out_views]
+
+    def _fire(self) -> None:
+        """The compiled kernel on the recorded arrays: its entry point called directly, or the
+        recorded launch where this Warp keeps its entry point otherwise."""
         if self.call is None:
             self.cmd.launch()
         else:
             forward, bounds, args = self.call
             forward(bounds, args)
-        return [view.copy() for view in self.out_views]

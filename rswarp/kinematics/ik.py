@@ -274,9 +274,10 @@ def closed_form(launcher, arm: ArmConstants, poses: np.ndarray, dtype, kernel=No
               ((n, BRANCHES), np.dtype(np.int8)))
     if out is None:
         out = IKSolutions(*(np.empty(shape, t) for shape, t in shapes))
-    for a, (shape, t), name in zip((out.q, out.conf, out.status), shapes, ("q", "conf", "status")):
-        if type(a) is not np.ndarray or a.shape != shape or a.dtype != t or not a.flags.c_contiguous:
-            raise ValueError(f"out.{name} must be a C-contiguous {t.name} array of shape {shape}")
+    else:
+        for a, (shape, t), name in zip((out.q, out.conf, out.status), shapes, ("q", "conf", "status")):
+            if type(a) is not np.ndarray or a.shape != shape or a.dtype != t or not a.flags.c_contiguous:
+                raise ValueError(f"out.{name} must be a C-contiguous {t.name} array of shape {shape}")
     launcher.launch(kernel, n, inputs=[poses], outputs=[out.q, out.conf, out.status], overwrites=True)
     return out
 

@@ -129,6 +129,7 @@ class Checker:
         self._collide, _, self._witness = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float32)
         self._distance = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float64)[1]
         self.launcher.load(self._collide)
+        self._quick: dict = {}  # per count of states: ``verdicts``' recorded launch (``_quick_launch``)
         self.witnesses = None
         if witnesses:
             self.witnesses = witness_grid(self._sample, chain, bodies, *mech.bounds())
@@ -151,15 +152,11 @@ class Checker:
         A row holding a NaN or an infinity has no pose: every pair is reported colliding there (a
         verdict never clears what it could not check), its gaps NaN."""
         n = quick.count(q, (self.dof,), quick.F32, quick.F64)
-        if n:  # one to a few states (a planner's, a script's): the recorded launch called directly
-            rec = self.launcher.quick(self._collide, n, [np.zeros((n, self.dof), np.float32)],
-                                      [np.empty((n, self.pair_count), np.uint8),
-                                       np.empty((n, self.pair_count), np.float32)],
-                                      params=[self._device.struct(init_warp().float32)])
-            if rec is not None:
-                with self.launcher.small_lock:
-                    hit, gap = rec.once((q,))
-                return hit.astype(bool), gap
+        rec = (self._quick[n] if n in self._quick else self._quick_launch(n)) if n else None
+        if rec is not None:  # one to a few states (a planner's, a script's): the recorded launch called directly
+            with self.launcher.small_lock:
+                hit, gap = rec.once((q,))
+            return hit.astype(bool), gap
         q = np.ascontiguousarray(np.atleast_2d(q), np.float32)
         if q.ndim != 2 or q.shape[1] != self.dof:
             raise ValueError(f"q must have shape (N, {self.dof}), got {q.shape}")
@@ -168,6 +165,14 @@ class Checker:
         self.launcher.launch(self._collide, len(q), params=[self._device.struct(init_warp().float32)], inputs=[q],
                              outputs=[hit, gap])
         return hit.astype(bool), gap
+
+    def _quick_launch(self, n: int):
+        """The recorded sweep launch for ``n`` states (``verdicts``), made once; None on a GPU."""
+        self._quick[n] = self.launcher.quick(
+            self._collide, n, [np.zeros((n, self.dof), np.float32)],
+            [np.empty((n, self.pair_count), np.uint8), np.empty((n, self.pair_count), np.float32)],
+            params=[self._device.struct(init_warp().float32)])
+        return self._quick[n]
 
     def distances(self, q: np.ndarray, pairs: np.ndarray) -> np.ndarray:
         """Exact distances (float64) of pair ``pairs[i]`` at ``q[i]``; -1 where one body contains the other."""
