@@ -12,7 +12,8 @@ pose); the JSON line's ratio is that one's, the 3x4 and 4x4 ones beside it. Ours
 into a reused output buffer (as Newton writes into its state), the flange too; the fresh-array
 figure, which adds first-touch page faults for the output, is shown too. Accuracy: the largest
 link-origin distance from Newton's (float32) and from pinocchio's (float64; its link frames differ
-from ours by a constant offset per link).
+from ours by a constant offset per link), ours as 4x4 and as position + quaternion (which rounds
+its rotations differently: ``kernels/fk_lanes.py``).
 
 Threads: Warp runs a CPU launch on one thread, so Newton's eval_fk uses one core; ours spreads its
 launches over every core. The ratio in the JSON line is at equal threads (ours on one thread
@@ -79,9 +80,10 @@ def newton_rate(mech, kin, q: np.ndarray, max_worlds: int) -> tuple[int, float, 
     return worlds, rate, build, float(np.abs(body_q[..., :3] - kin.fk(last)[..., :3, 3]).max())
 
 
-def pinocchio_rate(kin, q: np.ndarray) -> tuple[float, float]:
+def pinocchio_rate(kin, q: np.ndarray) -> tuple[float, float, float]:
     """Pinocchio's forwardKinematics, one configuration a call, one thread: (configurations/s, the
-    largest distance between its link origins and ours, metres, over 2000 configurations). Its link
+    largest distance between its link origins and ours, as 4x4 and as position + quaternion, metres,
+    over 2000 configurations). Its link
     frames (the URDF's, origins on the joint axes) differ from ours by a constant offset per link,
     taken at the zero configuration."""
     import tempfile
@@ -112,12 +114,13 @@ def pinocchio_rate(kin, q: np.ndarray) -> tuple[float, float]:
     zero = placements(np.zeros(kin.dof))
     ours_zero = kin.fk64(np.zeros((1, kin.dof)))[0]
     offsets = [np.linalg.inv(m) @ ours_zero[k] for (k, _), m in zip(frames, zero)]
-    ours = kin.fk(q[:2000])
-    err = 0.0
+    ours, ours7 = kin.fk(q[:2000]), kin.fk_transforms(q[:2000])
+    err = err7 = 0.0
     for i, c in enumerate(q[:2000]):
         for (k, _), m, o in zip(frames, placements(c), offsets):
             err = max(err, float(np.abs((m @ o)[:3, 3] - ours[i, k, :3, 3]).max()))
-    return rate, err
+            err7 = max(err7, float(np.abs((m @ o)[:3, 3] - ours7[i, k, :3]).max()))
+    return rate, err, err7
 
 
 SINCOS_FLOPS = 24  # the lanes' float32 sine and cosine: the reduction (7), the two polynomials (7 and 9), z (1)
@@ -172,20 +175,20 @@ def print_table(rows: list[tuple], cores: int, limit: tuple = (None, None)) -> N
     head = ("N", "worlds", "ours 4x4, 1 thread", "ours 3x4, 1 thread", "ours pos+quat, 1 thread",
             f"ours 4x4, {cores} threads", "ours 4x4 (fresh array)", "ours flange", "Newton (1 thread)",
             "pinocchio (1 thread)", "ratio pos+quat", "ratio 3x4", "ratio 4x4", f"ratio 4x4, ours on {cores}",
-            "Newton build", "max |dp| Newton m", "max |dp| pinocchio m")
+            "Newton build", "max |dp| Newton m", "max |dp| pinocchio m", "max |dp| pinocchio m, pos+quat")
     print(" | ".join(head))
-    for n, worlds, one, one3, one7, a, fr, fl, p, pin, nb, err, pin_err in rows:
+    for n, worlds, one, one3, one7, a, fr, fl, p, pin, nb, err, pin_err, pin_err7 in rows:
         print(" | ".join([f"{n}", f"{worlds}", *(f"{x / 1e6:.2f} M/s" for x in (one, one3, one7, a, fr, fl, p)),
                           f"{pin / 1e6:.3f} M/s", *(f"{x / p:.1f}x" for x in (one7, one3, one, a)), f"{nb:.1f} s",
-                          f"{err:.1e}", f"{pin_err:.1e}"]))
-    n, _, one, one3, one7, a, _, _, p, pin, _, _, pin_err = rows[-1]
+                          f"{err:.1e}", f"{pin_err:.1e}", f"{pin_err7:.1e}"]))
+    n, _, one, one3, one7, a, _, _, p, pin, _, _, pin_err, pin_err7 = rows[-1]
     print(json.dumps({"metric": f"fk_all_links_configs_per_s_n{n}_1_thread", "ours": round(one7), "peer": round(p),
                       "peer_name": "Newton eval_fk (one thread)", "ratio": round(one7 / p, 2),
                       "form": "position + quaternion (Newton's body_q form)", "ours_3x4": round(one3),
                       "ratio_3x4": round(one3 / p, 2), "ours_4x4": round(one), "ratio_4x4": round(one / p, 2),
                       "ours_all_cores_4x4": round(a), "ratio_all_cores_4x4": round(a / p, 2), "pinocchio": round(pin),
-                      "max_dp_pinocchio_m": pin_err, "copy_same_bytes": limit[0] and round(limit[0]),
-                      "flops_per_config": limit[1]}))
+                      "max_dp_pinocchio_m": pin_err, "max_dp_pinocchio_pq_m": pin_err7,
+                      "copy_same_bytes": limit[0] and round(limit[0]), "flops_per_config": limit[1]}))
 
 
 def main() -> None:
@@ -223,9 +226,9 @@ def main() -> None:
         all_links, _, _, fresh, flange = ours_rates(kin, q)
         single, single3, single7 = ours_rates(one, q)[:3]
         worlds, peer, build, err = newton_rate(mech, kin, q, args.max_worlds)
-        pin_rate, pin_err = pinocchio_rate(one, q)
+        pin_rate, pin_err, pin_err7 = pinocchio_rate(one, q)
         rows.append((n, worlds, single, single3, single7, all_links, fresh, flange, peer, pin_rate, build, err,
-                     pin_err))
+                     pin_err, pin_err7))
     print(f"rswarp Kinematics vs Newton {newton.__version__} eval_fk, {mech.name}, {os.cpu_count()} CPU cores, "
           f"Warp {wp.__version__}")
     first = "compiling into an empty cache" if args.cold_cache else \

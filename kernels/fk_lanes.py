@@ -4,9 +4,16 @@ Warp runs a CPU kernel one item after another, and its loop over items does not 
 item's index is a 32-bit int the compiler cannot bound). Here each item is a block of ``LANES``
 configurations whose every number is a ``LANES``-vector: a pose is a (12, LANES) matrix, rotation
 rows then translation, and each step of the chain is a vector product the compiler lays out in AVX
-registers (``lane_algebra``: the products with a motion's zeros and ones left out). Only the
-stores go lane by lane, into the caller's (N, links, 4, 4), (N, links, 3, 4) or (N, links, 7)
-layout. The block of the last few configurations reads its last row again and stores only its own.
+registers (``lane_algebra``: the products with a motion's zeros and ones left out). The block's
+joint values are read once, before the walk (``_block``); each pose is turned from lanes into rows
+in registers and stored a row a lane (``lane_store``), into the caller's (N, links, 4, 4),
+(N, links, 3, 4) or (N, links, 7) layout. The block of the last few configurations reads its last
+row again and stores only its own.
+
+Position and quaternion (``quats``) take each joint's half-angle sine and cosine alone, the
+quaternion's own, and the rotation's from them by the double-angle rules: six sines and cosines a
+configuration where twelve were taken. Its positions so round a little differently from the
+matrices' (within 2e-6 m of float64, ``tests/test_fk_lanes.py``); the matrices are as they were.
 
 Sines and cosines are the vectorized float32 core (``trig.sincos32_funcs``), good below BIG32 rad.
 One test a block, before the walk, sends a block holding a larger angle or a NaN down a second
@@ -39,13 +46,12 @@ from .lane_algebra import (
     turned_by,
     with_turn,
 )
+from .lane_store import M34, M44, store_flange, store_mat34, store_mat44, store_transforms
 from .motion import codes_of, revolute_parts
 from .trig import BIG32, sincos32_funcs
 from .types import PRISMATIC, REVOLUTE, Chain
 
 DEEP_SLP = "-mllvm=-slp-recursion-max-depth=12"
-M34 = wp.types.matrix((3, 4), S)
-M44 = wp.types.matrix((4, 4), S)
 
 
 def lanes_fit(chain: Chain) -> bool:
@@ -55,44 +61,70 @@ def lanes_fit(chain: Chain) -> bool:
 
 
 def _angles(col: int, halves: bool = False, exact: bool = False):
-    """``sincos(q, i0, n)``: the sine (row 0) and cosine (row 1) of column ``col`` of the lanes'
-    configurations, and with ``halves`` those of the half angles (rows 2 and 3). The vectorized
-    core (|angle| under BIG32, no branch), or with ``exact`` libm's lane by lane (any angle)."""
+    """``sincos(qb)``: the sine (row 0) and cosine (row 1) of column ``col`` of the block's
+    configurations; with ``halves``, those of the half angles (rows 2 and 3) and the whole angle's
+    from them (``2 s c`` and ``(c - s)(c + s)``). The vectorized core (|angle| under BIG32, no
+    branch), or with ``exact`` libm's lane by lane (any angle)."""
     core, libm = sincos32_funcs()
     f = libm if exact else core
 
     @wp.func
-    def sincos(q: wp.array2d(dtype=S), i0: int, n: int) -> SCH:
+    def sincos(qb: Any) -> SCH:
         s = VL()
         c = VL()
         sh = VL()
         ch = VL()
         for ln in range(wp.static(LANES)):
-            th = q[wp.min(i0 + ln, n - 1), wp.static(col)]
-            v = wp.static(f)(th)
-            s[ln] = v[0]
-            c[ln] = v[1]
+            th = qb[wp.static(col), ln]
             if wp.static(halves):
                 v = wp.static(f)(S(0.5) * th)
                 sh[ln] = v[0]
                 ch[ln] = v[1]
+                s[ln] = S(2.0) * v[0] * v[1]
+                c[ln] = (v[1] - v[0]) * (v[1] + v[0])
+            else:
+                v = wp.static(f)(th)
+                s[ln] = v[0]
+                c[ln] = v[1]
         return wp.matrix_from_rows(s, c, sh, ch)  # without halves, rows 2 and 3 zero (and unread)
 
     return sincos
 
 
-@wp.func
-def lanes_fine(q: wp.array2d(dtype=S), i0: int, n: int) -> bool:
-    """True where the block's joint values sum in magnitude under BIG32: none past it and none NaN,
-    so the vectorized sine and cosine hold for every lane (one test a block, taken before the walk:
-    a test inside it would merge its vectors lane by lane)."""
-    acc = VL()
-    for c in range(q.shape[1]):
-        t = VL()
+@cached
+def _block(dof: int):
+    """``block(q, i0, n) -> (dof, LANES)``: the block's configurations, column by column (rows past
+    ``n`` repeat the last), read once before any pose is stored: a store through the output could
+    alias ``q``, so reads left after it would wait on it and keep the joints' sines and cosines
+    from being computed ahead."""
+    QB = wp.types.matrix((dof, LANES), S)
+
+    @wp.func
+    def block(q: wp.array2d(dtype=S), i0: int, n: int) -> QB:
+        qb = QB()
         for ln in range(wp.static(LANES)):
-            t[ln] = q[wp.min(i0 + ln, n - 1), c]
-        acc = acc + wp.abs(t)
-    return wp.dot(acc, VL(S(1.0))) < S(BIG32)
+            i = wp.min(i0 + ln, n - 1)
+            for c in range(wp.static(dof)):
+                qb[c, ln] = q[i, c]
+        return qb
+
+    return block
+
+
+@cached
+def _fine(dof: int):
+    """``fine(qb)``: True where the block's joint values sum in magnitude under BIG32: none past it
+    and none NaN, so the vectorized sine and cosine hold for every lane (one test a block, taken
+    before the walk: a test inside it would merge its vectors lane by lane)."""
+
+    @wp.func
+    def fine(qb: Any) -> bool:
+        acc = VL()
+        for c in range(wp.static(dof)):
+            acc = acc + wp.abs(qb[c])
+        return wp.dot(acc, VL(S(1.0))) < S(BIG32)
+
+    return fine
 
 
 def _motion(chain: Chain, k: int):
@@ -112,16 +144,16 @@ def _motion(chain: Chain, k: int):
 
 
 def _step(chain: Chain, k: int, on_root: bool, exact: bool):
-    """``step(q, i0, n, m) -> (12, LANES)``: the pose ``m`` after link k's joint motion at the
-    lanes' joint values (``m`` unread where the parent's pose is the identity)."""
+    """``step(qb, m) -> (12, LANES)``: the pose ``m`` after link k's joint motion at the block's
+    joint values (``m`` unread where the parent's pose is the identity)."""
     if int(chain.jtype[k]) == PRISMATIC:
         return _slide(chain, k)
     compose = compose_after(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
     angles, motion = _angles(int(chain.qidx[k]), exact=exact), _motion(chain, k)
 
     @wp.func
-    def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
-        sc = angles(q, i0, n)
+    def step(qb: Any, m: PL) -> PL:
+        sc = angles(qb)
         j = motion(sc[1], sc[0])
         if wp.static(on_root):
             return j
@@ -137,10 +169,8 @@ def _slide(chain: Chain, k: int):
     dt = lane_dot(tuple(2 if v else 0 for v in chain.axis[k]), True)
 
     @wp.func
-    def slide(q: wp.array2d(dtype=S), i0: int, n: int, m: PL) -> PL:
-        th = VL()
-        for ln in range(wp.static(LANES)):
-            th[ln] = q[wp.min(i0 + ln, n - 1), wp.static(col)]
+    def slide(qb: Any, m: PL) -> PL:
+        th = qb[wp.static(col)]
         x = wp.cw_mul(wp.static(ax), th)
         y = wp.cw_mul(wp.static(ay), th)
         z = wp.cw_mul(wp.static(az), th)
@@ -153,14 +183,14 @@ def _slide(chain: Chain, k: int):
 
 def _step_pose(chain: Chain, k: int, on_root: bool, exact: bool):
     """As ``_step`` with the link's quaternion carried along (``PQ``): the joint's half-angle
-    sine and cosine give its quaternion; its rotation takes the whole angle's own (the
-    double-angle rules would double the rotation's rounding)."""
+    sine and cosine give its quaternion, and its rotation by the double-angle rules (a few float32
+    roundings more than the whole angle's own, for half the sines and cosines)."""
     if int(chain.jtype[k]) == PRISMATIC:
         slide = _slide(chain, k)
 
         @wp.func
-        def slid(q: wp.array2d(dtype=S), i0: int, n: int, m: PQ) -> PQ:
-            return with_turn(slide(q, i0, n, pose_of(m)), m[12], m[13], m[14], m[15])
+        def slid(qb: Any, m: PQ) -> PQ:
+            return with_turn(slide(qb, pose_of(m)), m[12], m[13], m[14], m[15])
 
         return slid
     compose = compose_after(codes_of(*revolute_parts(chain.axis[k], chain.point[k])))
@@ -169,8 +199,8 @@ def _step_pose(chain: Chain, k: int, on_root: bool, exact: bool):
     ax, ay, az = (float(v) for v in chain.axis[k])
 
     @wp.func
-    def step(q: wp.array2d(dtype=S), i0: int, n: int, m: PQ) -> PQ:
-        sc = angles(q, i0, n)
+    def step(qb: Any, m: PQ) -> PQ:
+        sc = angles(qb)
         j = motion(sc[1], sc[0])
         sh = sc[2]
         if wp.static(on_root):
@@ -187,22 +217,25 @@ def lane_fk(chain: Chain, needed, emit, quats: bool = False):
     needed = frozenset(int(k) for k in needed)
     keep = chain.ancestors(needed)
     fast, slow = (_visitor(chain, chain.root, keep, needed, emit, quats, exact) for exact in (False, True))
+    dof = int(chain.mimic.shape[1])
+    block, lanes_fine = _block(dof), _fine(dof)
 
     @wp.func
     def fk(q: wp.array2d(dtype=S), i0: int, n: int, out: Any):
-        fine = lanes_fine(q, i0, n)
+        qb = block(q, i0, n)
+        fine = lanes_fine(qb)
         if wp.static(quats):
             zero = VL()
             m = with_turn(identity(), zero, zero, zero, VL(S(1.0)))
             if fine:
-                wp.static(fast)(q, i0, n, m, out)
+                wp.static(fast)(qb, i0, n, m, out)
             else:
-                wp.static(slow)(q, i0, n, m, out)
+                wp.static(slow)(qb, i0, n, m, out)
         else:
             if fine:
-                wp.static(fast)(q, i0, n, identity(), out)
+                wp.static(fast)(qb, i0, n, identity(), out)
             else:
-                wp.static(slow)(q, i0, n, identity(), out)
+                wp.static(slow)(qb, i0, n, identity(), out)
 
     return fk
 
@@ -217,14 +250,14 @@ def _visitor(chain: Chain, k: int, keep: set, needed: frozenset, emit, quats: bo
     store = emit(k) if emits else None
 
     @wp.func
-    def visit(q: wp.array2d(dtype=S), i0: int, n: int, m: Any, out: Any):
+    def visit(qb: Any, i0: int, n: int, m: Any, out: Any):
         r = m
         if wp.static(moves):
-            r = wp.static(step)(q, i0, n, m)
+            r = wp.static(step)(qb, m)
         if wp.static(emits):
             wp.static(store)(out, i0, n, r)
         for c in range(wp.static(len(kids))):
-            wp.static(kids[c])(q, i0, n, r, out)
+            wp.static(kids[c])(qb, i0, n, r, out)
 
     return visit
 
@@ -237,29 +270,18 @@ def _emit_links(rows: int):
     return functools.partial(_emit_link, rows)
 
 
-@wp.func
-def lane_pose(r: PL, ln: int) -> M34:
-    """Lane ``ln`` of a pose as a 3x4 matrix."""
-    return M34(r[0, ln], r[1, ln], r[2, ln], r[9, ln], r[3, ln], r[4, ln], r[5, ln], r[10, ln],
-               r[6, ln], r[7, ln], r[8, ln], r[11, ln])
-
-
-@wp.func
-def to_mat44(m: M34) -> M44:
-    return M44(m[0, 0], m[0, 1], m[0, 2], m[0, 3], m[1, 0], m[1, 1], m[1, 2], m[1, 3],
-               m[2, 0], m[2, 1], m[2, 2], m[2, 3], S(0.0), S(0.0), S(0.0), S(1.0))
-
-
 @cached
 def _emit_link(rows: int, k: int):
     @wp.func
     def emit(out: Any, i0: int, n: int, r: PL):
-        for ln in range(wp.static(LANES)):
-            if i0 + ln < n:
-                if wp.static(rows == 4):
-                    out[i0 + ln, wp.static(k)] = to_mat44(lane_pose(r, ln))
-                else:
-                    out[i0 + ln, wp.static(k)] = lane_pose(r, ln)
+        # each lane's rows R|t, then the last row (4x4: 0 0 0 1), stored as whole rows
+        zero = VL()
+        if wp.static(rows == 4):
+            store_mat44(out, i0, n, wp.static(k), 0, 32, r[0], r[1], r[2], r[9], r[3], r[4], r[5], r[10])
+            store_mat44(out, i0, n, wp.static(k), 32, 32, r[6], r[7], r[8], r[11], zero, zero, zero, VL(S(1.0)))
+        else:
+            store_mat34(out, i0, n, wp.static(k), 0, 32, r[0], r[1], r[2], r[9], r[3], r[4], r[5], r[10])
+            store_mat34(out, i0, n, wp.static(k), 32, 16, r[6], r[7], r[8], r[11], zero, zero, zero, zero)
 
     return emit
 
@@ -282,9 +304,9 @@ def _flange_emit(offset: np.ndarray):
             wp.static(rows[0]), wp.static(rows[1]), wp.static(rows[2]), wp.static(rows[3]), wp.static(rows[4]),
             wp.static(rows[5]), wp.static(rows[6]), wp.static(rows[7]), wp.static(rows[8]), wp.static(rows[9]),
             wp.static(rows[10]), wp.static(rows[11])))
-        for ln in range(wp.static(LANES)):
-            if i0 + ln < n:
-                out[i0 + ln] = to_mat44(lane_pose(f, ln))
+        zero = VL()
+        store_flange(out, i0, n, 0, 0, 32, f[0], f[1], f[2], f[9], f[3], f[4], f[5], f[10])
+        store_flange(out, i0, n, 0, 32, 32, f[6], f[7], f[8], f[11], zero, zero, zero, VL(S(1.0)))
 
     return emit
 
@@ -320,10 +342,7 @@ def _emit_pose(k: int):
 
     @wp.func
     def emit(out: Any, i0: int, n: int, r: PQ):
-        for ln in range(wp.static(LANES)):
-            if i0 + ln < n:
-                out[i0 + ln, wp.static(k)] = wp.transformf(wp.vec3f(r[9, ln], r[10, ln], r[11, ln]),
-                                                           wp.quatf(r[12, ln], r[13, ln], r[14, ln], r[15, ln]))
+        store_transforms(out, i0, n, wp.static(k), 0, 28, r[9], r[10], r[11], r[12], r[13], r[14], r[15], VL())
 
     return emit
 

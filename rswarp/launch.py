@@ -31,6 +31,7 @@ from .errors import InputError
 from .files import HELD_SIGNALS, signals_held, stop_if_interrupted
 
 DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
+WIDE_CHUNK = 1 << 18  # items a CPU launch may hold when it needs no scratch: each launch costs tens of µs
 MIN_SPLIT = 512  # items a CPU chunk holds at least: a smaller batch costs less on one thread than handed out
 GPU_CHUNK = 1 << 20
 SMALL = 64  # items a CPU batch holds at most to run as a recorded launch (``_Recorded``): a call's fixed cost
@@ -134,11 +135,13 @@ class Launcher:
     arrays (typed as the kernel declares), Warp arrays on the launcher's device, or a Warp struct
     of such Warp arrays (a group, as a cable model's state: each array cut alike). Per-item
     ``scratch`` arrays go between them when the kernel needs them (``scratch`` is a width, or one
-    per array; their types are the kernel's)."""
+    per array; their types are the kernel's). ``chunk``: items a CPU launch holds (``DEFAULT_CHUNK``
+    when not given, and then larger for a kernel without scratch: ``_spread``)."""
 
-    def __init__(self, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
+    def __init__(self, device: str = "cpu", chunk: int | None = None, threads: int | None = None):
         self.device = warp_device(device)
-        self.chunk = max(1, int(chunk))
+        self.chunk = DEFAULT_CHUNK if chunk is None else max(1, int(chunk))
+        self._wide = chunk is None  # chunks grown for kernels without scratch (``_spread``)
         self.threads = max(1, threads or (os.cpu_count() or 1)) if self.device.is_cpu else 1
         self._pool: ThreadPoolExecutor | None = None
         self._local = threading.local()
@@ -188,7 +191,7 @@ class Launcher:
                     if isinstance(host, np.ndarray):
                         host[lo:hi] = dev.numpy().reshape(host[lo:hi].shape)
 
-        self._spread(n, run)
+        self._spread(n, run, wide=self._wide and scratch is None and not whole)
 
     def quick(self, kernel, n: int, inputs: Sequence, outputs: Sequence, lanes: int = 1,
               params: Sequence = ()) -> "_Recorded | None":
@@ -266,9 +269,15 @@ class Launcher:
             self._local.scratch = have
         return arr
 
-    def _spread(self, n: int, run) -> None:
+    def _spread(self, n: int, run, wide: bool = False) -> None:
+        """``run(lo, hi)`` over the batch's chunks, on the pool's threads. ``wide``: a kernel with no
+        per-thread scratch to keep in cache takes chunks up to ``WIDE_CHUNK``, four a thread at
+        least, so a cheap kernel's launches (a lanes FK's 10⁶ configurations took 61) cost little."""
+        size = self.chunk
+        if wide:
+            size = max(size, min(WIDE_CHUNK, -(-n // (4 * self.threads))))
         if self.device.is_cpu:  # at least one chunk per thread, so small batches use every core too
-            chunk = max(1, min(self.chunk, max(-(-n // self.threads), MIN_SPLIT)))
+            chunk = max(1, min(size, max(-(-n // self.threads), MIN_SPLIT)))
         else:
             chunk = max(self.chunk, GPU_CHUNK)
         spans = [(lo, min(lo + chunk, n)) for lo in range(0, n, chunk)]

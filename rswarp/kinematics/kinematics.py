@@ -12,7 +12,7 @@ from ..errors import InputError, model_error
 from ..kernels import fk as fk_kernels
 from ..kernels import fk_lanes, walk
 from ..kernels.ik import FAR_M, NOT_RIGID
-from ..launch import DEFAULT_CHUNK, Launcher, init_warp
+from ..launch import Launcher, init_warp
 from ..rsxml.model import Mechanism
 from . import ik, ik_numeric, ik_planar
 from .chain import loops_close, mechanism_chain
@@ -30,7 +30,7 @@ class Kinematics:
     centre and flange positions; ``fk64`` and ``wrist_flange64`` do the same in float64.
     Chains up to ``MAX_UNROLLED_LINKS`` links get unrolled kernels; longer ones the generic walk."""
 
-    def __init__(self, mech: Mechanism, device: str = "cpu", chunk: int = DEFAULT_CHUNK, threads: int | None = None):
+    def __init__(self, mech: Mechanism, device: str = "cpu", chunk: int | None = None, threads: int | None = None):
         self.mech = mech
         self.graph = mech.graph
         self.chain = mechanism_chain(mech)
