@@ -46,7 +46,7 @@ from .lane_algebra import (
     turned_by,
     with_turn,
 )
-from .lane_store import M34, M44, store_flange, store_mat34, store_mat44, store_transforms
+from .lane_store import M34, M44, M88, load_block, store_flange, store_mat34, store_mat44, store_transforms
 from .motion import codes_of, revolute_parts
 from .trig import BIG32, sincos32_funcs
 from .types import PRISMATIC, REVOLUTE, Chain
@@ -96,7 +96,15 @@ def _block(dof: int):
     """``block(q, i0, n) -> (dof, LANES)``: the block's configurations, column by column (rows past
     ``n`` repeat the last), read once before any pose is stored: a store through the output could
     alias ``q``, so reads left after it would wait on it and keep the joints' sines and cosines
-    from being computed ahead."""
+    from being computed ahead. Up to eight joints, each row read whole and turned in registers
+    (``lane_store.load_block``)."""
+    if dof <= LANES:
+
+        @wp.func
+        def rows(q: wp.array2d(dtype=S), i0: int, n: int) -> M88:
+            return load_block(q, i0, n, wp.static(dof))
+
+        return rows
     QB = wp.types.matrix((dof, LANES), S)
 
     @wp.func

@@ -125,3 +125,18 @@ def test_a_launcher_of_its_own_chunk_takes_wide_chunks_only_where_no_scratch_is_
     q = _q(kin, 5000, seed=5)
     assert np.array_equal(kin.fk_transforms(q), small.fk_transforms(q))
     assert np.array_equal(kin.fk(q), small.fk(q))
+
+
+def test_a_block_reads_its_rows_whatever_their_layout(irb2600):
+    """The block's rows are read whole where a row's numbers sit side by side, number by number
+    where they do not: the lanes kernel launched on a column-major view gives the same poses."""
+    import warp as wp
+
+    q = _q(irb2600, 1001, seed=6)
+    want = irb2600.fk_transforms(q)
+    columns = np.asfortranarray(q)
+    view = wp.array(ptr=columns.ctypes.data, dtype=wp.float32, shape=q.shape, strides=columns.strides, device="cpu")
+    assert view.strides[1] != 4
+    out = wp.empty((len(q), want.shape[1]), dtype=wp.transformf, device="cpu")
+    wp.launch(irb2600._lanes()[0][7], dim=-(-len(q) // fk_lanes.LANES), inputs=[view], outputs=[out], device="cpu")
+    assert np.array_equal(out.numpy().reshape(want.shape), want)
