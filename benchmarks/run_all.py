@@ -71,12 +71,23 @@ def versions() -> dict:
             out[name] = importlib.metadata.version(name)
         except importlib.metadata.PackageNotFoundError:
             out[name] = None
-    try:
-        out["rswarp_commit"] = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=HERE, text=True,
-                                              capture_output=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        out["rswarp_commit"] = None
+    out["rswarp_commit"] = commit()
     return out
+
+
+def commit() -> str | None:
+    """The checkout's commit, with ``+changes`` where its tracked files differ from it (results
+    files aside): the code a run measured, said as it was."""
+    def git(*args):
+        return subprocess.run(["git", *args], cwd=HERE, text=True, capture_output=True, check=True).stdout
+
+    try:
+        head = git("rev-parse", "--short", "HEAD").strip()
+        changed = [line for line in git("status", "--porcelain", "--untracked-files=no").splitlines()
+                   if not line.rstrip().endswith(".json")]
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return f"{head}+changes" if changed else head
 
 
 def fail(message: str):
@@ -249,7 +260,7 @@ def main() -> None:
     old = load_results(path) if args.only and path.exists() else {}
     results = old.get("benchmarks", {})
     for name in names:
-        results[name] = run(name, args.quick) | {"date": datetime.date.today().isoformat()}
+        results[name] = run(name, args.quick) | {"date": datetime.date.today().isoformat(), "commit": commit()}
     now = versions()  # with --only, a peer not installed now keeps the version the kept entries ran with
     kept = {k: v for k, v in old.get("versions", {}).items() if now.get(k) is None and v is not None}
     doc = {"machine": machine(), "date": datetime.date.today().isoformat(), "versions": now | kept,
