@@ -83,8 +83,9 @@ def commit() -> str | None:
 
     try:
         head = git("rev-parse", "--short", "HEAD").strip()
+        ours = {RESULTS.name, QUICK.name}
         changed = [line for line in git("status", "--porcelain", "--untracked-files=no").splitlines()
-                   if not line.rstrip().endswith(".json")]
+                   if Path(line[3:].strip()).name not in ours]
     except (OSError, subprocess.CalledProcessError):
         return None
     return f"{head}+changes" if changed else head

@@ -280,16 +280,15 @@ def _emit_links(rows: int):
 
 @cached
 def _emit_link(rows: int, k: int):
+    store = store_mat44 if rows == 4 else store_mat34
+
     @wp.func
     def emit(out: Any, i0: int, n: int, r: PL):
-        # each lane's rows R|t, then the last row (4x4: 0 0 0 1), stored as whole rows
+        # each lane's rows R|t as whole rows; a 4x4's last row 0 0 0 1 (a 3x4 stores 16 bytes fewer)
         zero = VL()
-        if wp.static(rows == 4):
-            store_mat44(out, i0, n, wp.static(k), 0, 32, r[0], r[1], r[2], r[9], r[3], r[4], r[5], r[10])
-            store_mat44(out, i0, n, wp.static(k), 32, 32, r[6], r[7], r[8], r[11], zero, zero, zero, VL(S(1.0)))
-        else:
-            store_mat34(out, i0, n, wp.static(k), 0, 32, r[0], r[1], r[2], r[9], r[3], r[4], r[5], r[10])
-            store_mat34(out, i0, n, wp.static(k), 32, 16, r[6], r[7], r[8], r[11], zero, zero, zero, zero)
+        wp.static(store)(out, i0, n, wp.static(k), 0, 32, r[0], r[1], r[2], r[9], r[3], r[4], r[5], r[10])
+        wp.static(store)(out, i0, n, wp.static(k), 32, wp.static(16 * (rows - 2)), r[6], r[7], r[8], r[11], zero,
+                         zero, zero, VL(S(1.0)))
 
     return emit
 

@@ -31,7 +31,7 @@ from .errors import InputError
 from .files import HELD_SIGNALS, signals_held, stop_if_interrupted
 
 DEFAULT_CHUNK = 16384  # items per CPU launch: per-thread scratch stays in cache, chunks balance well
-WIDE_CHUNK = 1 << 18  # items a CPU launch may hold when it needs no scratch: each launch costs tens of µs
+WIDE_CHUNK = 1 << 18  # items a CPU launch may hold when it needs no scratch: fewer launches, each set up in Python
 MIN_SPLIT = 512  # items a CPU chunk holds at least: a smaller batch costs less on one thread than handed out
 GPU_CHUNK = 1 << 20
 SMALL = 64  # items a CPU batch holds at most to run as a recorded launch (``_Recorded``): a call's fixed cost

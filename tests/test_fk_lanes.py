@@ -96,8 +96,7 @@ def test_transforms_are_the_poses_as_position_and_quaternion(irb2600):
 
 def test_transforms_stay_within_their_tolerance_and_their_lane(irb2600):
     """Position and quaternion take the half angles' sines alone, the rotation from them by the
-    double-angle rules: positions within 2e-6 m of float64 over many configurations (1.2e-6 seen
-    over 200 000), and a configuration's numbers the same in any lane, bit for bit."""
+    double-angle rules: positions within 2e-6 m of float64 over many configurations, and a configuration's numbers the same in any lane, bit for bit."""
     q = _q(irb2600, 20_000, seed=4)
     got = irb2600.fk_transforms(q)
     ref = irb2600.fk64(q.astype(np.float64))
@@ -108,7 +107,7 @@ def test_transforms_stay_within_their_tolerance_and_their_lane(irb2600):
 
 def test_a_launcher_of_its_own_chunk_takes_wide_chunks_only_where_no_scratch_is_kept():
     """Left to choose, a launcher hands a kernel with no scratch four chunks a thread up to
-    WIDE_CHUNK (a launch costs tens of microseconds); a chunk given, or scratch, keeps the chunk."""
+    WIDE_CHUNK (each launch is set up in Python); a chunk given, or scratch, keeps the chunk."""
     from rswarp.launch import DEFAULT_CHUNK, WIDE_CHUNK, Launcher
 
     def spans(launcher, n, wide):
