@@ -9,7 +9,12 @@ angles where the wrist is orthogonal, as ABB's are; Paden-Kahan subproblems 2 an
 arm's constants are folded into the code per robot, and the module is compiled with
 ``finite_math``: the host checks the poses finite, the kernel bounds them first. The status codes,
 the angle helpers, the shoulder and the rigid check, shared with the palletizer's kernel, are in
-``ik_common`` (and importable from here)."""
+``ik_common`` (and importable from here); the wrist's, in ``ik_wrist``.
+
+Every one of a pose's twenty angles (atan2 and acos) is a leaf: the rest of the solve needs only
+their cosines and sines, which come without them. So the kernel finds all their arguments first,
+then takes them eight at a time in float64 SIMD lanes (``trig.atan2_lanes``), then writes the
+branches: the angles took half the kernel's time one at a time."""
 
 from types import SimpleNamespace
 from typing import NamedTuple
@@ -18,10 +23,11 @@ import numpy as np
 import warp as wp
 
 from .cache import cached, finite_math, module_name
-from .ik_common import NO_LIMITS, NO_REACH, NOT_RIGID, OK, SAME, angle_funcs, rigid_func, shoulder_func
+from .ik_common import NO_LIMITS, NO_REACH, NOT_RIGID, OK, SAME, angle_funcs, rigid_func, shoulder_args_func
 from .ik_common import RIGID_TOL as RIGID_TOL  # the host reads every status and tolerance from here
 from .ik_common import SHOULDER as SHOULDER
-from .trig import trig_funcs
+from .ik_wrist import V8I, D, wrist_args_func
+from .trig import V8D, atan2_lanes
 from .types import types_of
 
 BRANCHES = 8  # shoulder (front, back) x elbow (up, down) x wrist (flip or not): index 4 s + 2 e + w
@@ -166,137 +172,28 @@ def _branch_out(k: SimpleNamespace, lim: SimpleNamespace):
     return branch_out
 
 
-def _euler_angles(k: SimpleNamespace, h: SimpleNamespace):
-    """``euler_angles(v, vn) -> (q4, q5, q6, singular)`` of an orthogonal wrist."""
-    S, V3, SINGULAR = k.S, k.V3, k.SINGULAR
-    W4, W5, W6, N6, W45, N01, N02, S6 = k.W4, k.W5, k.W6, k.N6, k.W45, k.N01, k.N02, k.S6
-    turn_about, atan2 = h.turn_about, trig_funcs(k.scalar).atan2
+def _elbows(k: SimpleNamespace, h: SimpleNamespace):
+    """``elbows(yd, d2, cg, sg, behind1, u6, un) -> (v, vn, cross, dot, arm_conf)``: the
+    elbow-up and elbow-down arms (rows 0 and 1) of one q1: where R4 R5 R6 must take axis 6 and the
+    direction across it, q2's atan2 arguments, the configuration bits."""
+    S, V3, V2 = k.S, k.V3, k.V2
+    W2, A2, B2, CT0, ST0, SIDE0 = k.W2, k.A2, k.B2, k.CT0, k.ST0, k.SIDE0
+    M23 = wp.types.matrix((2, 3), S)
+    rot = h.rot
 
     @wp.func
-    def euler_angles(v: V3, vn: V3):
-        """As ``wrist_angles`` for an orthogonal wrist (axis 6 in line with axis 4 at zero), by
-        Euler angles: in the frame of axes 4, 5 and 4 x 5 the wrist turns by Rx(q4) Ry(q5)
-        Rx(+-q6), whose first column is axis 6's target ``v``: q4 and q5 from it. q6 turns the
-        direction across axis 6 onto Ry(q5)^T Rx(q4)^T ``vn``, so that near the singularity, where
-        q4 is rounding, q6 still makes up the rest of the turn. The branch whose sin q5 has the
-        sign of -(w4 . w6), as the Paden-Kahan form's first; the flip is the other."""
-        a0 = S6 * wp.dot(W4, v)
-        a1 = S6 * wp.dot(W5, v)
-        a2 = S6 * wp.dot(W45, v)
-        r = wp.sqrt(a1 * a1 + a2 * a2)  # |sin q5|
-        if r > SINGULAR:
-            sg = -S6
-            q4 = atan2(sg * a1, -sg * a2)
-            q5 = atan2(sg * r, a0)
-            # vn in the frame of axes 4, 5, 4 x 5 turned back by q4, then q5, times r (cos and sin
-            # of q4 are -sg a2 / r and sg a1 / r; of q5, a0 and sg r): the angle is the same
-            n1 = wp.dot(W5, vn)
-            n2 = wp.dot(W45, vn)
-            w1 = sg * (a1 * n2 - a2 * n1)
-            w2 = sg * (r * r * wp.dot(W4, vn) - a0 * (a1 * n1 + a2 * n2))
-            q6 = S6 * atan2(N01 * w2 - N02 * w1, N01 * w1 + N02 * w2)
-            return q4, q5, q6, int(0)
-        q6, c6, s6 = turn_about(W6, N6, vn)
-        return S(0.0), S(0.0), q6, int(1)
-
-    return euler_angles
-
-
-def _paden_kahan_angles(k: SimpleNamespace, h: SimpleNamespace):
-    """``wrist_angles(z, v, vn) -> (q4, q5, q6, singular)`` of any spherical wrist."""
-    S, V3, SINGULAR = k.S, k.V3, k.SINGULAR
-    W4, W5, W6, N6 = k.W4, k.W5, k.W6, k.N6
-    rot, turn_about = h.rot, h.turn_about
-
-    @wp.func
-    def wrist_angles(z: V3, v: V3, vn: V3):
-        """(q4, q5, q6, singular) of the wrist that turns axis 6 onto ``z`` by q5, ``z`` onto ``v``
-        by q4 and the direction across axis 6 onto ``vn`` by q6. At the singularity (|sin q5| under
-        SINGULAR) the wrist is straight: q5 is 0 (what is left is rounding) and q4 is held at 0."""
-        q5, c5, s5 = turn_about(W5, W6, z)
-        q4 = S(0.0)
-        c4 = S(1.0)
-        s4 = S(0.0)
-        singular = int(1)
-        if wp.abs(s5) > SINGULAR:
-            q4, c4, s4 = turn_about(W4, z, v)
-            singular = 0
-        else:
-            q5 = S(0.0)
-            c5 = S(1.0)
-            s5 = S(0.0)
-        q6, c6, s6 = turn_about(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))  # R6 N6 = R5^T R4^T vn
-        return q4, q5, q6, singular
-
-    return wrist_angles
-
-
-def _wrist(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
-    """``wrist``: the two wrist branches of one arm solution, written out with their configuration
-    data and status."""
-    S, V3, Q6, scalar = k.S, k.V3, k.Q6, k.scalar
-    W4, W5, N45, FLIP = k.W4, k.W5, k.N45, k.FLIP
-    C45, C56, C4556, C45X2, DET, G2 = k.C45, k.C56, k.C4556, k.C45X2, k.DET, k.G2
-    half_turn, fit = h.half_turn, lim.fit
-    branch_out = _branch_out(k, lim)
-    euler_angles, wrist_angles = _euler_angles(k, h), _paden_kahan_angles(k, h)
-
-    @wp.func
-    def wrist(i: int, b: int, q1: S, q2: S, q3: S, v: V3, vn: V3, arm_conf: int, status: int,
-              q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
-              status_out: wp.array2d(dtype=wp.int8)):
-        """The two wrist branches (b, b + 1) of one arm solution, given where R4 R5 R6 must take
-        axis 6 (``v``) and the direction across it (``vn``): by Euler angles for an orthogonal
-        wrist, else q4, q5 by Paden-Kahan subproblem 2 and q6 by subproblem 1."""
-        if wp.static(FLIP):
-            # an orthogonal wrist with axes 4 and 6 in line at zero: the flip is (q4 + pi, -q5, q6 + pi)
-            q4, q5, q6, singular = euler_angles(v, vn)
-            twin = status
-            if singular == 1 and twin == OK:
-                twin = SAME  # the flip is the same pose: one solution
-            branch_out(i, b, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf, status, q_out, conf_out, status_out)
-            branch_out(i, b + 1, fit(Q6(q1, q2, q3, half_turn(q4), -q5, half_turn(q6))), arm_conf, twin, q_out,
-                       conf_out, status_out)
-        else:
-            alpha = (wp.dot(W4, v) - C4556) / DET
-            beta = (C56 - C45 * wp.dot(W4, v)) / DET
-            g = (S(1.0) - alpha * alpha - beta * beta - C45X2 * alpha * beta) / G2
-            g = wp.sqrt(wp.max(g, S(0.0)))
-            for f in range(2):
-                z = W4 * alpha + W5 * beta + N45 * (g * (S(1.0) - S(2.0) * S(float(f))))
-                q4, q5, q6, singular = wrist_angles(z, v, vn)
-                st = status
-                if singular == 1 and f == 1 and st == OK:
-                    st = SAME
-                branch_out(i, b + f, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf, st, q_out, conf_out, status_out)
-
-    return wrist
-
-
-def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
-    """``elbows``: the elbow-up and elbow-down arms of one q1, each with its two wrists."""
-    S, V3, V2, scalar = k.S, k.V3, k.V2, k.scalar
-    W2, A2, B2, CT0, ST0, TURN0, SIDE0, S3 = k.W2, k.A2, k.B2, k.CT0, k.ST0, k.TURN0, k.SIDE0, k.S3
-    rot, wrapped = h.rot, h.wrapped
-    atan2, acos = trig_funcs(scalar).atan2, trig_funcs(scalar).acos
-
-    @wp.func
-    def elbows(i: int, b: int, q1: S, yd: V2, d2: S, cg: S, behind1: bool, u6: V3, un: V3, status: int,
-               q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
-               status_out: wp.array2d(dtype=wp.int8)):
-        """The elbow-up and elbow-down arms (branches b..b + 3) of one q1: q3 from the triangle of
-        the J2 axis, the J3 axis and the wrist centre (``cg``: its angle's cosine), then q2."""
-        sg = wp.sqrt(S(1.0) - cg * cg)
-        gamma = acos(cg)
+    def elbows(yd: V2, d2: S, cg: S, sg: S, behind1: bool, u6: V3, un: V3):
+        """q3 from the triangle of the J2 axis, the J3 axis and the wrist centre (``cg``, ``sg``:
+        its angle's cosine and sine), then q2's turn."""
+        v, vn, cross2, dot2 = M23(), M23(), V2(), V2()
+        conf = wp.vec2i()
         for e in range(2):
             sign_e = S(1.0) - S(2.0) * S(float(e))
-            phi3 = gamma * sign_e + TURN0
             zc = cg * CT0 - sign_e * sg * ST0  # cos(phi3), with TURN0's cos and sin
             zs = sign_e * sg * CT0 + cg * ST0
             z = A2 + V2(zc * B2[0] - zs * B2[1], zs * B2[0] + zc * B2[1])
             cross = z[0] * yd[1] - z[1] * yd[0]
             dot = wp.dot(z, yd)
-            q2 = atan2(cross, dot)
             n = wp.max(d2, S(1e-30))
             c2 = dot / n  # |z| = |yd|: the turn's cos and sin without another transcendental
             s2 = cross / n
@@ -309,10 +206,26 @@ def _elbows(k: SimpleNamespace, h: SimpleNamespace, wrist):
                 arm_conf += 2
             c23 = c2 * zc - s2 * zs  # R2 R3 = R(w2, q2 + phi3)
             s23 = s2 * zc + c2 * zs
-            wrist(i, b + 2 * e, q1, q2, wrapped(S3 * phi3), rot(W2, c23, -s23, u6), rot(W2, c23, -s23, un),
-                  arm_conf, status, q_out, conf_out, status_out)
+            v[e] = rot(W2, c23, -s23, u6)
+            vn[e] = rot(W2, c23, -s23, un)
+            cross2[e] = cross
+            dot2[e] = dot
+            conf[e] = arm_conf
+        return v, vn, cross2, dot2, conf
 
     return elbows
+
+
+def _acos_args(k: SimpleNamespace):
+    """``acos_args(x) -> (y, x)`` in float64: acos x = atan2(y, x), as ``trig``'s ``acos``."""
+    S = k.S
+
+    @wp.func
+    def acos_args(x: S):
+        xd = D(x)
+        return wp.sqrt((D(1.0) + xd) * (D(1.0) - xd)), xd
+
+    return acos_args
 
 
 def _refuse(k: SimpleNamespace):
@@ -332,24 +245,34 @@ def _refuse(k: SimpleNamespace):
     return refuse
 
 
-def _shoulders(arm: ArmConstants, k: SimpleNamespace, h: SimpleNamespace, elbows):
-    """``shoulders(i, wc, t6, tn, outputs)``: the front and back q1 of the wrist centre ``wc``,
-    each with its elbows and wrists, given where R1..R6 must take axis 6 (``t6``) and the direction
-    across it (``tn``)."""
-    S, V3, V2, scalar = k.S, k.V3, k.V2, k.scalar
-    shoulder = shoulder_func(scalar, arm.w1, arm.p1, arm.w2, float(np.dot(arm.w2, arm.c0) - np.dot(arm.w2, arm.p1)))
-    rot, wrapped = h.rot, h.wrapped
+def _arms(arm: ArmConstants, k: SimpleNamespace, h: SimpleNamespace):
+    """``arms(wc, t6, tn) -> (ya, xa, v, vn, arm_conf, status)``: the four arm solutions of the
+    wrist centre ``wc`` (lane l = 2 s + e: shoulder s front or back, elbow e up or down), given
+    where R1..R6 must take axis 6 (``t6``) and the direction across it (``tn``): per arm, where
+    R4 R5 R6 must take them (rows of ``v``, ``vn``), its configuration bits and status; and the
+    atan2 arguments of the arm's angles, in eight lanes: q1's phi and spread, each shoulder's
+    elbow angle, each arm's q2."""
+    S, V3, V2 = k.S, k.V3, k.V2
+    M43 = wp.types.matrix((4, 3), S)
+    shoulder = shoulder_args_func(k.scalar, arm.w1, arm.p1, arm.w2,
+                                  float(np.dot(arm.w2, arm.c0) - np.dot(arm.w2, arm.p1)))
+    rot, elbows, acos_args = h.rot, _elbows(k, h), _acos_args(k)
     W1, P1, H0, EA, EB, P2D, LSUM, LPROD = k.W1, k.P1, k.H0, k.EA, k.EB, k.P2D, k.LSUM, k.LPROD
 
     @wp.func
-    def shoulders(i: int, wc: V3, t6: V3, tn: V3, q_out: wp.array3d(dtype=scalar),
-                  conf_out: wp.array3d(dtype=wp.int8), status_out: wp.array2d(dtype=wp.int8)):
+    def arms(wc: V3, t6: V3, tn: V3):
         u = wc - P1
-        phi, spread, ratio, a, bb, rho, shoulder_status = shoulder(wc)
-        cs = wp.sqrt(S(1.0) - ratio * ratio)
+        ratio, a, bb, rho, shoulder_status = shoulder(wc)
+        ya, xa = V8D(), V8D()
+        ya[0] = D(bb)  # phi = atan2(b, a)
+        xa[0] = D(a)
+        sy, sx = acos_args(ratio)  # spread, and its sine: sqrt((1 + x)(1 - x)) keeps its digits near x = +-1
+        ya[1] = sy
+        xa[1] = sx
+        cs = S(sy)
+        v, vn, conf, status = M43(), M43(), wp.vec4i(), wp.vec4i()
         for s in range(2):
             sign = S(1.0) - S(2.0) * S(float(s))
-            q1 = wrapped(phi + sign * spread)
             c1 = (a * ratio - bb * sign * cs) / rho  # cos(phi + sign spread)
             s1 = (bb * ratio + a * sign * cs) / rho
             y = P1 + rot(W1, c1, -s1, u)
@@ -360,24 +283,89 @@ def _shoulders(arm: ArmConstants, k: SimpleNamespace, h: SimpleNamespace, elbows
             if st == OK and wp.abs(cg) > S(1.0):
                 st = NO_REACH
             behind1 = wp.dot(u, rot(W1, c1, s1, H0)) < S(0.0)
+            cg = wp.clamp(cg, S(-1.0), S(1.0))
+            gy, gx = acos_args(cg)  # the elbow angle
+            ya[2 + s] = gy
+            xa[2 + s] = gx
             # R1^T of axis 6's target and the direction across it
-            elbows(i, 4 * s, q1, yd, d2, wp.clamp(cg, S(-1.0), S(1.0)), behind1, rot(W1, c1, -s1, t6),
-                   rot(W1, c1, -s1, tn), st, q_out, conf_out, status_out)
+            ve, vne, cross, dot, ce = elbows(yd, d2, cg, S(gy), behind1, rot(W1, c1, -s1, t6), rot(W1, c1, -s1, tn))
+            for e in range(2):
+                v[2 * s + e] = ve[e]
+                vn[2 * s + e] = vne[e]
+                ya[4 + 2 * s + e] = D(cross[e])  # q2
+                xa[4 + 2 * s + e] = D(dot[e])
+                conf[2 * s + e] = ce[e]
+                status[2 * s + e] = st
+        return ya, xa, v, vn, conf, status
 
-    return shoulders
+    return arms
+
+
+def _emit(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
+    """``emit(i, ga, gb, gc, gd, singular, arm_conf, status, outputs)``: the eight branches of pose
+    i from the angles (``ga`` as ``arms`` lays them out, the wrists' as ``wrist_args`` does),
+    each joint turned into its limits where a whole turn fits, with configuration data and status."""
+    S, Q6, scalar, FLIP, S3, S6, TURN0 = k.S, k.Q6, k.scalar, k.FLIP, k.S3, k.S6, k.TURN0
+    wrapped, half_turn, fit = h.wrapped, h.half_turn, lim.fit
+    branch_out = _branch_out(k, lim)
+
+    @wp.func
+    def emit(i: int, ga: V8D, gb: V8D, gc: V8D, gd: V8D, singular: V8I, arm_conf: wp.vec4i, status: wp.vec4i,
+             q_out: wp.array3d(dtype=scalar), conf_out: wp.array3d(dtype=wp.int8),
+             status_out: wp.array2d(dtype=wp.int8)):
+        phi = S(ga[0])
+        spread = S(ga[1])
+        for s in range(2):
+            q1 = wrapped(phi + (S(1.0) - S(2.0) * S(float(s))) * spread)
+            gamma = S(ga[2 + s])
+            for e in range(2):
+                ln = 2 * s + e
+                phi3 = gamma * (S(1.0) - S(2.0) * S(float(e))) + TURN0
+                q2 = S(ga[4 + ln])
+                q3 = wrapped(S3 * phi3)
+                b = 2 * ln
+                if wp.static(FLIP):
+                    q4 = S(gb[ln])
+                    q5 = S(gb[4 + ln])
+                    q6 = S6 * S(gc[ln])
+                    twin = status[ln]
+                    if singular[ln] == 1:
+                        q4 = S(0.0)
+                        q5 = S(0.0)
+                        q6 = S(gc[ln])
+                        if twin == OK:
+                            twin = SAME  # the flip is the same pose: one solution
+                    branch_out(i, b, fit(Q6(q1, q2, q3, q4, q5, q6)), arm_conf[ln], status[ln], q_out, conf_out,
+                               status_out)
+                    branch_out(i, b + 1, fit(Q6(q1, q2, q3, half_turn(q4), -q5, half_turn(q6))), arm_conf[ln], twin,
+                               q_out, conf_out, status_out)
+                else:
+                    for f in range(2):
+                        st = status[ln]
+                        if singular[b + f] == 1 and f == 1 and st == OK:
+                            st = SAME
+                        if singular[b + f] == 2 and st == OK:
+                            st = NO_REACH
+                        branch_out(i, b + f, fit(Q6(q1, q2, q3, S(gb[b + f]), S(gc[b + f]), S(gd[b + f]))),
+                                   arm_conf[ln], st, q_out, conf_out, status_out)
+
+    return emit
 
 
 @cached
 def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
     """``ik(poses (N, 4, 4) flange poses) -> q_out (N, 8, 6), conf_out (N, 8, 4), status_out (N,
     8)``: each branch's joints (each turned by whole turns into its limits where it can be, the
-    turn nearest zero), configuration data and status (OK or why not)."""
+    turn nearest zero), configuration data and status (OK or why not). Every angle is a leaf, so
+    the kernel first finds the arguments of all twenty (an orthogonal wrist's; 32 otherwise), then
+    takes them eight at a time (``trig.atan2_lanes``), then writes the branches."""
     S, V3, M33, _, M44 = types_of(scalar)
     k = _folded(arm, scalar)
     h = angle_funcs(scalar)
-    shoulders = _shoulders(arm, k, h, _elbows(k, h, _wrist(k, h, _limits(k))))
+    lim = _limits(k)
+    arms, wrist_args, emit = _arms(arm, k, h), wrist_args_func(k, h), _emit(k, h, lim)
     refuse, rigid = _refuse(k), rigid_func(scalar)
-    CF, K6, KN, FAR = k.CF, k.K6, k.KN, S(FAR_M)
+    CF, K6, KN, FAR, FLIP = k.CF, k.K6, k.KN, S(FAR_M), k.FLIP
 
     @wp.kernel(enable_backward=False, module=module_name("ik", arm, str(scalar)))
     def ik(
@@ -398,6 +386,14 @@ def arm_ik_kernel(arm: ArmConstants, scalar=wp.float64):
             refuse(i, NO_REACH, q_out, conf_out, status_out)
             return
         # the wrist centre, and where R1..R6 must take axis 6 and the direction across it
-        shoulders(i, rt * CF + V3(m[0, 3], m[1, 3], m[2, 3]), rt * K6, rt * KN, q_out, conf_out, status_out)
+        ya, xa, v, vn, arm_conf, status = arms(rt * CF + V3(m[0, 3], m[1, 3], m[2, 3]), rt * K6, rt * KN)
+        yb, xb, yc, xc, yd, xd, singular = wrist_args(v, vn)
+        gd = V8D()
+        if wp.static(not FLIP):
+            gd = atan2_lanes(yd, xd)
+        emit(i, atan2_lanes(ya, xa), atan2_lanes(yb, xb), atan2_lanes(yc, xc), gd, singular, arm_conf, status,
+             q_out, conf_out, status_out)
 
     return finite_math(ik)
+
+

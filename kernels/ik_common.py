@@ -32,16 +32,23 @@ def angle_funcs(scalar):
         return v * ca + wp.cross(w, v) * sa + w * (wp.dot(w, v) * (S(1.0) - ca))
 
     @wp.func
-    def turn_about(w: V3, p: V3, q: V3):
-        """(angle, cos, sin) of the turn of p onto q about the unit axis w (Paden-Kahan subproblem 1)."""
+    def turn_args(w: V3, p: V3, q: V3):
+        """(y, x, cos, sin) of the turn of p onto q about the unit axis w (Paden-Kahan subproblem
+        1): its angle is atan2(y, x), taken later by a kernel that takes its angles together."""
         pp = p - w * wp.dot(w, p)
         qq = q - w * wp.dot(w, q)
         y = wp.dot(w, wp.cross(pp, qq))
         x = wp.dot(pp, qq)
         r = wp.sqrt(x * x + y * y)
         if r == S(0.0):
-            return S(0.0), S(1.0), S(0.0)
-        return atan2(y, x), x / r, y / r
+            return S(0.0), S(1.0), S(1.0), S(0.0)  # atan2(0, 1) = 0
+        return y, x, x / r, y / r
+
+    @wp.func
+    def turn_about(w: V3, p: V3, q: V3):
+        """(angle, cos, sin) of the turn of p onto q about the unit axis w (Paden-Kahan subproblem 1)."""
+        y, x, c, s = turn_args(w, p, q)
+        return atan2(y, x), c, s
 
     @wp.func
     def wrapped(x: S) -> S:
@@ -53,21 +60,36 @@ def angle_funcs(scalar):
         """x + pi, into [-pi, pi)."""
         return wrapped(x + PI)
 
-    return SimpleNamespace(rot=rot, turn_about=turn_about, wrapped=wrapped, half_turn=half_turn)
+    return SimpleNamespace(rot=rot, turn_args=turn_args, turn_about=turn_about, wrapped=wrapped, half_turn=half_turn)
 
 
 def shoulder_func(scalar, w1, p1, w2, d0: float):
-    """``shoulder(point) -> (phi, spread, cos spread, sin spread's factor rho, status)``: the two q1
-    = phi +- spread that keep ``point``'s component along the turned axis 2 at ``d0`` from p1
-    (rotations about axis 2 and its parallels keep it: Paden-Kahan subproblem 4). SHOULDER where
-    the point is on axis 1 (q1 free), NO_REACH where no q1 does."""
+    """``shoulder(point) -> (phi, spread, cos spread, a, b, rho, status)``: the two q1 = phi +-
+    spread that keep ``point``'s component along the turned axis 2 at ``d0`` from p1 (rotations
+    about axis 2 and its parallels keep it: Paden-Kahan subproblem 4), phi = atan2(b, a), rho =
+    |(a, b)|. SHOULDER where the point is on axis 1 (q1 free), NO_REACH where no q1 does."""
     S, V3, _, _, _ = types_of(scalar)
-    W1, P1, W2 = (V3(*(S(float(x)) for x in v)) for v in (w1, p1, w2))
-    D0 = S(float(d0))
     atan2, acos = trig_funcs(scalar).atan2, trig_funcs(scalar).acos
+    args = shoulder_args_func(scalar, w1, p1, w2, d0)
 
     @wp.func
     def shoulder(point: V3):
+        ratio, a, b, rho, status = args(point)
+        return atan2(b, a), acos(ratio), ratio, a, b, rho, status
+
+    return shoulder
+
+
+@cached
+def shoulder_args_func(scalar, w1, p1, w2, d0: float):
+    """``shoulder_args(point) -> (cos spread, a, b, rho, status)``: ``shoulder``'s without its two
+    angles, for a kernel that takes its angles together (phi = atan2(b, a), spread = acos(ratio))."""
+    S, V3, _, _, _ = types_of(scalar)
+    W1, P1, W2 = (V3(*(S(float(x)) for x in v)) for v in (w1, p1, w2))
+    D0 = S(float(d0))
+
+    @wp.func
+    def shoulder_args(point: V3):
         u = point - P1
         u_par = W1 * wp.dot(W1, u)
         a = wp.dot(W2, u - u_par)
@@ -83,9 +105,9 @@ def shoulder_func(scalar, w1, p1, w2, d0: float):
             if wp.abs(ratio) > S(1.0):
                 status = NO_REACH
                 ratio = wp.clamp(ratio, S(-1.0), S(1.0))
-        return atan2(b, a), acos(ratio), ratio, a, b, rho, status
+        return ratio, a, b, rho, status
 
-    return shoulder
+    return shoulder_args
 
 
 @cached

@@ -60,6 +60,52 @@ def trig_funcs(scalar):
     return SimpleNamespace(atan2=atan2, acos=acos)
 
 
+# The same atan2 over eight float64 lanes at once (``atan2_lanes``), for a kernel whose angles are
+# known only once its other work is done (the arm's IK: twenty a pose, each a leaf). A native
+# snippet: Warp's vectors do not become SIMD. Under clang the lanes are one vector (an AVX-512
+# register, two AVX ones); any other compiler loops over them. The expression is the one above,
+# operation for operation, so each lane's angle is bit for bit ``atan2``'s of the same module.
+_ATAN2_EXPR = r"""
+T ax = RSW_ABS(x), ay = RSW_ABS(y);
+RSW_MASK swap = ay > ax;
+T den = swap ? ay : ax;
+T s = (swap ? -ax : ay) / (den > 0.0 ? den : (T)1.0);
+T t = RSW_MAX(s * s, (T)1e-32);
+T t2 = t * t, t4 = t2 * t2, t8 = t4 * t4;
+T p0 = (A[0] + A[1] * t) + (A[2] + A[3] * t) * t2;
+T p1 = (A[4] + A[5] * t) + (A[6] + A[7] * t) * t2;
+T p2 = (A[8] + A[9] * t) + (A[10] + A[11] * t) * t2;
+T p3 = (A[12] + A[13] * t) + (A[14] + A[15] * t) * t2;
+T p4 = (A[16] + A[17] * t) + A[18] * t2;
+T r = s + s * (t * ((p0 + p1 * t4) + ((p2 + p3 * t4) + p4 * t8) * t8));
+r = swap ? HALF_PI + r : r;
+r = x < 0.0 ? PI - r : r;
+r = y < 0.0 ? -r : r;
+"""
+_ATAN2_LANES = (
+    "const double A[19] = {" + ", ".join(repr(c) for c in ATAN_POLY) + "};\n"
+    f"const double HALF_PI = {0.5 * np.pi!r}, PI = {np.pi!r};\n"
+    "wp::vec_t<8, double> out;\n"
+    "#if defined(__clang__) && !defined(__CUDA_ARCH__) && !defined(RSW_LANES_LOOP)\n"
+    "typedef double T __attribute__((ext_vector_type(8)));\n"
+    "#define RSW_ABS(v) __builtin_elementwise_abs(v)\n#define RSW_MAX(a, b) __builtin_elementwise_max(a, b)\n"
+    "#define RSW_MASK __typeof__((T)0.0 > (T)0.0)\n"
+    "T y, x;\n__builtin_memcpy(&y, &yv, 64);\n__builtin_memcpy(&x, &xv, 64);\n"
+    + _ATAN2_EXPR + "__builtin_memcpy(&out, &r, 64);\n"
+    "#else\n"
+    "typedef double T;\n#define RSW_ABS(v) wp::abs(v)\n#define RSW_MAX(a, b) wp::max(a, b)\n#define RSW_MASK bool\n"
+    "for (int ln = 0; ln < 8; ++ln) {\nT y = yv.c[ln], x = xv.c[ln];\n" + _ATAN2_EXPR + "out.c[ln] = r;\n}\n"
+    "#endif\n#undef RSW_ABS\n#undef RSW_MAX\n#undef RSW_MASK\nreturn out;\n")
+LANES = 8
+V8D = wp.types.vector(LANES, wp.float64)
+
+
+@wp.func_native(_ATAN2_LANES)
+def atan2_lanes(yv: V8D, xv: V8D) -> V8D:
+    """``atan2(y, x)`` of each of eight float64 lanes, as ``trig_funcs(float64).atan2``."""
+    ...
+
+
 def _through_float64(scalar):
     """``atan2`` and ``acos`` of another precision, evaluated in float64."""
     f = trig_funcs(wp.float64)
