@@ -6,7 +6,8 @@ C++ Warp generated for the kernel (no hardware counters here: the machine is a V
 The count walks the kernel's generated function: each ``var = wp::op(...)`` costs what ``op``
 costs on its operands' types (a vec3 sum 3, a 3x3 times 3x3 product 45, a dot of vec3 5, a square
 root or a division 1 each), a call of a generated function costs that function's count, and both
-arms of a branch are counted (an upper bound where code branches); a loop's body counts once. It
+arms of a branch are counted (an upper bound where code branches); a loop's body counts once; a
+native snippet costs what ``NATIVE_FLOPS`` says. It
 is a count of the code, not of the machine; for straight-line kernels (the FK, the arm's IK) it is
 the work of an item."""
 
@@ -27,6 +28,9 @@ _STMT = re.compile(r"^\s+(var_\w+) = (wp::)?(\w+)\((.*)\);\s*$", re.M)
 _ARG = re.compile(r"^\s+(wp::[\w:<>, ]+?) (var_\w+)[,)]?\s*$", re.M)
 _ELEMENTWISE = {"add", "sub", "neg", "div", "cw_mul", "cw_div"}
 _ONE = {"sqrt", "sin", "cos", "atan2", "acos", "exp", "log", "floor", "round", "pow"}
+# native snippets, whose C++ the count cannot read: ``trig.atan2_lanes`` is eight lanes of the
+# scalar ``trig`` atan2, which this count makes 48 (a kernel of one such atan2 counted so)
+NATIVE_FLOPS = {"atan2_lanes": 8 * 48}
 
 
 def _size(ctype: str) -> tuple[int, int]:
@@ -71,6 +75,9 @@ def kernel_flops(module_dir: Path, kernel_key: str) -> int:
     def count(name: str) -> int:
         if name in memo:
             return memo[name]
+        native = next((c for k, c in NATIVE_FLOPS.items() if re.fullmatch(rf"{k}_\d+", name)), None)
+        if native is not None:
+            return native
         memo[name] = 0  # recursion guard
         body = bodies[name]
         head = source[source.find(name + "(\n"):source.find(name + "(\n") + 2000].split("{", 1)[0]

@@ -134,3 +134,25 @@ def test_a_stretched_arm_keeps_its_digits():
     got = kin.fk64(sol.q[rows])[:, link] @ off
     assert len(rows[0]) > len(q)
     assert np.abs(got[:, :3, 3] - poses[rows[0], :3, 3]).max() < 1e-14
+
+
+def test_the_benchmarks_count_eight_scalar_atan2_for_a_lanes_call():
+    """``benchmarks/limits.py`` cannot read a native snippet; what it charges ``atan2_lanes`` is
+    eight times what it counts for the scalar atan2 of a kernel (the IK's printed arithmetic)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "benchmarks" / "limits.py"
+    spec = importlib.util.spec_from_file_location("rswarp_bench_limits", path)
+    limits = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(limits)
+    scalar = trig_funcs(wp.float64).atan2
+
+    @wp.kernel(enable_backward=False, module="unique")
+    def one(y: wp.array(dtype=wp.float64), a_out: wp.array(dtype=wp.float64)):
+        i = wp.tid()
+        a_out[i] = scalar(y[i], y[i])
+
+    a = wp.zeros(4, dtype=wp.float64, device="cpu")
+    wp.launch(one, 4, inputs=[a], outputs=[a], device="cpu")
+    assert limits.kernel_flops(limits.module_dir(one), "test_the_benchmarks") * 8 == limits.NATIVE_FLOPS["atan2_lanes"]
