@@ -119,21 +119,26 @@ def ldl(a: M66) -> M66:
     at TINY so the solve stays finite."""
     lo = M66()
     dd = V6()
+    # every loop over all six, the triangle's bounds as tests: Warp unrolls loops of constant
+    # bounds, and each test then folds away (a loop bound by j stays a loop, its indices checked)
     for j in range(6):
         v = V6()  # L_jk D_k
         s = a[j, j]
-        for k in range(j):
-            v[k] = lo[j, k] * dd[k]
-            s = s - lo[j, k] * v[k]
+        for k in range(6):
+            if k < j:
+                v[k] = lo[j, k] * dd[k]
+                s = s - lo[j, k] * v[k]
         dj = wp.max(s, F64(TINY))
         dd[j] = dj
         inv = F64(1.0) / dj
         lo[j, j] = inv
-        for i in range(j + 1, 6):
-            t = a[i, j]
-            for k in range(j):
-                t = t - lo[i, k] * v[k]
-            lo[i, j] = t * inv
+        for i in range(6):
+            if i > j:
+                t = a[i, j]
+                for k in range(6):
+                    if k < j:
+                        t = t - lo[i, k] * v[k]
+                lo[i, j] = t * inv
     return lo
 
 
@@ -143,8 +148,9 @@ def unit_forward(lo: M66, b: V6) -> V6:
     y = V6()
     for i in range(6):
         t = b[i]
-        for k in range(i):
-            t = t - lo[i, k] * y[k]
+        for k in range(6):
+            if k < i:  # constant bounds, unrolled (``ldl``)
+                t = t - lo[i, k] * y[k]
         y[i] = t
     return y
 
@@ -156,8 +162,9 @@ def unit_backward(lo: M66, y: V6) -> V6:
     for ii in range(6):
         i = 5 - ii
         t = y[i]
-        for k in range(i + 1, 6):
-            t = t - lo[k, i] * x[k]
+        for k in range(6):
+            if k > i:  # constant bounds, unrolled (``ldl``)
+                t = t - lo[k, i] * x[k]
         x[i] = t
     return x
 
@@ -169,8 +176,9 @@ def unit_forward_columns(lo: M66, b: M66) -> M66:
     for c in range(6):
         for i in range(6):
             t = b[i, c]
-            for k in range(i):
-                t = t - lo[i, k] * out[k, c]
+            for k in range(6):
+                if k < i:  # constant bounds, unrolled (``ldl``)
+                    t = t - lo[i, k] * out[k, c]
             out[i, c] = t
     return out
 
@@ -199,12 +207,13 @@ def gram(w: M66, v: M66) -> M66:
     """W^T V for a product known symmetric (W^T D^-1 W, V = D^-1 W): each entry computed once."""
     out = M66()
     for i in range(6):
-        for j in range(i, 6):
-            t = F64(0.0)
-            for k in range(6):
-                t = t + w[k, i] * v[k, j]
-            out[i, j] = t
-            out[j, i] = t
+        for j in range(6):
+            if j >= i:  # constant bounds, unrolled (``ldl``)
+                t = F64(0.0)
+                for k in range(6):
+                    t = t + w[k, i] * v[k, j]
+                out[i, j] = t
+                out[j, i] = t
     return out
 
 
