@@ -110,6 +110,7 @@ def _folded(arm: ArmConstants, scalar) -> SimpleNamespace:
         LO=Q6(*(sca(x) for x in c["lo"])), HI=Q6(*(sca(x) for x in c["hi"])),
         W45=vec(w45), N01=sca(n0[1]), N02=sca(n0[2]), S6=sca(np.sign(c["w4"] @ c["w6"])),
         FLIP=bool(abs(c45) < 1e-12 and abs(c56) < 1e-12 and np.linalg.norm(np.cross(c["w4"], c["w6"])) < 1e-12),
+        ALONG=bool(np.linalg.norm(np.cross(c["w4"], c["w6"])) < 1e-12),  # axis 6 in line with axis 4 at zero
         # a joint whose limits span more than (-pi, pi] may need a whole turn to fit them
         TURNS=[bool(c["lo"][j] < -np.pi or c["hi"][j] > np.pi) for j in range(6)])
 
@@ -329,9 +330,8 @@ def _emit(k: SimpleNamespace, h: SimpleNamespace, lim: SimpleNamespace):
                     q5 = S(gb[4 + ln])
                     q6 = S6 * S(gc[ln])
                     twin = status[ln]
-                    if singular[ln] == 1:
+                    if singular[ln] == 1:  # q5 is 0 or pi (atan2(0, +-1)), q4 held at 0
                         q4 = S(0.0)
-                        q5 = S(0.0)
                         q6 = S(gc[ln])
                         if twin == OK:
                             twin = SAME  # the flip is the same pose: one solution

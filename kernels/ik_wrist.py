@@ -21,10 +21,10 @@ WRIST_REACH = {8: 1e-12, 4: 1e-5}
 def _euler_args(k: SimpleNamespace, h: SimpleNamespace):
     """``euler_args(v, vn) -> (y4, x4, y5, x5, y6, x6, singular)``: the atan2 arguments of q4, q5
     and q6 of an orthogonal wrist (q6 is S6 times its angle where not singular; at the singularity
-    q4 and q5 are atan2(0, 1) = 0)."""
+    q4 is atan2(0, 1) = 0 and q5 atan2(0, +-1): 0, or pi where the wrist is folded back)."""
     S, V3, SINGULAR = k.S, k.V3, k.SINGULAR
     W4, W5, W6, N6, W45, N01, N02, S6 = k.W4, k.W5, k.W6, k.N6, k.W45, k.N01, k.N02, k.S6
-    turn_args = h.turn_args
+    rot, turn_args = h.rot, h.turn_args
 
     @wp.func
     def euler_args(v: V3, vn: V3):
@@ -47,6 +47,9 @@ def _euler_args(k: SimpleNamespace, h: SimpleNamespace):
             w1 = sg * (a1 * n2 - a2 * n1)
             w2 = sg * (r * r * wp.dot(W4, vn) - a0 * (a1 * n1 + a2 * n2))
             return sg * a1, -sg * a2, sg * r, a0, N01 * w2 - N02 * w1, N01 * w1 + N02 * w2, int(0)
+        if a0 < S(0.0):  # folded back: q5 is pi, and q6 turns N6 onto R5^T vn, vn turned half about axis 5
+            y6, x6, c6, s6 = turn_args(W6, N6, rot(W5, S(-1.0), S(0.0), vn))
+            return S(0.0), S(1.0), S(0.0), S(-1.0), y6, x6, int(1)
         y6, x6, c6, s6 = turn_args(W6, N6, vn)
         return S(0.0), S(1.0), S(0.0), S(1.0), y6, x6, int(1)
 
@@ -55,28 +58,29 @@ def _euler_args(k: SimpleNamespace, h: SimpleNamespace):
 
 def _paden_kahan_args(k: SimpleNamespace, h: SimpleNamespace):
     """``pk_args(z, v, vn) -> (y4, x4, y5, x5, y6, x6, singular)`` of any spherical wrist."""
-    S, V3, SINGULAR = k.S, k.V3, k.SINGULAR
+    S, V3, SINGULAR, ALONG = k.S, k.V3, k.SINGULAR, k.ALONG
     W4, W5, W6, N6 = k.W4, k.W5, k.W6, k.N6
     rot, turn_args = h.rot, h.turn_args
 
     @wp.func
     def pk_args(z: V3, v: V3, vn: V3):
         """The atan2 arguments of the wrist that turns axis 6 onto ``z`` by q5, ``z`` onto ``v`` by
-        q4 and the direction across axis 6 onto ``vn`` by q6. At the singularity (|sin q5| under
-        SINGULAR) the wrist is straight: q5 is 0 (what is left is rounding) and q4 is held at 0."""
+        q4 and the direction across axis 6 onto ``vn`` by q6. At the singularity (``z`` along axis
+        4 within SINGULAR, where q4 cannot move it) q4 is held at 0 and q6 takes the turn. Not
+        |sin q5|: a wrist whose axis 5 is not square to axis 4 is not singular at q5 = pi."""
         y5, x5, c5, s5 = turn_args(W5, W6, z)
         y4 = S(0.0)
         x4 = S(1.0)
         c4 = S(1.0)
         s4 = S(0.0)
         singular = int(1)
-        if wp.abs(s5) > SINGULAR:
+        if wp.length(wp.cross(W4, z)) > SINGULAR:  # z off axis 4: q4 turns it onto v
             y4, x4, c4, s4 = turn_args(W4, z, v)
             singular = 0
-        else:
+        elif wp.static(ALONG):  # z is +-axis 6 at zero: q5 is 0 or pi, what is left rounding
             y5 = S(0.0)
-            x5 = S(1.0)
-            c5 = S(1.0)
+            x5 = wp.where(c5 < S(0.0), S(-1.0), S(1.0))
+            c5 = x5
             s5 = S(0.0)
         y6, x6, c6, s6 = turn_args(W6, N6, rot(W5, c5, -s5, rot(W4, c4, -s4, vn)))  # R6 N6 = R5^T R4^T vn
         return y4, x4, y5, x5, y6, x6, singular

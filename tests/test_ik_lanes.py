@@ -100,20 +100,45 @@ def _tilted_wrist() -> ikm.ArmConstants:
 
 
 def test_a_wrist_that_is_not_orthogonal_meets_every_pose():
-    """Every branch within the limits meets its pose within 1e-9 by the product of exponentials,
-    the configuration the pose came from is among them, and a straight wrist gives one solution."""
+    """Every branch within the limits meets its pose within 1e-9 by the product of exponentials
+    (float32 within 1e-3, its singular band), the configuration the pose came from is among them,
+    and a straight wrist gives one solution. Folded back (q5 = pi) this wrist is not singular: its
+    axis 6 is then off axis 4, and q4 must still turn it."""
     arm = _tilted_wrist()
     assert not _folded(arm, wp.float64).FLIP
     q = np.random.default_rng(5).uniform(-np.pi, np.pi, (4000, 6))
     q[:20, 4] = 0.0  # the wrist straight
+    q[20:40, 4] = np.pi  # folded back
     poses = _poe(arm, q)
+    for dtype, tol in ((np.float64, 1e-9), (np.float32, 1e-3)):  # float32: its singular band, 1e-3
+        sol = ikm.closed_form(Launcher("cpu", threads=1), arm, poses.astype(dtype), dtype)
+        rows = np.nonzero(sol.status == ikm.OK)
+        got = _poe(arm, sol.q[rows].astype(np.float64))
+        assert np.abs(got - poses[rows[0]]).max() < tol, dtype
     sol = ikm.closed_form(Launcher("cpu", threads=1), arm, poses, np.float64)
-    rows = np.nonzero(sol.status == ikm.OK)
-    got = _poe(arm, sol.q[rows])
-    assert np.abs(got - poses[rows[0]]).max() < 1e-9
     near = np.abs(np.angle(np.exp(1j * (sol.q - q[:, None])))).max(axis=-1) < 1e-6
     assert (near & (sol.status != ikm.NO_REACH)).any(axis=1)[20:].all()
     assert (sol.status[:20, 1::2] == ikm.SAME).any(axis=1).all()  # a singular wrist's twin is the same pose
+
+
+def test_a_wrist_folded_back_is_met_not_straightened():
+    """The IRB 2600's orthogonal wrist with axis 5 free to turn (-pi, pi], poses at q5 = pi (axis 6
+    folded back onto axis 4) and within float32's singular band of it: every branch within the
+    limits meets its pose, in both precisions. The singular wrist's q5 is pi there, not 0."""
+    kin = Kinematics(rswarp.load(IRB2600))
+    arm = kin._ik_form()
+    arm = arm._replace(lo=arm.lo[:4] + (-np.pi,) + arm.lo[5:], hi=arm.hi[:4] + (np.pi,) + arm.hi[5:])
+    lo, hi = kin.mech.bounds()
+    q = np.random.default_rng(12).uniform(lo, hi, (2000, 6))
+    q[:, 4] = np.pi - np.random.default_rng(13).uniform(0.0, 5e-4, len(q)) * (np.arange(len(q)) % 2)
+    link, off = kin.flange_frame()
+    poses = kin.fk64(q)[:, link] @ off
+    for dtype, tol in ((np.float64, 1e-9), (np.float32, 1e-3)):
+        sol = ikm.closed_form(Launcher("cpu", threads=1), arm, poses.astype(dtype), dtype)
+        rows = np.nonzero(sol.status == ikm.OK)
+        got = kin.fk64(sol.q[rows].astype(np.float64))[:, link] @ off
+        assert len(rows[0]) >= len(q)
+        assert np.abs(got - poses[rows[0]]).max() < tol, dtype
 
 
 def test_a_stretched_arm_keeps_its_digits():
