@@ -14,7 +14,7 @@ the angle helpers, the shoulder and the rigid check, shared with the palletizer'
 Every one of a pose's twenty angles (atan2 and acos) is a leaf: the rest of the solve needs only
 their cosines and sines, which come without them. So the kernel finds all their arguments first,
 then takes them eight at a time in float64 SIMD lanes (``trig.atan2_lanes``), then writes the
-branches: the angles took half the kernel's time one at a time."""
+branches."""
 
 from types import SimpleNamespace
 from typing import NamedTuple
