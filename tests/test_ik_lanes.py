@@ -11,7 +11,7 @@ import pytest
 import rswarp
 from rswarp.examples import IRB2600
 from rswarp.kernels.cache import FINITE_MATH, cpu_flags
-from rswarp.kernels.ik import _folded
+from rswarp.kernels.ik import _folded, arm_ik_kernel
 from rswarp.kernels.trig import V8D, atan2_lanes, trig_funcs
 from rswarp.kinematics import ik as ikm
 from rswarp.kinematics.kinematics import Kinematics
@@ -181,3 +181,21 @@ def test_the_benchmarks_count_eight_scalar_atan2_for_a_lanes_call():
     a = wp.zeros(4, dtype=wp.float64, device="cpu")
     wp.launch(one, 4, inputs=[a], outputs=[a], device="cpu")
     assert limits.kernel_flops(limits.module_dir(one), "test_the_benchmarks") * 8 == limits.NATIVE_FLOPS["atan2_lanes"]
+
+
+@pytest.mark.parametrize("scalar", ["float64", "float32"])
+def test_the_lanes_kernel_compiles_for_cuda(scalar, tmp_path):
+    """No GPU is here to run it, but NVRTC is: the IK kernel with its native lanes (the looped
+    path, the one any compiler but the CPU's clang takes) compiles to PTX for sm_90, for an
+    orthogonal wrist and a tilted one."""
+    kin = Kinematics(rswarp.load(IRB2600))
+    for arm in (kin._ik_form(), _tilted_wrist()):
+        kernel = arm_ik_kernel(arm, getattr(wp, scalar))
+        try:
+            built = wp.compile_aot_module(kernel.module, device=None, arch=90, module_dir=tmp_path, use_ptx=True)
+        except RuntimeError as e:
+            if "NVRTC" in str(e) or "CUDA" in str(e):
+                pytest.skip(f"no CUDA compiler here: {e}")
+            raise
+        ptx = [p for p in built if p.suffix == ".ptx"]
+        assert ptx and ".entry" in ptx[0].read_text()  # the kernel, its lanes inlined
