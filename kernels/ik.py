@@ -27,7 +27,7 @@ from .ik_common import NO_LIMITS, NO_REACH, NOT_RIGID, OK, SAME, angle_funcs, ri
 from .ik_common import RIGID_TOL as RIGID_TOL  # the host reads every status and tolerance from here
 from .ik_common import SHOULDER as SHOULDER
 from .ik_wrist import V8I, D, wrist_args_func
-from .trig import V8D, atan2_lanes
+from .trig import V8D, atan2_lanes, trig_funcs
 from .types import types_of
 
 BRANCHES = 8  # shoulder (front, back) x elbow (up, down) x wrist (flip or not): index 4 s + 2 e + w
@@ -217,18 +217,6 @@ def _elbows(k: SimpleNamespace, h: SimpleNamespace):
     return elbows
 
 
-def _acos_args(k: SimpleNamespace):
-    """``acos_args(x) -> (y, x)`` in float64: acos x = atan2(y, x), as ``trig``'s ``acos``."""
-    S = k.S
-
-    @wp.func
-    def acos_args(x: S):
-        xd = D(x)
-        return wp.sqrt((D(1.0) + xd) * (D(1.0) - xd)), xd
-
-    return acos_args
-
-
 def _refuse(k: SimpleNamespace):
     """``refuse(i, status, outputs)``: every branch of pose i refused with ``status``."""
     S, scalar = k.S, k.scalar
@@ -257,7 +245,7 @@ def _arms(arm: ArmConstants, k: SimpleNamespace, h: SimpleNamespace):
     M43 = wp.types.matrix((4, 3), S)
     shoulder = shoulder_args_func(k.scalar, arm.w1, arm.p1, arm.w2,
                                   float(np.dot(arm.w2, arm.c0) - np.dot(arm.w2, arm.p1)))
-    rot, elbows, acos_args = h.rot, _elbows(k, h), _acos_args(k)
+    rot, elbows, acos_args = h.rot, _elbows(k, h), trig_funcs(k.scalar).acos_args
     W1, P1, H0, EA, EB, P2D, LSUM, LPROD = k.W1, k.P1, k.H0, k.EA, k.EB, k.P2D, k.LSUM, k.LPROD
 
     @wp.func

@@ -25,7 +25,7 @@ ATAN_POLY = (  # P(t), from t^0 up
 
 @cached
 def trig_funcs(scalar):
-    """``atan2(y, x)`` and ``acos(x)`` of one precision (``acos`` wants x in [-1, 1])."""
+    """``atan2(y, x)``, ``acos(x)`` and ``acos_args(x)`` of one precision (x in [-1, 1])."""
     if scalar != wp.float64:
         return _through_float64(scalar)
     S = scalar
@@ -54,10 +54,16 @@ def trig_funcs(scalar):
         return wp.where(y < S(0.0), -r, r)
 
     @wp.func
-    def acos(x: S) -> S:
-        return atan2(wp.sqrt((S(1.0) + x) * (S(1.0) - x)), x)
+    def acos_args(x: S):
+        """(y, x) with acos x = atan2(y, x): for a kernel that takes its angles later (the IK)."""
+        return wp.sqrt((S(1.0) + x) * (S(1.0) - x)), x
 
-    return SimpleNamespace(atan2=atan2, acos=acos)
+    @wp.func
+    def acos(x: S) -> S:
+        y, xx = acos_args(x)
+        return atan2(y, xx)
+
+    return SimpleNamespace(atan2=atan2, acos=acos, acos_args=acos_args)
 
 
 # The same atan2 over eight float64 lanes at once (``atan2_lanes``), for a kernel whose angles are
@@ -118,7 +124,13 @@ def _through_float64(scalar):
     def acos(x: scalar) -> scalar:
         return scalar(f.acos(wp.float64(x)))
 
-    return SimpleNamespace(atan2=atan2, acos=acos)
+    @wp.func
+    def acos_args(x: scalar):
+        """As float64's, in float64: the angle is float64's too."""
+        y, xx = f.acos_args(wp.float64(x))
+        return y, xx
+
+    return SimpleNamespace(atan2=atan2, acos=acos, acos_args=acos_args)
 
 
 # sin and cos of one argument, inline: the quadrant by Cody-Waite reduction with pi/2 in three parts
