@@ -1,6 +1,8 @@
 """The rod's mesh queries skip a capsule that a mesh's bounding box holds beyond a contact's reach,
-or (for a clearance) farther than the least clearance found so far. The skip changes nothing: a
-run whose boxes hold everything (so nothing is skipped) gives every figure bit for bit."""
+or (for a clearance) farther than the least clearance found so far or the gap of the body nearest
+the box, and a clearance's queries reach no further than that. The skips change nothing: a run
+whose boxes hold everything (so nothing is skipped and every query reaches the whole distance)
+gives every figure bit for bit."""
 
 from __future__ import annotations
 

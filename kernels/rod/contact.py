@@ -15,6 +15,8 @@ from .algebra import add_outer, pair
 from .slots import BIG
 from .types import F64, M44, M66, MAX_CONTACTS, TINY, V3, V6, Contact, Q, RodParams
 
+BOX_HAIR = 1e-5  # m: what a bound on a mesh's distance allows for the mesh queries' float32 points
+
 
 @wp.func
 def to_frame(m: M44, p: V3) -> V3:
@@ -49,6 +51,12 @@ def mesh_pose(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, j
 
 
 @wp.func
+def box_distance(lo: V3, hi: V3, p: V3) -> F64:
+    """How far ``p`` lies outside the box ``lo``-``hi`` (0 inside)."""
+    return wp.length(wp.max(wp.max(lo - p, p - hi), V3()))
+
+
+@wp.func
 def segment_mesh(mesh: wp.uint64, m: M44, a: V3, b: V3, reach: F64):
     """The point of segment a-b nearest the mesh (posed by ``m``) and the surface there, by two
     alternating projections (segment centre to surface, surface back to the segment, to the
@@ -66,6 +74,11 @@ def segment_mesh(mesh: wp.uint64, m: M44, a: V3, b: V3, reach: F64):
     if half > F64(TINY):
         t = wp.clamp(wp.dot(s - al, ab) / wp.dot(ab, ab), F64(0.0), F64(1.0))
     p = al + t * ab
+    centre = F64(0.5) * (al + bl)
+    if wp.length(s - centre) - wp.length(p - centre) > reach + F64(BOX_HAIR):
+        # the surface is at least this far from p (the centre's distance less p's from it): the
+        # second query would find nothing
+        return int(0), t, F64(BIG), V3(), V3()
     q = wp.mesh_query_point_sign_normal(mesh, wp.vec3f(p), wp.float32(reach))
     if not q.result:
         return int(0), t, F64(BIG), V3(), V3()

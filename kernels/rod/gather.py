@@ -3,12 +3,24 @@ segment's capsule against every mesh it may touch and the floor (``surfaces``), 
 capsules of the mechanism's cables that are not neighbours along one cable (``capsule_pairs``).
 Each gap found lowers its cable's least clearance to that slot (``slots``: a mesh's own, the
 floor's or the cables'); with ``make``, gaps under the query distance become contacts of the
-substep."""
+substep. A frame's clearances to the meshes are ``clearance``'s."""
 
 import warp as wp
 
 from .algebra import rotation_vector
-from .contact import closest_on_segments, contact, from_frame, keep, mesh_pose, note, segment_mesh, to_frame, turn
+from .contact import (
+    BOX_HAIR,
+    box_distance,
+    closest_on_segments,
+    contact,
+    from_frame,
+    keep,
+    mesh_pose,
+    note,
+    segment_mesh,
+    to_frame,
+    turn,
+)
 from .joint import axis_of
 from .slots import CABLES, FLOOR
 from .types import F64, M44, TINY, V3, BodyWork, Contact, Q, RodParams
@@ -20,7 +32,6 @@ FOLD = 3.141592653589793  # along a hose, pi allowed bend radii: the least arc t
 # a contact is made ahead for what may meet in the substep: within the query distance plus this many
 # times the bodies' predicted sweeps (a snapping cable accelerates past its prediction)
 AHEAD = 2.0
-BOX_HAIR = 1e-5  # m: what a bounding box's test allows for the mesh queries' float32 points
 
 
 @wp.func
@@ -35,23 +46,35 @@ def swept(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x_s: wp.a
 @wp.func
 def every_surface(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_old: int, s_new: int,
                   x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), work: wp.array2d(dtype=BodyWork), query: F64,
-                  make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
+                  contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
                   clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
-    """Every body against the meshes and the floor (``surfaces``), within ``query`` (with ``make``,
-    plus the body's sweep)."""
+    """Every body against the meshes and the floor (``surfaces``), within ``query`` plus the body's
+    sweep: the substep's contacts."""
     for k in range(params.bodies[d]):
-        ahead = query
-        if make != 0:
-            ahead = query + work[row, k].sweep
-        surfaces(params, d, poses, e, s_old, s_new, k, x_s[e, k], q_s[e, k], ahead, make, contacts, count, row,
-                 clear_out, at_out)
+        surfaces(params, d, poses, e, s_old, s_new, k, x_s[e, k], q_s[e, k], query + work[row, k].sweep, contacts,
+                 count, row, clear_out, at_out)
+
+
+@wp.func
+def every_floor(params: RodParams, d: int, e: int, x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), query: F64,
+                contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
+                clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
+    """Every body's clearance to the floor, within ``query`` (a frame's end; no contacts)."""
+    for k in range(params.bodies[d]):
+        x = x_s[e, k]
+        q = q_s[e, k]
+        half = params.half[d, k]
+        axis = axis_of(q)
+        _floor(params, d, e, k, x, q, x - half * axis, x + half * axis, query, 0, contacts, count, row, clear_out,
+               at_out)
 
 
 @wp.func
 def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_old: int, s_new: int, k: int, x: V3,
-             q: Q, query: F64, make: int, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32),
-             row: int, clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
-    """Body k (at x, q) against every mesh it may touch and the floor."""
+             q: Q, query: F64, contacts: wp.array2d(dtype=Contact), count: wp.array2d(dtype=wp.int32), row: int,
+             clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
+    """Body k (at x, q) against every mesh it may touch and the floor: its contacts within
+    ``query``, and its clearances."""
     cable = params.cable[d, k]
     r = params.radius[d, k]
     half = params.half[d, k]
@@ -71,13 +94,9 @@ def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_
         sp = params.sphere[j]
         if wp.length(centre - V3(sp[0], sp[1], sp[2])) >= sp[3] + r + half + query:
             continue
-        # the first query (from the centre, its reach and half) finds no face past the box; and a
-        # capsule wholly outside the box is outside the mesh, so with clearances alone one further
-        # off than the least so far changes nothing (a hair more for the queries' float32 points)
-        room = r + query
-        if make == 0:
-            room = wp.max(wp.min(room, clear_out[e, cable, j] + r), F64(0.0))
-        if _box_distance(params.box[j, 0], params.box[j, 1], centre) >= room + half + F64(BOX_HAIR):
+        # the first query (from the centre, its reach and half) finds no face past the box (a hair
+        # more for the queries' float32 points)
+        if box_distance(params.box[j, 0], params.box[j, 1], centre) >= r + query + half + F64(BOX_HAIR):
             continue
         found, t, dist, s, n = segment_mesh(params.mesh[j], m_old, a, b, r + query)
         if found == 0:
@@ -85,19 +104,13 @@ def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_
         gap = dist - r
         arc = params.arc[d, k] + t * F64(2.0) * half
         note(clear_out, at_out, e, cable, j, gap, arc)
-        if make != 0 and gap < query and gap > -r:  # deeper: the robot drove it through (``squash``)
+        if gap < query and gap > -r:  # deeper: the robot drove it through (``squash``)
             m_new = mesh_pose(params, poses, e, s_new, j)
             p = a + t * (b - a)
             moved = from_frame(m_new, s) - from_frame(m_old, s)
             keep(contacts, count, row, k, contact(j, wp.quat_rotate_inv(q, p - x), p, moved, turn(m_new, n), gap,
                                                  r, params.contact_stiff[d, k], arc))
-    _floor(params, d, e, k, x, q, a, b, query, make, contacts, count, row, clear_out, at_out)
-
-
-@wp.func
-def _box_distance(lo: V3, hi: V3, p: V3) -> F64:
-    """How far ``p`` lies outside the box ``lo``-``hi`` (0 inside)."""
-    return wp.length(wp.max(wp.max(lo - p, p - hi), V3()))
+    _floor(params, d, e, k, x, q, a, b, query, 1, contacts, count, row, clear_out, at_out)
 
 
 @wp.func

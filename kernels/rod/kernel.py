@@ -13,7 +13,8 @@ speed, the least clearance to every slot, and each clamp's load; the wear map gr
 import warp as wp
 
 from ..cache import FUSED, INLINE_ALL, cached, cpu_flags, module_name
-from .gather import capsule_pairs, every_surface, swept
+from .clearance import mesh_clearances
+from .gather import capsule_pairs, every_floor, every_surface, swept
 from .measure import frame_end, measure
 from .slots import BIG, CRUSHED, RUNNING
 from .step import commit, free_start, iterate, predict
@@ -80,7 +81,7 @@ def _contacts(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s
         b = work[row, k]
         b.sweep = swept(params, d, work, x_s, q_s, e, row, k)
         work[row, k] = b
-    every_surface(params, d, poses, e, s, s + 1, x_s, q_s, work, params.margin[d], 1, contacts, count, row,
+    every_surface(params, d, poses, e, s, s + 1, x_s, q_s, work, params.margin[d], contacts, count, row,
                   frame_out.clear, frame_out.at)
     capsule_pairs(params, d, work, x_s, q_s, e, params.margin[d], 1, contacts, count, row, frame_out.clear,
                   frame_out.at)
@@ -91,8 +92,8 @@ def _clearances(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int,
                 work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact),
                 count: wp.array2d(dtype=wp.int32), row: int, frame_out: RodFrame):
     """The frame's end: every clearance within ``reach``."""
-    every_surface(params, d, poses, e, s, s, state.x, state.q, work, params.reach, 0, contacts, count, row,
-                  frame_out.clear, frame_out.at)
+    mesh_clearances(params, d, poses, e, s, state.x, state.q, params.reach, frame_out.clear, frame_out.at)
+    every_floor(params, d, e, state.x, state.q, params.reach, contacts, count, row, frame_out.clear, frame_out.at)
     capsule_pairs(params, d, work, state.x, state.q, e, params.reach, 0, contacts, count, row, frame_out.clear,
                   frame_out.at)
 
