@@ -4,12 +4,12 @@ whose box distance already exceeds it is skipped, and the queries of the rest re
 than the least gap so far. Every body measured in order, each query reaching the whole distance,
 gives the same least clearance and arc, bit for bit: the bound skips only bodies whose gap exceeds
 it, and a nearer face is found by a shorter query as by a longer one (``tests/test_rod_culling.py``).
-A clearance's queries reach 0.25 m (``REACH``), far past a contact's: on a dress pack they were
-most of the kernel's time."""
+A clearance's queries reach 0.25 m (``REACH``), far past a contact's, so each one taken in full
+walks much of a link's mesh."""
 
 import warp as wp
 
-from .contact import BOX_HAIR, box_distance, mesh_pose, note, segment_mesh, to_frame
+from .contact import BOX_HAIR, box_distance, may_touch, mesh_pose, note, past_sphere, segment_mesh, to_frame
 from .joint import axis_of
 from .slots import BIG
 from .types import F64, M44, V3, Q, RodParams
@@ -37,14 +37,11 @@ def mesh_clearances(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: 
 @wp.func
 def _within(params: RodParams, d: int, m: M44, j: int, k: int, x: V3, reach: F64) -> F64:
     """Body k's centre's distance outside mesh j's box, or BIG where it cannot touch the mesh or
-    lies beyond its sphere (the tests of ``gather.surfaces``)."""
-    link = params.mesh_link[j]
-    if link >= 0:
-        if params.touch[d, k, link] == 0:
-            return F64(BIG)
+    lies beyond its sphere."""
+    if not may_touch(params, d, k, j):
+        return F64(BIG)
     centre = to_frame(m, x)
-    sp = params.sphere[j]
-    if wp.length(centre - V3(sp[0], sp[1], sp[2])) >= sp[3] + params.radius[d, k] + params.half[d, k] + reach:
+    if past_sphere(params, j, centre, params.radius[d, k], params.half[d, k], reach):
         return F64(BIG)
     return box_distance(params.box[j, 0], params.box[j, 1], centre)
 

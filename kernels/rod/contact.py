@@ -51,6 +51,24 @@ def mesh_pose(params: RodParams, poses: wp.array3d(dtype=M44), e: int, s: int, j
 
 
 @wp.func
+def may_touch(params: RodParams, d: int, k: int, j: int) -> bool:
+    """Whether body k may touch mesh j: not a link's beside the body's own attachment to it."""
+    link = params.mesh_link[j]
+    if link >= 0:
+        if params.touch[d, k, link] == 0:
+            return False
+    return True
+
+
+@wp.func
+def past_sphere(params: RodParams, j: int, centre: V3, r: F64, half: F64, query: F64) -> bool:
+    """Whether a capsule (centre in mesh j's frame, radius, half length) lies beyond ``query`` of
+    mesh j's bounding sphere."""
+    sp = params.sphere[j]
+    return wp.length(centre - V3(sp[0], sp[1], sp[2])) >= sp[3] + r + half + query
+
+
+@wp.func
 def box_distance(lo: V3, hi: V3, p: V3) -> F64:
     """How far ``p`` lies outside the box ``lo``-``hi`` (0 inside)."""
     return wp.length(wp.max(wp.max(lo - p, p - hi), V3()))
@@ -66,7 +84,8 @@ def segment_mesh(mesh: wp.uint64, m: M44, a: V3, b: V3, reach: F64):
     bl = to_frame(m, b)
     ab = bl - al
     half = F64(0.5) * wp.length(ab)
-    q = wp.mesh_query_point_sign_normal(mesh, wp.vec3f(F64(0.5) * (al + bl)), wp.float32(reach + half))
+    centre = F64(0.5) * (al + bl)
+    q = wp.mesh_query_point_sign_normal(mesh, wp.vec3f(centre), wp.float32(reach + half))
     if not q.result:
         return int(0), F64(0.0), F64(BIG), V3(), V3()
     s = V3(wp.mesh_eval_position(mesh, q.face, q.u, q.v))
@@ -74,7 +93,6 @@ def segment_mesh(mesh: wp.uint64, m: M44, a: V3, b: V3, reach: F64):
     if half > F64(TINY):
         t = wp.clamp(wp.dot(s - al, ab) / wp.dot(ab, ab), F64(0.0), F64(1.0))
     p = al + t * ab
-    centre = F64(0.5) * (al + bl)
     if wp.length(s - centre) - wp.length(p - centre) > reach + F64(BOX_HAIR):
         # the surface is at least this far from p (the centre's distance less p's from it): the
         # second query would find nothing

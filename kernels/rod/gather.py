@@ -15,8 +15,10 @@ from .contact import (
     contact,
     from_frame,
     keep,
+    may_touch,
     mesh_pose,
     note,
+    past_sphere,
     segment_mesh,
     to_frame,
     turn,
@@ -85,14 +87,11 @@ def surfaces(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s_
     for j in range(meshes):
         if params.mesh[j] == wp.uint64(0):
             continue
-        link = params.mesh_link[j]
-        if link >= 0:
-            if params.touch[d, k, link] == 0:
-                continue
+        if not may_touch(params, d, k, j):
+            continue
         m_old = mesh_pose(params, poses, e, s_old, j)
         centre = to_frame(m_old, x)
-        sp = params.sphere[j]
-        if wp.length(centre - V3(sp[0], sp[1], sp[2])) >= sp[3] + r + half + query:
+        if past_sphere(params, j, centre, r, half, query):
             continue
         # the first query (from the centre, its reach and half) finds no face past the box (a hair
         # more for the queries' float32 points)
