@@ -174,7 +174,7 @@ def throughput(mech, bodies, args) -> tuple[list, dict, np.ndarray]:
 
 
 def print_tables(rows: list, agree: dict, repeats: int, states: int, pairs: int) -> None:
-    print(f"best of {repeats} runs each; setup: trees (and for rswarp the witness grids) built once per model")
+    print(f"best of {repeats} runs each; setup: trees (and for rswarp the witness and free grids) built once per model")
     print(f"{'checker':<46} {'states':>8} {'us/state':>10} {'states/s':>12} {'setup s':>8}")
     for name, n, secs, build in rows:
         print(f"{name:<46} {n:>8} {secs / n * 1e6:>10.2f} {n / secs:>12.0f} {build:>8.2f}")
@@ -204,7 +204,7 @@ def main() -> None:
         t = time.perf_counter()
         c = collisions(mech, samples=args.matrix)
         secs = time.perf_counter() - t
-        print(f"\nfull matrix from {c.samples} samples (setup included: trees, witness grids): {secs:.1f} s")
+        print(f"\nfull matrix from {c.samples} samples (setup included: trees, witness and free grids): {secs:.1f} s")
         print(collisions_text(c, mech, {}))
     all_cores, one = rows[0][1] / rows[0][2], rows[1][1] / rows[1][2]
     rates = {r[0]: r[1] / r[2] for r in rows[2:]}

@@ -20,7 +20,7 @@ from .geometry import FAR
 from .quad import quad_walk
 from .tree import sampling_functions, traversal_functions
 from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
-from .witness import witness_functions
+from .witness import free_function, witness_functions
 
 SWEEP_FLAGS = f"{FUSED} {INLINE_ALL}"  # the sweep's module, compiled for the CPU
 
@@ -110,14 +110,20 @@ def pair_functions(scalar=wp.float32):
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def pair_verdict(m: BodyArrays, a: int, b: int, pa: M34, pb: M34, cell: int, sphere_gap: S) -> S:
+    def pair_verdict(m: BodyArrays, a: int, b: int, pa: M34, pb: M34, cell: int, free: bool, sphere_gap: S) -> S:
         """Bodies a and b at poses pa and pb, whose bounding spheres are ``sphere_gap`` apart (at
         most the padding): at most the padding if they collide (-1 if one contains the other),
         else a lower bound of their distance above the padding (from their spheres and root
-        boxes). ``cell``: the pair's witness cell, -1 for none."""
+        boxes). ``cell``: the pair's witness cell, -1 for none; ``free``: the pose lies in a
+        certified free cell (``witness.free_function``)."""
         rel = relative(pa, pb)
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
+        if free:  # apart at every pose of the cell: the gap the walk would have ended with
+            gap = wp.max(sphere_gap, node_gap(m, m.root[a], m.root[b], r, t))
+            if gap > m.padding:
+                return gap
+            return wp.max(gap, m.padding + S(1.0e-9))
         # the cell's witnesses crossed at its centre: tried first, they mostly cross here too
         if cell >= 0:
             if witness_hit(m, cell, r, t):
@@ -154,14 +160,40 @@ def pair_functions(scalar=wp.float32):
 
 
 @cached
+def apart_function(scalar=wp.float32):
+    """pair_apart(m, a, b, rel, limit, contain) over a ``BodyArrays`` struct (the free cells' test)."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    _, mesh_distance = traversal_functions(scalar)
+    rotation, _ = pose_helpers(scalar)
+    enclosed = containment_functions(scalar)
+    BodyArrays = bodies_struct(scalar)
+
+    @wp.func
+    def pair_apart(m: BodyArrays, a: int, b: int, rel: M34, limit: S, contain: bool) -> bool:
+        """Whether the surfaces of bodies a and b (b's frame in a's being ``rel``) are further apart
+        than ``limit`` (the walk stops at the first distance within it), and with ``contain``,
+        neither body contains the other."""
+        r = rotation(rel)
+        t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
+        if mesh_distance(m, a, b, r, t, limit, limit) <= limit:
+            return False
+        return not (contain and enclosed(m, a, b, r, t))
+
+    return pair_apart
+
+
+@cached
 def collision_kernels(chain: Chain, links, bodies: int, scalar=wp.float32):
-    """(collide, distance, witness) for ``bodies`` bodies, those that move riding on chain ``links``:
+    """(collide, distance, witness, apart) for ``bodies`` bodies, those that move riding on chain ``links``:
 
     ``collide(bodies, q, hit_out, gap_out)``: for configuration ``q[i]``, each pair's verdict
     ``hit_out[i, p]`` (1: collides) and ``gap_out[i, p]``, a lower bound of the pair's distance when
     it is free. ``distance(bodies, q, pair, distance_out)``: the exact distance of pair ``pair[i]``
     at ``q[i]``. ``witness(bodies, q, pair, witness_out)``: crossing triangle pairs of pair
-    ``pair[i]`` at ``q[i]``, spread over all that cross (``witness_vec``, -1 where fewer cross)."""
+    ``pair[i]`` at ``q[i]``, spread over all that cross (``witness_vec``, -1 where fewer cross).
+    ``apart(bodies, contain, q, pair, limit, apart_out)``: 1 where the surfaces of pair ``pair[i]``
+    at ``q[i]`` are further apart than ``limit[i]`` (and with ``contain``, neither body contains
+    the other)."""
     return _make_kernels(module_name("collide", chain, links, bodies, scalar), chain, links, bodies, scalar)
 
 
@@ -194,7 +226,8 @@ def _make_kernels(module: str, chain: Chain, links, bodies: int, scalar):
     sweep = _sweep_kernel(module, chain, fk, body, bodies, scalar)
     if scalar == wp.float32:  # the sweep's: a pair's verdict inlined (no copy of the bodies' struct a call)
         cpu_flags(sweep.module, SWEEP_FLAGS)
-    return (sweep, *_pair_kernels(module, chain, fk, body, scalar))
+    posed_pair = _posed_pair(chain, fk, body, scalar)
+    return (sweep, *_pair_kernels(module, posed_pair, scalar), _apart_kernel(module, posed_pair, scalar))
 
 
 @cached
@@ -217,6 +250,7 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
     BodyArrays = bodies_struct(scalar)
     pair_verdict, _ = pair_functions(scalar)
     witness_cell, _ = witness_functions(scalar)
+    certified_free = free_function(scalar)
     finite_row = finite_function(scalar)
     body_pose, body_centre = body
     n = max(len(chain.parent), 1)
@@ -248,7 +282,8 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
             b = m.pair_b[p]
             g = wp.length(centres[a] - centres[b]) - m.radius[a] - m.radius[b]
             if g <= m.padding:
-                g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i), g)
+                g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i),
+                                 certified_free(m, p, q, i), g)
             if g <= m.padding:
                 hit_out[i, p] = wp.uint8(1)
                 gap_out[i, p] = S(0.0)
@@ -259,22 +294,30 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
     return collide
 
 
-def _pair_kernels(module: str, chain: Chain, fk, body, scalar):
-    """(distance, witness): one pair at each configuration, its exact distance or its crossings."""
+def _posed_pair(chain: Chain, fk, body, scalar):
+    """posed_pair(m, q, i, p): pair p's second body in the frame of its first, at configuration q[i]."""
     S, V3, M33, M34, M44 = types_of(scalar)
     BodyArrays = bodies_struct(scalar)
-    _, pair_distance = pair_functions(scalar)
-    rotation, relative = pose_helpers(scalar)
-    crossing_sample = sampling_functions(scalar)
+    _, relative = pose_helpers(scalar)
     body_pose, _ = body
     n = max(len(chain.parent), 1)
 
     @wp.func
     def posed_pair(m: BodyArrays, q: wp.array2d(dtype=S), i: int, p: int) -> M34:
-        """Pair p's second body in the frame of its first, at configuration q[i]."""
         poses = wp.zeros(shape=n, dtype=M34)
         fk(q, i, poses)
         return relative(body_pose(m, poses, m.pair_a[p]), body_pose(m, poses, m.pair_b[p]))
+
+    return posed_pair
+
+
+def _pair_kernels(module: str, posed_pair, scalar):
+    """(distance, witness): one pair at each configuration, its exact distance or its crossings."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    BodyArrays = bodies_struct(scalar)
+    _, pair_distance = pair_functions(scalar)
+    rotation, _ = pose_helpers(scalar)
+    crossing_sample = sampling_functions(scalar)
 
     @wp.kernel(enable_backward=False, module=module)
     def distance(
@@ -307,6 +350,32 @@ def _pair_kernels(module: str, chain: Chain, fk, body, scalar):
     return distance, witness
 
 
+def _apart_kernel(module: str, posed_pair, scalar):
+    """apart: whether one pair at each configuration is further apart than a limit (free cells)."""
+    S = types_of(scalar)[0]
+    BodyArrays = bodies_struct(scalar)
+    pair_apart = apart_function(scalar)
+
+    @wp.kernel(enable_backward=False, module=module)
+    def apart(
+        # Model:
+        m: BodyArrays,
+        contain: int,  # 1: containment asked too
+        # In:
+        q: wp.array2d(dtype=S),
+        pair: wp.array(dtype=wp.int32),
+        limit: wp.array(dtype=S),
+        # Out:
+        apart_out: wp.array(dtype=wp.uint8),
+    ):
+        i = wp.tid()
+        apart_out[i] = wp.uint8(0)
+        if pair_apart(m, m.pair_a[pair[i]], m.pair_b[pair[i]], posed_pair(m, q, i, pair[i]), limit[i], contain != 0):
+            apart_out[i] = wp.uint8(1)
+
+    return apart
+
+
 @cached
 def posed_kernel(scalar=wp.float32):
     """``posed(bodies, pose_a, pose_b, pair, gap_out)``: pair ``pair[i]``'s bodies at poses the
@@ -334,7 +403,7 @@ def posed_kernel(scalar=wp.float32):
         b = m.pair_b[pair[i]]
         g = wp.length(apply(pose_a[i], m.center[a]) - apply(pose_b[i], m.center[b])) - m.radius[a] - m.radius[b]
         if g <= m.padding:
-            g = pair_verdict(m, a, b, pose_a[i], pose_b[i], -1, g)
+            g = pair_verdict(m, a, b, pose_a[i], pose_b[i], -1, False, g)
         gap_out[i] = g
 
     return posed

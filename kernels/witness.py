@@ -4,7 +4,13 @@ any (two triangles that meet); a miss costs a few triangle tests and the walk go
 
 It pays for pairs that collide often and whose relative pose depends on one or two joints (a
 wrist that always overlaps its forearm, say): the walk that finds a first crossing opens dozens
-of node pairs, the witnesses of a cell a few triangles."""
+of node pairs, the witnesses of a cell a few triangles.
+
+The same pairs also have a finer grid of free cells (``certified_free``): a cell where the bodies
+stay further apart than the padding at every pose in it (the host's bound: their distance at the
+cell's centre less the most any point can move within the cell). A pose in one is free with no
+walk, as the walk would have found it; it pays for pairs that pass near without touching (a
+lower arm swinging past its base), whose walks must open every node pair to find nothing."""
 
 
 import warp as wp
@@ -46,3 +52,28 @@ def witness_functions(scalar=wp.float32):
         return False
 
     return witness_cell, witness_hit
+
+
+@cached
+def free_function(scalar=wp.float32):
+    """certified_free(m, p, q, i): whether pair p at q[i] lies in a certified free cell of its grid
+    (never for a pose outside the grid: no cell is clamped to hold it)."""
+    S = types_of(scalar)[0]
+    BodyArrays = bodies_struct(scalar)
+
+    @wp.func
+    def certified_free(m: BodyArrays, p: int, q: wp.array2d(dtype=S), i: int) -> bool:
+        start = m.free_start[p]
+        if start < 0:
+            return False
+        cell = int(0)
+        for k in range(2 * p, 2 * p + 2):
+            col = m.cell_col[k]
+            if col >= 0:
+                x = (q[i, col] - m.cell_lo[k]) * m.free_scale[k]
+                if not (x >= S(0.0) and x < S(m.free_res[k])):
+                    return False
+                cell = cell * m.free_res[k] + int(x)
+        return m.free[start + cell] != wp.uint8(0)
+
+    return certified_free

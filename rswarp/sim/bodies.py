@@ -258,6 +258,7 @@ class DeviceBodies:
         s.pair_a, s.pair_b = arr(pairs[:, 0], wp.int32), arr(pairs[:, 1], wp.int32)
         s.padding = S(self.padding)
         self._set_witnesses(s, scalar, None)
+        self._set_free(s, scalar, None)
         return s
 
     def _nodes(self, scalar, half: np.ndarray, record: np.ndarray):
@@ -319,6 +320,21 @@ class DeviceBodies:
         s.cell_count = arr((index[:, :, 0] >= 0).sum(axis=1).astype(np.int32), wp.int32)
         tri = self.tree.triangles[np.maximum(index, 0)]  # (cells, WITNESSES, 2, 3, 3)
         s.witness = arr(tri.transpose(1, 0, 2, 3, 4).reshape(-1, 3), types_of(scalar)[1])
+
+
+    def set_free(self, grid, scalar) -> None:
+        """Give the struct of one precision its free grids (``rswarp.sim.free_cells``)."""
+        self._set_free(self.struct(scalar), scalar, grid)
+
+    def _set_free(self, s, scalar, grid) -> None:
+        import warp as wp
+
+        from .free_cells import FreeGrid
+
+        grid = grid or FreeGrid.none(len(self.bodies.pairs))
+        arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
+        s.free_start, s.free_res = arr(grid.start, wp.int32), arr(grid.res, wp.int32)
+        s.free_scale, s.free = arr(grid.scale, scalar), arr(grid.free, wp.uint8)
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:

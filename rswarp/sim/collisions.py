@@ -30,6 +30,7 @@ from ..options import checked
 from ..rsxml.model import Mechanism
 from .bodies import CollisionBodies, DeviceBodies, Environment, collision_bodies
 from .engine import Job, run_batch
+from .free_cells import FREE_CELLS_PAY, free_grid
 from .tool import tool_body
 from .witness import witness_grid
 from .workspace import sample_chunks
@@ -110,10 +111,11 @@ class Collisions:
 class Checker:
     """The compiled collision kernels of one mechanism's bodies on a device: ``verdicts(q)`` for
     batches, ``distances(q, pairs)`` for exact clearances (float64). ``witnesses``: build the
-    witness grids (``rswarp.sim.witness``) that spare walks; verdicts are the same without."""
+    witness grids (``rswarp.sim.witness``) that spare walks, and with ``free_cells`` the free grids
+    (``rswarp.sim.free_cells``); verdicts and gaps are the same without."""
 
     def __init__(self, mech: Mechanism, bodies: CollisionBodies, padding: float = 0.0, device: str = "cpu",
-                 threads: int | None = None, witnesses: bool = True):
+                 threads: int | None = None, witnesses: bool = True, free_cells: bool = True):
         wp = init_warp()
         from ..kernels.collide import collision_kernels
 
@@ -126,14 +128,18 @@ class Checker:
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
-        self._collide, _, self._witness = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float32)
+        self._collide, _, self._witness, self._apart = collision_kernels(chain, bodies.links, len(bodies.bodies),
+                                                                         wp.float32)
         self._distance = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float64)[1]
         self.launcher.load(self._collide)
         self._quick: dict = {}  # per count of states: ``verdicts``' recorded launch (``_quick_launch``)
-        self.witnesses = None
+        self.witnesses = self.free = None
         if witnesses:
             self.witnesses = witness_grid(self._sample, chain, bodies, *mech.bounds())
             self._device.set_witnesses(self.witnesses, wp.float32)
+        if witnesses and free_cells:
+            self.free = free_grid(self._apart_at, chain, bodies, self.witnesses, *mech.bounds(), padding)
+            self._device.set_free(self.free, wp.float32)
 
     @property
     def pair_count(self) -> int:
@@ -145,6 +151,15 @@ class Checker:
         self.launcher.launch(self._witness, len(q), params=[self._device.struct(init_warp().float32)],
                              inputs=[np.ascontiguousarray(q, np.float32), np.ascontiguousarray(pairs, np.int32)],
                              outputs=[out])
+        return out
+
+    def _apart_at(self, q: np.ndarray, pairs: np.ndarray, limit: np.ndarray, contain: bool) -> np.ndarray:
+        """1 where the surfaces of pair ``pairs[i]`` at ``q[i]`` are further apart than ``limit[i]``
+        (and with ``contain``, neither body contains the other), in the sweep's precision."""
+        out = np.empty(len(q), np.uint8)
+        self.launcher.launch(self._apart, len(q), params=[self._device.struct(init_warp().float32), int(contain)],
+                             inputs=[np.ascontiguousarray(q, np.float32), np.ascontiguousarray(pairs, np.int32),
+                                     np.ascontiguousarray(limit, np.float32)], outputs=[out])
         return out
 
     def verdicts(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -196,7 +211,7 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     checked("padding", padding)
     lower, upper = _limits(mech)
     bodies = collision_bodies(mech, tuple(environment), tool=tool_body(mech, tool))
-    checker = Checker(mech, bodies, padding, device, threads)
+    checker = Checker(mech, bodies, padding, device, threads, free_cells=samples >= FREE_CELLS_PAY)
     home = mech.home_position()
     default = checker.verdicts(home[None])[0][0]
     always, rounds, seen = _always(checker, lower, upper, seed, default)
@@ -249,7 +264,7 @@ class CollisionJob(Job):
     def tools(self, model, device: str, threads: int | None) -> Checker:
         env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.environment)
         bodies = collision_bodies(model.mech, env, tool=tool_body(model.mech, self.tool))
-        return Checker(model.mech, bodies, self.padding, device, threads)
+        return Checker(model.mech, bodies, self.padding, device, threads, free_cells=self.samples >= FREE_CELLS_PAY)
 
     def empty(self) -> "CollisionTally":
         return CollisionTally.empty(len(self.checked), len(self.lower))
