@@ -123,6 +123,9 @@ def per_pair(mech, bodies, q: np.ndarray) -> None:
         print(f"{'/'.join(names):<20} {(time.perf_counter() - t) / len(q) * 1e6:>9.2f} {hit.mean():>9.2%}")
 
 
+ROUNDS = 5  # alternated timings of the checker with and without free cells
+
+
 def print_free_cells(mech, bodies, q: np.ndarray, repeats: int) -> None:
     """What the free cells save: one core with and without them over the same states, each
     checker's setup, and each free grid's cells and the share certified."""
@@ -132,10 +135,14 @@ def print_free_cells(mech, bodies, q: np.ndarray, repeats: int) -> None:
     t = time.perf_counter()
     without = Checker(mech, bodies, threads=1, free_cells=False)
     bare = time.perf_counter() - t
-    (hit, a), (bare_hit, b) = our_verdicts(with_cells, q, repeats), our_verdicts(without, q, repeats)
+    a = b = np.inf
+    for _ in range(ROUNDS):  # the two alternated, the best of each kept: a noisy spell hits both
+        (hit, ta), (bare_hit, tb) = our_verdicts(with_cells, q, repeats), our_verdicts(without, q, repeats)
+        a, b = min(a, ta), min(b, tb)
     assert np.array_equal(hit, bare_hit)
-    print(f"\nfree cells (one core, {len(q)} states, the same verdicts): {a / len(q) * 1e6:.2f} us a state with them, "
-          f"{b / len(q) * 1e6:.2f} without ({b / a:.2f}x); checker setup {setup:.2f} s with, {bare:.2f} s without")
+    print(f"\nfree cells (one core, {len(q)} states, the same verdicts; best of {ROUNDS} rounds alternated): "
+          f"{a / len(q) * 1e6:.2f} us a state with them, {b / len(q) * 1e6:.2f} without ({b / a:.2f}x); "
+          f"checker setup {setup:.2f} s with, {bare:.2f} s without")
     grid = with_cells.free
     for p, names in enumerate(bodies.pair_names()):
         if grid.start[p] >= 0:
