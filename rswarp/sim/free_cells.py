@@ -31,8 +31,9 @@ BLOCK = {1: 16, 2: 4}  # cells along each axis of the blocks asked first (``free
 # m: a certified cell keeps the bodies this much further apart than the padding, for the sweep's
 # float32 poses and cell indices (errors of a micrometre)
 MARGIN = 1e-4
-# states a sweep needs before its free grids pay for their setup (about 0.04 s on two cores against
-# 0.1 us saved a state on one, ``benchmarks/bench_collisions.py``): a smaller sweep builds none
+# states a sweep needs before its free grids pay for their setup (a few hundredths of a second,
+# against the 0.1 us or so a state they save on one core, ``benchmarks/bench_collisions.py``): a
+# smaller sweep builds none
 FREE_CELLS_PAY = 500_000
 # a pair whose witnesses cross in more than this share of its cells mostly collides: no free grid
 MOSTLY_CROSSING = 0.5
