@@ -329,12 +329,14 @@ class DeviceBodies:
     def _set_free(self, s, scalar, grid) -> None:
         import warp as wp
 
-        from .free_cells import FreeGrid
-
-        grid = grid or FreeGrid.none(len(self.bodies.pairs))
+        pairs = len(self.bodies.pairs)
         arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
-        s.free_start, s.free_res = arr(grid.start, wp.int32), arr(grid.res, wp.int32)
-        s.free_scale, s.free = arr(grid.scale, scalar), arr(grid.free, wp.uint8)
+        if grid is None:  # no pair has a grid
+            start, res, scale, free = np.full(pairs, -1), np.ones(2 * pairs), np.zeros(2 * pairs), np.zeros(1)
+        else:
+            start, res, scale, free = grid.start, grid.res, grid.scale, grid.free
+        s.free_start, s.free_res = arr(start.astype(np.int32), wp.int32), arr(res.astype(np.int32), wp.int32)
+        s.free_scale, s.free = arr(scale, scalar), arr(free.astype(np.uint8), wp.uint8)
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:
