@@ -29,6 +29,7 @@ import numpy as np
 from limits import best_time
 
 import rswarp
+from rswarp.kernels.witness import APART, CROSSING
 from rswarp.report.collisions import collisions_text
 from rswarp.sim.bodies import CollisionBodies, collision_bodies
 from rswarp.sim.collisions import Checker, collisions
@@ -123,33 +124,33 @@ def per_pair(mech, bodies, q: np.ndarray) -> None:
         print(f"{'/'.join(names):<20} {(time.perf_counter() - t) / len(q) * 1e6:>9.2f} {hit.mean():>9.2%}")
 
 
-ROUNDS = 5  # alternated timings of the checker with and without free cells
+ROUNDS = 5  # alternated timings of the checker with and without certified cells
 
 
-def print_free_cells(mech, bodies, q: np.ndarray, repeats: int) -> None:
-    """What the free cells save: one core with and without them over the same states, each
-    checker's setup, and each free grid's cells and the share certified."""
+def print_certified_cells(mech, bodies, q: np.ndarray, repeats: int) -> None:
+    """What the certified cells save: one core with and without them over the same states, each
+    checker's setup, and each grid's cells and the shares certified apart and crossing."""
     t = time.perf_counter()
     with_cells = Checker(mech, bodies, threads=1)
     setup = time.perf_counter() - t
     t = time.perf_counter()
-    without = Checker(mech, bodies, threads=1, free_cells=False)
+    without = Checker(mech, bodies, threads=1, certified_cells=False)
     bare = time.perf_counter() - t
     a = b = np.inf
     for _ in range(ROUNDS):  # the two alternated, the best of each kept: a noisy spell hits both
         (hit, ta), (bare_hit, tb) = our_verdicts(with_cells, q, repeats), our_verdicts(without, q, repeats)
         a, b = min(a, ta), min(b, tb)
     assert np.array_equal(hit, bare_hit)
-    print(f"\nfree cells (one core, {len(q)} states, the same verdicts; best of {ROUNDS} rounds alternated): "
+    print(f"\ncertified cells (one core, {len(q)} states, the same verdicts; best of {ROUNDS} rounds alternated): "
           f"{a / len(q) * 1e6:.2f} us a state with them, {b / len(q) * 1e6:.2f} without ({b / a:.2f}x); "
           f"checker setup {setup:.2f} s with, {bare:.2f} s without")
-    grid = with_cells.free
+    grid = with_cells.certified
     for p, names in enumerate(bodies.pair_names()):
         if grid.start[p] >= 0:
             res = grid.res[2 * p:2 * p + 2]
-            cells = grid.free[grid.start[p]:grid.start[p] + int(np.prod(res))]
+            cells = grid.value[grid.start[p]:grid.start[p] + int(np.prod(res))]
             print(f"  {'/'.join(names)}: {' x '.join(str(int(r)) for r in res if r > 1)} cells, "
-                  f"{cells.mean():.1%} certified free")
+                  f"{(cells == APART).mean():.1%} apart, {(cells == CROSSING).mean():.1%} crossing")
 
 
 def print_stages(mech, bodies, q: np.ndarray, one: float) -> None:
@@ -203,7 +204,8 @@ def throughput(mech, bodies, args) -> tuple[list, dict, np.ndarray]:
 
 
 def print_tables(rows: list, agree: dict, repeats: int, states: int, pairs: int) -> None:
-    print(f"best of {repeats} runs each; setup: trees (and for rswarp the witness and free grids) built once per model")
+    print(f"best of {repeats} runs each; setup: trees (and for rswarp the witness and certified grids) built once "
+          "per model")
     print(f"{'checker':<46} {'states':>8} {'us/state':>10} {'states/s':>12} {'setup s':>8}")
     for name, n, secs, build in rows:
         print(f"{name:<46} {n:>8} {secs / n * 1e6:>10.2f} {n / secs:>12.0f} {build:>8.2f}")
@@ -228,13 +230,14 @@ def main() -> None:
     if args.per_pair:
         per_pair(mech, bodies, q[:args.per_pair])
         print_stages(mech, bodies, q[:args.per_pair], rows[1][1] / rows[1][2])
-        print_free_cells(mech, bodies, q[:args.states // 4], args.repeats)
+        print_certified_cells(mech, bodies, q[:args.states // 4], args.repeats)
     if args.matrix:
         collisions(mech, samples=2000)  # every kernel it uses compiled (or loaded) before the timing
         t = time.perf_counter()
         c = collisions(mech, samples=args.matrix)
         secs = time.perf_counter() - t
-        print(f"\nfull matrix from {c.samples} samples (setup included: trees, witness and free grids): {secs:.1f} s")
+        print(f"\nfull matrix from {c.samples} samples (setup included: trees, witness and certified grids): "
+              f"{secs:.1f} s")
         print(collisions_text(c, mech, {}))
     all_cores, one = rows[0][1] / rows[0][2], rows[1][1] / rows[1][2]
     rates = {r[0]: r[1] / r[2] for r in rows[2:]}

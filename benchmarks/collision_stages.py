@@ -1,5 +1,5 @@
 """Where a self-collision sweep's time goes, stage by stage: the sweep kernel rebuilt with its
-stages cut after each one (forward kinematics; bounding spheres; free and witness cells; root boxes;
+stages cut after each one (forward kinematics; bounding spheres; certified and witness cells; root boxes;
 containment; the walk for crossing triangles), each timed on one thread over the same states. The
 difference between two rows is the later stage's cost; the fractions say how many pair tests
 reach each stage. For ``bench_collisions.py``."""
@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-STAGES = ("forward kinematics", "bounding spheres", "free and witness cells", "root boxes", "containment",
+STAGES = ("forward kinematics", "bounding spheres", "certified and witness cells", "root boxes", "containment",
           "tree walks")
 
 
@@ -22,7 +22,7 @@ def _pair_test(stage: int):
     from rswarp.kernels.quad import quad_walk
     from rswarp.kernels.tree import traversal_functions
     from rswarp.kernels.types import bodies_struct, types_of
-    from rswarp.kernels.witness import free_function, witness_functions
+    from rswarp.kernels.witness import APART, CROSSING, certified_function, witness_functions
     from rswarp.launch import init_warp
 
     wp = init_warp()
@@ -34,7 +34,7 @@ def _pair_test(stage: int):
     meshes_cross = quad_walk(wp.float32)
     enclosed = collide.containment_functions(wp.float32)
     witness_cell, witness_hit = witness_functions(wp.float32)
-    certified_free = free_function(wp.float32)
+    certified = certified_function(wp.float32)
 
     @wp.func
     def test(m: arrays, poses: Any, centres: Any, q: wp.array2d(dtype=S), i: int, p: int) -> wp.uint8:
@@ -49,8 +49,11 @@ def _pair_test(stage: int):
         rel = relative(body_pose(m, poses, a), body_pose(m, poses, b))
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
-        if certified_free(m, p, q, i):
+        cert = certified(m, p, q, i)
+        if cert == APART:
             return wp.uint8(0)
+        if cert == CROSSING:
+            return wp.uint8(1)
         cell = witness_cell(m, p, q, i)
         if cell >= 0 and witness_hit(m, cell, r, t):
             return wp.uint8(1)

@@ -20,7 +20,7 @@ from .geometry import FAR
 from .quad import quad_walk
 from .tree import sampling_functions, traversal_functions
 from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
-from .witness import free_function, witness_functions
+from .witness import APART, CROSSING, certified_function, pierce_function, witness_functions
 
 SWEEP_FLAGS = f"{FUSED} {INLINE_ALL}"  # the sweep's module, compiled for the CPU
 
@@ -110,16 +110,18 @@ def pair_functions(scalar=wp.float32):
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def pair_verdict(m: BodyArrays, a: int, b: int, pa: M34, pb: M34, cell: int, free: bool, sphere_gap: S) -> S:
+    def pair_verdict(m: BodyArrays, a: int, b: int, pa: M34, pb: M34, cell: int, cert: int, sphere_gap: S) -> S:
         """Bodies a and b at poses pa and pb, whose bounding spheres are ``sphere_gap`` apart (at
         most the padding): at most the padding if they collide (-1 if one contains the other),
         else a lower bound of their distance above the padding (from their spheres and root
-        boxes). ``cell``: the pair's witness cell, -1 for none; ``free``: the pose lies in a
-        certified free cell (``witness.free_function``)."""
+        boxes). ``cell``: the pair's witness cell, -1 for none; ``cert``: what the pose's certified
+        cell says (``witness.certified_function``: APART, CROSSING or 0)."""
+        if cert == CROSSING:  # crossing at every pose of the cell: what a witness or the walk finds
+            return S(0.0)
         rel = relative(pa, pb)
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
-        if free:  # apart at every pose of the cell: the gap the walk would have ended with
+        if cert == APART:  # apart at every pose of the cell: the gap the walk would have ended with
             gap = wp.max(sphere_gap, node_gap(m, m.root[a], m.root[b], r, t))
             if gap > m.padding:
                 return gap
@@ -184,7 +186,7 @@ def apart_function(scalar=wp.float32):
 
 @cached
 def collision_kernels(chain: Chain, links, bodies: int, scalar=wp.float32):
-    """(collide, distance, witness, apart) for ``bodies`` bodies, those that move riding on chain ``links``:
+    """(collide, distance, witness, apart, crossing) for ``bodies`` bodies, riding on chain ``links``:
 
     ``collide(bodies, q, hit_out, gap_out)``: for configuration ``q[i]``, each pair's verdict
     ``hit_out[i, p]`` (1: collides) and ``gap_out[i, p]``, a lower bound of the pair's distance when
@@ -193,7 +195,9 @@ def collision_kernels(chain: Chain, links, bodies: int, scalar=wp.float32):
     ``pair[i]`` at ``q[i]``, spread over all that cross (``witness_vec``, -1 where fewer cross).
     ``apart(bodies, contain, q, pair, limit, apart_out)``: 1 where the surfaces of pair ``pair[i]``
     at ``q[i]`` are further apart than ``limit[i]`` (and with ``contain``, neither body contains
-    the other)."""
+    the other). ``crossing(bodies, q, pair, pairs, move, a_moves, crossing_out)``: 1 where one of
+    the triangle pairs ``pairs[i]`` (A's, B's; -1: none) crosses at ``q[i]`` so that it still does
+    when the moving body's points move by up to ``move[i]`` (``witness.pierce_function``)."""
     return _make_kernels(module_name("collide", chain, links, bodies, scalar), chain, links, bodies, scalar)
 
 
@@ -227,7 +231,8 @@ def _make_kernels(module: str, chain: Chain, links, bodies: int, scalar):
     if scalar == wp.float32:  # the sweep's: a pair's verdict inlined (no copy of the bodies' struct a call)
         cpu_flags(sweep.module, SWEEP_FLAGS)
     posed_pair = _posed_pair(chain, fk, body, scalar)
-    return (sweep, *_pair_kernels(module, posed_pair, scalar), _apart_kernel(module, posed_pair, scalar))
+    return (sweep, *_pair_kernels(module, posed_pair, scalar), _apart_kernel(module, posed_pair, scalar),
+            _crossing_kernel(module, posed_pair, scalar))
 
 
 @cached
@@ -250,7 +255,7 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
     BodyArrays = bodies_struct(scalar)
     pair_verdict, _ = pair_functions(scalar)
     witness_cell, _ = witness_functions(scalar)
-    certified_free = free_function(scalar)
+    certified = certified_function(scalar)
     finite_row = finite_function(scalar)
     body_pose, body_centre = body
     n = max(len(chain.parent), 1)
@@ -283,7 +288,7 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
             g = wp.length(centres[a] - centres[b]) - m.radius[a] - m.radius[b]
             if g <= m.padding:
                 g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i),
-                                 certified_free(m, p, q, i), g)
+                                 certified(m, p, q, i), g)
             if g <= m.padding:
                 hit_out[i, p] = wp.uint8(1)
                 gap_out[i, p] = S(0.0)
@@ -376,6 +381,56 @@ def _apart_kernel(module: str, posed_pair, scalar):
     return apart
 
 
+def _crossing_kernel(module: str, posed_pair, scalar):
+    """crossing: whether one of given triangle pairs crosses robustly at each configuration."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    BodyArrays = bodies_struct(scalar)
+    rotation, _ = pose_helpers(scalar)
+    pierced = pierce_function(scalar)
+
+    @wp.func
+    def robust(m: BodyArrays, fixed: int, moving: int, r: M33, t: V3, move: S) -> bool:
+        """Whether an edge of triangle ``moving`` (at x = r x' + t) pierces triangle ``fixed`` beyond ``move``."""
+        f0 = m.triangles[3 * fixed]
+        f1 = m.triangles[3 * fixed + 1]
+        f2 = m.triangles[3 * fixed + 2]
+        v0 = r * m.triangles[3 * moving] + t
+        v1 = r * m.triangles[3 * moving + 1] + t
+        v2 = r * m.triangles[3 * moving + 2] + t
+        return pierced(f0, f1, f2, v0, v1, move) or pierced(f0, f1, f2, v1, v2, move) or \
+            pierced(f0, f1, f2, v2, v0, move)
+
+    @wp.kernel(enable_backward=False, module=module)
+    def crossing(
+        # Model:
+        m: BodyArrays,
+        # In:
+        q: wp.array2d(dtype=S),
+        pair: wp.array(dtype=wp.int32),
+        pairs: wp.array2d(dtype=wp.int32),  # triangle pairs (A's, B's) side by side, -1: none
+        move: wp.array(dtype=S),
+        a_moves: wp.array(dtype=wp.int32),  # 1: the moving body is A (B's triangles held fixed)
+        # Out:
+        crossing_out: wp.array(dtype=wp.uint8),
+    ):
+        i = wp.tid()
+        rel = posed_pair(m, q, i, pair[i])
+        r = rotation(rel)
+        t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
+        rt = wp.transpose(r)
+        crossing_out[i] = wp.uint8(0)
+        for k in range(pairs.shape[1] // 2):
+            ta = pairs[i, 2 * k]
+            tb = pairs[i, 2 * k + 1]
+            if ta >= 0:
+                if (a_moves[i] == 0 and robust(m, ta, tb, r, t, move[i])) or \
+                        (a_moves[i] != 0 and robust(m, tb, ta, rt, -(rt * t), move[i])):
+                    crossing_out[i] = wp.uint8(1)
+                    break
+
+    return crossing
+
+
 @cached
 def posed_kernel(scalar=wp.float32):
     """``posed(bodies, pose_a, pose_b, pair, gap_out)``: pair ``pair[i]``'s bodies at poses the
@@ -403,7 +458,7 @@ def posed_kernel(scalar=wp.float32):
         b = m.pair_b[pair[i]]
         g = wp.length(apply(pose_a[i], m.center[a]) - apply(pose_b[i], m.center[b])) - m.radius[a] - m.radius[b]
         if g <= m.padding:
-            g = pair_verdict(m, a, b, pose_a[i], pose_b[i], -1, False, g)
+            g = pair_verdict(m, a, b, pose_a[i], pose_b[i], -1, 0, g)
         gap_out[i] = g
 
     return posed

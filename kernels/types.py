@@ -136,10 +136,10 @@ def bodies_struct(scalar=wp.float32):
         cell_count: wp.array(dtype=wp.int32)  # witnesses in each cell, at most WITNESSES
         witness: wp.array(dtype=V3)  # (WITNESSES, cells, 6): each cell's, six vertices each (A's, B's)
         # per pair, a finer grid over the same axes: 1 in a cell whose every pose keeps the bodies
-        # further apart than the padding (``witness.free_function``)
-        free_start: wp.array(dtype=wp.int32)  # its first cell, -1: no grid
-        free_scale: wp.array(dtype=scalar)  # two per pair: cells per unit of q
-        free_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
-        free: wp.array(dtype=wp.uint8)
+        # further apart than the padding (``witness.certified_function``)
+        cert_start: wp.array(dtype=wp.int32)  # its first cell, -1: no grid
+        cert_scale: wp.array(dtype=scalar)  # two per pair: cells per unit of q
+        cert_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
+        cert: wp.array(dtype=wp.uint8)
 
     return BodyArrays

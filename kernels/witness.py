@@ -6,11 +6,14 @@ It pays for pairs that collide often and whose relative pose depends on one or t
 wrist that always overlaps its forearm, say): the walk that finds a first crossing opens dozens
 of node pairs, the witnesses of a cell a few triangles.
 
-The same pairs also have a finer grid of free cells (``certified_free``): a cell where the bodies
-stay further apart than the padding at every pose in it (the host's bound: their distance at the
-cell's centre less the most any point can move within the cell). A pose in one is free with no
-walk, as the walk would have found it; it pays for pairs that pass near without touching (a
-lower arm swinging past its base), whose walks must open every node pair to find nothing."""
+The same pairs also have a finer grid of certified cells (``certified``). APART: the bodies stay
+further apart than the padding at every pose in it (the host's bound: their distance at the
+cell's centre less the most any point can move within the cell); a pose in one is free with no
+walk, as the walk would have found it. It pays for pairs that pass near without touching (a lower
+arm swinging past its base), whose walks must open every node pair to find nothing. CROSSING: an
+edge of one body pierces a triangle of the other at the centre with margins beyond that bound
+(``pierced``), so they cross at every pose in it; a pose in one collides with no triangle test.
+It pays for pairs that always overlap (a wrist and its forearm)."""
 
 
 import warp as wp
@@ -54,26 +57,68 @@ def witness_functions(scalar=wp.float32):
     return witness_cell, witness_hit
 
 
+APART, CROSSING = 1, 2  # a certified cell's value: the bodies apart, or crossing, at every pose in it
+
+
 @cached
-def free_function(scalar=wp.float32):
-    """certified_free(m, p, q, i): whether pair p at q[i] lies in a certified free cell of its grid
-    (never for a pose outside the grid: no cell is clamped to hold it)."""
+def certified_function(scalar=wp.float32):
+    """certified(m, p, q, i): what pair p's certified cell holding q[i] says: APART, CROSSING, or 0
+    (none, or a pose outside the grid: no cell is clamped to hold it)."""
     S = types_of(scalar)[0]
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
-    def certified_free(m: BodyArrays, p: int, q: wp.array2d(dtype=S), i: int) -> bool:
-        start = m.free_start[p]
+    def certified(m: BodyArrays, p: int, q: wp.array2d(dtype=S), i: int) -> int:
+        start = m.cert_start[p]
         if start < 0:
-            return False
+            return 0
         cell = int(0)
         for k in range(2 * p, 2 * p + 2):
             col = m.cell_col[k]
             if col >= 0:
-                x = (q[i, col] - m.cell_lo[k]) * m.free_scale[k]
-                if not (x >= S(0.0) and x < S(m.free_res[k])):
-                    return False
-                cell = cell * m.free_res[k] + int(x)
-        return m.free[start + cell] != wp.uint8(0)
+                x = (q[i, col] - m.cell_lo[k]) * m.cert_scale[k]
+                if not (x >= S(0.0) and x < S(m.cert_res[k])):
+                    return 0
+                cell = cell * m.cert_res[k] + int(x)
+        return int(m.cert[start + cell])
 
-    return certified_free
+    return certified
+
+
+@cached
+def pierce_function(scalar=wp.float64):
+    """pierced(a0, a1, a2, p, q, move): whether segment pq passes through triangle a0 a1 a2 so that it
+    still does when each of its ends moves by up to ``move`` (the triangle fixed): both ends further
+    than ``move`` from its plane, on either side, and the crossing point further inside every edge
+    than it can slide (``move``, plus the crossing's travel along pq: its parameter moves by at most
+    ``move`` over the ends' separation across the plane)."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.func
+    def inside_by(a0: V3, a1: V3, a2: V3, n: V3, x: V3) -> S:
+        """The least in-plane distance from x to the triangle's edge lines, positive inside (n the
+        unit normal of a0 a1 a2 counter-clockwise)."""
+        d0 = wp.dot(x - a0, wp.normalize(wp.cross(n, a1 - a0)))
+        d1 = wp.dot(x - a1, wp.normalize(wp.cross(n, a2 - a1)))
+        d2 = wp.dot(x - a2, wp.normalize(wp.cross(n, a0 - a2)))
+        return wp.min(d0, wp.min(d1, d2))
+
+    @wp.func
+    def pierced(a0: V3, a1: V3, a2: V3, p: V3, q: V3, move: S) -> bool:
+        n = wp.cross(a1 - a0, a2 - a0)
+        area = wp.length(n)
+        if not (area > S(0.0)):
+            return False
+        n = n / area
+        sp = wp.dot(p - a0, n)
+        sq = wp.dot(q - a0, n)
+        if sp < S(0.0):
+            sp = -sp
+            sq = -sq
+        if not (sp > move and sq < -move):
+            return False
+        across = sp - sq
+        x = p + (sp / across) * (q - p)
+        return inside_by(a0, a1, a2, n, x) > move + move / across * wp.length(q - p)
+
+    return pierced

@@ -258,7 +258,7 @@ class DeviceBodies:
         s.pair_a, s.pair_b = arr(pairs[:, 0], wp.int32), arr(pairs[:, 1], wp.int32)
         s.padding = S(self.padding)
         self._set_witnesses(s, scalar, None)
-        self._set_free(s, scalar, None)
+        self._set_certified(s, scalar, None)
         return s
 
     def _nodes(self, scalar, half: np.ndarray, record: np.ndarray):
@@ -322,11 +322,11 @@ class DeviceBodies:
         s.witness = arr(tri.transpose(1, 0, 2, 3, 4).reshape(-1, 3), types_of(scalar)[1])
 
 
-    def set_free(self, grid, scalar) -> None:
-        """Give the struct of one precision its free grids (``rswarp.sim.free_cells``)."""
-        self._set_free(self.struct(scalar), scalar, grid)
+    def set_certified(self, grid, scalar) -> None:
+        """Give the struct of one precision its certified grids (``rswarp.sim.certified_cells``)."""
+        self._set_certified(self.struct(scalar), scalar, grid)
 
-    def _set_free(self, s, scalar, grid) -> None:
+    def _set_certified(self, s, scalar, grid) -> None:
         import warp as wp
 
         pairs = len(self.bodies.pairs)
@@ -334,9 +334,9 @@ class DeviceBodies:
         if grid is None:  # no pair has a grid
             start, res, scale, free = np.full(pairs, -1), np.ones(2 * pairs), np.zeros(2 * pairs), np.zeros(1)
         else:
-            start, res, scale, free = grid.start, grid.res, grid.scale, grid.free
-        s.free_start, s.free_res = arr(start.astype(np.int32), wp.int32), arr(res.astype(np.int32), wp.int32)
-        s.free_scale, s.free = arr(scale, scalar), arr(free.astype(np.uint8), wp.uint8)
+            start, res, scale, free = grid.start, grid.res, grid.scale, grid.value
+        s.cert_start, s.cert_res = arr(start.astype(np.int32), wp.int32), arr(res.astype(np.int32), wp.int32)
+        s.cert_scale, s.cert = arr(scale, scalar), arr(free.astype(np.uint8), wp.uint8)
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:

@@ -29,8 +29,8 @@ from ..launch import Launcher, init_warp
 from ..options import checked
 from ..rsxml.model import Mechanism
 from .bodies import CollisionBodies, DeviceBodies, Environment, collision_bodies
+from .certified_cells import CERTIFIED_PAY, certified_grid
 from .engine import Job, run_batch
-from .free_cells import FREE_CELLS_PAY, free_grid
 from .tool import tool_body
 from .witness import witness_grid
 from .workspace import sample_chunks
@@ -111,11 +111,11 @@ class Collisions:
 class Checker:
     """The compiled collision kernels of one mechanism's bodies on a device: ``verdicts(q)`` for
     batches, ``distances(q, pairs)`` for exact clearances (float64). ``witnesses``: build the
-    witness grids (``rswarp.sim.witness``) that spare walks, and with ``free_cells`` the free grids
-    (``rswarp.sim.free_cells``); verdicts and gaps are the same without."""
+    witness grids (``rswarp.sim.witness``) that spare walks, and with ``certified_cells`` the
+    certified grids (``rswarp.sim.certified_cells``); verdicts and gaps are the same without."""
 
     def __init__(self, mech: Mechanism, bodies: CollisionBodies, padding: float = 0.0, device: str = "cpu",
-                 threads: int | None = None, witnesses: bool = True, free_cells: bool = True):
+                 threads: int | None = None, witnesses: bool = True, certified_cells: bool = True):
         wp = init_warp()
         from ..kernels.collide import collision_kernels
 
@@ -128,18 +128,19 @@ class Checker:
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
-        self._collide, _, self._witness, self._apart = collision_kernels(chain, bodies.links, len(bodies.bodies),
-                                                                         wp.float32)
-        self._distance = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float64)[1]
+        self._collide, _, self._witness, self._apart, _ = collision_kernels(chain, bodies.links, len(bodies.bodies),
+                                                                            wp.float32)
+        _, self._distance, _, _, self._cross = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float64)
         self.launcher.load(self._collide)
         self._quick: dict = {}  # per count of states: ``verdicts``' recorded launch (``_quick_launch``)
-        self.witnesses = self.free = None
+        self.witnesses = self.certified = None
         if witnesses:
             self.witnesses = witness_grid(self._sample, chain, bodies, *mech.bounds())
             self._device.set_witnesses(self.witnesses, wp.float32)
-        if witnesses and free_cells:
-            self.free = free_grid(self._apart_at, chain, bodies, self.witnesses, *mech.bounds(), padding)
-            self._device.set_free(self.free, wp.float32)
+        if witnesses and certified_cells:
+            self.certified = certified_grid(self._apart_at, self._crossing_at, chain, bodies, self.witnesses,
+                                            *mech.bounds(), padding)
+            self._device.set_certified(self.certified, wp.float32)
 
     @property
     def pair_count(self) -> int:
@@ -160,6 +161,17 @@ class Checker:
         self.launcher.launch(self._apart, len(q), params=[self._device.struct(init_warp().float32), int(contain)],
                              inputs=[np.ascontiguousarray(q, np.float32), np.ascontiguousarray(pairs, np.int32),
                                      np.ascontiguousarray(limit, np.float32)], outputs=[out])
+        return out
+
+    def _crossing_at(self, q: np.ndarray, pairs: np.ndarray, tris: np.ndarray, move: np.ndarray,
+                     a_moves: np.ndarray) -> np.ndarray:
+        """1 where one of the triangle pairs ``tris[i]`` of pair ``pairs[i]`` at ``q[i]`` crosses so
+        that it still does when the moving body's points move by ``move[i]`` (float64)."""
+        out = np.empty(len(q), np.uint8)
+        c = np.ascontiguousarray
+        self.launcher.launch(self._cross, len(q), params=[self._device.struct(init_warp().float64)],
+                             inputs=[c(q, np.float64), c(pairs, np.int32), c(tris, np.int32), c(move, np.float64),
+                                     c(a_moves, np.int32)], outputs=[out])
         return out
 
     def verdicts(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -211,7 +223,7 @@ def collisions(mech: Mechanism, samples: int = 100_000, seed: int = 0, padding: 
     checked("padding", padding)
     lower, upper = _limits(mech)
     bodies = collision_bodies(mech, tuple(environment), tool=tool_body(mech, tool))
-    checker = Checker(mech, bodies, padding, device, threads, free_cells=samples >= FREE_CELLS_PAY)
+    checker = Checker(mech, bodies, padding, device, threads, certified_cells=samples >= CERTIFIED_PAY)
     home = mech.home_position()
     default = checker.verdicts(home[None])[0][0]
     always, rounds, seen = _always(checker, lower, upper, seed, default)
@@ -264,7 +276,7 @@ class CollisionJob(Job):
     def tools(self, model, device: str, threads: int | None) -> Checker:
         env = tuple(Environment(e.name, model.local(e.path), e.pose) for e in self.environment)
         bodies = collision_bodies(model.mech, env, tool=tool_body(model.mech, self.tool))
-        return Checker(model.mech, bodies, self.padding, device, threads, free_cells=self.samples >= FREE_CELLS_PAY)
+        return Checker(model.mech, bodies, self.padding, device, threads, certified_cells=self.samples >= CERTIFIED_PAY)
 
     def empty(self) -> "CollisionTally":
         return CollisionTally.empty(len(self.checked), len(self.lower))
