@@ -221,7 +221,7 @@ def main() -> None:
     ap.add_argument("--peer-states", type=int, default=5_000, help="states for each peer (a prefix of ours)")
     ap.add_argument("--matrix", type=int, default=1_000_000, help="samples of the full-matrix run (0: skip)")
     ap.add_argument("--per-pair", type=int, default=20_000, help="states for the per-pair table (0: skip)")
-    ap.add_argument("--repeats", type=int, default=3, help="timed runs of each checker (the best is kept)")
+    ap.add_argument("--repeats", type=int, default=5, help="timed runs of each checker (the best is kept)")
     args = ap.parse_args()
     mech = rswarp.load(str(IRB))
     bodies = collision_bodies(mech)
