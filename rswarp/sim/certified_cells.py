@@ -108,7 +108,7 @@ def reaches(chain: Chain, joints: list[int], vertices: np.ndarray) -> list[float
 
 
 def certified_grid(apart: Callable, cross: Callable, chain: Chain, bodies: CollisionBodies, witnesses: WitnessGrid,
-              lower: np.ndarray, upper: np.ndarray, padding: float) -> CertifiedGrid:
+                   lower: np.ndarray, upper: np.ndarray, padding: float) -> CertifiedGrid:
     """The certified grids of every pair with a witness grid and revolute joints. ``apart(q, pair,
     limit, contain)`` gives 1 where the surfaces of pair ``pair[i]`` at ``q[i]`` are further apart
     than ``limit[i]`` (and with ``contain``, neither body contains the other); ``cross(q, pair,
