@@ -321,7 +321,6 @@ class DeviceBodies:
         tri = self.tree.triangles[np.maximum(index, 0)]  # (cells, WITNESSES, 2, 3, 3)
         s.witness = arr(tri.transpose(1, 0, 2, 3, 4).reshape(-1, 3), types_of(scalar)[1])
 
-
     def set_certified(self, grid, scalar) -> None:
         """Give the struct of one precision its certified grids (``rswarp.sim.certified_cells``)."""
         self._set_certified(self.struct(scalar), scalar, grid)
@@ -332,11 +331,11 @@ class DeviceBodies:
         pairs = len(self.bodies.pairs)
         arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
         if grid is None:  # no pair has a grid
-            start, res, scale, free = np.full(pairs, -1), np.ones(2 * pairs), np.zeros(2 * pairs), np.zeros(1)
+            start, res, scale, value = np.full(pairs, -1), np.ones(2 * pairs), np.zeros(2 * pairs), np.zeros(1)
         else:
-            start, res, scale, free = grid.start, grid.res, grid.scale, grid.value
+            start, res, scale, value = grid.start, grid.res, grid.scale, grid.value
         s.cert_start, s.cert_res = arr(start.astype(np.int32), wp.int32), arr(res.astype(np.int32), wp.int32)
-        s.cert_scale, s.cert = arr(scale, scalar), arr(free.astype(np.uint8), wp.uint8)
+        s.cert_scale, s.cert = arr(scale, scalar), arr(value.astype(np.uint8), wp.uint8)
 
 
 def _sphere(vertices: np.ndarray) -> tuple[np.ndarray, float]:
