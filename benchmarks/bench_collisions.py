@@ -120,7 +120,8 @@ def per_pair(mech, bodies, q: np.ndarray) -> None:
     """Where the time goes: each pair alone, on one core (forward kinematics included in each)."""
     print(f"\n{'pair (one core)':<20} {'us/state':>9} {'collides':>9}")
     for p, names in enumerate(bodies.pair_names()):
-        checker = Checker(mech, CollisionBodies(bodies.bodies, (bodies.pairs[p],), bodies.adjacent, ()), threads=1)
+        checker = Checker(mech, CollisionBodies(bodies.bodies, (bodies.pairs[p],), bodies.adjacent, ()), threads=1,
+                          certified_cells=True)
         t = time.perf_counter()
         hit = checker.verdicts(q)[0]
         print(f"{'/'.join(names):<20} {(time.perf_counter() - t) / len(q) * 1e6:>9.2f} {hit.mean():>9.2%}")
@@ -133,10 +134,10 @@ def print_certified_cells(mech, bodies, q: np.ndarray, repeats: int) -> None:
     """What the certified cells save: one core with and without them over the same states, each
     checker's setup, and each grid's cells and the shares certified apart and crossing."""
     t = time.perf_counter()
-    with_cells = Checker(mech, bodies, threads=1)
+    with_cells = Checker(mech, bodies, threads=1, certified_cells=True)
     setup = time.perf_counter() - t
     t = time.perf_counter()
-    without = Checker(mech, bodies, threads=1, certified_cells=False)
+    without = Checker(mech, bodies, threads=1)
     bare = time.perf_counter() - t
     a = b = np.inf
     for _ in range(ROUNDS):  # the two alternated, the best of each kept: a noisy spell hits both
@@ -160,7 +161,7 @@ def print_stages(mech, bodies, q: np.ndarray, one: float) -> None:
     from collision_stages import stage_table
     from limits import limit_line
 
-    rows = stage_table(Checker(mech, bodies, threads=1), bodies, q)
+    rows = stage_table(Checker(mech, bodies, threads=1, certified_cells=True), bodies, q)
     print(f"\n{'stage (one core, cumulative)':<30} {'us/state':>9} {'stage us':>9} {'passes on':>10}")
     before = 0.0
     for name, us, share in rows:
@@ -176,11 +177,11 @@ def throughput(mech, bodies, args) -> tuple[list, dict, np.ndarray]:
     (same, peer only, ours only), and the states our checkers ran. Every checker is timed once a
     round, ``args.rounds`` rounds, and keeps its best: a noisy spell of the shared machine meets
     ours and the peers alike."""
-    Checker(mech, bodies)  # compiled (or loaded from Warp's cache) before anything is timed
+    Checker(mech, bodies, certified_cells=True)  # compiled (or loaded from Warp's cache) before anything is timed
     t = time.perf_counter()
-    checker = Checker(mech, bodies)
+    checker = Checker(mech, bodies, certified_cells=True)  # as a sweep of 10**6 samples makes it
     setup = time.perf_counter() - t
-    one = Checker(mech, bodies, threads=1)
+    one = Checker(mech, bodies, threads=1, certified_cells=True)
     lower, upper = mech.bounds()
     q = lower + (upper - lower) * np.random.default_rng(0).random((args.states, len(lower)))
     poses = rswarp.Kinematics(mech).fk64(q[:args.peer_states])

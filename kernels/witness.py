@@ -24,11 +24,37 @@ from .types import bodies_struct, types_of
 
 
 @cached
+def grid_function(scalar=wp.float32):
+    """grid_cell(m, p, q, i, scale, res, clamp): the row-major cell of q[i] in a grid over pair p's
+    axes (``cell_col``, from ``cell_lo``), ``scale`` cells a unit and ``res`` along each; a pose
+    outside it is clamped to the nearest cell, or with no ``clamp`` gives -1."""
+    S = types_of(scalar)[0]
+    BodyArrays = bodies_struct(scalar)
+
+    @wp.func
+    def grid_cell(m: BodyArrays, p: int, q: wp.array2d(dtype=S), i: int, scale: wp.array(dtype=S),
+                  res: wp.array(dtype=wp.int32), clamp: bool) -> int:
+        cell = int(0)
+        for k in range(2 * p, 2 * p + 2):
+            col = m.cell_col[k]
+            if col >= 0:
+                x = (q[i, col] - m.cell_lo[k]) * scale[k]
+                c = wp.clamp(int(x), 0, res[k] - 1)
+                if not clamp and not (x >= S(0.0) and x < S(res[k])):
+                    return -1
+                cell = cell * res[k] + c
+        return cell
+
+    return grid_cell
+
+
+@cached
 def witness_functions(scalar=wp.float32):
     """(witness_cell, witness_hit): the cell of pair p at q[i] (-1: the pair has no grid), and
     whether one of the cell's witnesses crosses at x_A = r x_B + t."""
     S, V3, M33, M34, M44 = types_of(scalar)
     triangles_cross, _ = triangle_functions(scalar)
+    grid_cell = grid_function(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
@@ -36,13 +62,7 @@ def witness_functions(scalar=wp.float32):
         start = m.cell_start[p]
         if start < 0:
             return -1
-        cell = int(0)
-        for k in range(2 * p, 2 * p + 2):
-            col = m.cell_col[k]
-            if col >= 0:
-                c = int((q[i, col] - m.cell_lo[k]) * m.cell_scale[k])
-                cell = cell * m.cell_res[k] + wp.clamp(c, 0, m.cell_res[k] - 1)
-        return start + cell
+        return start + grid_cell(m, p, q, i, m.cell_scale, m.cell_res, True)
 
     @wp.func
     def witness_hit(m: BodyArrays, cell: int, r: M33, t: V3) -> bool:
@@ -65,6 +85,7 @@ def certified_function(scalar=wp.float32):
     """certified(m, p, q, i): what pair p's certified cell holding q[i] says: APART, CROSSING, or 0
     (none, or a pose outside the grid: no cell is clamped to hold it)."""
     S = types_of(scalar)[0]
+    grid_cell = grid_function(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
@@ -72,14 +93,9 @@ def certified_function(scalar=wp.float32):
         start = m.cert_start[p]
         if start < 0:
             return 0
-        cell = int(0)
-        for k in range(2 * p, 2 * p + 2):
-            col = m.cell_col[k]
-            if col >= 0:
-                x = (q[i, col] - m.cell_lo[k]) * m.cert_scale[k]
-                if not (x >= S(0.0) and x < S(m.cert_res[k])):
-                    return 0
-                cell = cell * m.cert_res[k] + int(x)
+        cell = grid_cell(m, p, q, i, m.cert_scale, m.cert_res, False)
+        if cell < 0:
+            return 0
         return int(m.cert[start + cell])
 
     return certified

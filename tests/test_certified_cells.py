@@ -16,7 +16,6 @@ import pytest
 import rswarp
 from rswarp.kernels.witness import APART, CROSSING
 from rswarp.kinematics.chain import chain_of
-from rswarp.launch import init_warp
 from rswarp.sim import certified_cells
 from rswarp.sim.bodies import collision_bodies
 from rswarp.sim.collisions import Checker
@@ -31,13 +30,11 @@ FIX = DATA / "collisions"
 def irb():
     mech = rswarp.load(str(IRB))
     bodies = collision_bodies(mech)
-    return mech, bodies, Checker(mech, bodies)
+    return mech, bodies, Checker(mech, bodies, certified_cells=True)
 
 
 def _without_cells(mech, bodies, padding: float = 0.0) -> Checker:
-    checker = Checker(mech, bodies, padding=padding)
-    checker._device.set_certified(None, init_warp().float32)
-    return checker
+    return Checker(mech, bodies, padding=padding)
 
 
 def _grid_axes(checker: Checker, p: int) -> tuple[list[int], np.ndarray]:
@@ -142,7 +139,7 @@ def through():
     """An arm that swings down through its slab: APART and CROSSING cells side by side."""
     mech = rswarp.load(str(FIX / "fold_through.rsxml"))
     bodies = collision_bodies(mech)
-    return mech, bodies, Checker(mech, bodies)
+    return mech, bodies, Checker(mech, bodies, certified_cells=True)
 
 
 def test_every_crossing_cell_collides_inside(irb, through):
@@ -208,7 +205,7 @@ def test_certified_cells_change_no_verdict_or_gap(irb):
 def test_a_padding_certifies_fewer_cells_and_changes_nothing(irb):
     mech, bodies, checker = irb
     p = bodies.pair_names().index(("Base", "Link2"))
-    padded = Checker(mech, bodies, padding=0.05)
+    padded = Checker(mech, bodies, padding=0.05, certified_cells=True)
     assert (_cells(padded, p) == APART).mean() < (_cells(checker, p) == APART).mean()
     lower, upper = mech.bounds()
     q = lower + (upper - lower) * np.random.default_rng(2).random((3000, len(lower)))
@@ -219,7 +216,7 @@ def test_a_padding_certifies_fewer_cells_and_changes_nothing(irb):
 @pytest.mark.parametrize("fixture, why", [("ball.rsxml", "a prismatic joint"), ("four_bar_dead.rsxml", "a loop")])
 def test_no_grid_where_the_bound_does_not_hold(fixture, why):
     mech = rswarp.load(str(FIX / fixture))
-    checker = Checker(mech, collision_bodies(mech))
+    checker = Checker(mech, collision_bodies(mech), certified_cells=True)
     assert (checker.witnesses.start >= 0).any(), why  # a witness grid, but no certified one
     assert (checker.certified.start < 0).all(), why
 
@@ -230,9 +227,9 @@ def test_no_apart_cells_for_open_meshes_or_a_pair_that_mostly_collides():
     slab."""
     mech = rswarp.load(str(FIX / "fold_through.rsxml"))
     bodies = collision_bodies(mech)
-    assert (Checker(mech, bodies).certified.value == APART).any()
+    assert (Checker(mech, bodies, certified_cells=True).certified.value == APART).any()
     opened = dataclasses.replace(bodies, bodies=tuple(dataclasses.replace(b, watertight=False) for b in bodies.bodies))
-    cells = Checker(mech, opened).certified.value
+    cells = Checker(mech, opened, certified_cells=True).certified.value
     assert not (cells == APART).any() and (cells == CROSSING).any()
     always = rswarp.load(str(FIX / "fold_always.rsxml"))
-    assert not (Checker(always, collision_bodies(always)).certified.value == APART).any()
+    assert not (Checker(always, collision_bodies(always), certified_cells=True).certified.value == APART).any()

@@ -31,7 +31,7 @@ import numpy as np
 from ..kernels.types import FIXED, REVOLUTE, WITNESSES, Chain
 from ..kernels.witness import APART, CROSSING
 from .bodies import CollisionBodies
-from .witness import WitnessGrid
+from .witness import WitnessGrid, cell_centres
 
 CERTIFIED_CELLS = {1: 1024, 2: 16384}  # cells of a pair's certified grid, by the number of its joints
 BLOCK = {1: 16, 2: 4}  # cells along each axis of the blocks asked first (``certified_grid``)
@@ -59,15 +59,7 @@ class CertifiedGrid:
     @staticmethod
     def none(pairs: int) -> "CertifiedGrid":
         return CertifiedGrid(np.full(pairs, -1, np.int32), np.zeros(2 * pairs), np.ones(2 * pairs, np.int32),
-                        np.zeros(1, np.uint8))
-
-
-def _above(chain: Chain, link: int) -> list[int]:
-    out = []
-    while link >= 0:
-        out.append(link)
-        link = int(chain.parent[link])
-    return out
+                             np.zeros(1, np.uint8))
 
 
 def moving_joints(chain: Chain, bodies: CollisionBodies, pair: int) -> tuple[int, list[int]] | None:
@@ -75,14 +67,14 @@ def moving_joints(chain: Chain, bodies: CollisionBodies, pair: int) -> tuple[int
     None unless each is a revolute joint driven by its own column (no loop, mimic or closed form)
     on one body's side."""
     a, b = bodies.pairs[pair]
-    pa, pb = _above(chain, bodies.bodies[a].link), _above(chain, bodies.bodies[b].link)
-    moving = set(pa) ^ set(pb)
-    mover, path = (b, pb) if moving <= set(pb) else (a, pa) if moving <= set(pa) else (None, None)
+    pa, pb = chain.ancestors([bodies.bodies[a].link]), chain.ancestors([bodies.bodies[b].link])
+    moving = pa ^ pb
+    mover = b if moving <= pb else a if moving <= pa else None
     if mover is None:
         return None
-    joints = [k for k in reversed(path) if k in moving and chain.qidx[k] >= 0]
-    if any(k in moving and chain.qidx[k] < 0 and chain.jtype[k] != FIXED for k in path):
+    if any(chain.qidx[k] < 0 and chain.jtype[k] != FIXED for k in moving):
         return None  # a joint no column drives (a loop's passive joint)
+    joints = [int(k) for k in chain.order if k in moving and chain.qidx[k] >= 0]  # parents first
     for k in joints:
         if (chain.jtype[k] != REVOLUTE or np.any(chain.mimic[k]) or chain.closed_form[k][0] != 0
                 or chain.unknown[k] >= 0 or np.any(chain.mimic[:, chain.qidx[k]])):
@@ -127,19 +119,20 @@ def certified_grid(apart: Callable, cross: Callable, chain: Chain, bodies: Colli
         grid.start[p] = cells
         cells += int(np.prod(counts))
     value = np.zeros(cells, np.uint8)
+    centres = {p: cell_centres(cols, counts, lower, upper, mid) for p, (cols, counts, *_) in plans.items()}
     apart_plans = {p: plan for p, plan in plans.items() if plan[3]}
-    _apart_cells(apart, apart_plans, grid.start, value, lower, upper, mid, padding)
-    _uncontained(apart, apart_plans, grid.start, value, lower, upper, mid)
-    _crossing_cells(cross, plans, grid.start, value, witnesses, lower, upper, mid)
+    _apart_cells(apart, apart_plans, grid.start, value, centres, lower, upper, mid, padding)
+    _uncontained(apart, apart_plans, grid.start, value, centres)
+    _crossing_cells(cross, plans, grid.start, value, witnesses, centres)
     return CertifiedGrid(grid.start, grid.scale, grid.res, value)
 
 
-def _apart_cells(apart, plans: dict, start: np.ndarray, value: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-                 mid: np.ndarray, padding: float) -> None:
+def _apart_cells(apart, plans: dict, start: np.ndarray, value: np.ndarray, centres: dict, lower: np.ndarray,
+                 upper: np.ndarray, mid: np.ndarray, padding: float) -> None:
     """Mark APART the cells whose centre is further apart than the bound, the padding and the
     margin. Blocks of BLOCK cells along each axis are asked first, as one cell: a block found apart
     holds its cells, so only the blocks near touching ask cell by cell."""
-    asks = {p: _centres(cols, [n // BLOCK[len(cols)] for n in counts], lower, upper, mid)
+    asks = {p: cell_centres(cols, [n // BLOCK[len(cols)] for n in counts], lower, upper, mid)
             for p, (cols, counts, *_) in plans.items()}
     blocks = _ask(apart, asks, {p: BLOCK[len(plan[0])] * plan[2] + padding + MARGIN for p, plan in plans.items()})
     asks = {}
@@ -150,7 +143,7 @@ def _apart_cells(apart, plans: dict, start: np.ndarray, value: np.ndarray, lower
             held = np.repeat(held, b, axis=axis)  # each block's flag on its cells
         value[start[p]:start[p] + held.size] = held.ravel() * APART
         open_cells = np.nonzero(held.ravel() == 0)[0]
-        asks[p] = (_centres(cols, counts, lower, upper, mid)[open_cells], open_cells)
+        asks[p] = (centres[p][open_cells], open_cells)
     found = _ask(apart, {p: q for p, (q, _) in asks.items()},
                  {p: plan[2] + padding + MARGIN for p, plan in plans.items()})
     for p, (_, open_cells) in asks.items():
@@ -158,13 +151,13 @@ def _apart_cells(apart, plans: dict, start: np.ndarray, value: np.ndarray, lower
 
 
 def _crossing_cells(cross, plans: dict, start: np.ndarray, value: np.ndarray, witnesses: WitnessGrid,
-                    lower: np.ndarray, upper: np.ndarray, mid: np.ndarray) -> None:
+                    centres: dict) -> None:
     """Mark CROSSING the cells where a witness of the coarse cell holding their centre crosses at
     the centre with margins beyond the bound and the margin."""
     qs, ps, tris, moves, movers, where = [], [], [], [], [], []
     index = witnesses.witness.reshape(-1, WITNESSES, 2)
-    for p, (cols, counts, disp, _, a_moves) in plans.items():
-        q = _centres(cols, counts, lower, upper, mid)
+    for p, (cols, _, disp, _, a_moves) in plans.items():
+        q = centres[p]
         coarse = witnesses.start[p] + _witness_cells(witnesses, p, cols, q)
         ask = np.nonzero((index[coarse, 0, 0] >= 0) & (value[start[p]:start[p] + len(q)] == 0))[0]
         qs.append(q[ask])
@@ -189,33 +182,23 @@ def _witness_cells(witnesses: WitnessGrid, p: int, cols: list[int], q: np.ndarra
     return cell
 
 
-def _uncontained(apart, plans: dict, start: np.ndarray, value: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-                 mid: np.ndarray) -> None:
+def _uncontained(apart, plans: dict, start: np.ndarray, value: np.ndarray, centres: dict) -> None:
     """Clear the cells of every connected set found apart where one body contains the other (asked
     at the set's first cell)."""
     from scipy import ndimage
 
     asks, sets = {}, {}
-    for p, (cols, counts, *_) in plans.items():
-        flags = value[start[p]:start[p] + int(np.prod(counts))].reshape(counts)
-        labels, n = ndimage.label(flags)  # sets of cells sharing a face
-        first = np.array([np.flatnonzero(labels.ravel() == k + 1)[0] for k in range(n)], np.int64)
-        asks[p] = _centres(cols, counts, lower, upper, mid)[first]
-        sets[p] = labels.ravel()
+    for p, (_, counts, *_) in plans.items():
+        # sets of cells sharing a face
+        labels, _ = ndimage.label(value[start[p]:start[p] + int(np.prod(counts))].reshape(counts))
+        labels = labels.ravel()
+        _, first = np.unique(labels, return_index=True)  # each set's first cell (label 0: not apart)
+        asks[p] = centres[p][first[1:] if labels[first[0]] == 0 else first]
+        sets[p] = labels
     inside = _ask(apart, asks, {p: 0.0 for p in plans}, contain=True)
     for p, labels in sets.items():
         contained = np.nonzero(inside[p] == 0)[0] + 1
         value[start[p] + np.nonzero(np.isin(labels, contained))[0]] = 0
-
-
-def _centres(cols: list[int], counts: list[int], lower: np.ndarray, upper: np.ndarray,
-             mid: np.ndarray) -> np.ndarray:
-    """The configurations at the centres of a grid's cells, row-major (the kernel's cell index)."""
-    centres = [lower[c] + (np.arange(n) + 0.5) * (upper[c] - lower[c]) / n for c, n in zip(cols, counts)]
-    q = np.tile(mid, (int(np.prod(counts)), 1))
-    for c, axis in zip(cols, np.meshgrid(*centres, indexing="ij")):
-        q[:, c] = axis.ravel()
-    return q
 
 
 def _ask(apart, qs: dict[int, np.ndarray], limit: dict[int, float], contain: bool = False) -> dict[int, np.ndarray]:

@@ -112,10 +112,11 @@ class Checker:
     """The compiled collision kernels of one mechanism's bodies on a device: ``verdicts(q)`` for
     batches, ``distances(q, pairs)`` for exact clearances (float64). ``witnesses``: build the
     witness grids (``rswarp.sim.witness``) that spare walks, and with ``certified_cells`` the
-    certified grids (``rswarp.sim.certified_cells``); verdicts and gaps are the same without."""
+    certified grids (``rswarp.sim.certified_cells``), which pay for their setup only in large sweeps
+    (``CERTIFIED_PAY``); verdicts and gaps are the same without."""
 
     def __init__(self, mech: Mechanism, bodies: CollisionBodies, padding: float = 0.0, device: str = "cpu",
-                 threads: int | None = None, witnesses: bool = True, certified_cells: bool = True):
+                 threads: int | None = None, witnesses: bool = True, certified_cells: bool = False):
         wp = init_warp()
         from ..kernels.collide import collision_kernels
 
@@ -134,12 +135,13 @@ class Checker:
         self.launcher.load(self._collide)
         self._quick: dict = {}  # per count of states: ``verdicts``' recorded launch (``_quick_launch``)
         self.witnesses = self.certified = None
+        lower, upper = mech.bounds()
         if witnesses:
-            self.witnesses = witness_grid(self._sample, chain, bodies, *mech.bounds())
+            self.witnesses = witness_grid(self._sample, chain, bodies, lower, upper)
             self._device.set_witnesses(self.witnesses, wp.float32)
         if witnesses and certified_cells:
             self.certified = certified_grid(self._apart_at, self._crossing_at, chain, bodies, self.witnesses,
-                                            *mech.bounds(), padding)
+                                            lower, upper, padding)
             self._device.set_certified(self.certified, wp.float32)
 
     @property

@@ -113,8 +113,7 @@ def program_tools(mech, environment: tuple[Environment, ...], device: str = "cpu
                 raise InputError("--env meshes are checked against the links' meshes; this robot has none") \
                     from None
             raise  # the robot has meshes: the --env mesh is what failed, and its error says so
-    # a program's states are too few to pay for free cells (``certified_cells.CERTIFIED_PAY``)
-    checker = Checker(mech, bodies, padding, device, threads, certified_cells=False) if bodies is not None else None
+    checker = Checker(mech, bodies, padding, device, threads) if bodies is not None else None
     return ProgramTools(checker, floor_points(mech, bodies, mounted), kin)
 
 

@@ -33,21 +33,23 @@ def pair_columns(chain: Chain, bodies: CollisionBodies) -> list[tuple[int, ...]]
     """Per pair, the q columns whose joints move one body relative to the other: the joints on the
     path between their links (every joint above the link, for a body fixed in the world), and the
     active joints a passive one on that path follows."""
-
-    def above(link: int) -> list[int]:
-        out = []
-        while link >= 0:
-            out.append(link)
-            link = int(chain.parent[link])
-        return out
-
     cols = []
     for a, b in bodies.pairs:
-        pa, pb = above(bodies.bodies[a].link), above(bodies.bodies[b].link)
-        moving = set(pa) ^ set(pb)
+        moving = chain.ancestors([bodies.bodies[a].link]) ^ chain.ancestors([bodies.bodies[b].link])
         cols.append(tuple(sorted({int(chain.qidx[k]) for k in moving if chain.qidx[k] >= 0}
                                  | {int(c) for k in moving for c in np.nonzero(chain.mimic[k])[0]})))
     return cols
+
+
+def cell_centres(cols, counts, lower: np.ndarray, upper: np.ndarray, mid: np.ndarray) -> np.ndarray:
+    """The configurations at the centres of a grid's cells over columns ``cols`` (``counts`` cells
+    along each, between ``lower`` and ``upper``; ``mid`` elsewhere), row-major: the cell index the
+    kernels compute."""
+    centres = [lower[c] + (np.arange(n) + 0.5) * (upper[c] - lower[c]) / n for c, n in zip(cols, counts)]
+    q = np.tile(mid, (int(np.prod(counts)), 1))
+    for c, axis in zip(cols, np.meshgrid(*centres, indexing="ij")):
+        q[:, c] = axis.ravel()
+    return q
 
 
 def witness_grid(sample: Callable[[np.ndarray, np.ndarray], np.ndarray], chain: Chain, bodies: CollisionBodies,
@@ -67,10 +69,7 @@ def witness_grid(sample: Callable[[np.ndarray, np.ndarray], np.ndarray], chain: 
         for k, (c, n) in enumerate(zip(cols, counts)):
             col[2 * p + k], res[2 * p + k], lo[2 * p + k] = c, n, lower[c]
             scale[2 * p + k] = n / max(upper[c] - lower[c], 1e-12)
-        q = np.tile(mid, (int(np.prod(counts)), 1))
-        centres = [lower[c] + (np.arange(n) + 0.5) * (upper[c] - lower[c]) / n for c, n in zip(cols, counts)]
-        for c, axis in zip(cols, np.meshgrid(*centres, indexing="ij")):
-            q[:, c] = axis.ravel()  # row-major: the cell index the kernel computes
+        q = cell_centres(cols, counts, lower, upper, mid)
         start[p] = cells
         cells += len(q)
         qs.append(q)
