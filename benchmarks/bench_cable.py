@@ -19,11 +19,11 @@ Each peer is stepped the way its examples do: Newton at 1.67 ms steps with 5 VBD
 its end segments kinematic, and again at equal accuracy: the cheapest step and iteration count
 (work per simulated second, iterations / step) whose shape error, on one environment after the
 same settling, is no more than ours, of every count from 1 to 20 iterations at steps of 16.7,
-8.3, 4.2 and 1.7 ms (a grid of 5, 10 and 20 iterations alone would skip VBD's cheaper counts: at
-4.2 ms, 7 iterations met what only 10 did there). MuJoCo at 0.5 ms (it is reported to go NaN at
-1 ms), implicitfast, one MjData per environment (its cost is per environment; 64 and 256 are
-timed as 4 environments and scaled, said in the table). Ours: 60 frames per second of 4
-substeps and at most 2 Gauss-Newton iterations each, the run's defaults.
+8.3, 4.2 and 1.7 ms, cheapest first (a grid of 5, 10 and 20 iterations alone skipped VBD's
+cheaper counts). MuJoCo at 0.5 ms (it is reported to go NaN at 1 ms), implicitfast, one MjData
+per environment (its cost is per environment; 64 and 256 are timed as 4 environments and
+scaled, said in the table). Ours: 60 frames per second of 4 substeps and at most 2 Gauss-Newton
+iterations each, the run's defaults.
 
 Last, the issue's target: the bundled IRB 2600ID's hose, 256 environments x 10 s of random motion,
 through ``simulate_cables`` (``--whole-run`` measures only this).
@@ -169,6 +169,7 @@ def _ours_settled(segments: int, envs: int, settle: float, threads: int | None):
 
 
 def _ours_row(solver, state, cost: float, ref) -> dict:
+    """The table's entry of our settled hose at ``cost`` CPU-s per simulated second per environment."""
     sag, shape = accuracy(solver.points(state, 0, 0), ref)
     return {"cpu": cost, "sag": sag, "shape": shape, "step": f"{1e3 / 60 / solver.options.substeps:.2f} ms"}
 
