@@ -45,7 +45,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from limits import copy_rate, held_gc
+from limits import alternated, copy_rate, held_gc
 from scipy.integrate import solve_bvp
 from scipy.optimize import brentq
 
@@ -236,18 +236,15 @@ NEWTON_GRID = [(dt, it) for dt in (1 / 60, 1 / 120, 1 / 240, 1 / 600) for it in 
 ROUNDS = 3  # the ratio's row: ours and Newton timed once a round in turn, each one's best kept
 
 
-def alternated(segments: int, envs: int, settle: float, timed: float, ref, newton: tuple[float, int]):
+def ratio_rounds(segments: int, envs: int, settle: float, timed: float, ref, newton: tuple[float, int]):
     """The ratio's row again, as ``bench_collisions`` times its checkers: ours (one thread) and
     Newton at ``newton`` (step, iterations) each settled once, then timed for ``timed`` seconds in
     each of ROUNDS rounds, once a round in turn; each one's least disturbed window kept, so a noisy
     spell on a shared machine takes both or neither."""
     solver, state = _ours_settled(segments, envs, settle, 1)
     window, row = _newton_settled(segments, envs, settle, ref, *newton)
-    a = b = float("inf")
-    for _ in range(ROUNDS):
-        a = min(a, _steps(solver, state, timed) / timed / envs)
-        b = min(b, window(timed) / timed / envs)
-    return _ours_row(solver, state, a, ref), row(b)
+    runs = alternated({"ours": lambda: _steps(solver, state, timed), "newton": lambda: window(timed)}, ROUNDS)
+    return _ours_row(solver, state, min(runs["ours"]) / timed / envs, ref), row(min(runs["newton"]) / timed / envs)
 
 
 def newton_equal_accuracy(segments: int, settle: float, ref, target: float) -> tuple[float, int] | None:
@@ -518,13 +515,13 @@ def main() -> None:
 
 def _ratio_row(rows: list, settle: float, timed: float, ref, equal: tuple[float, int] | None, envs: int):
     """(ours, the best peer) at 20 segments: ours and the Newton setting that cost least in the
-    table timed again in alternated rounds (``alternated``); a peer that is not Newton at its table
+    table timed again in alternated rounds (``ratio_rounds``); a peer that is not Newton at its table
     cost."""
     table = [(n, r) for s, e, n, r in rows if (s, e) == (20, envs) and not n.startswith("rswarp")]
     name, _ = min(table, key=lambda nr: nr[1]["cpu"])
     others = min(r["cpu"] for n, r in table if not n.startswith("Newton"))
     setting = equal if name == "Newton*" and equal is not None else (1 / 600, 5)
-    mine, newton = alternated(20, envs, settle, timed, ref, setting)
+    mine, newton = ratio_rounds(20, envs, settle, timed, ref, setting)
     print(f"\nthe ratio's row again, 20 segments, {envs} environments: rswarp and Newton at {setting[0] * 1e3:.2f} ms, "
           f"{setting[1]} iterations, the cheaper of its table rows, each timed {timed:g} s in each of {ROUNDS} rounds, "
           f"once a round in turn, its best kept")

@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from limits import best_time
+from limits import alternated, best_time
 
 import rswarp
 from rswarp.kernels.witness import APART, CROSSING
@@ -139,10 +139,10 @@ def print_certified_cells(mech, bodies, q: np.ndarray, repeats: int) -> None:
     t = time.perf_counter()
     without = Checker(mech, bodies, threads=1)
     bare = time.perf_counter() - t
-    a = b = np.inf
-    for _ in range(ROUNDS):  # the two alternated, the best of each kept: a noisy spell hits both
-        (hit, ta), (bare_hit, tb) = our_verdicts(with_cells, q, repeats), our_verdicts(without, q, repeats)
-        a, b = min(a, ta), min(b, tb)
+    runs = alternated({"with": lambda: our_verdicts(with_cells, q, repeats),
+                       "without": lambda: our_verdicts(without, q, repeats)}, ROUNDS)
+    (hit, _), (bare_hit, _) = runs["with"][-1], runs["without"][-1]
+    a, b = (min(secs for _, secs in runs[k]) for k in ("with", "without"))
     assert np.array_equal(hit, bare_hit)
     print(f"\ncertified cells (one core, {len(q)} states, the same verdicts; best of {ROUNDS} rounds alternated): "
           f"{a / len(q) * 1e6:.2f} us a state with them, {b / len(q) * 1e6:.2f} without ({b / a:.2f}x); "
@@ -191,19 +191,16 @@ def throughput(mech, bodies, args) -> tuple[list, dict, np.ndarray]:
             libs[name] = __import__(name)
         except ImportError:
             print(f"{name}: not installed, skipped")
-    best, found, peer_setup = {}, {}, {}
-    for _ in range(args.rounds):
-        runs = {"all": lambda: our_verdicts(checker, q, args.repeats),
-                "one": lambda: our_verdicts(one, q[:args.states // 4], args.repeats)}
-        for name, lib in libs.items():
-            runs[name] = lambda lib=lib: peer_verdicts(lib, bodies, poses, args.repeats)
-            if name == "coal":
-                runs["manager"] = lambda lib=lib: manager_verdicts(lib, bodies, poses, args.repeats)
-        for key, run in runs.items():
-            verdicts, secs, *built = run()
-            found[key], best[key] = verdicts, min(best.get(key, np.inf), secs)
-            if built:
-                peer_setup[key] = built[0]
+    runs = {"all": lambda: our_verdicts(checker, q, args.repeats),
+            "one": lambda: our_verdicts(one, q[:args.states // 4], args.repeats)}
+    for name, lib in libs.items():
+        runs[name] = lambda lib=lib: peer_verdicts(lib, bodies, poses, args.repeats)
+        if name == "coal":
+            runs["manager"] = lambda lib=lib: manager_verdicts(lib, bodies, poses, args.repeats)
+    timed = alternated(runs, args.rounds)
+    found = {key: calls[-1][0] for key, calls in timed.items()}
+    best = {key: min(call[1] for call in calls) for key, calls in timed.items()}
+    peer_setup = {key: calls[-1][2] for key, calls in timed.items() if len(calls[-1]) > 2}
     rows = [(f"rswarp (Warp, FK inside, {checker.launcher.threads} threads)", args.states, best["all"], setup),
             ("rswarp (Warp, FK inside, 1 thread)", args.states // 4, best["one"], setup)]
     mine, agree = found["all"][:len(poses)], {}

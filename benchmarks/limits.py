@@ -144,6 +144,17 @@ def best_time(fn, repeats: int = 7, warm: bool = True) -> float:
     return min(times)
 
 
+def alternated(runs: dict, rounds: int) -> dict:
+    """Each of ``runs`` (name: a call) called once a round, in turn, for ``rounds`` rounds; per
+    name, what its calls returned, in order. A noisy spell of a shared machine then meets ours
+    and the peers alike; callers keep each one's best."""
+    out = {name: [] for name in runs}
+    for _ in range(rounds):
+        for name, run in runs.items():
+            out[name].append(run())
+    return out
+
+
 def copy_rate(bytes_per_item: int, items: int) -> float:
     """Items a second that a copy of ``items`` x ``bytes_per_item`` bytes between two buffers allows
     on one thread (the median of five copies after one that touches the pages)."""

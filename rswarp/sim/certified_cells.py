@@ -39,8 +39,8 @@ BLOCK = {1: 16, 2: 4}  # cells along each axis of the blocks asked first (``cert
 # float32 poses and cell indices (errors of a micrometre)
 MARGIN = 1e-4
 # states a sweep needs before its certified grids pay for their setup (a few hundredths of a
-# second, against about 0.14 us a state they save on one core, ``benchmarks/bench_collisions.py``):
-# a smaller sweep builds none
+# second, against the tenth of a microsecond or more a state they save on one core,
+# ``benchmarks/bench_collisions.py``): a smaller sweep builds none
 CERTIFIED_PAY = 1_000_000
 # a pair whose witnesses cross in more than this share of its cells mostly collides: no APART cells
 MOSTLY_CROSSING = 0.5
