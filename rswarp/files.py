@@ -288,11 +288,17 @@ def note_interrupts() -> Iterator[None]:
     its way (a library's catch-all around its optional imports: trimesh's around scipy) still
     stops the next ``commit``: no output is put in place after a Ctrl-C. It is raised only where
     that is safe (``_safe_to_raise``), at once where rswarp's own code runs; one that came while
-    the command started (``hold_start_interrupts``) is raised as the block begins."""
+    the command started (``hold_start_interrupts``) is raised as the block begins. A SIGINT the
+    process was started ignoring (``nohup``, a script's background job) stays ignored, as Python
+    itself leaves it: else one sent in the first tenth of a second was lost and a later one not."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     _interrupted.clear()
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        yield
+        stop_if_terminated()
+        return
     previous = signal.signal(signal.SIGINT, _interrupt)
     try:
         if _held.is_set():

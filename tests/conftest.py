@@ -1,4 +1,5 @@
 import os
+import signal
 import tempfile
 from pathlib import Path
 
@@ -13,6 +14,12 @@ DATA = Path(__file__).parent / "data"
 settings.register_profile("seeded", derandomize=True, database=None)
 settings.register_profile("explore", derandomize=False, database=None)
 settings.load_profile("explore" if os.environ.get("RSWARP_EXPLORE") else "seeded")
+
+# Ctrl-C as a terminal delivers it: a pytest started ignoring SIGINT (a script's background job,
+# nohup) would pass that on to every command the tests start, and rswarp keeps an ignored SIGINT
+# ignored (``rswarp.files.note_interrupts``), so the tests of Ctrl-C would see it lost
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 # collision pieces are cached per session, never in the user's ~/.cache
 os.environ["RSWARP_CACHE_DIR"] = tempfile.mkdtemp(prefix="rswarp-test-cache-")

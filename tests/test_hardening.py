@@ -445,3 +445,20 @@ def test_sigterm_once_every_output_is_written_ends_the_run_as_it_would_have(tmp_
     assert p.returncode == 0, p.stderr.decode()[-500:]
     assert b"SIGTERM came after every output was written" in p.stderr and b"Traceback" not in p.stderr
     assert csv.read_text().startswith("time,")
+
+
+def test_a_sigint_the_command_was_started_ignoring_stays_ignored():
+    """A script's background job (``rswarp ... &``) or ``nohup`` starts with SIGINT ignored, so that
+    a Ctrl-C meant for the foreground leaves it running; rswarp used to take SIGINT back once its
+    command began (lost in the first tenth of a second, a stop after), and now leaves it alone."""
+    script = ("import os, signal, sys, time\nimport rswarp.cli as cli\nfrom rswarp import files\n"
+              "def sleeping(args):\n"
+              "    os.kill(os.getpid(), signal.SIGINT)\n    time.sleep(0.2)\n"
+              "    print('ran', files.interrupted())\n    return 0\n"
+              "cli._call = sleeping\n"
+              f"sys.argv = ['rswarp', 'program', {str(IRB2600)!r}, {str(IRB2600_PROGRAM)!r}]\ncli.run()\n")
+    for disposition, code, out in ((signal.SIG_IGN, 0, b"ran False\n"), (signal.SIG_DFL, 130, b"")):
+        p = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=120,
+                           preexec_fn=lambda d=disposition: signal.signal(signal.SIGINT, d))
+        assert (p.returncode, p.stdout) == (code, out), p.stderr.decode()[-500:]
+        assert b"Traceback" not in p.stderr
