@@ -9,6 +9,7 @@ import warp as wp
 from .cache import cached
 from .geometry import FAR, box_functions, triangle_functions
 from .types import WITNESSES, bodies_struct, types_of, witness_vec
+from .values import fresh
 
 STACK = 96  # node pairs a traversal keeps pending: two balanced trees of depth 40 need at most 81
 SAMPLE = 32  # crossing triangle pairs a sampling walk holds at once
@@ -25,7 +26,7 @@ def leaf_function(scalar=wp.float32):
     def leaf_distance(m: BodyArrays, na: int, nb: int, r: M33, t: V3, overlap_only: bool) -> S:
         """The distance between the triangles of two leaves; with ``overlap_only``, 0 if two cross
         and huge otherwise."""
-        best = S(FAR)
+        best = fresh(S(FAR))
         fa = -1 - m.nodes[na].left
         fb = -1 - m.nodes[nb].left
         for kb in range(fb, fb + m.nodes[nb].right):
@@ -132,7 +133,7 @@ def traversal_functions(scalar=wp.float32):
         Depth first, nearer (more overlapping) children first: crossings and small distances are
         found early, and a small distance prunes the rest."""
         overlap_only = limit <= S(0.0)
-        best = S(FAR)
+        best = fresh(S(FAR))
         if node_gap(m, m.root[a], m.root[b], r, t) > limit:
             return best
         stack = wp.zeros(shape=wp.static(2 * STACK), dtype=wp.int32)

@@ -9,6 +9,7 @@ walks much of a link's mesh."""
 
 import warp as wp
 
+from ..values import fresh
 from .contact import BOX_HAIR, box_distance, may_touch, mesh_pose, note, past_sphere, segment_mesh, to_frame
 from .joint import axis_of
 from .slots import BIG
@@ -63,7 +64,7 @@ def _cable(params: RodParams, d: int, m: M44, j: int, first: int, last: int, x_s
     """Bodies first..last (one cable) against mesh j: the bound first, then each body in order."""
     cable = params.cable[d, first]
     hint = int(-1)
-    nearest = F64(BIG)
+    nearest = fresh(F64(BIG))
     for k in range(first, last):
         lower = _within(params, d, m, j, k, x_s[e, k], reach)
         if lower < nearest:

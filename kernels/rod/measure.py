@@ -9,6 +9,7 @@ attachments."""
 
 import warp as wp
 
+from ..values import fresh
 from .contact import contact_outcome
 from .joint import axis_of, joint_forces, joint_strain, twist_angle
 from .slots import BIG
@@ -98,7 +99,7 @@ def _attachments(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int
     at them."""
     c = params.cable[d, k]
     half = params.half[d, k]
-    least = F64(BIG)
+    least = fresh(F64(BIG))
     for a in range(params.attach_first[d, k], params.attach_first[d, k + 1]):
         p, f = attachment_pose(params, d, poses, e, s, a)
         k6 = params.attach_stiff[d, a]
@@ -201,7 +202,7 @@ def measure(
     cycles_out = wear_out.cycles
     bodies = params.bodies[d]
     crushed = int(-1)
-    before = F64(BIG)  # the bend radius at the current body's start joint
+    before = fresh(F64(BIG))  # the bend radius at the current body's start joint
     for k in range(bodies):
         b = work[row, k]
         c = params.cable[d, k]
