@@ -28,12 +28,15 @@ def _static_range(node: ast.AST) -> bool:
 
 
 def _started_from_constants(fn: ast.FunctionDef) -> dict[str, int]:
-    """Names a function assigns straight from a constructor of one module constant: ``x = F64(BIG)``."""
+    """Names a function assigns straight from a constructor of one name it neither takes nor
+    assigns (a module constant, or a factory's closure constant): ``x = F64(BIG)``."""
+    own = {a.arg for a in fn.args.args} | {n.id for n in ast.walk(fn) if isinstance(n, ast.Name)
+                                           and isinstance(n.ctx, ast.Store)}
     out = {}
     for node in ast.walk(fn):
         if isinstance(node, ast.Assign) and isinstance(node.value, ast.Call) and len(node.value.args) == 1:
             arg = node.value.args[0]
-            if isinstance(arg, ast.Name) and arg.id.isupper():
+            if isinstance(arg, ast.Name) and arg.id not in own:
                 for target in node.targets:
                     if isinstance(target, ast.Name):
                         out.setdefault(target.id, node.lineno)
