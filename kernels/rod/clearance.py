@@ -4,6 +4,9 @@ whose box distance already exceeds it is skipped, and the queries of the rest re
 than the least gap so far. Every body measured in order, each query reaching the whole distance,
 gives the same least clearance and arc, bit for bit: the bound skips only bodies whose gap exceeds
 it, and a nearer face is found by a shorter query as by a longer one (``tests/test_rod_culling.py``).
+With ``lowering`` (a design sweep, which keeps only each run's least), the least of the frames
+before bounds them too, from the nearest body's query on: a frame then measures a clearance only
+where it is lower (``tests/test_rod_lowering.py``).
 A clearance's queries reach 0.25 m (``REACH``), far past a contact's, so each one taken in full
 walks much of a link's mesh."""
 
@@ -18,9 +21,10 @@ from .types import F64, M44, V3, Q, RodParams
 
 @wp.func
 def mesh_clearances(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int,
-                    x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), reach: F64,
+                    x_s: wp.array2d(dtype=V3), q_s: wp.array2d(dtype=Q), reach: F64, least: wp.array3d(dtype=F64),
                     clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
-    """Every cable's least clearance to every mesh at pose row ``s``, within ``reach``."""
+    """Every cable's least clearance to every mesh at pose row ``s``, within ``reach`` (and where it
+    is under ``least``, the least so far: BIG where there is none)."""
     bodies = params.bodies[d]
     for j in range(params.mesh.shape[0]):
         if params.mesh[j] == wp.uint64(0):
@@ -31,7 +35,7 @@ def mesh_clearances(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: 
             last = first + 1
             while last < bodies and params.cable[d, last] == params.cable[d, first]:
                 last += 1
-            _cable(params, d, m, j, first, last, x_s, q_s, e, reach, clear_out, at_out)
+            _cable(params, d, m, j, first, last, x_s, q_s, e, reach, least, clear_out, at_out)
             first = last
 
 
@@ -59,8 +63,8 @@ def _gap(params: RodParams, d: int, m: M44, j: int, k: int, x: V3, q: Q, query: 
 
 @wp.func
 def _cable(params: RodParams, d: int, m: M44, j: int, first: int, last: int, x_s: wp.array2d(dtype=V3),
-           q_s: wp.array2d(dtype=Q), e: int, reach: F64, clear_out: wp.array3d(dtype=F64),
-           at_out: wp.array3d(dtype=F64)):
+           q_s: wp.array2d(dtype=Q), e: int, reach: F64, least: wp.array3d(dtype=F64),
+           clear_out: wp.array3d(dtype=F64), at_out: wp.array3d(dtype=F64)):
     """Bodies first..last (one cable) against mesh j: the bound first, then each body in order."""
     cable = params.cable[d, first]
     hint = int(-1)
@@ -72,13 +76,19 @@ def _cable(params: RodParams, d: int, m: M44, j: int, first: int, last: int, x_s
             hint = k
     if hint < 0:
         return
-    # the hint's gap, its queries as long as every body's are in order (none past its box)
+    # the hint's gap, its queries as long as every body's are in order (none past its box), or
+    # only as long as the least so far where its axis lies outside the box
     r = params.radius[d, hint]
+    so_far = least[e, cable, j]
+    room_h = wp.max(wp.min(r + reach, so_far + r), F64(0.0))
+    query_h = r + reach
+    if nearest >= params.half[d, hint]:
+        query_h = wp.min(query_h, room_h + F64(BOX_HAIR))
     found_h = int(0)
     gap_h = F64(BIG)
     arc_h = F64(0.0)
-    if nearest < r + reach + params.half[d, hint] + F64(BOX_HAIR):
-        found_h, gap_h, arc_h = _gap(params, d, m, j, hint, x_s[e, hint], q_s[e, hint], r + reach)
+    if nearest < room_h + params.half[d, hint] + F64(BOX_HAIR):
+        found_h, gap_h, arc_h = _gap(params, d, m, j, hint, x_s[e, hint], q_s[e, hint], query_h)
     bound = F64(BIG)
     if found_h != 0:
         bound = gap_h
@@ -92,7 +102,7 @@ def _cable(params: RodParams, d: int, m: M44, j: int, first: int, last: int, x_s
         half = params.half[d, k]
         # a capsule wholly outside the box is outside the mesh, no nearer than its box distance
         # less its half length: one that cannot come under the least gap so far changes nothing
-        room = wp.max(wp.min(r + reach, wp.min(clear_out[e, cable, j], bound) + r), F64(0.0))
+        room = wp.max(wp.min(r + reach, wp.min(clear_out[e, cable, j], wp.min(bound, so_far)) + r), F64(0.0))
         if box >= room + half + F64(BOX_HAIR):
             continue
         query = r + reach

@@ -90,12 +90,18 @@ def _contacts(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s
 @wp.func
 def _clearances(params: RodParams, d: int, poses: wp.array3d(dtype=M44), e: int, s: int, state: RodBodies,
                 work: wp.array2d(dtype=BodyWork), contacts: wp.array2d(dtype=Contact),
-                count: wp.array2d(dtype=wp.int32), row: int, frame_out: RodFrame):
-    """The frame's end: every clearance within ``reach``."""
-    mesh_clearances(params, d, poses, e, s, state.x, state.q, params.reach, frame_out.clear, frame_out.at)
+                count: wp.array2d(dtype=wp.int32), row: int, wear_out: RodWear, frame_out: RodFrame):
+    """The frame's end: every clearance within ``reach``; with ``lowering``, a mesh's only where it
+    lowers the least so far, which it then keeps."""
+    least = wear_out.least
+    mesh_clearances(params, d, poses, e, s, state.x, state.q, params.reach, least, frame_out.clear, frame_out.at)
     every_floor(params, d, e, state.x, state.q, params.reach, contacts, count, row, frame_out.clear, frame_out.at)
     capsule_pairs(params, d, work, state.x, state.q, e, params.reach, 0, contacts, count, row, frame_out.clear,
                   frame_out.at)
+    if params.lowering != 0:
+        for c in range(least.shape[1]):
+            for j in range(params.mesh.shape[0]):
+                least[e, c, j] = wp.min(least[e, c, j], frame_out.clear[e, c, j])
 
 
 @wp.func
@@ -177,7 +183,7 @@ def rod_kernel():
                 state_out.status[e] = status
                 return
         frame_end(params, d, poses, e, substeps, state_out.x, state_out.q, frame_out.stats)
-        _clearances(params, d, poses, e, substeps, state_out, work, contacts, count, row, frame_out)
+        _clearances(params, d, poses, e, substeps, state_out, work, contacts, count, row, wear_out, frame_out)
 
     # multiply-adds fused; the substep and the surfaces inlined: no copy of params a call
     cpu_flags(step.module, f"{FUSED} {INLINE_ALL}")

@@ -93,6 +93,7 @@ class RodParams:
     floor: F64  # z of the floor
     margin: wp.array(dtype=F64)  # per design: the contact query distance beyond the radii, per substep
     reach: F64  # clearance query distance beyond the radius, per frame
+    lowering: int  # 1: a frame measures a mesh's clearance only where it lowers ``RodWear.least``
     max_speed: F64  # a point faster than this has blown up
 
 
@@ -115,13 +116,15 @@ class RodWear:
     """The wear map, accumulated in place over the steps (envs, bodies): each body's time in
     contact, peak normal force, normal force times sliding distance per slot (envs, bodies,
     slots), curvature (1/m, its tighter joint) at the last substep's end, and bending cycles
-    below its cable's allowed radius."""
+    below its cable's allowed radius; and with ``lowering``, each cable's least clearance to each
+    slot so far (envs, cables, slots; BIG: none yet, and always without ``lowering``)."""
 
     time: wp.array2d(dtype=F64)
     peak: wp.array2d(dtype=F64)
     wear: wp.array3d(dtype=F64)
     bend: wp.array2d(dtype=F64)
     cycles: wp.array2d(dtype=wp.int32)
+    least: wp.array3d(dtype=F64)
 
 
 @wp.struct

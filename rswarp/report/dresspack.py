@@ -90,7 +90,8 @@ def run_dresspack(path: str, programs: list[str], out: str, task: TaskOptions | 
     ratings = ratings_of(mech, hose)
     check_cable_folder(out)
     check_video_options(video.video, None, video.video_color, 1, out)
-    options = cable_options(mech, placed, hose, batch.device)
+    # the sweep keeps each design's least clearances, never their series: a frame measures only lower ones
+    options = replace(cable_options(mech, placed, hose, batch.device), frame_clearances=False)
     plan = _task_plan(path, programs, task, warn)
     trajectories = [Trajectory(", ".join(plan.run.files), plan.times, plan.q, base=base_offsets(cell, plan))]
     start = time.perf_counter()

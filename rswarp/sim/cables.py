@@ -296,7 +296,7 @@ class _CableEnvs:
         self.solver, self.options, self.record = solver, options, record
         self.state, self.envs = solver.state(envs), envs
         self.extremes = [RunningExtremes(info, len(solver.slots), envs, frames, record, values, solver.dof,
-                                         options.max_strain) for info in solver.cables]
+                                         options.max_strain, options.frame_clearances) for info in solver.cables]
         self.flows = None  # per cable, the rainflow count of each segment's curvature, from start()
 
     def start(self) -> None:

@@ -17,7 +17,7 @@ class RunningExtremes:
     of a cut run keeps these, and the tally takes the spread of all environments."""
 
     def __init__(self, info: CableInfo, slots: int, envs: int, frames: int, record: int, values: bool = False,
-                 dof: int = 0, max_strain: float = 0.005):
+                 dof: int = 0, max_strain: float = 0.005, frame_clearances: bool = True):
         self.info = info
         self.taut_force = max_strain * info.axial_stiffness  # N: past it, the first time is noted (taut_t)
         nan = lambda *shape: np.full(shape, np.nan)  # noqa: E731
@@ -43,6 +43,7 @@ class RunningExtremes:
         self.record, self.stride = record, max(1, -(-frames // MAX_RECORDED))
         self.recorded: list[np.ndarray] = []
         self.frame = 0
+        self.frame_clearances = frame_clearances  # False: a frame's clearances only where lower, no series
 
     def start(self, stats: dict) -> None:
         """The twist at the end of settling: its turns are counted from here on. An environment
@@ -74,7 +75,7 @@ class RunningExtremes:
         self._pinch(stats, only("pinch"), t, q)
         self._clamps(stats, live, t)
         self._twist(stats["twist"], live)
-        row = (tension, bend, gap, torque)
+        row = (tension, bend, gap if self.frame_clearances else np.full_like(gap, np.nan), torque)
         if self.values is not None:
             self.values[self.frame] = row
         else:

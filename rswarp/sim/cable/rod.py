@@ -58,6 +58,7 @@ class RodState:
     clear: object
     clear_at: object
     load: object
+    least: object  # (envs, cables, slots) the least clearance so far, where a frame measures only lower ones
     joints: np.ndarray
     design: object  # (envs,) each environment's design, on the device
     designs: np.ndarray  # the same on the host
@@ -158,6 +159,7 @@ class CosseratRod(CableSolver):
         p.floor = NO_FLOOR if options.floor is None else float(options.floor)
         p.margin = arr([2 * lay.half.max() for lay in self.layouts], wp.float64)
         p.reach, p.max_speed = REACH, MAX_SPEED
+        p.lowering = 0 if options.frame_clearances else 1
         return p
 
     def _mesh_arrays(self, p, meshes: ContactMeshes) -> None:
@@ -205,7 +207,8 @@ class CosseratRod(CableSolver):
                          zeros((envs, b)), zeros((envs, b)), zeros((envs, b, slots)), zeros((envs, b)),
                          zeros((envs, b), wp.int32), zeros((envs, c, STATS)), zeros((envs, c, slots)),
                          zeros((envs, c, slots)), zeros((envs, max(len(self.layout.attach_body), 1), LOADS)),
-                         np.zeros((envs, self.dof)), wp.array(design, dtype=wp.int32, device=dev), design)
+                         wp.full((envs, c, slots), BIG, dtype=wp.float64, device=dev), np.zeros((envs, self.dof)),
+                         wp.array(design, dtype=wp.int32, device=dev), design)
         state.groups = _groups(state)
         return state
 
@@ -264,6 +267,7 @@ class CosseratRod(CableSolver):
     def reset_totals(self, state: RodState) -> None:
         for a in (state.wear_time, state.wear_peak, state.wear, state.cycles):
             a.zero_()
+        state.least.fill_(BIG)
 
     def totals(self, state: RodState) -> list[dict[str, np.ndarray]]:
         time, peak, wear, cycles = (a.numpy() for a in (state.wear_time, state.wear_peak, state.wear, state.cycles))
@@ -329,6 +333,7 @@ def _groups(state: RodState) -> tuple:
                                                                        state.status)
     wear.time, wear.peak, wear.wear, wear.bend, wear.cycles = (state.wear_time, state.wear_peak, state.wear,
                                                                state.bend, state.cycles)
+    wear.least = state.least
     frame.stats, frame.clear, frame.at, frame.load = state.stats, state.clear, state.clear_at, state.load
     return bodies, wear, frame
 

@@ -93,6 +93,10 @@ class CableOptions:
     max_strain: float = 0.005  # axial strain past which a cable is taut: when it first is, is noted
     tool: object = None  # a sim.tool.Tool on the flange, which the cables touch and the videos draw
     record: int = -1  # the environment whose shapes are kept for playback (--usd); -1: none
+    # each frame's least clearance to every mesh measured whole (the clearance series, its plot);
+    # False: only where it lowers the least so far (a design sweep's verdicts, the same bit for
+    # bit), the series then NaN
+    frame_clearances: bool = True
     cable_model: str = "rod"  # the model of ``models.CABLE_MODELS``
     device: str = "cpu"
     threads: int | None = None
