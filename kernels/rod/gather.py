@@ -34,6 +34,9 @@ FOLD = 3.141592653589793  # along a hose, pi allowed bend radii: the least arc t
 # a contact is made ahead for what may meet in the substep: within the query distance plus this many
 # times the bodies' predicted sweeps (a snapping cable accelerates past its prediction)
 AHEAD = 2.0
+# m: more than rounding may take from a straightness bound (``_straightness``: sums of metres in
+# float64, each link shorter than TINY left out)
+STRAIGHT_HAIR = 1.0e-6
 
 
 @wp.func
@@ -142,15 +145,20 @@ def capsule_pairs(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x
     """Every two capsules of the cables within ``query`` of each other (with ``make``, plus their
     sweeps), but for neighbours along one cable: a contact for each (each closes half the gap,
     drawn to the pair's mean motion). A pair far apart skips the bodies after it along its cable
-    that cannot be near either (``_chain``)."""
+    that cannot be near either (``_chain``), and a cable that does not turn back on itself skips,
+    at once, its own bodies too far along it to be near (``_straightness``)."""
     bodies = params.bodies[d]
     reach = _chain(params, d, work, x_s, e, make, row)
+    straight = F64(0.0)
     for i in range(bodies):
         xi = x_s[e, i]
         ri = params.radius[d, i]
         hi = params.half[d, i]
         ci = params.cable[d, i]
         ai = params.arc[d, i]
+        if i == params.cable_first[d, ci]:
+            straight = _straightness(params, d, work, x_s, e, row, ci)
+        along_i = work[row, i].along
         fold = F64(FOLD) * params.allowed[ci]
         own = hi + ri + query
         if make != 0:
@@ -162,6 +170,10 @@ def capsule_pairs(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x
             if params.cable[d, j] == ci:
                 if _along_only(params.arc[d, j] - ai, hi, hj, ri, rj, fold, make):
                     j += 1
+                    continue
+                # this body and every later one of the cable lie further than any pair's reach
+                if straight * (work[row, j].along - along_i) >= own + reach + F64(STRAIGHT_HAIR):
+                    j = params.cable_first[d, ci + 1]
                     continue
             ahead = query
             if make != 0:
@@ -207,6 +219,29 @@ def _chain(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x_s: wp.
             extra = extra + b.sweep
         reach = wp.max(reach, extra)
     return reach
+
+
+@wp.func
+def _straightness(params: RodParams, d: int, work: wp.array2d(dtype=BodyWork), x_s: wp.array2d(dtype=V3), e: int,
+                  row: int, c: int) -> F64:
+    """The least, over cable c's chain of centres, of each link's advance along the line from its
+    first centre to its last, per metre along the chain (``_chain``'s ``along``); 0 if none
+    advances. Where it is s > 0, two centres of the cable lie at least s times their distance
+    along the chain apart (the links' advances sum to the chord's): a hose that does not turn back
+    on itself skips, at once, all its pairs too far apart along it to touch."""
+    first = params.cable_first[d, c]
+    last = params.cable_first[d, c + 1] - 1
+    chord = x_s[e, last] - x_s[e, first]
+    span = wp.length(chord)
+    if span <= F64(TINY):
+        return F64(0.0)
+    w = chord / span
+    least = F64(1.0)
+    for k in range(first + 1, last + 1):
+        step = work[row, k].along - work[row, k - 1].along
+        if step > F64(TINY):
+            least = wp.min(least, wp.dot(x_s[e, k] - x_s[e, k - 1], w) / step)
+    return wp.max(least, F64(0.0))
 
 
 @wp.func
