@@ -59,20 +59,37 @@ def _bowed(a: np.ndarray, b: np.ndarray, length: float) -> np.ndarray:
         return a + np.linspace(0.0, 1.0, SAMPLES + 1)[:, None] * chord  # taut: the chord itself
     s = np.linspace(0.0, 1.0, SAMPLES + 1)[:, None]
     line, bow = a + s * chord, np.sin(np.pi * s)
-
-    def curve(h: float) -> np.ndarray:
-        return line + h * bow * side
-
+    arc = _Arc(line, bow, side)
     lo, hi = 0.0, length  # a bow as deep as the length is always long enough
     for _ in range(100):  # bisection on the depth: arc length grows with it
         h = 0.5 * (lo + hi)
         if h in (lo, hi):  # the interval is one rounding wide: no later step would change it
             break
-        if _arc(curve(h)) < length:
+        if arc(h) < length:
             lo = h
         else:
             hi = h
-    return curve(0.5 * (lo + hi))
+    return line + 0.5 * (lo + hi) * bow * side
+
+
+class _Arc:
+    """The arc length of the bow ``line + h bow side`` at depth h, each step as ``_arc`` of the
+    curve rounds it, into arrays made once: a design sweep bisects every design's spans, some fifty
+    steps each, and fresh arrays and ``norm``'s checks cost more than the arithmetic."""
+
+    def __init__(self, line: np.ndarray, bow: np.ndarray, side: np.ndarray):
+        self.line, self.bow, self.side = line, bow, side
+        self.depth, self.curve = np.empty_like(bow), np.empty_like(line)
+        self.step, self.norm = np.empty((len(line) - 1, 3)), np.empty(len(line) - 1)
+
+    def __call__(self, h: float) -> float:
+        np.multiply(h, self.bow, out=self.depth)
+        np.multiply(self.depth, self.side, out=self.curve)
+        np.add(self.line, self.curve, out=self.curve)
+        np.subtract(self.curve[1:], self.curve[:-1], out=self.step)
+        np.multiply(self.step, self.step, out=self.step)
+        np.add.reduce(self.step, axis=1, out=self.norm)
+        return float(np.sqrt(self.norm, out=self.norm).sum())
 
 
 def _sag_direction(chord: np.ndarray) -> np.ndarray:

@@ -12,6 +12,7 @@ roll), without it the point only (a ball joint). A clamp joint is half a segment
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -229,60 +230,73 @@ def _attachments(cable: Cable, anchors, links, pts, node_frames, seg, section: S
 def _frames(tangents: np.ndarray, directions: dict[int, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """(per segment, per node) frames as quaternions (x, y, z, w): third axis along the segment (at
     a node, along its control point's direction, else the segment after it), the first carried by
-    parallel transport through every tangent in order, so nothing is twisted at rest."""
-    start = directions.get(0, tangents[0])
+    parallel transport through every tangent in order, so nothing is twisted at rest. In Python
+    floats, a vector a tuple: a design sweep lays out every design's segments, and NumPy's calls on
+    3-vectors cost many times their arithmetic (each product and sum as NumPy rounds them)."""
+    tl = [tuple(t) for t in tangents.tolist()]
+    given = {k: tuple(v.tolist()) for k, v in directions.items()}
+    start = given.get(0, tl[0])
     normal = _perpendicular(start)
     t_prev = start
     seg_q, node_q = [], []
-    for i in range(len(tangents) + 1):
-        t_node = directions.get(i, tangents[min(i, len(tangents) - 1)])
+    for i in range(len(tl) + 1):
+        t_node = given.get(i, tl[min(i, len(tl) - 1)])
         normal = transport(normal, t_prev, t_node)
         node_q.append(_quaternion(normal, t_node))
         t_prev = t_node
-        if i < len(tangents):
-            normal = transport(normal, t_prev, tangents[i])
-            seg_q.append(_quaternion(normal, tangents[i]))
-            t_prev = tangents[i]
+        if i < len(tl):
+            normal = transport(normal, t_prev, tl[i])
+            seg_q.append(_quaternion(normal, tl[i]))
+            t_prev = tl[i]
     return np.array(seg_q), np.array(node_q)
 
 
-def transport(n: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def transport(n: tuple, a: tuple, b: tuple) -> tuple:
     """``n`` turned by the least rotation taking unit tangent ``a`` to ``b`` (parallel transport),
     kept square to ``b``."""
-    c, axis = float(a @ b), _cross(a, b)
+    c, axis = _dot(a, b), _cross(a, b)
     if c > -0.999:
-        n = c * n + _cross(axis, n) + axis * (axis @ n) / (1 + c)
-    n = n - (n @ b) * b
-    return n / np.linalg.norm(n)
+        x, s, e = _cross(axis, n), _dot(axis, n), 1 + c
+        n = tuple(c * n[i] + x[i] + axis[i] * s / e for i in range(3))
+    t = _dot(n, b)
+    return _unit3(tuple(n[i] - t * b[i] for i in range(3)))
 
 
-def _perpendicular(t: np.ndarray) -> np.ndarray:
-    helper = np.array([0.0, 0.0, 1.0]) if abs(t[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    n = _cross(t, helper)
-    return n / np.linalg.norm(n)
+def _perpendicular(t: tuple) -> tuple:
+    helper = (0.0, 0.0, 1.0) if abs(t[2]) < 0.9 else (1.0, 0.0, 0.0)
+    return _unit3(_cross(t, helper))
 
 
-def _quaternion(d1: np.ndarray, d3: np.ndarray) -> np.ndarray:
+def _quaternion(d1: tuple, d3: tuple) -> tuple:
     """The unit quaternion (x, y, z, w) of the frame with axes d1, d3 x d1, d3."""
-    m = np.stack([d1, _cross(d3, d1), d3], axis=1)
-    w = np.sqrt(max(1e-12, 1 + m[0, 0] + m[1, 1] + m[2, 2])) / 2
+    d2 = _cross(d3, d1)
+    m = ((d1[0], d2[0], d3[0]), (d1[1], d2[1], d3[1]), (d1[2], d2[2], d3[2]))
+    w = math.sqrt(max(1e-12, 1 + m[0][0] + m[1][1] + m[2][2])) / 2
     if w > 0.1:
-        q = np.array([m[2, 1] - m[1, 2], m[0, 2] - m[2, 0], m[1, 0] - m[0, 1], 4 * w ** 2]) / (4 * w)
+        f = 4 * w
+        q = ((m[2][1] - m[1][2]) / f, (m[0][2] - m[2][0]) / f, (m[1][0] - m[0][1]) / f, 4 * w ** 2 / f)
     else:  # near a half turn: from the largest diagonal
-        i = int(np.argmax(np.diag(m)))
+        diag = (m[0][0], m[1][1], m[2][2])
+        i = diag.index(max(diag))
         j, k = (i + 1) % 3, (i + 2) % 3
-        s = np.sqrt(max(1e-12, 1 + m[i, i] - m[j, j] - m[k, k])) * 2
-        q = np.zeros(4)
-        q[i], q[j], q[k], q[3] = s / 4, (m[j, i] + m[i, j]) / s, (m[k, i] + m[i, k]) / s, (m[k, j] - m[j, k]) / s
-    return q / np.linalg.norm(q)
+        s = math.sqrt(max(1e-12, 1 + m[i][i] - m[j][j] - m[k][k])) * 2
+        q = [0.0] * 4
+        q[i], q[j], q[k], q[3] = s / 4, (m[j][i] + m[i][j]) / s, (m[k][i] + m[i][k]) / s, (m[k][j] - m[j][k]) / s
+    length = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    return tuple(v / length for v in q)
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``np.cross`` of two 3-vectors, term by term as it rounds them, without its axis handling (a
-    design's layout crosses thousands)."""
-    a0, a1, a2 = a.tolist()
-    b0, b1, b2 = b.tolist()
-    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+def _dot(a: tuple, b: tuple) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a: tuple, b: tuple) -> tuple:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _unit3(v: tuple) -> tuple:
+    length = math.sqrt(_dot(v, v))
+    return (v[0] / length, v[1] / length, v[2] / length)
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
