@@ -73,9 +73,10 @@ def _bowed(a: np.ndarray, b: np.ndarray, length: float) -> np.ndarray:
 
 
 class _Arc:
-    """The arc length of the bow ``line + h bow side`` at depth h, each step as ``_arc`` of the
-    curve rounds it, into arrays made once: a design sweep bisects every design's spans, some fifty
-    steps each, and fresh arrays and ``norm``'s checks cost more than the arithmetic."""
+    """The arc length of the bow ``line + h bow side`` at depth h (the sum of its sampled chords, as
+    ``np.linalg.norm`` rounds each), into arrays made once: a design sweep bisects every design's
+    spans, some fifty steps each, and fresh arrays and ``norm``'s checks cost more than the
+    arithmetic."""
 
     def __init__(self, line: np.ndarray, bow: np.ndarray, side: np.ndarray):
         self.line, self.bow, self.side = line, bow, side
@@ -100,10 +101,6 @@ def _sag_direction(chord: np.ndarray) -> np.ndarray:
         if np.linalg.norm(side) > 1e-3:
             return side / np.linalg.norm(side)
     raise AssertionError("no direction across a chord")  # unreachable: three axes span space
-
-
-def _arc(points: np.ndarray) -> float:
-    return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
 
 
 def _cut(name: str, spans: list[np.ndarray], lengths: np.ndarray, segments: np.ndarray) -> CableRest:
