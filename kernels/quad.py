@@ -25,87 +25,98 @@ def lane_types(scalar=wp.float32):
     return wp.types.vector(QUAD, scalar), wp.types.matrix((2, QUAD), scalar)
 
 
-@cached
-def lane_functions(scalar=wp.float32):
-    """(along, spread, edge_axis): the box test's steps, four lanes at a time."""
-    S, V3, M33, M34, M44 = types_of(scalar)
-    V4, _ = lane_types(scalar)
+# One box against four, lane by lane (Gottschalk's fifteen axes each, no square roots), as a native
+# snippet: Warp's vectors of four do not become SIMD (each lane was its own scalar instruction, and
+# its max a pair of compares for NaN), where clang's vector types make each step one instruction.
+# Under clang (Warp's CPU compiler) the four lanes are one vector; any other compiler (CUDA's), or
+# RSW_LANES_LOOP, loops over them. Either way each lane takes the same operations in the same
+# order, and max and min are Warp's (the other operand where one is NaN), so the two agree bit for
+# bit (``tests/test_quad_lanes.py``). Row 0 of the result: the centres' squared distance (the walk's
+# order); row 1: positive where an axis parts the boxes (``box_gap``'s test). ``r01``: the other
+# box's axis 1 along each box's axis 0; ``a``: its absolute value and EPS_AXIS.
+_QUAD_EXPR = r"""
+T d0 = x0 * c0 + y0 * c1 + z0 * c2;
+T d1 = x1 * c0 + y1 * c1 + z1 * c2;
+T d2 = x2 * c0 + y2 * c1 + z2 * c2;
+T r00 = x0 * u[0][0] + y0 * u[1][0] + z0 * u[2][0], r01 = x0 * u[0][1] + y0 * u[1][1] + z0 * u[2][1];
+T r02 = x0 * u[0][2] + y0 * u[1][2] + z0 * u[2][2];
+T r10 = x1 * u[0][0] + y1 * u[1][0] + z1 * u[2][0], r11 = x1 * u[0][1] + y1 * u[1][1] + z1 * u[2][1];
+T r12 = x1 * u[0][2] + y1 * u[1][2] + z1 * u[2][2];
+T r20 = x2 * u[0][0] + y2 * u[1][0] + z2 * u[2][0], r21 = x2 * u[0][1] + y2 * u[1][1] + z2 * u[2][1];
+T r22 = x2 * u[0][2] + y2 * u[1][2] + z2 * u[2][2];
+T a00 = RSW_ABS(r00) + EPS, a01 = RSW_ABS(r01) + EPS, a02 = RSW_ABS(r02) + EPS;
+T a10 = RSW_ABS(r10) + EPS, a11 = RSW_ABS(r11) + EPS, a12 = RSW_ABS(r12) + EPS;
+T a20 = RSW_ABS(r20) + EPS, a21 = RSW_ABS(r21) + EPS, a22 = RSW_ABS(r22) + EPS;
+T worst = RSW_MAX(RSW_MAX(RSW_ABS(d0) - e0 - (a00 * h0 + a01 * h1 + a02 * h2),
+                          RSW_ABS(d1) - e1 - (a10 * h0 + a11 * h1 + a12 * h2)),
+                  RSW_ABS(d2) - e2 - (a20 * h0 + a21 * h1 + a22 * h2));
+T fb0 = RSW_ABS(r00 * d0 + r10 * d1 + r20 * d2) - h0 - (a00 * e0 + a10 * e1 + a20 * e2);
+T fb1 = RSW_ABS(r01 * d0 + r11 * d1 + r21 * d2) - h1 - (a01 * e0 + a11 * e1 + a21 * e2);
+T fb2 = RSW_ABS(r02 * d0 + r12 * d1 + r22 * d2) - h2 - (a02 * e0 + a12 * e1 + a22 * e2);
+worst = RSW_MAX(worst, RSW_MAX(fb0, RSW_MAX(fb1, fb2)));
+#define RSW_EDGE(da, ra, db, rb, ea, aa, eb, ab, g1, b1, g2, b2, rij) \
+    RSW_MIN(RSW_ABS(da * ra - db * rb) - ea * aa - eb * ab - b1 * g1 - b2 * g2, NEAR1 - rij * rij)
+T apart = RSW_MAX(worst, RSW_EDGE(d2, r10, d1, r20, e1, a20, e2, a10, h1, a02, h2, a01, r00));
+apart = RSW_MAX(apart, RSW_EDGE(d2, r11, d1, r21, e1, a21, e2, a11, h2, a00, h0, a02, r01));
+apart = RSW_MAX(apart, RSW_EDGE(d2, r12, d1, r22, e1, a22, e2, a12, h0, a01, h1, a00, r02));
+apart = RSW_MAX(apart, RSW_EDGE(d0, r20, d2, r00, e2, a00, e0, a20, h1, a12, h2, a11, r10));
+apart = RSW_MAX(apart, RSW_EDGE(d0, r21, d2, r01, e2, a01, e0, a21, h2, a10, h0, a12, r11));
+apart = RSW_MAX(apart, RSW_EDGE(d0, r22, d2, r02, e2, a02, e0, a22, h0, a11, h1, a10, r12));
+apart = RSW_MAX(apart, RSW_EDGE(d1, r00, d0, r10, e0, a10, e1, a00, h1, a22, h2, a21, r20));
+apart = RSW_MAX(apart, RSW_EDGE(d1, r01, d0, r11, e0, a11, e1, a01, h2, a20, h0, a22, r21));
+apart = RSW_MAX(apart, RSW_EDGE(d1, r02, d0, r12, e0, a12, e1, a02, h0, a21, h1, a20, r22));
+#undef RSW_EDGE
+T key = d0 * d0 + d1 * d1 + d2 * d2;
+"""
+# the record's numbers: box axes (nine lane vectors, entry 3 r + c), centres (three), half sizes
+_QUAD_NAMES = (("x0", "axes", 0), ("y0", "axes", 3), ("z0", "axes", 6), ("x1", "axes", 1), ("y1", "axes", 4),
+               ("z1", "axes", 7), ("x2", "axes", 2), ("y2", "axes", 5), ("z2", "axes", 8), ("e0", "halfs", 0),
+               ("e1", "halfs", 1), ("e2", "halfs", 2))
 
-    @wp.func
-    def along(x: V4, y: V4, z: V4, u: V3) -> V4:
-        """x u0 + y u1 + z u2: a vector's component along each box's axis (x, y, z its lanes)."""
-        return x * u[0] + y * u[1] + z * u[2]
 
-    @wp.func
-    def spread(x: V4) -> V4:
-        """|x| + eps, as ``box_gap`` takes it: parallel edges never part boxes that touch."""
-        return wp.abs(x) + V4(S(EPS_AXIS))
-
-    @wp.func
-    def edge_axis(da: V4, ra: V4, db: V4, rb: V4, ea: V4, aa: V4, eb: V4, ab: V4, h1: S, a1: V4, h2: S, a2: V4,
-                  rij: V4) -> V4:
-        """Positive where the axis A_i x B_j parts the boxes (``cross_gap``'s test, its terms passed
-        in) and is not degenerate (|A_i x B_j|^2 > 1e-6)."""
-        g = wp.abs(wp.cw_mul(da, ra) - wp.cw_mul(db, rb)) - wp.cw_mul(ea, aa) - wp.cw_mul(eb, ab) - a1 * h1 - a2 * h2
-        return wp.min(g, V4(S(1.0 - 1.0e-6)) - wp.cw_mul(rij, rij))
-
-    return along, spread, edge_axis
+def _quad_snippet(c: str) -> str:
+    """The snippet for the C type ``c``: float, vector or looped; double, looped always (clang fused
+    its four-double vector form differently from the scalar code in a trial, where float's agreed,
+    and no sweep walks in float64)."""
+    size = 4 * (4 if c == "float" else 8)
+    load = "".join(f"__builtin_memcpy(&{n}, &wp::index({a}, k, {j}), {size});\n" for n, a, j in _QUAD_NAMES)
+    centre = "".join(f"__builtin_memcpy(&c{i}, &wp::index(center, k, {i}), {size});\nc{i} = cq[{i}] - c{i};\n"
+                     for i in range(3))
+    names = ", ".join(n for n, _, _ in _QUAD_NAMES)
+    return (
+        f"const {c} EPS = ({c})({EPS_AXIS!r}), NEAR1 = ({c})({1.0 - 1.0e-6!r});\n"
+        f"const {c} h0 = hq[0], h1 = hq[1], h2 = hq[2];\n"
+        f"{c} u[3][3] = {{{{rq.data[0][0], rq.data[0][1], rq.data[0][2]}}, "
+        "{rq.data[1][0], rq.data[1][1], rq.data[1][2]}, {rq.data[2][0], rq.data[2][1], rq.data[2][2]}};\n"
+        f"wp::mat_t<2, {QUAD}, {c}> out;\n"
+        f"#if defined(__clang__) && !defined(__CUDA_ARCH__) && !defined(RSW_LANES_LOOP) && {int(c == 'float')}\n"
+        f"typedef {c} T __attribute__((ext_vector_type({QUAD})));\n"
+        "#define RSW_ABS(v) __builtin_elementwise_abs(v)\n"
+        "#define RSW_MAX(a, b) ((a) >= (b) ? (a) : ((b) == (b) ? (b) : (a)))\n"
+        "#define RSW_MIN(a, b) ((a) <= (b) ? (a) : ((b) == (b) ? (b) : (a)))\n"
+        f"T {names}, c0, c1, c2;\n" + load + centre + _QUAD_EXPR
+        + f"__builtin_memcpy(&out.data[0][0], &key, {size});\n__builtin_memcpy(&out.data[1][0], &apart, {size});\n"
+        "#else\n"
+        f"typedef {c} T;\n#define RSW_ABS(v) wp::abs(v)\n#define RSW_MAX(a, b) wp::max(a, b)\n"
+        "#define RSW_MIN(a, b) wp::min(a, b)\n"
+        f"for (int ln = 0; ln < {QUAD}; ++ln) {{\n"
+        + "".join(f"T {n} = wp::index({a}, k, {j}).c[ln];\n" for n, a, j in _QUAD_NAMES)
+        + "".join(f"T c{i} = cq[{i}] - wp::index(center, k, {i}).c[ln];\n" for i in range(3))
+        + _QUAD_EXPR + "out.data[0][ln] = key;\nout.data[1][ln] = apart;\n}\n"
+        "#endif\n#undef RSW_ABS\n#undef RSW_MAX\n#undef RSW_MIN\nreturn out;\n")
 
 
 @cached
 def quad_gap_function(scalar=wp.float32):
-    """quad_gaps(m, k, rq, cq, hq): record k's four boxes against one box."""
+    """quad_gaps(axes, center, halfs, k, rq, cq, hq): record k's four boxes (``BodyArrays``'
+    ``quad_axes``, ``quad_center``, ``quad_half``) against one box (axes ``rq`` as columns, centre
+    ``cq``, half sizes ``hq``, in the four's body frame), as ``_QUAD_EXPR`` says."""
     S, V3, M33, M34, M44 = types_of(scalar)
     V4, L2 = lane_types(scalar)
-    along, spread, edge_axis = lane_functions(scalar)
-    BodyArrays = bodies_struct(scalar)
 
-    @wp.func
-    def quad_gaps(m: BodyArrays, k: int, rq: M33, cq: V3, hq: V3) -> L2:
-        """Record k's four boxes against one box (axes ``rq`` as columns, centre ``cq``, half-sizes
-        ``hq``, in the four's body frame). Row 0: the squared distance of the centres (the order of
-        the walk); row 1: positive where one of the fifteen axes parts them (``box_gap``'s test).
-        Written out lane vector by lane vector (r01: the other box's axis 1 along each box's axis 0)."""
-        x0, y0, z0 = m.quad_axes[k, 0], m.quad_axes[k, 3], m.quad_axes[k, 6]
-        x1, y1, z1 = m.quad_axes[k, 1], m.quad_axes[k, 4], m.quad_axes[k, 7]
-        x2, y2, z2 = m.quad_axes[k, 2], m.quad_axes[k, 5], m.quad_axes[k, 8]
-        c0 = V4(cq[0]) - m.quad_center[k, 0]
-        c1 = V4(cq[1]) - m.quad_center[k, 1]
-        c2 = V4(cq[2]) - m.quad_center[k, 2]
-        d0 = wp.cw_mul(x0, c0) + wp.cw_mul(y0, c1) + wp.cw_mul(z0, c2)
-        d1 = wp.cw_mul(x1, c0) + wp.cw_mul(y1, c1) + wp.cw_mul(z1, c2)
-        d2 = wp.cw_mul(x2, c0) + wp.cw_mul(y2, c1) + wp.cw_mul(z2, c2)
-        u0 = V3(rq[0, 0], rq[1, 0], rq[2, 0])
-        u1 = V3(rq[0, 1], rq[1, 1], rq[2, 1])
-        u2 = V3(rq[0, 2], rq[1, 2], rq[2, 2])
-        r00, r01, r02 = along(x0, y0, z0, u0), along(x0, y0, z0, u1), along(x0, y0, z0, u2)
-        r10, r11, r12 = along(x1, y1, z1, u0), along(x1, y1, z1, u1), along(x1, y1, z1, u2)
-        r20, r21, r22 = along(x2, y2, z2, u0), along(x2, y2, z2, u1), along(x2, y2, z2, u2)
-        a00, a01, a02 = spread(r00), spread(r01), spread(r02)
-        a10, a11, a12 = spread(r10), spread(r11), spread(r12)
-        a20, a21, a22 = spread(r20), spread(r21), spread(r22)
-        e0, e1, e2 = m.quad_half[k, 0], m.quad_half[k, 1], m.quad_half[k, 2]
-        # the six face axes: each box's, then the other box's
-        worst = wp.max(wp.max(wp.abs(d0) - e0 - along(a00, a01, a02, hq), wp.abs(d1) - e1 - along(a10, a11, a12, hq)),
-                       wp.abs(d2) - e2 - along(a20, a21, a22, hq))
-        fb0 = wp.abs(wp.cw_mul(r00, d0) + wp.cw_mul(r10, d1) + wp.cw_mul(r20, d2)) - V4(hq[0]) - (
-            wp.cw_mul(a00, e0) + wp.cw_mul(a10, e1) + wp.cw_mul(a20, e2))
-        fb1 = wp.abs(wp.cw_mul(r01, d0) + wp.cw_mul(r11, d1) + wp.cw_mul(r21, d2)) - V4(hq[1]) - (
-            wp.cw_mul(a01, e0) + wp.cw_mul(a11, e1) + wp.cw_mul(a21, e2))
-        fb2 = wp.abs(wp.cw_mul(r02, d0) + wp.cw_mul(r12, d1) + wp.cw_mul(r22, d2)) - V4(hq[2]) - (
-            wp.cw_mul(a02, e0) + wp.cw_mul(a12, e1) + wp.cw_mul(a22, e2))
-        worst = wp.max(worst, wp.max(fb0, wp.max(fb1, fb2)))
-        # the nine edge axes A_i x B_j
-        apart = wp.max(worst, edge_axis(d2, r10, d1, r20, e1, a20, e2, a10, hq[1], a02, hq[2], a01, r00))
-        apart = wp.max(apart, edge_axis(d2, r11, d1, r21, e1, a21, e2, a11, hq[2], a00, hq[0], a02, r01))
-        apart = wp.max(apart, edge_axis(d2, r12, d1, r22, e1, a22, e2, a12, hq[0], a01, hq[1], a00, r02))
-        apart = wp.max(apart, edge_axis(d0, r20, d2, r00, e2, a00, e0, a20, hq[1], a12, hq[2], a11, r10))
-        apart = wp.max(apart, edge_axis(d0, r21, d2, r01, e2, a01, e0, a21, hq[2], a10, hq[0], a12, r11))
-        apart = wp.max(apart, edge_axis(d0, r22, d2, r02, e2, a02, e0, a22, hq[0], a11, hq[1], a10, r12))
-        apart = wp.max(apart, edge_axis(d1, r00, d0, r10, e0, a10, e1, a00, hq[1], a22, hq[2], a21, r20))
-        apart = wp.max(apart, edge_axis(d1, r01, d0, r11, e0, a11, e1, a01, hq[2], a20, hq[0], a22, r21))
-        apart = wp.max(apart, edge_axis(d1, r02, d0, r12, e0, a12, e1, a02, hq[0], a21, hq[1], a20, r22))
-        return wp.matrix_from_rows(wp.cw_mul(d0, d0) + wp.cw_mul(d1, d1) + wp.cw_mul(d2, d2), apart)
+    @wp.func_native(_quad_snippet("float" if scalar == wp.float32 else "double"))
+    def quad_gaps(axes: wp.array2d(dtype=V4), center: wp.array2d(dtype=V4), halfs: wp.array2d(dtype=V4), k: int,
+                  rq: M33, cq: V3, hq: V3) -> L2: ...
 
     return quad_gaps
 
@@ -180,10 +191,12 @@ def quad_walk(scalar=wp.float32):
             k = int(0)
             if on_a:  # B's box carried into A's frame, against A's four
                 k = m.nodes[na].quad
-                g = quad_gaps(m, k, r * m.nodes[nb].axes, r * m.nodes[nb].center + t, m.nodes[nb].half)
+                g = quad_gaps(m.quad_axes, m.quad_center, m.quad_half, k, r * m.nodes[nb].axes,
+                              r * m.nodes[nb].center + t, m.nodes[nb].half)
             else:  # A's box carried into B's frame
                 k = m.nodes[nb].quad
-                g = quad_gaps(m, k, rt * m.nodes[na].axes, rt * (m.nodes[na].center - t), m.nodes[na].half)
+                g = quad_gaps(m.quad_axes, m.quad_center, m.quad_half, k, rt * m.nodes[na].axes,
+                              rt * (m.nodes[na].center - t), m.nodes[na].half)
             top = pushed(stack, top, g, m.quad_slot[k], na, nb, on_a)
         return False
 
