@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from ptx import ptx_of
 
 import rswarp
 from rswarp.examples import IRB2600
@@ -191,11 +192,4 @@ def test_the_lanes_kernel_compiles_for_cuda(scalar, tmp_path):
     kin = Kinematics(rswarp.load(IRB2600))
     for arm in (kin._ik_form(), _tilted_wrist()):
         kernel = arm_ik_kernel(arm, getattr(wp, scalar))
-        try:
-            built = wp.compile_aot_module(kernel.module, device=None, arch=90, module_dir=tmp_path, use_ptx=True)
-        except RuntimeError as e:
-            if "NVRTC" in str(e) or "CUDA" in str(e):
-                pytest.skip(f"no CUDA compiler here: {e}")
-            raise
-        ptx = [p for p in built if p.suffix == ".ptx"]
-        assert ptx and ".entry" in ptx[0].read_text()  # the kernel, its lanes inlined
+        assert ".entry" in ptx_of(kernel.module, tmp_path)  # the kernel, its lanes inlined
