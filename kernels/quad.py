@@ -77,7 +77,7 @@ _QUAD_NAMES = (("x0", "axes", 0), ("y0", "axes", 3), ("z0", "axes", 6), ("x1", "
 def _quad_snippet(c: str) -> str:
     """The snippet for the C type ``c``: float, vector or looped; double, looped always (its
     four-double vector form rounded differently from the scalar code in a trial, within 3e-17,
-    where float's agreed; and no sweep walks in float64, only the exact distances)."""
+    where float's agreed; the sweeps walk in float32)."""
     size = 4 * (4 if c == "float" else 8)
     load = "".join(f"__builtin_memcpy(&{n}, &wp::index({a}, k, {j}), {size});\n" for n, a, j in _QUAD_NAMES)
     centre = "".join(f"__builtin_memcpy(&c{i}, &wp::index(center, k, {i}), {size});\nc{i} = cq[{i}] - c{i};\n"
