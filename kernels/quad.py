@@ -10,7 +10,7 @@ from typing import Any
 import warp as wp
 
 from .cache import cached
-from .geometry import EPS_AXIS
+from .geometry import EPS_AXIS, triangle_functions
 from .tree import leaf_function, opening_function
 from .types import QUAD, bodies_struct, types_of
 
@@ -157,16 +157,91 @@ def push_function(scalar=wp.float32):
 
 
 @cached
+def held_struct(scalar=wp.float32):
+    """What a walk keeps from its last step: the box it carried into the other body's frame (the
+    node, which way, its axes, centre and half sizes), and B's leaf triangle carried into A's."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+
+    @wp.struct
+    class Held:
+        node: wp.int32  # -1: none yet
+        into_a: wp.int32  # 1: B's node carried into A's frame, 0: A's into B's
+        axes: M33
+        center: V3
+        half: V3
+        leaf: wp.int32  # B's leaf whose triangle is t0, t1, t2 in A's frame; -1: none yet
+        t0: V3
+        t1: V3
+        t2: V3
+
+    return Held
+
+
+@cached
+def held_functions(scalar=wp.float32):
+    """(carried, leaves_cross): a walk's step with what it kept from the last one. The walk pops
+    the nearest of the pairs a step pushed, beside the same node of the other body, so the box (or
+    the triangle) that step carried across is mostly the one the next needs: it is carried once,
+    with the same arithmetic, so every number is as if carried anew."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    triangles_cross, _ = triangle_functions(scalar)
+    leaf_distance = leaf_function(scalar)
+    BodyArrays = bodies_struct(scalar)
+    Held = held_struct(scalar)
+
+    @wp.func
+    def carried(m: BodyArrays, node: int, into_a: int, r: M33, t: V3, rt: M33, held: Held) -> Held:
+        """``held`` with node's box carried into A's frame (``into_a`` 1, a node of B's) or B's."""
+        if held.node == node and held.into_a == into_a:
+            return held
+        out = held
+        out.node = node
+        out.into_a = into_a
+        out.half = m.nodes[node].half
+        if into_a == 1:
+            out.axes = r * m.nodes[node].axes
+            out.center = r * m.nodes[node].center + t
+        else:
+            out.axes = rt * m.nodes[node].axes
+            out.center = rt * (m.nodes[node].center - t)
+        return out
+
+    @wp.func
+    def leaves_cross(m: BodyArrays, na: int, nb: int, r: M33, t: V3, held: Held) -> Held:
+        """``held`` with B's leaf nb's triangle carried into A's frame; ``held.node`` -2 if a
+        triangle of leaf na crosses it (leaves of one triangle, ``bvh.LEAF_TRIANGLES``; any other
+        size, ``tree``'s leaf test)."""
+        out = held
+        if m.nodes[na].right != 1 or m.nodes[nb].right != 1:
+            if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
+                out.node = -2
+            return out
+        if held.leaf != nb:
+            kb = -1 - m.nodes[nb].left
+            out.t0 = r * m.triangles[3 * kb] + t
+            out.t1 = r * m.triangles[3 * kb + 1] + t
+            out.t2 = r * m.triangles[3 * kb + 2] + t
+            out.leaf = nb
+        ka = -1 - m.nodes[na].left
+        if triangles_cross(m.triangles[3 * ka], m.triangles[3 * ka + 1], m.triangles[3 * ka + 2], out.t0, out.t1,
+                           out.t2):
+            out.node = -2
+        return out
+
+    return carried, leaves_cross
+
+
+@cached
 def quad_walk(scalar=wp.float32):
     """meshes_cross(m, a, b, r, t): whether the surfaces of bodies a and b cross (x_A = r x_B + t),
     the boxes four at a time."""
     S, V3, M33, M34, M44 = types_of(scalar)
-    _, L2 = lane_types(scalar)
     quad_gaps = quad_gap_function(scalar)
     opens_a = opening_function(scalar)
     pushed = push_function(scalar)
-    leaf_distance = leaf_function(scalar)
+    carried, leaves_cross = held_functions(scalar)
     BodyArrays = bodies_struct(scalar)
+    Held = held_struct(scalar)
 
     @wp.func
     def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
@@ -176,27 +251,28 @@ def quad_walk(scalar=wp.float32):
         stack[1] = m.root[b]
         top = int(1)
         rt = wp.transpose(r)
+        held = Held()
+        held.node = -1
+        held.leaf = -1
         while top > 0:
             top -= 1
             na = stack[2 * top]
             nb = stack[2 * top + 1]
             if m.nodes[na].left < 0 and m.nodes[nb].left < 0:
-                if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
+                held = leaves_cross(m, na, nb, r, t, held)
+                if held.node == -2:
                     return True
                 continue
             if top + QUAD > QUAD_STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
                 return True
             on_a = opens_a(m, na, nb)
-            g = L2()
-            k = int(0)
+            k = m.nodes[nb].quad
             if on_a:  # B's box carried into A's frame, against A's four
                 k = m.nodes[na].quad
-                g = quad_gaps(m.quad_axes, m.quad_center, m.quad_half, k, r * m.nodes[nb].axes,
-                              r * m.nodes[nb].center + t, m.nodes[nb].half)
+                held = carried(m, nb, 1, r, t, rt, held)
             else:  # A's box carried into B's frame
-                k = m.nodes[nb].quad
-                g = quad_gaps(m.quad_axes, m.quad_center, m.quad_half, k, rt * m.nodes[na].axes,
-                              rt * (m.nodes[na].center - t), m.nodes[na].half)
+                held = carried(m, na, 0, r, t, rt, held)
+            g = quad_gaps(m.quad_axes, m.quad_center, m.quad_half, k, held.axes, held.center, held.half)
             top = pushed(stack, top, g, m.quad_slot[k], na, nb, on_a)
         return False
 

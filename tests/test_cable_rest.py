@@ -47,16 +47,25 @@ def test_a_cable_shorter_than_its_control_points_allow_is_refused(tmp_path):
 
 def _frames_in_numpy(tangents, directions):
     """The segments' frames as ``layout._frames`` makes them, with each 3-vector a NumPy array: the
-    reference its Python floats must round alike."""
+    reference its Python floats must round alike. Its dot products and norms are written as the sums
+    they are: NumPy hands ``a @ b`` and ``np.linalg.norm`` to its BLAS, which on some CPUs (AVX-512
+    ones, OpenBLAS 0.3.31) fuses the multiply-adds, so those round differently from machine to
+    machine; each product and sum of NumPy's own is one IEEE rounding everywhere."""
+    def dot(a, b):
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+    def unit(v):
+        return v / np.sqrt(sum(x * x for x in v))
+
     def cross(a, b):
         return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
     def transport(n, a, b):
-        c, axis = float(a @ b), cross(a, b)
+        c, axis = float(dot(a, b)), cross(a, b)
         if c > -0.999:
-            n = c * n + cross(axis, n) + axis * (axis @ n) / (1 + c)
-        n = n - (n @ b) * b
-        return n / np.linalg.norm(n)
+            n = c * n + cross(axis, n) + axis * dot(axis, n) / (1 + c)
+        n = n - dot(n, b) * b
+        return unit(n)
 
     def quaternion(d1, d3):
         m = np.stack([d1, cross(d3, d1), d3], axis=1)
@@ -69,11 +78,11 @@ def _frames_in_numpy(tangents, directions):
             s = np.sqrt(max(1e-12, 1 + m[i, i] - m[j, j] - m[k, k])) * 2
             q = np.zeros(4)
             q[i], q[j], q[k], q[3] = s / 4, (m[j, i] + m[i, j]) / s, (m[k, i] + m[i, k]) / s, (m[k, j] - m[j, k]) / s
-        return q / np.linalg.norm(q)
+        return unit(q)
 
     start = directions.get(0, tangents[0])
     helper = np.array([0.0, 0.0, 1.0]) if abs(start[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    normal = cross(start, helper) / np.linalg.norm(cross(start, helper))
+    normal = unit(cross(start, helper))
     t_prev, seg_q, node_q = start, [], []
     for i in range(len(tangents) + 1):
         t_node = directions.get(i, tangents[min(i, len(tangents) - 1)])

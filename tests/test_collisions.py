@@ -291,6 +291,26 @@ def test_witness_grids_change_no_verdict(irb):
     assert hit[:, p].all()
 
 
+def test_the_verdicts_do_not_depend_on_the_leaf_size(irb, monkeypatch):
+    """The walk's leaves of one triangle (the tree's: its triangle carried across once for the leaves
+    beside it) and leaves of several (``tree``'s leaf test): the same verdicts and gaps."""
+    import functools
+
+    from rswarp.sim import bodies as sim_bodies
+
+    mech, bodies, checker = irb
+    lower, upper = mech.bounds()
+    q = lower + (upper - lower) * np.random.default_rng(12).random((3000, len(lower)))
+    hit, gap = checker.verdicts(q)
+    monkeypatch.setattr(sim_bodies, "build_bvh", functools.partial(build_bvh, leaf=3))
+    coarse = Checker(mech, bodies, witnesses=False)
+    assert (coarse._device.tree.right[coarse._device.tree.left < 0] > 1).any()
+    coarse_hit, coarse_gap = coarse.verdicts(q)
+    assert hit.any()
+    np.testing.assert_array_equal(coarse_hit, hit)
+    np.testing.assert_array_equal(coarse_gap, gap)
+
+
 # -- sweep properties ---------------------------------------------------------------------------------
 
 
