@@ -16,6 +16,8 @@ from rswarp.kernels.types import types_of
 from rswarp.launch import init_warp
 from rswarp.sim.bodies import DeviceBodies, collision_bodies
 
+from conftest import DATA
+
 wp = init_warp()
 N = 20_000
 # m: a separation the lanes must decide as the plain test does. Their edge axes are not normalized
@@ -122,3 +124,16 @@ def test_the_box_test_is_gottschalks_separating_axes(records):
 def test_the_box_test_compiles_for_cuda(tmp_path):
     """No GPU is here, but NVRTC is: the looped path (the one CUDA's compiler takes) compiles to PTX."""
     assert ".entry" in ptx_of(_gaps_kernel(wp.float32, "").module, tmp_path)
+
+
+def test_the_sweep_compiles_for_cuda(tmp_path):
+    """The whole float32 collision module (the sweep, with the walk and what its steps keep, and the
+    witness, apart and distance kernels) through NVRTC: no GPU is lent to most runs of these tests."""
+    from rswarp.kernels.collide import collision_kernels
+    from rswarp.kinematics.chain import mechanism_chain
+
+    mech = rswarp.load(str(DATA / "collisions" / "fold.rsxml"))
+    bodies = collision_bodies(mech)
+    sweep = collision_kernels(mechanism_chain(mech), bodies.links, len(bodies.bodies), wp.float32)[0]
+    ptx = ptx_of(sweep.module, tmp_path)
+    assert ptx.count(".entry") >= 5
