@@ -170,6 +170,7 @@ def held_struct(scalar=wp.float32):
         center: V3
         half: V3
         leaf: wp.int32  # B's leaf whose triangle is t0, t1, t2 in A's frame; -1: none yet
+        crossed: wp.int32  # 1: the last two leaves' triangles cross
         t0: V3
         t1: V3
         t2: V3
@@ -208,13 +209,13 @@ def held_functions(scalar=wp.float32):
 
     @wp.func
     def leaves_cross(m: BodyArrays, na: int, nb: int, r: M33, t: V3, held: Held) -> Held:
-        """``held`` with B's leaf nb's triangle carried into A's frame; ``held.node`` -2 if a
+        """``held`` with B's leaf nb's triangle carried into A's frame, and ``crossed`` 1 if a
         triangle of leaf na crosses it (leaves of one triangle, ``bvh.LEAF_TRIANGLES``; any other
         size, ``tree``'s leaf test)."""
         out = held
         if m.nodes[na].right != 1 or m.nodes[nb].right != 1:
             if leaf_distance(m, na, nb, r, t, True) <= S(0.0):
-                out.node = -2
+                out.crossed = 1
             return out
         if held.leaf != nb:
             kb = -1 - m.nodes[nb].left
@@ -225,7 +226,7 @@ def held_functions(scalar=wp.float32):
         ka = -1 - m.nodes[na].left
         if triangles_cross(m.triangles[3 * ka], m.triangles[3 * ka + 1], m.triangles[3 * ka + 2], out.t0, out.t1,
                            out.t2):
-            out.node = -2
+            out.crossed = 1
         return out
 
     return carried, leaves_cross
@@ -260,17 +261,18 @@ def quad_walk(scalar=wp.float32):
             nb = stack[2 * top + 1]
             if m.nodes[na].left < 0 and m.nodes[nb].left < 0:
                 held = leaves_cross(m, na, nb, r, t, held)
-                if held.node == -2:
+                if held.crossed != 0:
                     return True
                 continue
             if top + QUAD > QUAD_STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
                 return True
             on_a = opens_a(m, na, nb)
-            k = m.nodes[nb].quad
+            k = int(0)
             if on_a:  # B's box carried into A's frame, against A's four
                 k = m.nodes[na].quad
                 held = carried(m, nb, 1, r, t, rt, held)
-            else:  # A's box carried into B's frame
+            else:  # A's box carried into B's frame, against B's four
+                k = m.nodes[nb].quad
                 held = carried(m, na, 0, r, t, rt, held)
             g = quad_gaps(m.quad_axes, m.quad_center, m.quad_half, k, held.axes, held.center, held.half)
             top = pushed(stack, top, g, m.quad_slot[k], na, nb, on_a)
