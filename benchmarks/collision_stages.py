@@ -1,6 +1,6 @@
 """Where a self-collision sweep's time goes, stage by stage: the sweep kernel rebuilt with its
 stages cut after each one (forward kinematics; bounding spheres; certified and witness cells; root boxes;
-containment; the walk for crossing triangles), each timed on one thread over the same states. The
+convex hulls; containment; the walk for crossing triangles), each timed on one thread over the same states. The
 difference between two rows is the later stage's cost; the fractions say how many pair tests
 reach each stage. For ``bench_collisions.py``."""
 
@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-STAGES = ("forward kinematics", "bounding spheres", "certified and witness cells", "root boxes", "containment",
-          "tree walks")
+STAGES = ("forward kinematics", "bounding spheres", "certified and witness cells", "root boxes", "convex hulls",
+          "containment", "tree walks")
 
 
 def _pair_test(stage: int):
@@ -19,6 +19,7 @@ def _pair_test(stage: int):
     ``stage``: 3 where it passed the spheres and was cut there, 2 where it reached the walk (and
     was cut there or walked to nothing), 1 where it collides, 0 where a stage found it free."""
     from rswarp.kernels import collide
+    from rswarp.kernels.hull import hull_function
     from rswarp.kernels.quad import quad_walk
     from rswarp.kernels.tree import traversal_functions
     from rswarp.kernels.types import bodies_struct, types_of
@@ -35,6 +36,7 @@ def _pair_test(stage: int):
     enclosed = collide.containment_functions(wp.float32)
     witness_cell, witness_hit = witness_functions(wp.float32)
     certified = certified_function(wp.float32)
+    hulls_apart = hull_function(wp.float32)
 
     @wp.func
     def test(m: arrays, poses: Any, centres: Any, q: wp.array2d(dtype=S), i: int, p: int) -> wp.uint8:
@@ -61,9 +63,12 @@ def _pair_test(stage: int):
             if node_gap(m, m.root[a], m.root[b], r, t) > m.padding:
                 return wp.uint8(0)
         if wp.static(stage >= 4):
+            if hulls_apart(m, a, b, r, t, m.padding):
+                return wp.uint8(0)
+        if wp.static(stage >= 5):
             if enclosed(m, a, b, r, t):
                 return wp.uint8(1)
-        if wp.static(stage >= 5):
+        if wp.static(stage >= 6):
             if meshes_cross(m, a, b, r, t):
                 return wp.uint8(1)
         return wp.uint8(2)

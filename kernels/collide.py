@@ -2,8 +2,8 @@
 then each body pair tested against the closed meshes themselves.
 
 A pair collides when the meshes come within ``padding`` of each other (their surfaces cross when
-the padding is 0) or one contains the other. Bounding spheres and box trees only skip work: every
-"collides" is a pair of triangles within the padding or a point inside a closed mesh.
+the padding is 0) or one contains the other. Bounding spheres, box trees and convex hulls only skip
+work: every "collides" is a pair of triangles within the padding or a point inside a closed mesh.
 
 Per pair and state the sweep kernel also gives a lower bound of a free pair's distance (bounding
 spheres, root boxes): the host keeps the nearest samples by it, and a second kernel measures their
@@ -17,6 +17,7 @@ import warp as wp
 from .cache import FUSED, INLINE_ALL, cached, cpu_flags, module_name
 from .fk import emit_local, pose_functions, tree_fk
 from .geometry import FAR
+from .hull import hull_function
 from .quad import quad_walk
 from .tree import sampling_functions, traversal_functions
 from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
@@ -108,6 +109,7 @@ def pair_functions(scalar=wp.float32):
     enclosed = containment_functions(scalar)
     _, witness_hit = witness_functions(scalar)
     BodyArrays = bodies_struct(scalar)
+    hulls_apart = hull_function(scalar)
 
     @wp.func
     def pair_verdict(m: BodyArrays, a: int, b: int, pa: M34, pb: M34, cell: int, cert: int, sphere_gap: S) -> S:
@@ -133,6 +135,10 @@ def pair_functions(scalar=wp.float32):
         gap = wp.max(sphere_gap, node_gap(m, m.root[a], m.root[b], r, t))
         if gap > m.padding:
             return gap
+        # hulls proved apart beyond the padding: the walk would find nothing (a surface lies within
+        # its hull) and end with this gap, and neither body holds a point of the other
+        if hulls_apart(m, a, b, r, t, m.padding):
+            return wp.max(gap, m.padding + S(1.0e-9))
         # a vertex of one inside the other: they collide, surfaces crossing or not; asked before the
         # walk, it spares the walks that would end in a containment (a full walk finding nothing),
         # and after a walk that finds nothing it would be asked all the same
@@ -147,6 +153,18 @@ def pair_functions(scalar=wp.float32):
                 return d
         return wp.max(gap, m.padding + S(1.0e-9))
 
+    return pair_verdict, distance_function(scalar)
+
+
+@cached
+def distance_function(scalar=wp.float32):
+    """pair_distance(m, a, b, rel) over a ``BodyArrays`` struct: the exact distance kernels'."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    _, mesh_distance = traversal_functions(scalar)
+    rotation, _ = pose_helpers(scalar)
+    enclosed = containment_functions(scalar)
+    BodyArrays = bodies_struct(scalar)
+
     @wp.func
     def pair_distance(m: BodyArrays, a: int, b: int, rel: M34) -> S:
         """The exact distance between bodies a and b, b's frame in a's being ``rel`` (0 where
@@ -158,7 +176,7 @@ def pair_functions(scalar=wp.float32):
             return S(-1.0)
         return d
 
-    return pair_verdict, pair_distance
+    return pair_distance
 
 
 @cached
@@ -168,6 +186,7 @@ def apart_function(scalar=wp.float32):
     _, mesh_distance = traversal_functions(scalar)
     rotation, _ = pose_helpers(scalar)
     enclosed = containment_functions(scalar)
+    hulls_apart = hull_function(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
@@ -177,6 +196,8 @@ def apart_function(scalar=wp.float32):
         neither body contains the other."""
         r = rotation(rel)
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
+        if hulls_apart(m, a, b, r, t, limit):  # surfaces within their hulls, and neither holds the other
+            return True
         if mesh_distance(m, a, b, r, t, limit, limit) <= limit:
             return False
         return not (contain and enclosed(m, a, b, r, t))

@@ -141,5 +141,12 @@ def bodies_struct(scalar=wp.float32):
         cert_scale: wp.array(dtype=scalar)  # two per pair: cells per unit of q
         cert_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
         cert: wp.array(dtype=wp.uint8)
+        # each body's convex hull as the graph its support points climb (``hull``), all bodies joined
+        hull_vertex: wp.array(dtype=V3)  # body frame
+        hull_adj_start: wp.array(dtype=wp.int32)  # per hull vertex and one more: its first neighbour
+        hull_adj: wp.array(dtype=wp.int32)  # the neighbours, as indices into hull_vertex
+        hull_cube_start: wp.array(dtype=wp.int32)  # per body: its cube map's first cell, -1: no hull
+        hull_cube: wp.array(dtype=wp.int32)  # per cell, the hull vertex farthest along its centre
+        hull_reach: wp.array(dtype=scalar)  # per body: its hull's farthest vertex from its frame's origin
 
     return BodyArrays

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import InputError, MeshNotFoundError
 from ..geometry.bvh import MAX_DEPTH, build_bvh, component_points, join, quad_slots
+from ..geometry.hull import support_graph
 from ..geometry.meshes import file_mesh, link_mesh
 from ..rsxml.model import Mechanism
 from ..rsxml.parse import number
@@ -214,6 +215,7 @@ class DeviceBodies:
             raise RuntimeError(f"a collision tree is {self.tree.depth} levels deep, over {MAX_DEPTH}")
         self.points = [component_points(b.vertices, b.faces) for b in bodies.bodies]
         self.spheres = [_sphere(b.vertices) for b in bodies.bodies]
+        self.hulls = [support_graph(b.vertices) for b in bodies.bodies]
         self.meshes = [wp.Mesh(points=wp.array(b.vertices.astype(np.float32), dtype=wp.vec3, device=device),
                                indices=wp.array(b.faces.astype(np.int32).ravel(), dtype=wp.int32, device=device),
                                support_winding_number=True)
@@ -259,7 +261,38 @@ class DeviceBodies:
         s.padding = S(self.padding)
         self._set_witnesses(s, scalar, None)
         self._set_certified(s, scalar, None)
+        self._set_hulls(s, scalar)
         return s
+
+    def _set_hulls(self, s, scalar) -> None:
+        """Each body's hull support graph (``rswarp.geometry.hull``), all bodies joined; a body
+        without one (flat, or too few points) gets cube start -1."""
+        import warp as wp
+
+        from ..kernels.types import types_of
+
+        arr = lambda a, t: wp.array(np.ascontiguousarray(a), dtype=t, device=self.device)  # noqa: E731
+        verts, starts, adj, cube, cube_start, reach = [np.zeros((0, 3))], [], [], [np.zeros(1, np.int32)], [], []
+        first = edges = cells = 0
+        for h in self.hulls:
+            if h is None:
+                cube_start.append(-1)
+                reach.append(0.0)
+                continue
+            verts.append(h.vertices)
+            starts.append(h.start[:-1] + edges)
+            adj.append(h.neighbours + first)
+            cube.append(h.cube + first)
+            cube_start.append(cells + 1)  # cell 0 is a placeholder: the arrays are never empty
+            reach.append(h.reach)
+            first, edges, cells = first + len(h.vertices), edges + len(h.neighbours), cells + len(h.cube)
+        starts.append(np.array([edges]))
+        s.hull_vertex = arr(np.concatenate(verts) if first else np.zeros((1, 3)), types_of(scalar)[1])
+        s.hull_adj_start = arr(np.concatenate(starts).astype(np.int32), wp.int32)
+        s.hull_adj = arr(np.concatenate(adj).astype(np.int32) if adj else np.zeros(1, np.int32), wp.int32)
+        s.hull_cube_start = arr(np.array(cube_start, np.int32), wp.int32)
+        s.hull_cube = arr(np.concatenate(cube).astype(np.int32), wp.int32)
+        s.hull_reach = arr(np.array(reach), scalar)
 
     def _nodes(self, scalar, half: np.ndarray, record: np.ndarray):
         """The tree's nodes as one array of ``node_struct``s."""
