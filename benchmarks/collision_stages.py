@@ -19,6 +19,7 @@ def _pair_test(stage: int):
     ``stage``: 3 where it passed the spheres and was cut there, 2 where it reached the walk (and
     was cut there or walked to nothing), 1 where it collides, 0 where a stage found it free."""
     from rswarp.kernels import collide
+    from rswarp.kernels.contain import containment_functions
     from rswarp.kernels.hull import hull_function
     from rswarp.kernels.quad import quad_walk
     from rswarp.kernels.tree import traversal_functions
@@ -33,7 +34,7 @@ def _pair_test(stage: int):
     rotation, relative = collide.pose_helpers(wp.float32)
     node_gap, _ = traversal_functions(wp.float32)
     meshes_cross = quad_walk(wp.float32)
-    enclosed = collide.containment_functions(wp.float32)
+    enclosed = containment_functions(wp.float32)
     witness_cell, witness_hit = witness_functions(wp.float32)
     certified = certified_function(wp.float32)
     hulls_apart = hull_function(wp.float32)
@@ -69,6 +70,9 @@ def _pair_test(stage: int):
             if enclosed(m, a, b, r, t):
                 return wp.uint8(1)
         if wp.static(stage >= 6):
+            if m.usual[p] >= 0:  # the pair's usual crossings, then the walk
+                if witness_hit(m, m.usual[p], r, t):
+                    return wp.uint8(1)
             if meshes_cross(m, a, b, r, t):
                 return wp.uint8(1)
         return wp.uint8(2)

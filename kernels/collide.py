@@ -15,68 +15,16 @@ from typing import Any
 import warp as wp
 
 from .cache import FUSED, INLINE_ALL, cached, cpu_flags, module_name
+from .contain import containment_functions
 from .fk import emit_local, pose_functions, tree_fk
 from .geometry import FAR
 from .hull import hull_function
 from .quad import quad_walk
 from .tree import sampling_functions, traversal_functions
-from .types import PIECE_POINTS, Chain, bodies_struct, types_of, witness_vec
-from .witness import APART, CROSSING, certified_function, pierce_function, witness_functions
+from .types import Chain, bodies_struct, types_of, witness_vec
+from .witness import APART, CROSSING, certified_function, first_crossing_function, pierce_function, witness_functions
 
 SWEEP_FLAGS = f"{FUSED} {INLINE_ALL}"  # the sweep's module, compiled for the CPU
-
-
-@cached
-def containment_functions(scalar=wp.float32):
-    """enclosed(m, a, b, r, t): whether either body contains a piece of the other."""
-    S, V3, M33, M34, M44 = types_of(scalar)
-    BodyArrays = bodies_struct(scalar)
-
-    @wp.func
-    def in_box(m: BodyArrays, node: int, p: V3) -> bool:
-        o = wp.transpose(m.nodes[node].axes) * (p - m.nodes[node].center)
-        h = m.nodes[node].half
-        return wp.abs(o[0]) <= h[0] and wp.abs(o[1]) <= h[1] and wp.abs(o[2]) <= h[2]
-
-    @wp.func
-    def point_inside(m: BodyArrays, body: int, p: wp.vec3) -> bool:
-        """Whether a point lies inside a body: on a closed mesh, the parity of three rays' crossings
-        (two of three agreeing, so a ray that grazes an edge is outvoted; a quarter of the
-        cost of the winding number), else the generalized winding number."""
-        if m.watertight[body] == 0:
-            q = wp.mesh_query_point_sign_winding_number(m.mesh[body], p, wp.float32(FAR))
-            return q.result and q.sign < wp.float32(0.0)
-        # three directions off every axis and plane; the third asked only when the first two differ
-        votes = wp.mesh_query_ray_count_intersections(m.mesh[body], p, wp.vec3(0.5257311, 0.8506508, 0.0)) % 2
-        votes += wp.mesh_query_ray_count_intersections(m.mesh[body], p, wp.vec3(0.0, 0.5257311, 0.8506508)) % 2
-        if votes == 1:
-            votes += wp.mesh_query_ray_count_intersections(m.mesh[body], p, wp.vec3(0.8506508, 0.0, 0.5257311)) % 2
-        return votes >= 2
-
-    @wp.func
-    def contains(m: BodyArrays, outer: int, inner: int, r: M33, t: V3) -> bool:
-        """Whether a piece of body ``inner`` lies inside closed body ``outer`` (x_outer = r x_inner + t),
-        given that their surfaces do not cross: one point per piece decides, once the piece's
-        extreme points are all in the outer body's box."""
-        root = m.root[outer]
-        for k in range(m.point_start[inner], m.point_start[inner] + m.point_count[inner]):
-            inside = bool(True)
-            for j in range(wp.static(PIECE_POINTS)):
-                if inside and not in_box(m, root, r * m.points[PIECE_POINTS * k + j] + t):
-                    inside = False
-            if inside:
-                p = r * m.points[PIECE_POINTS * k] + t
-                if point_inside(m, outer, wp.vec3(wp.float32(p[0]), wp.float32(p[1]), wp.float32(p[2]))):
-                    return True
-        return False
-
-    @wp.func
-    def enclosed(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
-        """Whether either body contains a piece of the other (their surfaces being apart)."""
-        rt = wp.transpose(r)
-        return contains(m, b, a, rt, -(rt * t)) or contains(m, a, b, r, t)
-
-    return enclosed
 
 
 @cached
@@ -112,12 +60,14 @@ def pair_functions(scalar=wp.float32):
     hulls_apart = hull_function(scalar)
 
     @wp.func
-    def pair_verdict(m: BodyArrays, a: int, b: int, pa: M34, pb: M34, cell: int, cert: int, sphere_gap: S) -> S:
-        """Bodies a and b at poses pa and pb, whose bounding spheres are ``sphere_gap`` apart (at
+    def pair_verdict(m: BodyArrays, p: int, pa: M34, pb: M34, cell: int, cert: int, sphere_gap: S) -> S:
+        """Pair p's bodies at poses pa and pb, whose bounding spheres are ``sphere_gap`` apart (at
         most the padding): at most the padding if they collide (-1 if one contains the other),
         else a lower bound of their distance above the padding (from their spheres and root
         boxes). ``cell``: the pair's witness cell, -1 for none; ``cert``: what the pose's certified
         cell says (``witness.certified_function``: APART, CROSSING or 0)."""
+        a = m.pair_a[p]
+        b = m.pair_b[p]
         if cert == CROSSING:  # crossing at every pose of the cell: what a witness or the walk finds
             return S(0.0)
         rel = relative(pa, pb)
@@ -145,6 +95,10 @@ def pair_functions(scalar=wp.float32):
         if enclosed(m, a, b, r, t):
             return S(-1.0)
         if m.padding <= S(0.0):
+            # the triangle pairs this pair's walks mostly find first: a crossing is a crossing
+            if m.usual[p] >= 0:
+                if witness_hit(m, m.usual[p], r, t):
+                    return S(0.0)
             if meshes_cross(m, a, b, r, t):
                 return S(0.0)
         else:
@@ -207,13 +161,15 @@ def apart_function(scalar=wp.float32):
 
 @cached
 def collision_kernels(chain: Chain, links, bodies: int, scalar=wp.float32):
-    """(collide, distance, witness, apart, crossing) for ``bodies`` bodies, riding on chain ``links``:
+    """(collide, distance, witness, first, apart, crossing) for ``bodies`` bodies, riding on chain ``links``:
 
     ``collide(bodies, q, hit_out, gap_out)``: for configuration ``q[i]``, each pair's verdict
     ``hit_out[i, p]`` (1: collides) and ``gap_out[i, p]``, a lower bound of the pair's distance when
     it is free. ``distance(bodies, q, pair, distance_out)``: the exact distance of pair ``pair[i]``
     at ``q[i]``. ``witness(bodies, q, pair, witness_out)``: crossing triangle pairs of pair
     ``pair[i]`` at ``q[i]``, spread over all that cross (``witness_vec``, -1 where fewer cross).
+    ``first(bodies, q, pair, triangles_out)``: the triangles (A's, B's; -1: none) at which the
+    sweep's walk of pair ``pair[i]`` at ``q[i]`` first finds a crossing.
     ``apart(bodies, contain, q, pair, limit, apart_out)``: 1 where the surfaces of pair ``pair[i]``
     at ``q[i]`` are further apart than ``limit[i]`` (and with ``contain``, neither body contains
     the other). ``crossing(bodies, q, pair, pairs, move, a_moves, crossing_out)``: 1 where one of
@@ -308,7 +264,7 @@ def _sweep_kernel(module: str, chain: Chain, fk, body, bodies: int, scalar):
             b = m.pair_b[p]
             g = wp.length(centres[a] - centres[b]) - m.radius[a] - m.radius[b]
             if g <= m.padding:
-                g = pair_verdict(m, a, b, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i),
+                g = pair_verdict(m, p, body_pose(m, poses, a), body_pose(m, poses, b), witness_cell(m, p, q, i),
                                  certified(m, p, q, i), g)
             if g <= m.padding:
                 hit_out[i, p] = wp.uint8(1)
@@ -338,12 +294,14 @@ def _posed_pair(chain: Chain, fk, body, scalar):
 
 
 def _pair_kernels(module: str, posed_pair, scalar):
-    """(distance, witness): one pair at each configuration, its exact distance or its crossings."""
+    """(distance, witness, first): one pair at each configuration, its exact distance, its crossings
+    spread over all, or the triangles at which the sweep's walk first finds one."""
     S, V3, M33, M34, M44 = types_of(scalar)
     BodyArrays = bodies_struct(scalar)
     _, pair_distance = pair_functions(scalar)
     rotation, _ = pose_helpers(scalar)
     crossing_sample = sampling_functions(scalar)
+    first_triangles = first_crossing_function(scalar)
 
     @wp.kernel(enable_backward=False, module=module)
     def distance(
@@ -373,7 +331,20 @@ def _pair_kernels(module: str, posed_pair, scalar):
         t = V3(rel[0, 3], rel[1, 3], rel[2, 3])
         witness_out[i] = crossing_sample(m, m.pair_a[pair[i]], m.pair_b[pair[i]], rotation(rel), t)
 
-    return distance, witness
+    @wp.kernel(enable_backward=False, module=module)
+    def first(
+        # Model:
+        m: BodyArrays,
+        # In:
+        q: wp.array2d(dtype=S),
+        pair: wp.array(dtype=wp.int32),
+        # Out:
+        triangles_out: wp.array(dtype=wp.vec2i),
+    ):
+        i = wp.tid()
+        triangles_out[i] = first_triangles(m, pair[i], posed_pair(m, q, i, pair[i]))
+
+    return distance, witness, first
 
 
 def _apart_kernel(module: str, posed_pair, scalar):
@@ -479,7 +450,7 @@ def posed_kernel(scalar=wp.float32):
         b = m.pair_b[pair[i]]
         g = wp.length(apply(pose_a[i], m.center[a]) - apply(pose_b[i], m.center[b])) - m.radius[a] - m.radius[b]
         if g <= m.padding:
-            g = pair_verdict(m, a, b, pose_a[i], pose_b[i], -1, 0, g)
+            g = pair_verdict(m, pair[i], pose_a[i], pose_b[i], -1, 0, g)
         gap_out[i] = g
 
     return posed

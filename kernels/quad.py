@@ -236,6 +236,22 @@ def held_functions(scalar=wp.float32):
 def quad_walk(scalar=wp.float32):
     """meshes_cross(m, a, b, r, t): whether the surfaces of bodies a and b cross (x_A = r x_B + t),
     the boxes four at a time."""
+    V3, M33 = types_of(scalar)[1:3]
+    first_crossing = crossing_walk(scalar)
+    BodyArrays = bodies_struct(scalar)
+
+    @wp.func
+    def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
+        return first_crossing(m, a, b, r, t)[0] != -1
+
+    return meshes_cross
+
+
+@cached
+def crossing_walk(scalar=wp.float32):
+    """first_crossing(m, a, b, r, t): the first pair of leaves (A's, B's) whose triangles cross
+    (x_A = r x_B + t), the boxes four at a time; (-1, -1) where none do, (-2, -2) where the stack
+    would overflow (never reached for trees of ``bvh.MAX_DEPTH``; taken as crossing, never a miss)."""
     S, V3, M33, M34, M44 = types_of(scalar)
     quad_gaps = quad_gap_function(scalar)
     opens_a = opening_function(scalar)
@@ -245,7 +261,7 @@ def quad_walk(scalar=wp.float32):
     Held = held_struct(scalar)
 
     @wp.func
-    def meshes_cross(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> bool:
+    def first_crossing(m: BodyArrays, a: int, b: int, r: M33, t: V3) -> wp.vec2i:
         """Depth first, the nearer boxes first; the boxes of the roots are known to overlap."""
         stack = wp.zeros(shape=wp.static(2 * QUAD_STACK), dtype=wp.int32)
         stack[0] = m.root[a]
@@ -262,10 +278,10 @@ def quad_walk(scalar=wp.float32):
             if m.nodes[na].left < 0 and m.nodes[nb].left < 0:
                 held = leaves_cross(m, na, nb, r, t, held)
                 if held.crossed != 0:
-                    return True
+                    return wp.vec2i(na, nb)
                 continue
             if top + QUAD > QUAD_STACK:  # cannot happen for trees of bvh.MAX_DEPTH; never a silent miss
-                return True
+                return wp.vec2i(-2, -2)
             on_a = opens_a(m, na, nb)
             k = int(0)
             if on_a:  # B's box carried into A's frame, against A's four
@@ -276,6 +292,6 @@ def quad_walk(scalar=wp.float32):
                 held = carried(m, na, 0, r, t, rt, held)
             g = quad_gaps(m.quad_axes, m.quad_center, m.quad_half, k, held.axes, held.center, held.half)
             top = pushed(stack, top, g, m.quad_slot[k], na, nb, on_a)
-        return False
+        return wp.vec2i(-1, -1)
 
-    return meshes_cross
+    return first_crossing

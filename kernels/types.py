@@ -134,6 +134,9 @@ def bodies_struct(scalar=wp.float32):
         cell_scale: wp.array(dtype=scalar)  # two per pair: cells per unit of q
         cell_res: wp.array(dtype=wp.int32)  # two per pair: cells along the axis
         cell_count: wp.array(dtype=wp.int32)  # witnesses in each cell, at most WITNESSES
+        # per pair, a cell of the triangle pairs that crossed first most often in a sample of
+        # states, tried just before a walk (-1: none; ``witness.first_crossings_kernel``)
+        usual: wp.array(dtype=wp.int32)
         witness: wp.array(dtype=V3)  # (WITNESSES, cells, 6): each cell's, six vertices each (A's, B's)
         # per pair, a finer grid over the same axes: 1 in a cell whose every pose keeps the bodies
         # further apart than the padding (``witness.certified_function``)

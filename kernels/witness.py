@@ -20,6 +20,7 @@ import warp as wp
 
 from .cache import cached
 from .geometry import triangle_functions
+from .quad import crossing_walk
 from .types import bodies_struct, types_of
 
 
@@ -138,3 +139,23 @@ def pierce_function(scalar=wp.float64):
         return inside_by(a0, a1, a2, n, x) > move + move / across * wp.length(q - p)
 
     return pierced
+
+
+@cached
+def first_crossing_function(scalar=wp.float32):
+    """first_triangles(m, p, rel): the triangles (A's, B's; -1 where none cross) at which the
+    sweep's walk of pair p first finds a crossing, B's frame in A's being ``rel``: what a pair's
+    usual crossings are drawn from (``sim.witness``)."""
+    S, V3, M33, M34, M44 = types_of(scalar)
+    BodyArrays = bodies_struct(scalar)
+    first_crossing = crossing_walk(scalar)
+
+    @wp.func
+    def first_triangles(m: BodyArrays, p: int, rel: M34) -> wp.vec2i:
+        r = M33(rel[0, 0], rel[0, 1], rel[0, 2], rel[1, 0], rel[1, 1], rel[1, 2], rel[2, 0], rel[2, 1], rel[2, 2])
+        leaves = first_crossing(m, m.pair_a[p], m.pair_b[p], r, V3(rel[0, 3], rel[1, 3], rel[2, 3]))
+        if leaves[0] < 0:
+            return wp.vec2i(-1, -1)
+        return wp.vec2i(-1 - m.nodes[leaves[0]].left, -1 - m.nodes[leaves[1]].left)  # a leaf's (first) triangle
+
+    return first_triangles

@@ -163,3 +163,35 @@ def test_a_flat_or_tiny_mesh_has_no_hull():
     cube = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
     g = support_graph(np.vstack([cube, [[0.5, 0.5, 0.5]]]))
     assert len(g.vertices) == 8 and len(g.cube) == 6 * 32 * 32
+
+
+def test_the_usual_crossings_change_no_verdict(irb, monkeypatch):
+    """A sweep of 10**6 samples' checker (certified cells) tries each pair's usual crossings before
+    a walk: the same verdicts and gaps as without them; the same lists on every build."""
+    from rswarp.sim import collisions as sim_collisions
+
+    mech, bodies, _ = irb
+    lower, upper = mech.bounds()
+    q = lower + (upper - lower) * np.random.default_rng(22).random((4000, len(lower)))
+    full = Checker(mech, bodies, certified_cells=True)
+    usual = full.witnesses.usual
+    assert (usual >= 0).sum() >= 3  # the base's pairs with the lower arm and the wrist, at least
+    np.testing.assert_array_equal(Checker(mech, bodies, certified_cells=True).witnesses.usual, usual)
+    hit, gap = full.verdicts(q)
+    # what the lists are drawn from: the first crossing a walk finds, which does cross (float64)
+    state, pair = np.nonzero(hit)
+    first = full._first_at(q[state], pair.astype(np.int32))
+    found = first[:, 0] >= 0
+    assert found.mean() > 0.5
+    tris = np.full((len(state), 2 * 8), -1, np.int32)
+    tris[:, :2] = first
+    cross = [full._crossing_at(q[state], pair, tris, np.zeros(len(state)), np.full(len(state), side, np.int32))
+             for side in (0, 1)]  # an edge of B's triangle through A's, or of A's through B's
+    assert (cross[0] | cross[1])[found].mean() > 0.99
+    monkeypatch.setattr(sim_collisions, "usual_crossings", lambda grid, *args: grid)
+    bare = Checker(mech, bodies, certified_cells=True)
+    assert bare.witnesses.usual is None
+    bare_hit, bare_gap = bare.verdicts(q)
+    assert hit.any()
+    np.testing.assert_array_equal(hit, bare_hit)
+    np.testing.assert_array_equal(gap, bare_gap)

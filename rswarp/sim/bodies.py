@@ -347,6 +347,8 @@ class DeviceBodies:
             s.cell_res, index = arr(grid.res, wp.int32), grid.witness
             lo, scale = grid.lo, grid.scale
         s.cell_lo, s.cell_scale = arr(lo, scalar), arr(scale, scalar)
+        usual = np.full(pairs, -1, np.int32) if grid is None or grid.usual is None else grid.usual
+        s.usual = arr(usual.astype(np.int32), wp.int32)
         # each witness's two triangles stored whole (one read, not an index and two triangles), every
         # cell's first witness before any second: the first, which mostly crosses, stays in cache
         index = index.reshape(-1, WITNESSES, 2)

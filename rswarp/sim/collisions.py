@@ -32,7 +32,7 @@ from .bodies import CollisionBodies, DeviceBodies, Environment, collision_bodies
 from .certified_cells import CERTIFIED_PAY, certified_grid
 from .engine import Job, run_batch
 from .tool import tool_body
-from .witness import witness_grid
+from .witness import usual_crossings, witness_grid
 from .workspace import sample_chunks
 
 ROUND = 200  # MoveIt's SMALL_TRIAL_COUNT
@@ -129,9 +129,10 @@ class Checker:
         # each launch carries the whole struct from Python: few, large chunks
         self.launcher = Launcher(device, chunk=8192, threads=threads)
         self._device = DeviceBodies(bodies, padding, self.launcher.device)
-        self._collide, _, self._witness, self._apart, _ = collision_kernels(chain, bodies.links, len(bodies.bodies),
-                                                                            wp.float32)
-        _, self._distance, _, _, self._cross = collision_kernels(chain, bodies.links, len(bodies.bodies), wp.float64)
+        self._collide, _, self._witness, self._first, self._apart, _ = collision_kernels(
+            chain, bodies.links, len(bodies.bodies), wp.float32)
+        _, self._distance, _, _, _, self._cross = collision_kernels(chain, bodies.links, len(bodies.bodies),
+                                                                    wp.float64)
         self.launcher.load(self._collide)
         self._quick: dict = {}  # per count of states: ``verdicts``' recorded launch (``_quick_launch``)
         self.witnesses = self.certified = None
@@ -143,6 +144,8 @@ class Checker:
             self.certified = certified_grid(self._apart_at, self._crossing_at, chain, bodies, self.witnesses,
                                             lower, upper, padding)
             self._device.set_certified(self.certified, wp.float32)
+            self.witnesses = usual_crossings(self.witnesses, self._hits, self._first_at, lower, upper)
+            self._device.set_witnesses(self.witnesses, wp.float32)
 
     @property
     def pair_count(self) -> int:
@@ -152,6 +155,22 @@ class Checker:
         """Crossing triangle pairs of pair ``pairs[i]`` at ``q[i]``, spread over all that cross."""
         out = np.empty((len(q), 2 * WITNESSES), np.int32)
         self.launcher.launch(self._witness, len(q), params=[self._device.struct(init_warp().float32)],
+                             inputs=[np.ascontiguousarray(q, np.float32), np.ascontiguousarray(pairs, np.int32)],
+                             outputs=[out])
+        return out
+
+    def _hits(self, q: np.ndarray) -> np.ndarray:
+        """The sweep's (N, pairs) verdicts at ``q`` (every row finite)."""
+        hit = np.empty((len(q), self.pair_count), np.uint8)
+        self.launcher.launch(self._collide, len(q), params=[self._device.struct(init_warp().float32)],
+                             inputs=[np.ascontiguousarray(q, np.float32)],
+                             outputs=[hit, np.empty((len(q), self.pair_count), np.float32)])
+        return hit.astype(bool)
+
+    def _first_at(self, q: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+        """(N, 2) triangles at which the walk of pair ``pairs[i]`` at ``q[i]`` first finds a crossing."""
+        out = np.empty((len(q), 2), np.int32)
+        self.launcher.launch(self._first, len(q), params=[self._device.struct(init_warp().float32)],
                              inputs=[np.ascontiguousarray(q, np.float32), np.ascontiguousarray(pairs, np.int32)],
                              outputs=[out])
         return out

@@ -26,6 +26,7 @@ class WitnessGrid:
     scale: np.ndarray  # (2 * pairs,) cells per unit of q
     res: np.ndarray  # (2 * pairs,) int32 cells along each axis
     witness: np.ndarray  # (cells * WITNESSES, 2) int32: (A's, B's) triangle, -1 for none
+    usual: np.ndarray | None = None  # (pairs,) int32: the cell of a pair's usual crossings, -1 for none
 
 
 
@@ -78,3 +79,42 @@ def witness_grid(sample: Callable[[np.ndarray, np.ndarray], np.ndarray], chain: 
     if cells:
         witness[:cells * WITNESSES] = sample(np.concatenate(qs), np.concatenate(ps)).reshape(-1, 2)
     return WitnessGrid(start, col, lo, scale, res, witness)
+
+
+USUAL_STATES = 8192  # states drawn (seeded) within the limits to find the pairs' usual crossings
+USUAL_WALKS = 256  # colliding states a pair at most, each walked to its first crossing
+USUAL_SEED = 1
+
+
+def usual_crossings(grid: WitnessGrid, hits: Callable[[np.ndarray], np.ndarray],
+                    first: Callable[[np.ndarray, np.ndarray], np.ndarray], lower: np.ndarray,
+                    upper: np.ndarray) -> WitnessGrid:
+    """``grid`` with one more cell a pair: the triangle pairs at which its walk first found a crossing
+    most often (WITNESSES at most, each found twice or more), over a seeded sample of states within
+    the limits (a joint without limits over a turn), up to USUAL_WALKS colliding states a pair. The
+    sweep tries them just before a walk. ``hits(q)``: the sweep's (N, pairs) verdicts; ``first(q,
+    pairs)``: (N, 2) triangles, -1 where none cross."""
+    rng = np.random.default_rng(USUAL_SEED)
+    lo = np.where(np.isfinite(lower), lower, -np.pi)
+    hi = np.where(np.isfinite(upper), upper, np.pi)
+    q = lo + (hi - lo) * rng.random((USUAL_STATES, len(lo)))
+    hit = hits(q)
+    pairs = hit.shape[1]
+    rows = [np.sort(rng.choice(np.flatnonzero(hit[:, p]), min(USUAL_WALKS, int(hit[:, p].sum())), replace=False))
+            for p in range(pairs)]
+    which = np.concatenate([np.full(len(r), p, np.int32) for p, r in enumerate(rows)])
+    found = first(q[np.concatenate(rows)], which) if len(which) else np.zeros((0, 2), np.int32)
+    cells = len(grid.witness) // WITNESSES
+    usual, extra = np.full(pairs, -1, np.int32), []
+    for p in range(pairs):
+        mine = found[(which == p) & (found[:, 0] >= 0)]
+        if not len(mine):
+            continue
+        tris, count = np.unique(mine, axis=0, return_counts=True)
+        order = np.lexsort((tris[:, 1], tris[:, 0], -count))  # most often first, ties by triangle
+        keep = tris[order][count[order] >= 2][:WITNESSES]
+        if len(keep):
+            usual[p] = cells + len(extra)
+            extra.append(np.vstack([keep, np.full((WITNESSES - len(keep), 2), -1, np.int32)]))
+    witness = np.concatenate([grid.witness, *extra]) if extra else grid.witness
+    return WitnessGrid(grid.start, grid.col, grid.lo, grid.scale, grid.res, witness, usual)
