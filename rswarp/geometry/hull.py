@@ -44,11 +44,11 @@ def support_graph(vertices: np.ndarray) -> SupportGraph | None:
     local[keep] = np.arange(len(keep))
     tri = local[hull.simplices]
     edges = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    edges = np.unique(np.concatenate([edges, edges[:, ::-1]]), axis=0)  # both ways, each once
-    counts = np.bincount(edges[:, 0], minlength=len(keep))
-    start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
+    edges = np.concatenate([edges, edges[:, ::-1]])  # both ways, each once: sorted by (from, to)
+    key = np.unique(edges[:, 0] * len(keep) + edges[:, 1])
+    start = np.concatenate([[0], np.cumsum(np.bincount(key // len(keep), minlength=len(keep)))]).astype(np.int32)
     hv = points[keep]
-    return SupportGraph(hv, start, edges[:, 1].astype(np.int32), _cube_map(hv),
+    return SupportGraph(hv, start, (key % len(keep)).astype(np.int32), _cube_map(hv),
                         float(np.linalg.norm(hv, axis=1).max()))
 
 
@@ -69,4 +69,9 @@ def cube_directions() -> np.ndarray:
 
 
 def _cube_map(hull_vertices: np.ndarray) -> np.ndarray:
-    return (cube_directions() @ hull_vertices.T).argmax(axis=1).astype(np.int32)
+    """Each cell's start vertex: in float32 (a near tie picked either way is as good a start, and
+    the float64 product of every direction with every vertex took most of a checker's setup)."""
+    return (_DIRECTIONS @ hull_vertices.T.astype(np.float32)).argmax(axis=1).astype(np.int32)
+
+
+_DIRECTIONS = cube_directions().astype(np.float32)
