@@ -76,7 +76,7 @@ def support_functions(scalar=wp.float32):
     def climb(m: BodyArrays, start: int, d: V3) -> int:
         # in float64 whatever the precision: a float32 float's products are exact there, so no
         # rounding stops the climb short on a nearly flat stretch of the hull (in float32 it did,
-        # by up to 2e-6 m on the IRB 2600's Link 6)
+        # by micrometres, on the IRB 2600's Link 6)
         dd = wp.vec3d(wp.float64(d[0]), wp.float64(d[1]), wp.float64(d[2]))
         k = start
         best = along(m.hull_vertex[k], dd)
