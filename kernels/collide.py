@@ -107,16 +107,18 @@ def pair_functions(scalar=wp.float32):
                 return d
         return wp.max(gap, m.padding + S(1.0e-9))
 
-    return pair_verdict, distance_function(scalar)
+    return pair_verdict, distance_functions(scalar)[0]
 
 
 @cached
-def distance_function(scalar=wp.float32):
-    """pair_distance(m, a, b, rel) over a ``BodyArrays`` struct: the exact distance kernels'."""
+def distance_functions(scalar=wp.float32):
+    """(pair_distance, pair_apart) over a ``BodyArrays`` struct: the exact distance kernels', and
+    the free cells' test."""
     S, V3, M33, M34, M44 = types_of(scalar)
     _, mesh_distance = traversal_functions(scalar)
     rotation, _ = pose_helpers(scalar)
     enclosed = containment_functions(scalar)
+    hulls_apart = hull_function(scalar)
     BodyArrays = bodies_struct(scalar)
 
     @wp.func
@@ -129,19 +131,6 @@ def distance_function(scalar=wp.float32):
         if d > S(0.0) and enclosed(m, a, b, r, t):
             return S(-1.0)
         return d
-
-    return pair_distance
-
-
-@cached
-def apart_function(scalar=wp.float32):
-    """pair_apart(m, a, b, rel, limit, contain) over a ``BodyArrays`` struct (the free cells' test)."""
-    S, V3, M33, M34, M44 = types_of(scalar)
-    _, mesh_distance = traversal_functions(scalar)
-    rotation, _ = pose_helpers(scalar)
-    enclosed = containment_functions(scalar)
-    hulls_apart = hull_function(scalar)
-    BodyArrays = bodies_struct(scalar)
 
     @wp.func
     def pair_apart(m: BodyArrays, a: int, b: int, rel: M34, limit: S, contain: bool) -> bool:
@@ -156,7 +145,7 @@ def apart_function(scalar=wp.float32):
             return False
         return not (contain and enclosed(m, a, b, r, t))
 
-    return pair_apart
+    return pair_distance, pair_apart
 
 
 @cached
@@ -351,7 +340,7 @@ def _apart_kernel(module: str, posed_pair, scalar):
     """apart: whether one pair at each configuration is further apart than a limit (free cells)."""
     S = types_of(scalar)[0]
     BodyArrays = bodies_struct(scalar)
-    pair_apart = apart_function(scalar)
+    _, pair_apart = distance_functions(scalar)
 
     @wp.kernel(enable_backward=False, module=module)
     def apart(
