@@ -157,6 +157,10 @@ def test_the_hulls_change_no_verdict(irb, monkeypatch):
 
 
 def test_a_flat_or_tiny_mesh_has_no_hull():
+    from rswarp.geometry import hull as host
+    from rswarp.kernels import hull as device
+
+    assert host.CUBE == device.CUBE  # the host lays out the cube map the kernels index
     square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]], float)
     assert support_graph(square) is None
     assert support_graph(square[:3]) is None
