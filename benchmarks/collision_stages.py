@@ -20,10 +20,6 @@ def _pair_test(stage: int):
     ``stage``: 3 where it passed the spheres and was cut there, 2 where it reached the walk (and
     was cut there or walked to nothing), 1 where it collides, 0 where a stage found it free."""
     from rswarp.kernels import collide
-    from rswarp.kernels.contain import containment_functions
-    from rswarp.kernels.hull import hull_function
-    from rswarp.kernels.quad import quad_walk
-    from rswarp.kernels.tree import traversal_functions
     from rswarp.kernels.types import bodies_struct, types_of
     from rswarp.kernels.witness import APART, CROSSING, certified_function, witness_functions
     from rswarp.launch import init_warp
@@ -33,12 +29,9 @@ def _pair_test(stage: int):
     arrays = bodies_struct(wp.float32)
     body_pose, body_centre = collide._body_pose(wp.float32)
     rotation, relative = collide.pose_helpers(wp.float32)
-    node_gap, _ = traversal_functions(wp.float32)
-    meshes_cross = quad_walk(wp.float32)
-    enclosed = containment_functions(wp.float32)
     witness_cell, witness_hit = witness_functions(wp.float32)
     certified = certified_function(wp.float32)
-    hulls_apart = hull_function(wp.float32)
+    after_cells = _after_cells(stage)
 
     @wp.func
     def test(m: arrays, poses: Any, centres: Any, q: wp.array2d(dtype=S), i: int, p: int) -> wp.uint8:
@@ -61,6 +54,35 @@ def _pair_test(stage: int):
         cell = witness_cell(m, p, q, i)
         if cell >= 0 and witness_hit(m, cell, r, t):
             return wp.uint8(1)
+        return after_cells(m, p, r, t)
+
+    return test
+
+
+def _after_cells(stage: int):
+    """``after_cells(m, p, r, t) -> uint8``: the stages after the cells (root boxes, hulls,
+    containment, the usual crossings and the walk), cut after ``stage``, codes as ``_pair_test``'s."""
+    from rswarp.kernels.contain import containment_functions
+    from rswarp.kernels.hull import hull_function
+    from rswarp.kernels.quad import quad_walk
+    from rswarp.kernels.tree import traversal_functions
+    from rswarp.kernels.types import bodies_struct, types_of
+    from rswarp.kernels.witness import witness_functions
+    from rswarp.launch import init_warp
+
+    wp = init_warp()
+    _, V3, M33, _, _ = types_of(wp.float32)
+    arrays = bodies_struct(wp.float32)
+    node_gap, _ = traversal_functions(wp.float32)
+    meshes_cross = quad_walk(wp.float32)
+    enclosed = containment_functions(wp.float32)
+    _, witness_hit = witness_functions(wp.float32)
+    hulls_apart = hull_function(wp.float32)
+
+    @wp.func
+    def after_cells(m: arrays, p: int, r: M33, t: V3) -> wp.uint8:
+        a = m.pair_a[p]
+        b = m.pair_b[p]
         if wp.static(stage >= 3):
             if node_gap(m, m.root[a], m.root[b], r, t) > m.padding:
                 return wp.uint8(0)
@@ -78,7 +100,7 @@ def _pair_test(stage: int):
                 return wp.uint8(1)
         return wp.uint8(2)
 
-    return test
+    return after_cells
 
 
 def _kernel(checker, bodies, stage: int):
